@@ -1,0 +1,194 @@
+#include "engine/mesh.h"
+
+#include <cmath>
+#include <limits>
+
+#include "absl/status/status.h"
+#include "absl/strings/str_cat.h"
+
+namespace femsimp {
+namespace {
+
+double TriangleArea2(const float* a, const float* b, const float* c, double* longest2) {
+  double u[3], w[3], e[3];
+  for (int i = 0; i < 3; ++i) {
+    u[i] = double(b[i]) - a[i];
+    w[i] = double(c[i]) - a[i];
+    e[i] = double(c[i]) - b[i];
+  }
+  double cx = u[1] * w[2] - u[2] * w[1], cy = u[2] * w[0] - u[0] * w[2],
+         cz = u[0] * w[1] - u[1] * w[0];
+  auto len2 = [](const double* v) { return v[0] * v[0] + v[1] * v[1] + v[2] * v[2]; };
+  *longest2 = std::max({len2(u), len2(w), len2(e)});
+  return std::sqrt(cx * cx + cy * cy + cz * cz);
+}
+
+absl::Status CheckSoup(const RawMesh& raw) {
+  if (raw.positions.size() % 3 != 0)
+    return absl::InvalidArgumentError(
+        absl::StrCat("vertex coordinates: ", raw.positions.size(), " is not a multiple of 3"));
+  if (raw.triangles.size() % 3 != 0)
+    return absl::InvalidArgumentError(
+        absl::StrCat("triangle indices: ", raw.triangles.size(), " is not a multiple of 3"));
+  const size_t nv = raw.num_vertices(), nf = raw.num_faces();
+  if (nv == 0 || nf == 0)
+    return absl::InvalidArgumentError(
+        absl::StrCat("mesh is empty (", nv, " vertices, ", nf, " faces)"));
+  if (!raw.face_groups.empty() && raw.face_groups.size() != nf)
+    return absl::InvalidArgumentError(
+        absl::StrCat("face groups: ", raw.face_groups.size(), " ids for ", nf, " faces"));
+  // Indices are 32-bit and kNone is reserved.
+  if (nv >= kNone || 3 * nf >= kNone)
+    return absl::InvalidArgumentError(
+        absl::StrCat("mesh too large: ", nv, " vertices, ", nf, " faces"));
+  for (size_t v = 0; v < nv; ++v) {
+    const float* p = &raw.positions[3 * v];
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
+      return absl::InvalidArgumentError(absl::StrCat("vertex ", v, " has a non-finite coordinate (",
+                                                     p[0], ", ", p[1], ", ", p[2], ")"));
+  }
+  for (size_t f = 0; f < nf; ++f) {
+    const uint32_t* t = &raw.triangles[3 * f];
+    for (int i = 0; i < 3; ++i)
+      if (t[i] >= nv)
+        return absl::InvalidArgumentError(absl::StrCat("face ", f, " references vertex ", t[i],
+                                                       " but the mesh has ", nv, " vertices"));
+    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2])
+      return absl::InvalidArgumentError(absl::StrCat("face ", f, " is degenerate: vertices (", t[0],
+                                                     ", ", t[1], ", ", t[2], ") repeat an index"));
+    double longest2;
+    double area2 = TriangleArea2(&raw.positions[3 * t[0]], &raw.positions[3 * t[1]],
+                                 &raw.positions[3 * t[2]], &longest2);
+    if (!(area2 > 1e-12 * longest2))
+      return absl::InvalidArgumentError(
+          absl::StrCat("face ", f, " (", t[0], ", ", t[1], ", ", t[2], ") has zero area"));
+  }
+  return absl::OkStatus();
+}
+
+}  // namespace
+
+absl::StatusOr<Mesh> Mesh::Build(const RawMesh& raw) {
+  if (absl::Status s = CheckSoup(raw); !s.ok()) return s;
+  const uint32_t nv = static_cast<uint32_t>(raw.num_vertices());
+  const uint32_t nh = static_cast<uint32_t>(raw.triangles.size());
+
+  // Outgoing half-edges per vertex (compressed rows): source(h) = triangles[prev(h)].
+  std::vector<uint32_t> first(nv + 1, 0), outgoing(nh);
+  for (uint32_t h = 0; h < nh; ++h) ++first[raw.triangles[Prev(h)] + 1];
+  for (uint32_t v = 0; v < nv; ++v) first[v + 1] += first[v];
+  {
+    std::vector<uint32_t> fill(first.begin(), first.end() - 1);
+    for (uint32_t h = 0; h < nh; ++h) outgoing[fill[raw.triangles[Prev(h)]]++] = h;
+  }
+  const auto target = [&](uint32_t h) { return raw.triangles[h]; };
+
+  Mesh mesh;
+  mesh.halfedges_.resize(nh);
+  for (uint32_t h = 0; h < nh; ++h) {
+    const uint32_t a = raw.triangles[Prev(h)], b = target(h);
+    uint32_t twin = kNone;
+    for (uint32_t i = first[a]; i < first[a + 1]; ++i) {
+      uint32_t g = outgoing[i];
+      if (g != h && target(g) == b) {
+        uint32_t nfaces = 0;  // faces on the undirected edge, for the message
+        for (uint32_t j = first[a]; j < first[a + 1]; ++j) nfaces += target(outgoing[j]) == b;
+        for (uint32_t j = first[b]; j < first[b + 1]; ++j) nfaces += target(outgoing[j]) == a;
+        if (nfaces > 2)
+          return absl::InvalidArgumentError(
+              absl::StrCat("non-manifold edge (", a, ", ", b, "): shared by ", nfaces, " faces"));
+        return absl::InvalidArgumentError(
+            absl::StrCat("faces ", FaceOf(h), " and ", FaceOf(g), " both use edge (", a, ", ", b,
+                         ") in the same direction: inconsistent orientation or duplicate face"));
+      }
+    }
+    for (uint32_t i = first[b]; i < first[b + 1]; ++i)
+      if (target(outgoing[i]) == a) twin = outgoing[i];
+    const uint32_t f = FaceOf(h);
+    mesh.halfedges_[h] = {b, twin, raw.face_groups.empty() ? 0u : raw.face_groups[f], 0u};
+  }
+  // Two faces on the same three vertices, oppositely oriented, make a closed pillow that the
+  // twin matching alone accepts.
+  for (uint32_t f = 0; f < nh / 3; ++f) {
+    const uint32_t t0 = mesh.halfedges_[3 * f].twin;
+    if (t0 == kNone) continue;
+    if (FaceOf(mesh.halfedges_[3 * f + 1].twin) == FaceOf(t0) &&
+        FaceOf(mesh.halfedges_[3 * f + 2].twin) == FaceOf(t0) &&
+        mesh.halfedges_[3 * f + 1].twin != kNone && mesh.halfedges_[3 * f + 2].twin != kNone)
+      return absl::InvalidArgumentError(
+          absl::StrCat("faces ", f, " and ", FaceOf(t0), " are duplicates (same three vertices)"));
+  }
+
+  mesh.vertices_.resize(nv);
+  mesh.status_ = std::make_unique<std::atomic<uint32_t>[]>(nv);
+  for (uint32_t v = 0; v < nv; ++v) {
+    VertexQ& q = mesh.vertices_[v];
+    q = {raw.positions[3 * v], raw.positions[3 * v + 1], raw.positions[3 * v + 2], kNone};
+    const uint32_t degree = first[v + 1] - first[v];
+    if (degree == 0) {  // isolated vertex: not part of the surface, dropped from the output
+      mesh.status_[v].store(kRemoved, std::memory_order_relaxed);
+      continue;
+    }
+    uint32_t boundary_out = kNone, boundary_count = 0;
+    for (uint32_t i = first[v]; i < first[v + 1]; ++i)
+      if (mesh.halfedges_[outgoing[i]].twin == kNone) {
+        boundary_out = outgoing[i];
+        ++boundary_count;
+      }
+    if (boundary_count > 1)
+      return absl::InvalidArgumentError(absl::StrCat(
+          "vertex ", v, " is non-manifold: ", boundary_count, " boundary fans meet there"));
+    // One sweep counter-clockwise from the clockwise-most edge must reach every face.
+    const uint32_t start = boundary_out != kNone ? boundary_out : outgoing[first[v]];
+    uint32_t h = start, reached = 0;
+    do {
+      ++reached;
+      h = mesh.halfedges_[Prev(h)].twin;
+    } while (h != kNone && h != start && reached <= degree);
+    if (reached != degree)
+      return absl::InvalidArgumentError(absl::StrCat("vertex ", v, " is non-manifold: its ", degree,
+                                                     " faces form more than one fan"));
+    q.out = start;
+    mesh.status_[v].store(kRemovable, std::memory_order_relaxed);
+  }
+  return mesh;
+}
+
+RawMesh Mesh::ToRaw() const {
+  RawMesh raw;
+  std::vector<uint32_t> remap(vertices_.size(), kNone);
+  uint32_t next = 0;
+  for (uint32_t v = 0; v < vertices_.size(); ++v) {
+    if (IsRemoved(v)) continue;
+    remap[v] = next++;
+    raw.positions.insert(raw.positions.end(), {vertices_[v].x, vertices_[v].y, vertices_[v].z});
+  }
+  bool any_group = false;
+  for (uint32_t f = 0; f < face_capacity(); ++f) {
+    if (IsFaceRemoved(f)) continue;
+    for (int i = 0; i < 3; ++i) raw.triangles.push_back(remap[halfedges_[3 * f + i].target]);
+    raw.face_groups.push_back(halfedges_[3 * f].group);
+    any_group |= halfedges_[3 * f].group != 0;
+  }
+  if (!any_group) raw.face_groups.clear();
+  return raw;
+}
+
+size_t Mesh::CountLiveVertices() const {
+  size_t n = 0;
+  for (uint32_t v = 0; v < vertices_.size(); ++v) n += !IsRemoved(v);
+  return n;
+}
+
+size_t Mesh::CountLiveFaces() const {
+  size_t n = 0;
+  for (uint32_t f = 0; f < face_capacity(); ++f) n += !IsFaceRemoved(f);
+  return n;
+}
+
+size_t Mesh::MemoryBytes() const {
+  return vertices_.size() * (sizeof(VertexQ) + sizeof(std::atomic<uint32_t>)) +
+         halfedges_.size() * sizeof(HalfEdgeQ);
+}
+
+}  // namespace femsimp

@@ -1,0 +1,57 @@
+// The shared half-edge mesh: quadword arrays plus one atomic status word per vertex.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "engine/quadword.h"
+#include "engine/raw_mesh.h"
+
+namespace femsimp {
+
+class Mesh {
+ public:
+  // Validates the soup (finite coordinates, indices in range, no degenerate, duplicate or
+  // non-manifold faces, consistent orientation, not empty) and builds the half-edges.
+  // Errors name the problem and the first face or vertex where it occurs.
+  static absl::StatusOr<Mesh> Build(const RawMesh& raw);
+
+  Mesh(Mesh&&) = default;
+  Mesh& operator=(Mesh&&) = default;
+
+  // The surviving vertices and faces, compacted, with their face groups.
+  RawMesh ToRaw() const;
+
+  uint32_t vertex_capacity() const { return static_cast<uint32_t>(vertices_.size()); }
+  uint32_t halfedge_capacity() const { return static_cast<uint32_t>(halfedges_.size()); }
+  uint32_t face_capacity() const { return halfedge_capacity() / 3; }
+  size_t CountLiveVertices() const;
+  size_t CountLiveFaces() const;
+
+  VertexQ* vertices() { return vertices_.data(); }
+  const VertexQ* vertices() const { return vertices_.data(); }
+  HalfEdgeQ* halfedges() { return halfedges_.data(); }
+  const HalfEdgeQ* halfedges() const { return halfedges_.data(); }
+  std::atomic<uint32_t>* status() { return status_.get(); }
+  const std::atomic<uint32_t>* status() const { return status_.get(); }
+
+  bool IsRemoved(uint32_t v) const {
+    return (status_[v].load(std::memory_order_relaxed) & kStateMask) == kRemoved;
+  }
+  bool IsFaceRemoved(uint32_t f) const { return halfedges_[3 * f].flags & kFaceRemoved; }
+
+  // Bytes held by the engine's arrays (for memory reports).
+  size_t MemoryBytes() const;
+
+ private:
+  Mesh() = default;
+
+  std::vector<VertexQ> vertices_;
+  std::vector<HalfEdgeQ> halfedges_;
+  std::unique_ptr<std::atomic<uint32_t>[]> status_;
+};
+
+}  // namespace femsimp

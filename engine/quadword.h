@@ -1,0 +1,44 @@
+// The paper's storage unit: every vertex and every half-edge is one naturally aligned 16-byte
+// quadword, so a reader on any back end sees either the old or the new element, never a mix
+// of two writers (each quadword has at most one writer at a time, see kernel.h).
+#pragma once
+
+#include <cstdint>
+
+namespace femsimp {
+
+inline constexpr uint32_t kNone = 0xFFFFFFFFu;  // no twin (boundary) / no half-edge
+
+struct alignas(16) VertexQ {
+  float x, y, z;
+  uint32_t out;  // an outgoing half-edge; on a boundary vertex, the one whose twin is kNone
+};
+
+// Half-edge h belongs to face h / 3; next(h) and prev(h) are implicit in the index.
+struct alignas(16) HalfEdgeQ {
+  uint32_t target;  // vertex the half-edge points to
+  uint32_t twin;    // opposite half-edge, kNone on a boundary edge
+  uint32_t group;   // face attribute word: the face group id (same on the face's three)
+  uint32_t flags;   // kFaceRemoved once the face is collapsed away
+};
+
+inline constexpr uint32_t kFaceRemoved = 1u;
+
+static_assert(sizeof(VertexQ) == 16 && alignof(VertexQ) == 16);
+static_assert(sizeof(HalfEdgeQ) == 16 && alignof(HalfEdgeQ) == 16);
+
+inline uint32_t FaceOf(uint32_t h) { return h / 3; }
+inline uint32_t Next(uint32_t h) { return h % 3 == 2 ? h - 2 : h + 1; }
+inline uint32_t Prev(uint32_t h) { return h % 3 == 0 ? h + 2 : h - 1; }
+
+// Per-vertex status word, changed only atomically. The lock bit is set on top of the state
+// so that unlocking restores whether the vertex was removable.
+enum VertexState : uint32_t {
+  kRemovable = 0,
+  kNotRemovable = 1,
+  kRemoved = 2,
+};
+inline constexpr uint32_t kLockedBit = 0x80000000u;
+inline constexpr uint32_t kStateMask = 0x3u;
+
+}  // namespace femsimp

@@ -1,0 +1,113 @@
+// Public entry point of the engine: parallel simplification passes over one shared mesh.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "engine/mesh.h"
+
+namespace femsimp {
+
+enum class Backend { kNative, kCell };
+
+// Why a candidate was given up (each counted per pass).
+enum class Reject : int {
+  kLink = 0,         // collapse would join already connected vertices / change topology
+  kBoundary,         // boundary vertex off its boundary, or interior edge between boundaries
+  kValence,          // a neighbour would be left with too few edges (tetrahedron, ear)
+  kFoldOver,         // a new triangle flips against the one it replaces
+  kDegenerate,       // a new triangle has (almost) zero area
+  kMinAngle,         // a new triangle has an interior angle below the minimum
+  kNormalDeviation,  // a new triangle's normal deviates too much from the old one
+  kCount
+};
+const char* RejectName(Reject r);  // snake_case, stable: used in JSON, proto and metrics
+
+struct CellOptions {
+  int spes = 1;
+  int ls_cache_kib = 128;  // software cache size inside each 256 KiB local store
+  int spe_threads = 1;     // software-managed threads per SPE (1 = off)
+  int local_store_kib = 256;
+  bool reread_on_stale = true;  // dirty the lines and re-read (else skip the candidate)
+};
+
+struct SimplifyOptions {
+  // Target: keep ratio * input vertices, or target_vertices when > 0. Neither: run until the
+  // criteria stop the simplification.
+  double ratio = 0.0;
+  uint64_t target_vertices = 0;
+  int threads = 1;
+  double max_normal_deviation_deg = 25.0;
+  double min_angle_deg = 10.0;
+  double candidate_fraction = 0.9;
+  int max_passes = 100;
+  int reconsider_every = 3;  // not-removable vertices become candidates again every Nth pass
+  bool topology_only = false;
+  Backend backend = Backend::kNative;
+  CellOptions cell;
+};
+
+// Checks every parameter's range; the message names the parameter and the allowed range.
+absl::Status ValidateOptions(const SimplifyOptions& options);
+
+struct CellPassCounters {
+  uint64_t cache_hits = 0, cache_misses = 0;
+  uint64_t stale_detected = 0, stale_reread = 0, stale_skipped = 0;
+  uint64_t dma_transfers = 0, dma_bytes = 0;
+  uint64_t atomic_ops = 0, thread_switches = 0;
+  uint64_t busy_cycles = 0;
+  uint64_t modeled_cycles = 0;  // compute + DMA stalls + atomics
+  double hit_ratio() const {
+    uint64_t n = cache_hits + cache_misses;
+    return n ? static_cast<double>(cache_hits) / static_cast<double>(n) : 0.0;
+  }
+};
+
+struct PassStats {
+  int pass = 0;             // 1-based
+  uint64_t candidates = 0;  // vertices handed to the contexts this pass
+  uint64_t tried = 0;       // candidates actually attempted (before the target stopped it)
+  uint64_t removed = 0;
+  uint64_t lock_conflicts = 0;  // a vertex of the one-ring was locked by another context
+  uint64_t inconsistent = 0;    // ring did not close or referenced a removed element
+  std::array<uint64_t, static_cast<int>(Reject::kCount)> rejections{};
+  uint64_t vertices_left = 0;
+  double seconds = 0.0;       // wall time of the pass
+  double busy_seconds = 0.0;  // summed over contexts (parallel speedup = busy / seconds)
+  // Cell back end only.
+  std::optional<CellPassCounters> cell;  // totals over SPEs
+  std::vector<CellPassCounters> cell_per_spe;
+  uint64_t ppe_cycles = 0;           // modeled sequential share
+  uint64_t modeled_pass_cycles = 0;  // slowest SPE + PPE share
+};
+
+enum class StopReason { kTargetReached, kNoProgress, kMaxPasses, kCancelled };
+const char* StopReasonName(StopReason r);
+
+struct SimplifyResult {
+  uint64_t input_vertices = 0, input_faces = 0;
+  uint64_t output_vertices = 0, output_faces = 0;
+  double engine_seconds = 0.0;
+  double busy_seconds = 0.0;
+  StopReason stop_reason = StopReason::kNoProgress;
+  std::vector<PassStats> passes;
+  // Cell back end: modeled speedup needs the one-SPE time, so only the cycle totals are kept.
+  uint64_t modeled_cycles = 0;
+};
+
+struct SimplifyControl {
+  std::function<void(const PassStats&)> on_pass;  // called after every pass, on the caller's thread
+  // Polled between passes and every few hundred candidates inside one; true stops the job
+  // with the mesh still valid.
+  std::function<bool()> cancelled;
+};
+
+absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& options,
+                                        const SimplifyControl& control = {});
+
+}  // namespace femsimp
