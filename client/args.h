@@ -1,0 +1,45 @@
+// Command-line parsing of `femsimp simplify`, shared by the local and the remote mode.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "engine/simplify.h"
+
+namespace femsimp::cli {
+
+struct SimplifyArgs {
+  std::string input, output;
+  SimplifyOptions options;
+  bool threads_given = false;     // remote mode: unset threads means "server default"
+  std::string stats_json;         // empty: no JSON file
+  std::string server;             // empty: run locally
+  double deadline_seconds = 0.0;  // remote only; 0 = no deadline
+  std::string label;              // remote only; shown in the server's job list and logs
+  bool quiet = false;             // no per-pass rows
+};
+
+struct Command {
+  enum Kind { kHelp, kSimplify } kind = kHelp;
+  std::string help_text;  // kHelp: what to print on stdout
+  SimplifyArgs simplify;
+};
+
+// Top-level and `simplify` usage, including the exit codes.
+std::string MainUsage();
+std::string SimplifyUsage();
+
+// Parses argv (argv[0] is the program). Errors are usage errors: the message names the flag
+// and what is wrong with it; the caller prints it and exits with kExitUsage.
+absl::StatusOr<Command> ParseCommandLine(const std::vector<std::string>& args);
+
+// Parses the `simplify` arguments alone (after the subcommand word).
+absl::StatusOr<SimplifyArgs> ParseSimplifyArgs(const std::vector<std::string>& args);
+
+// Strict number parsing: the whole string must be a finite number / a non-negative integer.
+absl::StatusOr<double> ParseDouble(const std::string& flag, const std::string& value);
+absl::StatusOr<long long> ParseInt(const std::string& flag, const std::string& value,
+                                   long long min_value, long long max_value);
+
+}  // namespace femsimp::cli

@@ -1,0 +1,20 @@
+// Exit codes of the femsimp and femsimp-load programs; documented in --help (args.cc).
+#pragma once
+
+namespace femsimp::cli {
+
+enum ExitCode : int {
+  kExitOk = 0,
+  kExitInternal = 1,         // unexpected failure inside the client
+  kExitUsage = 2,            // unknown flag, missing or non-numeric value, value out of range
+  kExitInputUnreadable = 3,  // input file missing, unreadable or not a mesh file
+  kExitInputInvalid = 4,     // the mesh does not pass validation (Mesh::Build)
+  kExitOutputFailed = 5,     // output mesh or --stats-json could not be written
+  kExitEngineFailed = 6,     // the simplification itself failed
+  kExitCancelled = 7,        // interrupted (SIGINT) in local mode
+  // Remote mode: a gRPC status other than OK exits with kExitGrpcBase + its code
+  // (CANCELLED 21, UNKNOWN 22, INVALID_ARGUMENT 23, DEADLINE_EXCEEDED 24, ..., UNAVAILABLE 34).
+  kExitGrpcBase = 20,
+};
+
+}  // namespace femsimp::cli

@@ -1,0 +1,98 @@
+#include "client/local_run.h"
+
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+
+#include "client/exit_codes.h"
+#include "client/report.h"
+#include "engine/io/mesh_io.h"
+#include "engine/mesh.h"
+
+namespace femsimp::cli {
+namespace {
+
+std::atomic<bool> g_interrupted{false};
+extern "C" void OnSigint(int) { g_interrupted.store(true); }
+
+double SecondsSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+int RunLocal(const SimplifyArgs& args) {
+  RunReport report;
+  report.input_path = args.input;
+  report.output_path = args.output;
+  report.options = args.options;
+
+  auto t0 = std::chrono::steady_clock::now();
+  absl::StatusOr<RawMesh> raw = ReadMeshFile(args.input);
+  if (!raw.ok()) {
+    std::fprintf(stderr, "femsimp: cannot read %s: %s\n", args.input.c_str(),
+                 std::string(raw.status().message()).c_str());
+    return kExitInputUnreadable;
+  }
+  absl::StatusOr<Mesh> mesh = Mesh::Build(*raw);
+  if (!mesh.ok()) {
+    std::fprintf(stderr, "femsimp: %s is not a valid mesh: %s\n", args.input.c_str(),
+                 std::string(mesh.status().message()).c_str());
+    return kExitInputInvalid;
+  }
+  report.input_vertices = raw->num_vertices();
+  report.input_faces = raw->num_faces();
+  report.load_seconds = SecondsSince(t0);
+  *raw = RawMesh();  // the engine's arrays are the only copy from here on
+
+  // Ctrl-C stops the engine within a pass; the partly simplified mesh is still written.
+  std::signal(SIGINT, OnSigint);
+  SimplifyControl control;
+  control.cancelled = [] { return g_interrupted.load(std::memory_order_relaxed); };
+  if (!args.quiet) {
+    std::printf("%s\n", PassTableHeader(args.options.backend).c_str());
+    std::fflush(stdout);
+  }
+  control.on_pass = [&](const PassStats& p) {
+    if (args.quiet) return;
+    std::printf("%s\n", PassTableRow(p, args.options.backend).c_str());
+    std::fflush(stdout);
+  };
+  absl::StatusOr<SimplifyResult> result = Simplify(*mesh, args.options, control);
+  std::signal(SIGINT, SIG_DFL);
+  if (!result.ok()) {
+    std::fprintf(stderr, "femsimp: simplification failed: %s\n",
+                 result.status().ToString().c_str());
+    return kExitEngineFailed;
+  }
+  report.output_vertices = result->output_vertices;
+  report.output_faces = result->output_faces;
+  report.engine_seconds = result->engine_seconds;
+  report.busy_seconds = result->busy_seconds;
+  report.stop_reason = StopReasonName(result->stop_reason);
+  report.modeled_cycles = result->modeled_cycles;
+  report.passes = std::move(result->passes);
+
+  auto t1 = std::chrono::steady_clock::now();
+  RawMesh out = mesh->ToRaw();
+  report.output_vertices = out.num_vertices();
+  report.output_faces = out.num_faces();
+  if (absl::Status s = WriteMeshFile(args.output, out); !s.ok()) {
+    std::fprintf(stderr, "femsimp: cannot write %s: %s\n", args.output.c_str(),
+                 std::string(s.message()).c_str());
+    return kExitOutputFailed;
+  }
+  report.write_seconds = SecondsSince(t1);
+
+  std::printf("%s", Summary(report).c_str());
+  if (!args.stats_json.empty()) {
+    if (absl::Status s = WriteTextFile(args.stats_json, ReportJson(report)); !s.ok()) {
+      std::fprintf(stderr, "femsimp: --stats-json: %s\n", std::string(s.message()).c_str());
+      return kExitOutputFailed;
+    }
+  }
+  return g_interrupted.load() ? kExitCancelled : kExitOk;
+}
+
+}  // namespace femsimp::cli

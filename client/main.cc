@@ -1,0 +1,35 @@
+// femsimp: the command-line program (local simplification, or remote with --server).
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "client/args.h"
+#include "client/exit_codes.h"
+#include "client/local_run.h"
+#ifdef FEMSIMP_HAVE_REMOTE
+#include "client/remote_run.h"
+#endif
+
+int main(int argc, char** argv) {
+  using namespace femsimp::cli;
+  std::vector<std::string> args(argv, argv + argc);
+  absl::StatusOr<Command> cmd = ParseCommandLine(args);
+  if (!cmd.ok()) {
+    std::fprintf(stderr, "femsimp: %s\n", std::string(cmd.status().message()).c_str());
+    return kExitUsage;
+  }
+  if (cmd->kind == Command::kHelp) {
+    std::fputs(cmd->help_text.c_str(), stdout);
+    return kExitOk;
+  }
+  const SimplifyArgs& s = cmd->simplify;
+  if (!s.server.empty()) {
+#ifdef FEMSIMP_HAVE_REMOTE
+    return RunRemote(s);
+#else
+    std::fprintf(stderr, "femsimp: this build has no gRPC client (FEMSIMP_BUILD_SERVICE=OFF)\n");
+    return kExitUsage;
+#endif
+  }
+  return RunLocal(s);
+}

@@ -1,0 +1,175 @@
+#include "client/report.h"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+
+namespace femsimp::cli {
+namespace {
+
+uint64_t TotalRejections(const PassStats& p) {
+  uint64_t n = 0;
+  for (uint64_t r : p.rejections) n += r;
+  return n;
+}
+
+std::string JsonString(const std::string& s) {
+  std::string out = "\"";
+  for (unsigned char c : s) {
+    switch (c) {
+      case '"':
+        out += "\\\"";
+        break;
+      case '\\':
+        out += "\\\\";
+        break;
+      case '\n':
+        out += "\\n";
+        break;
+      case '\t':
+        out += "\\t";
+        break;
+      default:
+        if (c < 0x20) {
+          out += absl::StrFormat("\\u%04x", c);
+        } else {
+          out += static_cast<char>(c);
+        }
+    }
+  }
+  return out + "\"";
+}
+
+// JSON has no NaN/Infinity.
+std::string JsonNumber(double d) { return std::isfinite(d) ? absl::StrFormat("%.9g", d) : "null"; }
+
+std::string CellJson(const CellPassCounters& c) {
+  return absl::StrCat(
+      "{\"cache_hits\": ", c.cache_hits, ", \"cache_misses\": ", c.cache_misses,
+      ", \"hit_ratio\": ", JsonNumber(c.hit_ratio()), ", \"stale_detected\": ", c.stale_detected,
+      ", \"stale_reread\": ", c.stale_reread, ", \"stale_skipped\": ", c.stale_skipped,
+      ", \"dma_transfers\": ", c.dma_transfers, ", \"dma_bytes\": ", c.dma_bytes,
+      ", \"atomic_ops\": ", c.atomic_ops, ", \"thread_switches\": ", c.thread_switches,
+      ", \"busy_cycles\": ", c.busy_cycles, ", \"modeled_cycles\": ", c.modeled_cycles, "}");
+}
+
+std::string OptionsJson(const SimplifyOptions& o) {
+  std::string s = absl::StrCat(
+      "{\"ratio\": ", JsonNumber(o.ratio), ", \"target_vertices\": ", o.target_vertices,
+      ", \"threads\": ", o.threads,
+      ", \"max_normal_deviation_deg\": ", JsonNumber(o.max_normal_deviation_deg),
+      ", \"min_angle_deg\": ", JsonNumber(o.min_angle_deg),
+      ", \"candidate_fraction\": ", JsonNumber(o.candidate_fraction),
+      ", \"max_passes\": ", o.max_passes, ", \"reconsider_every\": ", o.reconsider_every,
+      ", \"topology_only\": ", o.topology_only ? "true" : "false",
+      ", \"backend\": ", o.backend == Backend::kCell ? "\"cell\"" : "\"native\"");
+  if (o.backend == Backend::kCell)
+    absl::StrAppend(&s, ", \"cell\": {\"spes\": ", o.cell.spes,
+                    ", \"ls_cache_kib\": ", o.cell.ls_cache_kib,
+                    ", \"spe_threads\": ", o.cell.spe_threads,
+                    ", \"local_store_kib\": ", o.cell.local_store_kib,
+                    ", \"reread_on_stale\": ", o.cell.reread_on_stale ? "true" : "false", "}");
+  return s + "}";
+}
+
+std::string PassJson(const PassStats& p) {
+  std::string rej = "{";
+  for (int i = 0; i < static_cast<int>(Reject::kCount); ++i)
+    absl::StrAppend(&rej, i ? ", " : "", JsonString(RejectName(static_cast<Reject>(i))), ": ",
+                    p.rejections[i]);
+  rej += "}";
+  std::string s = absl::StrCat(
+      "{\"pass\": ", p.pass, ", \"candidates\": ", p.candidates, ", \"tried\": ", p.tried,
+      ", \"removed\": ", p.removed, ", \"lock_conflicts\": ", p.lock_conflicts,
+      ", \"inconsistent\": ", p.inconsistent, ", \"rejections\": ", rej,
+      ", \"vertices_left\": ", p.vertices_left, ", \"seconds\": ", JsonNumber(p.seconds),
+      ", \"busy_seconds\": ", JsonNumber(p.busy_seconds));
+  if (p.cell) {
+    absl::StrAppend(&s, ", \"cell\": ", CellJson(*p.cell), ", \"cell_per_spe\": [");
+    for (size_t i = 0; i < p.cell_per_spe.size(); ++i)
+      absl::StrAppend(&s, i ? ", " : "", CellJson(p.cell_per_spe[i]));
+    absl::StrAppend(&s, "], \"ppe_cycles\": ", p.ppe_cycles,
+                    ", \"modeled_pass_cycles\": ", p.modeled_pass_cycles);
+  }
+  return s + "}";
+}
+
+}  // namespace
+
+std::string PassTableHeader(Backend backend) {
+  std::string h = absl::StrFormat("%5s %12s %10s %10s %10s %10s %9s", "pass", "vertices", "removed",
+                                  "tried", "lock_confl", "rejected", "seconds");
+  if (backend == Backend::kCell) absl::StrAppend(&h, absl::StrFormat(" %9s", "cache_hit"));
+  return h;
+}
+
+std::string PassTableRow(const PassStats& p, Backend backend) {
+  std::string r =
+      absl::StrFormat("%5d %12u %10u %10u %10u %10u %9.3f", p.pass, p.vertices_left, p.removed,
+                      p.tried, p.lock_conflicts, TotalRejections(p), p.seconds);
+  if (backend == Backend::kCell) {
+    if (p.cell) {
+      absl::StrAppend(&r, absl::StrFormat(" %8.1f%%", 100.0 * p.cell->hit_ratio()));
+    } else {
+      absl::StrAppend(&r, absl::StrFormat(" %9s", "-"));
+    }
+  }
+  return r;
+}
+
+std::string Summary(const RunReport& r) {
+  auto pct = [](uint64_t out, uint64_t in) {
+    return in ? 100.0 * static_cast<double>(out) / static_cast<double>(in) : 0.0;
+  };
+  std::string s = absl::StrFormat(
+      "vertices: %u -> %u (%.1f%%)\nfaces:    %u -> %u (%.1f%%)\npasses:   %u, stop reason: %s\n",
+      r.input_vertices, r.output_vertices, pct(r.output_vertices, r.input_vertices), r.input_faces,
+      r.output_faces, pct(r.output_faces, r.input_faces), r.passes.size(), r.stop_reason);
+  double speedup = r.engine_seconds > 0 ? r.busy_seconds / r.engine_seconds : 0.0;
+  absl::StrAppend(&s, absl::StrFormat("time:     load %.3f s, engine %.3f s (parallel speedup "
+                                      "%.2f), write %.3f s\n",
+                                      r.load_seconds, r.engine_seconds, speedup, r.write_seconds));
+  if (!r.server.empty())
+    absl::StrAppend(&s, absl::StrFormat("server:   %s, job %s, queued %.3f s, rpc %.3f s\n",
+                                        r.server, r.job_id, r.queue_seconds, r.transfer_seconds));
+  absl::StrAppend(&s, "output:   ", r.output_path, "\n");
+  return s;
+}
+
+std::string ReportJson(const RunReport& r) {
+  std::string s = absl::StrCat(
+      "{\n  \"input\": {\"path\": ", JsonString(r.input_path), ", \"vertices\": ", r.input_vertices,
+      ", \"faces\": ", r.input_faces, "},\n  \"output\": {\"path\": ", JsonString(r.output_path),
+      ", \"vertices\": ", r.output_vertices, ", \"faces\": ", r.output_faces,
+      "},\n  \"engine_seconds\": ", JsonNumber(r.engine_seconds),
+      ",\n  \"busy_seconds\": ", JsonNumber(r.busy_seconds), ",\n  \"parallel_speedup\": ",
+      JsonNumber(r.engine_seconds > 0 ? r.busy_seconds / r.engine_seconds : 0.0),
+      ",\n  \"load_seconds\": ", JsonNumber(r.load_seconds),
+      ",\n  \"write_seconds\": ", JsonNumber(r.write_seconds),
+      ",\n  \"stop_reason\": ", JsonString(r.stop_reason),
+      ",\n  \"modeled_cycles\": ", r.modeled_cycles, ",\n  \"options\": ", OptionsJson(r.options));
+  if (!r.server.empty())
+    absl::StrAppend(&s, ",\n  \"remote\": {\"server\": ", JsonString(r.server),
+                    ", \"job_id\": ", JsonString(r.job_id),
+                    ", \"queue_seconds\": ", JsonNumber(r.queue_seconds),
+                    ", \"rpc_seconds\": ", JsonNumber(r.transfer_seconds), "}");
+  absl::StrAppend(&s, ",\n  \"passes\": [");
+  for (size_t i = 0; i < r.passes.size(); ++i)
+    absl::StrAppend(&s, i ? ",\n    " : "\n    ", PassJson(r.passes[i]));
+  absl::StrAppend(&s, r.passes.empty() ? "]\n}\n" : "\n  ]\n}\n");
+  return s;
+}
+
+absl::Status WriteTextFile(const std::string& path, const std::string& text) {
+  std::ofstream f(path, std::ios::binary | std::ios::trunc);
+  if (!f) return absl::PermissionDeniedError(absl::StrCat(path, ": cannot open for writing"));
+  f << text;
+  f.close();
+  if (!f) return absl::DataLossError(absl::StrCat(path, ": write failed"));
+  return absl::OkStatus();
+}
+
+}  // namespace femsimp::cli

@@ -1,0 +1,40 @@
+// What one simplify run reports (local or remote): the per-pass table, the summary and the
+// --stats-json document.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "absl/status/status.h"
+#include "engine/simplify.h"
+
+namespace femsimp::cli {
+
+struct RunReport {
+  std::string input_path, output_path;
+  SimplifyOptions options;
+  uint64_t input_vertices = 0, input_faces = 0;
+  uint64_t output_vertices = 0, output_faces = 0;
+  double load_seconds = 0.0;    // read + validate the input (remote: read the file)
+  double engine_seconds = 0.0;  // Simplify() alone
+  double busy_seconds = 0.0;    // summed over contexts
+  double write_seconds = 0.0;
+  double transfer_seconds = 0.0;  // remote: whole RPC, upload to last chunk
+  double queue_seconds = 0.0;     // remote: waiting in the server's queue
+  std::string stop_reason;
+  std::string server, job_id;  // remote only
+  uint64_t modeled_cycles = 0;
+  std::vector<PassStats> passes;
+};
+
+// Column header and one row per pass of the progress table (cache column for the cell back end).
+std::string PassTableHeader(Backend backend);
+std::string PassTableRow(const PassStats& p, Backend backend);
+// Vertices/faces in and out, timings, stop reason; several lines.
+std::string Summary(const RunReport& r);
+// The --stats-json document.
+std::string ReportJson(const RunReport& r);
+absl::Status WriteTextFile(const std::string& path, const std::string& text);
+
+}  // namespace femsimp::cli
