@@ -1,0 +1,235 @@
+#include "proto/wire.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "absl/strings/str_cat.h"
+
+namespace femsimp::wire {
+
+const char* BackendName(Backend b) { return b == Backend::kCell ? "cell" : "native"; }
+
+void ToProto(const SimplifyOptions& o, bool threads_given, v1::EngineOptions* out) {
+  if (o.target_vertices > 0) {
+    out->set_target_vertices(o.target_vertices);
+  } else if (o.ratio > 0) {
+    out->set_ratio(o.ratio);
+  }
+  out->set_threads(threads_given ? o.threads : 0);
+  out->set_max_normal_deviation_deg(o.max_normal_deviation_deg);
+  out->set_min_angle_deg(o.min_angle_deg);
+  out->set_candidate_fraction(o.candidate_fraction);
+  out->set_max_passes(o.max_passes);
+  out->set_reconsider_every(o.reconsider_every);
+  out->set_topology_only(o.topology_only);
+  out->set_backend(o.backend == Backend::kCell ? v1::BACKEND_CELL : v1::BACKEND_NATIVE);
+  if (o.backend == Backend::kCell) {
+    v1::CellOptions* c = out->mutable_cell();
+    c->set_spes(o.cell.spes);
+    c->set_ls_cache_kib(o.cell.ls_cache_kib);
+    c->set_spe_threads(o.cell.spe_threads);
+    c->set_local_store_kib(o.cell.local_store_kib);
+    c->set_reread_on_stale(o.cell.reread_on_stale);
+  }
+}
+
+absl::StatusOr<SimplifyOptions> FromProto(const v1::EngineOptions& in, int default_threads,
+                                          int max_threads) {
+  SimplifyOptions o;
+  if (in.has_ratio()) o.ratio = in.ratio();
+  if (in.has_target_vertices()) {
+    if (in.target_vertices() == 0)
+      return absl::InvalidArgumentError("target_vertices = 0 is out of range: must be >= 1");
+    o.target_vertices = in.target_vertices();
+  }
+  if (in.threads() < 0)
+    return absl::InvalidArgumentError(
+        absl::StrCat("threads = ", in.threads(), " is out of range: must be >= 0"));
+  o.threads = in.threads() == 0 ? default_threads : std::min(in.threads(), max_threads);
+  if (in.has_max_normal_deviation_deg()) o.max_normal_deviation_deg = in.max_normal_deviation_deg();
+  if (in.has_min_angle_deg()) o.min_angle_deg = in.min_angle_deg();
+  if (in.has_candidate_fraction()) o.candidate_fraction = in.candidate_fraction();
+  if (in.has_max_passes()) o.max_passes = in.max_passes();
+  if (in.has_reconsider_every()) o.reconsider_every = in.reconsider_every();
+  o.topology_only = in.topology_only();
+  switch (in.backend()) {
+    case v1::BACKEND_UNSPECIFIED:
+    case v1::BACKEND_NATIVE:
+      o.backend = Backend::kNative;
+      break;
+    case v1::BACKEND_CELL:
+      o.backend = Backend::kCell;
+      break;
+    default:
+      return absl::InvalidArgumentError(
+          absl::StrCat("backend = ", in.backend(), " is not a known back end"));
+  }
+  if (o.backend == Backend::kCell) {
+    const v1::CellOptions& c = in.cell();
+    if (c.spes() != 0) o.cell.spes = c.spes();
+    if (c.ls_cache_kib() != 0) o.cell.ls_cache_kib = c.ls_cache_kib();
+    if (c.spe_threads() != 0) o.cell.spe_threads = c.spe_threads();
+    if (c.local_store_kib() != 0) o.cell.local_store_kib = c.local_store_kib();
+    if (c.has_reread_on_stale()) o.cell.reread_on_stale = c.reread_on_stale();
+  }
+  if (absl::Status s = ValidateOptions(o); !s.ok()) return s;
+  return o;
+}
+
+void ToProto(const PassStats& p, v1::Progress* out) {
+  out->set_pass(p.pass);
+  out->set_vertices_left(p.vertices_left);
+  out->set_removed(p.removed);
+  out->set_tried(p.tried);
+  out->set_candidates(p.candidates);
+  out->set_lock_conflicts(p.lock_conflicts);
+  out->set_inconsistent(p.inconsistent);
+  for (int i = 0; i < static_cast<int>(Reject::kCount); ++i)
+    (*out->mutable_rejections())[RejectName(static_cast<Reject>(i))] = p.rejections[i];
+  out->set_seconds(p.seconds);
+  out->set_busy_seconds(p.busy_seconds);
+  if (p.cell) {
+    const CellPassCounters& c = *p.cell;
+    out->set_cache_hit_ratio(c.hit_ratio());
+    v1::CellCounters* m = out->mutable_cell();
+    m->set_cache_hits(c.cache_hits);
+    m->set_cache_misses(c.cache_misses);
+    m->set_stale_detected(c.stale_detected);
+    m->set_stale_reread(c.stale_reread);
+    m->set_stale_skipped(c.stale_skipped);
+    m->set_dma_transfers(c.dma_transfers);
+    m->set_dma_bytes(c.dma_bytes);
+    m->set_atomic_ops(c.atomic_ops);
+    m->set_thread_switches(c.thread_switches);
+    m->set_busy_cycles(c.busy_cycles);
+    m->set_modeled_cycles(c.modeled_cycles);
+    out->set_ppe_cycles(p.ppe_cycles);
+    out->set_modeled_pass_cycles(p.modeled_pass_cycles);
+  }
+}
+
+PassStats FromProto(const v1::Progress& in) {
+  PassStats p;
+  p.pass = static_cast<int>(in.pass());
+  p.vertices_left = in.vertices_left();
+  p.removed = in.removed();
+  p.tried = in.tried();
+  p.candidates = in.candidates();
+  p.lock_conflicts = in.lock_conflicts();
+  p.inconsistent = in.inconsistent();
+  for (int i = 0; i < static_cast<int>(Reject::kCount); ++i) {
+    auto it = in.rejections().find(RejectName(static_cast<Reject>(i)));
+    if (it != in.rejections().end()) p.rejections[i] = it->second;
+  }
+  p.seconds = in.seconds();
+  p.busy_seconds = in.busy_seconds();
+  if (in.has_cell()) {
+    const v1::CellCounters& m = in.cell();
+    CellPassCounters c;
+    c.cache_hits = m.cache_hits();
+    c.cache_misses = m.cache_misses();
+    c.stale_detected = m.stale_detected();
+    c.stale_reread = m.stale_reread();
+    c.stale_skipped = m.stale_skipped();
+    c.dma_transfers = m.dma_transfers();
+    c.dma_bytes = m.dma_bytes();
+    c.atomic_ops = m.atomic_ops();
+    c.thread_switches = m.thread_switches();
+    c.busy_cycles = m.busy_cycles();
+    c.modeled_cycles = m.modeled_cycles();
+    p.cell = c;
+    p.ppe_cycles = in.ppe_cycles();
+    p.modeled_pass_cycles = in.modeled_pass_cycles();
+  }
+  return p;
+}
+
+size_t ForEachChunk(const RawMesh& mesh, const std::function<bool(v1::MeshChunk&)>& emit,
+                    size_t chunk_vertices, size_t chunk_faces) {
+  const size_t nv = mesh.num_vertices(), nf = mesh.num_faces();
+  const bool groups = !mesh.face_groups.empty();
+  size_t n = 0;
+  for (size_t v = 0, f = 0; v < nv || f < nf; v += chunk_vertices, f += chunk_faces) {
+    v1::MeshChunk chunk;
+    if (v < nv) {
+      size_t end = std::min(nv, v + chunk_vertices);
+      chunk.mutable_positions()->Add(mesh.positions.begin() + 3 * v,
+                                     mesh.positions.begin() + 3 * end);
+    }
+    if (f < nf) {
+      size_t end = std::min(nf, f + chunk_faces);
+      chunk.mutable_indices()->Add(mesh.triangles.begin() + 3 * f,
+                                   mesh.triangles.begin() + 3 * end);
+      if (groups)
+        chunk.mutable_face_groups()->Add(mesh.face_groups.begin() + f,
+                                         mesh.face_groups.begin() + end);
+    }
+    ++n;
+    if (!emit(chunk)) break;
+  }
+  return n;
+}
+
+MeshAssembler::MeshAssembler(uint64_t vertices, uint64_t faces, bool face_groups)
+    : vertices_(vertices), faces_(faces), face_groups_(face_groups) {
+  // Reserve is bounded by the caller's limits, checked before construction.
+  mesh_.positions.reserve(3 * vertices);
+  mesh_.triangles.reserve(3 * faces);
+  if (face_groups) mesh_.face_groups.reserve(faces);
+}
+
+absl::Status MeshAssembler::Add(const v1::MeshChunk& chunk) {
+  ++chunks_;
+  const auto& pos = chunk.positions();
+  const auto& idx = chunk.indices();
+  const auto& grp = chunk.face_groups();
+  if (pos.size() % 3 != 0)
+    return absl::InvalidArgumentError(
+        absl::StrCat("chunk ", chunks_, ": ", pos.size(), " coordinates is not a multiple of 3"));
+  if (idx.size() % 3 != 0)
+    return absl::InvalidArgumentError(
+        absl::StrCat("chunk ", chunks_, ": ", idx.size(), " indices is not a multiple of 3"));
+  const uint64_t have_v = mesh_.positions.size() / 3, have_f = mesh_.triangles.size() / 3;
+  if (have_v + pos.size() / 3 > vertices_)
+    return absl::InvalidArgumentError(
+        absl::StrCat("chunk ", chunks_, ": vertices past the declared vertex_count ", vertices_,
+                     " (", have_v + pos.size() / 3, " received)"));
+  if (have_f + idx.size() / 3 > faces_)
+    return absl::InvalidArgumentError(absl::StrCat("chunk ", chunks_,
+                                                   ": faces past the declared face_count ", faces_,
+                                                   " (", have_f + idx.size() / 3, " received)"));
+  if (!face_groups_ && !grp.empty())
+    return absl::InvalidArgumentError(absl::StrCat(
+        "chunk ", chunks_, ": face_groups sent but the spec did not declare has_face_groups"));
+  if (face_groups_ && mesh_.face_groups.size() + grp.size() > faces_)
+    return absl::InvalidArgumentError(
+        absl::StrCat("chunk ", chunks_, ": face groups past the declared face_count ", faces_));
+  for (int i = 0; i < pos.size(); ++i)
+    if (!std::isfinite(pos[i]))
+      return absl::InvalidArgumentError(absl::StrCat("chunk ", chunks_, ": vertex ", have_v + i / 3,
+                                                     " has a non-finite coordinate (", pos[i],
+                                                     ")"));
+  for (int i = 0; i < idx.size(); ++i)
+    if (idx[i] >= vertices_)
+      return absl::InvalidArgumentError(absl::StrCat("chunk ", chunks_, ": face ", have_f + i / 3,
+                                                     " references vertex ", idx[i],
+                                                     " but vertex_count is ", vertices_));
+  mesh_.positions.insert(mesh_.positions.end(), pos.begin(), pos.end());
+  mesh_.triangles.insert(mesh_.triangles.end(), idx.begin(), idx.end());
+  mesh_.face_groups.insert(mesh_.face_groups.end(), grp.begin(), grp.end());
+  return absl::OkStatus();
+}
+
+absl::StatusOr<RawMesh> MeshAssembler::Finish() {
+  const uint64_t have_v = mesh_.num_vertices(), have_f = mesh_.num_faces();
+  if (have_v != vertices_ || have_f != faces_)
+    return absl::InvalidArgumentError(absl::StrCat("stream ended early: received ", have_v, " of ",
+                                                   vertices_, " vertices and ", have_f, " of ",
+                                                   faces_, " faces in ", chunks_, " chunks"));
+  if (face_groups_ && mesh_.face_groups.size() != faces_)
+    return absl::InvalidArgumentError(absl::StrCat(
+        "stream ended early: received ", mesh_.face_groups.size(), " of ", faces_, " face groups"));
+  return std::move(mesh_);
+}
+
+}  // namespace femsimp::wire

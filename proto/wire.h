@@ -1,0 +1,57 @@
+// Conversions between the engine's types and femsimp.v1 messages, and mesh chunking; shared
+// by the server and the remote client so both sides agree on the wire format.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+
+#include "absl/status/status.h"
+#include "absl/status/statusor.h"
+#include "engine/raw_mesh.h"
+#include "engine/simplify.h"
+#include "femsimp/v1/femsimp.pb.h"
+
+namespace femsimp::wire {
+
+// Per-chunk sizes: 64 Ki vertices (768 KiB) + 64 Ki faces (768 KiB + 256 KiB groups) keeps a
+// message near 1.8 MiB, well under gRPC's default 4 MiB limit.
+inline constexpr size_t kChunkVertices = 64 * 1024;
+inline constexpr size_t kChunkFaces = 64 * 1024;
+
+// threads_given = false leaves EngineOptions.threads at 0 (server default).
+void ToProto(const SimplifyOptions& o, bool threads_given, v1::EngineOptions* out);
+// Unset fields take the engine defaults; threads 0 -> default_threads, capped at max_threads.
+// Runs ValidateOptions, so errors name the parameter and its range.
+absl::StatusOr<SimplifyOptions> FromProto(const v1::EngineOptions& in, int default_threads,
+                                          int max_threads);
+
+void ToProto(const PassStats& p, v1::Progress* out);
+PassStats FromProto(const v1::Progress& in);
+
+const char* BackendName(Backend b);
+
+// Calls emit for each chunk of the mesh, in order; stops early when emit returns false.
+// Returns the number of chunks emitted.
+size_t ForEachChunk(const RawMesh& mesh, const std::function<bool(v1::MeshChunk&)>& emit,
+                    size_t chunk_vertices = kChunkVertices, size_t chunk_faces = kChunkFaces);
+
+// Collects chunks up to declared counts, checking each chunk as it arrives: whole vertices
+// and faces, nothing past the declared counts, finite coordinates, indices below the declared
+// vertex count. Messages name the problem and where (chunk number, vertex or face index).
+class MeshAssembler {
+ public:
+  MeshAssembler(uint64_t vertices, uint64_t faces, bool face_groups);
+  absl::Status Add(const v1::MeshChunk& chunk);
+  // Fails when arrays are short of the declared counts.
+  absl::StatusOr<RawMesh> Finish();
+  uint64_t chunks() const { return chunks_; }
+
+ private:
+  uint64_t vertices_, faces_;
+  bool face_groups_;
+  uint64_t chunks_ = 0;
+  RawMesh mesh_;
+};
+
+}  // namespace femsimp::wire
