@@ -1,0 +1,26 @@
+// Server settings (filled from flags in main.cc, directly by the tests).
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace femsimp::server {
+
+struct ServerConfig {
+  std::string listen = "127.0.0.1:50051";
+  std::string metrics_listen = "127.0.0.1:9464";  // empty: no metrics exposer
+  int workers = 2;                                // jobs running at once
+  int queue_capacity = 16;                        // jobs waiting (or uploading) at most
+  int threads_per_job = 0;                        // 0: host cores / workers (at least 1)
+  uint64_t max_vertices = 20'000'000;
+  uint64_t max_faces = 40'000'000;
+  uint64_t max_request_bytes = 8 << 20;  // per received message
+  double grace_period_seconds = 30.0;
+  int retry_pushback_ms = 1000;     // suggested to clients when the queue is full
+  size_t finished_jobs_kept = 256;  // for GetJob/ListJobs
+};
+
+// Fills threads_per_job when 0 and clamps it to the host's cores; checks ranges.
+std::string NormalizeConfig(ServerConfig* c);  // empty on success, else the problem
+
+}  // namespace femsimp::server

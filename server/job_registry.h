@@ -1,0 +1,37 @@
+// Jobs by id for GetJob/CancelJob/ListJobs: every unfinished job and the most recent finished.
+#pragma once
+
+#include <deque>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "server/job.h"
+
+namespace femsimp::server {
+
+class JobRegistry {
+ public:
+  explicit JobRegistry(size_t finished_kept);
+
+  std::string NewId();
+  void Add(std::shared_ptr<Job> job);
+  // Moves the job to the finished list (dropping the oldest beyond the limit).
+  void MarkFinished(const std::shared_ptr<Job>& job);
+  std::shared_ptr<Job> Find(const std::string& id) const;
+  // Newest first.
+  std::vector<std::shared_ptr<Job>> List(bool include_finished) const;
+  std::vector<std::shared_ptr<Job>> Unfinished() const;
+
+ private:
+  const size_t finished_kept_;
+  mutable std::mutex mu_;
+  uint64_t next_ = 1;
+  const uint32_t salt_;  // tells ids of different server runs apart
+  std::map<std::string, std::shared_ptr<Job>> active_;
+  std::deque<std::shared_ptr<Job>> finished_;
+};
+
+}  // namespace femsimp::server

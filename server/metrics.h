@@ -1,0 +1,69 @@
+// Prometheus metrics of the service (femsimp_ prefix), pulled from their own HTTP port.
+#pragma once
+
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+
+#include "absl/status/status.h"
+#include "engine/simplify.h"
+#include "grpcpp/support/status.h"
+#include "prometheus/counter.h"
+#include "prometheus/exposer.h"
+#include "prometheus/family.h"
+#include "prometheus/gauge.h"
+#include "prometheus/histogram.h"
+#include "prometheus/registry.h"
+
+namespace femsimp::server {
+
+// Modeled Cell speedup of a finished job: the SPEs' modeled cycles run one after the other
+// (plus the PPE share) over the modeled parallel cycles. An estimate: it ignores that one SPE
+// alone would see other cache behaviour. HOOK: replace with the engine's own one-SPE model
+// once SimplifyResult carries one. nullopt on native or without cell counters.
+std::optional<double> ModeledSpeedup(const SimplifyResult& r);
+
+class Metrics {
+ public:
+  Metrics();
+  // Starts the pull exposer on HOST:PORT (port 0 picks a free one).
+  absl::Status StartExposer(const std::string& address);
+  int port() const;  // the exposer's port, 0 when not started
+
+  void JobFinished(grpc::StatusCode code);
+  void SetQueueDepth(size_t waiting);
+  void SetRunning(int running);
+  void PassFinished(Backend backend, const PassStats& p);
+  void JobCompleted(Backend backend, int contexts, double job_seconds, double queue_seconds,
+                    const SimplifyResult& r);
+
+  prometheus::Registry& registry() { return *registry_; }
+
+ private:
+  std::shared_ptr<prometheus::Registry> registry_;
+  std::unique_ptr<prometheus::Exposer> exposer_;
+  std::mutex mu_;  // Family::Add is thread-safe; mu_ only guards exposer_
+  prometheus::Family<prometheus::Counter>& jobs_;
+  prometheus::Gauge& queue_depth_;
+  prometheus::Gauge& running_;
+  prometheus::Family<prometheus::Histogram>& job_seconds_;
+  prometheus::Family<prometheus::Histogram>& queue_seconds_;
+  prometheus::Family<prometheus::Histogram>& pass_seconds_;
+  prometheus::Family<prometheus::Counter>& passes_;
+  prometheus::Counter& vertices_in_;
+  prometheus::Counter& vertices_out_;
+  prometheus::Counter& vertices_removed_;
+  prometheus::Counter& faces_in_;
+  prometheus::Counter& faces_out_;
+  prometheus::Family<prometheus::Counter>& lock_conflicts_;
+  prometheus::Family<prometheus::Counter>& rejections_;
+  prometheus::Counter& cache_hits_;
+  prometheus::Counter& cache_misses_;
+  prometheus::Family<prometheus::Histogram>& speedup_;
+  prometheus::Family<prometheus::Gauge>& last_speedup_;
+  prometheus::Family<prometheus::Histogram>& modeled_speedup_;
+  prometheus::Family<prometheus::Gauge>& last_modeled_speedup_;
+};
+
+}  // namespace femsimp::server

@@ -1,0 +1,89 @@
+#include "server/server.h"
+
+#include <chrono>
+#include <thread>
+
+#include "absl/strings/str_cat.h"
+#include "grpcpp/ext/proto_server_reflection_plugin.h"
+#include "grpcpp/health_check_service_interface.h"
+#include "grpcpp/security/server_credentials.h"
+#include "grpcpp/server_builder.h"
+#include "server/log.h"
+
+namespace femsimp::server {
+namespace {
+
+constexpr char kServiceName[] = "femsimp.v1.Simplifier";
+
+}  // namespace
+
+FemsimpServer::FemsimpServer(ServerConfig config)
+    : config_(std::move(config)),
+      queue_(static_cast<size_t>(std::max(0, config_.queue_capacity))),
+      registry_(config_.finished_jobs_kept) {}
+
+FemsimpServer::~FemsimpServer() { Shutdown(); }
+
+absl::Status FemsimpServer::Start() {
+  if (std::string err = NormalizeConfig(&config_); !err.empty())
+    return absl::InvalidArgumentError(err);
+  if (!config_.metrics_listen.empty())
+    if (absl::Status s = metrics_.StartExposer(config_.metrics_listen); !s.ok()) return s;
+
+  workers_ = std::make_unique<WorkerPool>(config_.workers, queue_, registry_, metrics_);
+  service_ = std::make_unique<SimplifierService>(config_, queue_, registry_, *workers_, metrics_);
+  grpc::EnableDefaultHealthCheckService(true);
+  grpc::reflection::InitProtoReflectionServerBuilderPlugin();
+  grpc::ServerBuilder builder;
+  builder.AddListeningPort(config_.listen, grpc::InsecureServerCredentials(), &port_);
+  builder.SetMaxReceiveMessageSize(static_cast<int>(
+      std::min<uint64_t>(config_.max_request_bytes, std::numeric_limits<int>::max())));
+  builder.RegisterService(service_.get());
+  server_ = builder.BuildAndStart();
+  if (!server_ || port_ == 0) {
+    workers_.reset();
+    return absl::UnavailableError(absl::StrCat("cannot listen on ", config_.listen));
+  }
+  server_->GetHealthCheckService()->SetServingStatus(true);
+  server_->GetHealthCheckService()->SetServingStatus(kServiceName, true);
+  LogLine(absl::StrCat(
+      "femsimp-server ", kVersion, " listening on ", config_.listen, " (port ", port_,
+      "), metrics on ", config_.metrics_listen.empty() ? "(off)" : config_.metrics_listen,
+      " (port ", metrics_.port(), "), workers=", config_.workers,
+      " queue_capacity=", config_.queue_capacity, " threads_per_job=", config_.threads_per_job));
+  return absl::OkStatus();
+}
+
+void FemsimpServer::Shutdown() {
+  if (stopped_ || !server_) return;
+  stopped_ = true;
+  LogLine("shutting down: health NOT_SERVING, no new jobs");
+  server_->GetHealthCheckService()->SetServingStatus(false);
+  server_->GetHealthCheckService()->SetServingStatus(kServiceName, false);
+  service_->BeginShutdown();
+  queue_.Close();
+  for (const std::shared_ptr<Job>& job : queue_.TakeAll()) {
+    job->RequestCancel(grpc::StatusCode::UNAVAILABLE, "server shut down before the job started");
+    job->Finish(JobState::kCancelled, grpc::Status(grpc::StatusCode::UNAVAILABLE,
+                                                   "server shut down before the job started"));
+  }
+  metrics_.SetQueueDepth(0);
+
+  const auto deadline = std::chrono::steady_clock::now() +
+                        std::chrono::duration<double>(config_.grace_period_seconds);
+  while (workers_->running() > 0 && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  if (workers_->running() > 0) {
+    LogLine(absl::StrCat("grace period over: cancelling ", workers_->running(), " running jobs"));
+    for (const std::shared_ptr<Job>& job : registry_.Unfinished())
+      job->RequestCancel(grpc::StatusCode::UNAVAILABLE,
+                         "server shut down: grace period over, job cancelled");
+  }
+  workers_->Join();
+  // Handlers are only streaming results now; give them a moment, then cut the calls.
+  server_->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(5));
+  server_->Wait();
+  LogLine("stopped");
+}
+
+}  // namespace femsimp::server

@@ -1,0 +1,283 @@
+#include "server/service.h"
+
+#include <chrono>
+#include <thread>
+
+#include "absl/strings/str_cat.h"
+#include "engine/mesh.h"
+#include "proto/wire.h"
+#include "server/log.h"
+#include "server/request_reader.h"
+#include "server/status_util.h"
+
+namespace femsimp::server {
+namespace {
+
+using Stream = grpc::ServerReaderWriter<v1::SimplifyResponse, v1::SimplifyRequest>;
+constexpr auto kPoll = std::chrono::milliseconds(50);
+
+double Seconds(Job::Clock::time_point a, Job::Clock::time_point b) {
+  return std::chrono::duration<double>(b - a).count();
+}
+
+bool DeadlinePassed(const grpc::ServerContext* ctx) {
+  return ctx->deadline() <= std::chrono::system_clock::now();
+}
+
+}  // namespace
+
+SimplifierService::SimplifierService(const ServerConfig& config, JobQueue& queue,
+                                     JobRegistry& registry, WorkerPool& workers, Metrics& metrics)
+    : config_(config), queue_(queue), registry_(registry), workers_(workers), metrics_(metrics) {}
+
+void SimplifierService::UpdateQueueGauge() { metrics_.SetQueueDepth(queue_.waiting()); }
+
+grpc::Status SimplifierService::Simplify(grpc::ServerContext* ctx, Stream* stream) {
+  grpc::Status status = [&]() -> grpc::Status {
+    if (shutting_down_.load())
+      return grpc::Status(grpc::StatusCode::UNAVAILABLE, "server is shutting down");
+    RequestReader reader([stream](v1::SimplifyRequest* r) { return stream->Read(r); }, config_);
+    absl::StatusOr<v1::JobSpec> spec = reader.ReadSpec();
+    if (!spec.ok()) {
+      if (ctx->IsCancelled()) return grpc::Status::CANCELLED;
+      return ToGrpc(spec.status());
+    }
+    absl::StatusOr<SimplifyOptions> options =
+        wire::FromProto(spec->options(), config_.threads_per_job, config_.threads_per_job);
+    if (!options.ok())
+      return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
+                          absl::StrCat("spec.options: ", options.status().message()));
+    // Admission before the upload, so a full server does not receive the mesh first.
+    if (!queue_.TryReserve()) {
+      ctx->AddTrailingMetadata("grpc-retry-pushback-ms", std::to_string(config_.retry_pushback_ms));
+      return grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
+                          absl::StrCat("job queue is full (queue_capacity = ", queue_.capacity(),
+                                       ", ", workers_.running(), " jobs running); retry after ",
+                                       config_.retry_pushback_ms, " ms"));
+    }
+    auto job =
+        std::make_shared<Job>(registry_.NewId(), spec->client_label(), *options,
+                              spec->vertex_count(), spec->face_count(), spec->has_face_groups());
+    registry_.Add(job);
+    grpc::Status s = RunJob(ctx, stream, job, reader, *spec);
+    {
+      std::lock_guard<std::mutex> lock(job->mu);
+      if (!job->done()) {
+        const bool cancelled = s.error_code() == grpc::StatusCode::CANCELLED ||
+                               s.error_code() == grpc::StatusCode::DEADLINE_EXCEEDED;
+        job->state = s.ok()      ? JobState::kSucceeded
+                     : cancelled ? JobState::kCancelled
+                                 : JobState::kFailed;
+        job->status = s;
+        job->finished_at = Job::Clock::now();
+        job->mesh.reset();
+      }
+      job->output = RawMesh();
+    }
+    registry_.MarkFinished(job);
+    return s;
+  }();
+  metrics_.JobFinished(status.error_code());
+  return status;
+}
+
+grpc::Status SimplifierService::RunJob(grpc::ServerContext* ctx, Stream* stream,
+                                       const std::shared_ptr<Job>& job, RequestReader& reader,
+                                       const v1::JobSpec& spec) {
+  bool reserved = true;
+  auto release = [&] {
+    if (reserved) queue_.CancelReservation();
+    reserved = false;
+  };
+  v1::SimplifyResponse resp;
+  resp.mutable_accepted()->set_job_id(job->id);
+  resp.mutable_accepted()->set_queue_position(static_cast<uint32_t>(queue_.waiting()));
+  if (!stream->Write(resp)) {
+    release();
+    return grpc::Status(grpc::StatusCode::CANCELLED, "client went away");
+  }
+
+  absl::StatusOr<RawMesh> raw = reader.ReadMesh(spec);
+  if (ctx->IsCancelled() || job->cancelled()) {
+    release();
+    if (job->cancelled()) {
+      std::lock_guard<std::mutex> lock(job->mu);
+      return grpc::Status(job->cancel_code, job->cancel_message);
+    }
+    return grpc::Status(
+        DeadlinePassed(ctx) ? grpc::StatusCode::DEADLINE_EXCEEDED : grpc::StatusCode::CANCELLED,
+        "client cancelled during the upload");
+  }
+  if (!raw.ok()) {
+    release();
+    return ToGrpc(raw.status());
+  }
+  absl::StatusOr<Mesh> mesh = Mesh::Build(*raw);
+  *raw = RawMesh();
+  if (!mesh.ok()) {
+    release();
+    return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
+                        absl::StrCat("invalid mesh: ", mesh.status().message()));
+  }
+  {
+    std::lock_guard<std::mutex> lock(job->mu);
+    job->mesh.emplace(std::move(*mesh));
+    job->state = JobState::kQueued;
+    job->queued_at = Job::Clock::now();
+  }
+  reserved = false;
+  if (!queue_.PushReserved(job))
+    return grpc::Status(grpc::StatusCode::UNAVAILABLE, "server is shutting down");
+  UpdateQueueGauge();
+  return Follow(ctx, stream, job);
+}
+
+void SimplifierService::CancelForClient(grpc::ServerContext* ctx, const std::shared_ptr<Job>& job) {
+  if (DeadlinePassed(ctx)) {
+    job->RequestCancel(grpc::StatusCode::DEADLINE_EXCEEDED, "deadline exceeded");
+  } else {
+    job->RequestCancel(grpc::StatusCode::CANCELLED, "cancelled by the client");
+  }
+}
+
+grpc::Status SimplifierService::Follow(grpc::ServerContext* ctx, Stream* stream,
+                                       const std::shared_ptr<Job>& job) {
+  size_t sent_passes = 0;
+  int last_position = -2;
+  bool client_gone = false;
+  for (;;) {
+    std::vector<PassStats> fresh;
+    bool done, cancelled;
+    JobState state;
+    {
+      std::unique_lock<std::mutex> lock(job->mu);
+      job->cv.wait_for(lock, kPoll, [&] {
+        return job->passes.size() > sent_passes || job->done() || job->cancelled();
+      });
+      fresh.assign(job->passes.begin() + static_cast<std::ptrdiff_t>(sent_passes),
+                   job->passes.end());
+      sent_passes = job->passes.size();
+      done = job->done();
+      state = job->state;
+      cancelled = job->cancelled();
+    }
+    if (!done && !cancelled && (client_gone || ctx->IsCancelled())) {
+      CancelForClient(ctx, job);
+      cancelled = true;
+    }
+    // A cancelled job still waiting is taken out here; a running one stops within a pass.
+    if (!done && cancelled && queue_.Remove(job.get())) {
+      UpdateQueueGauge();
+      grpc::Status s;
+      {
+        std::lock_guard<std::mutex> lock(job->mu);
+        s = grpc::Status(job->cancel_code, job->cancel_message);
+      }
+      job->Finish(JobState::kCancelled, s);
+      done = true;
+    }
+    if (done) break;
+    if (client_gone) continue;  // wait for the worker to let go of the job
+    if (state == JobState::kQueued) {
+      int pos = queue_.Position(job.get());
+      if (pos >= 0 && pos != last_position) {
+        v1::SimplifyResponse resp;
+        resp.mutable_queue_update()->set_queue_position(static_cast<uint32_t>(pos));
+        if (!stream->Write(resp)) client_gone = true;
+        last_position = pos;
+      }
+    }
+    for (const PassStats& p : fresh) {
+      v1::SimplifyResponse resp;
+      wire::ToProto(p, resp.mutable_progress());
+      if (!client_gone && !stream->Write(resp)) client_gone = true;
+    }
+  }
+
+  v1::SimplifyResponse resp;
+  RawMesh output;
+  {
+    std::lock_guard<std::mutex> lock(job->mu);
+    if (!job->status.ok()) return job->status;
+    if (!job->result) return grpc::Status(grpc::StatusCode::INTERNAL, "job ended without result");
+    const SimplifyResult& r = *job->result;
+    v1::Result* m = resp.mutable_result();
+    m->set_job_id(job->id);
+    m->set_input_vertices(r.input_vertices);
+    m->set_input_faces(r.input_faces);
+    m->set_output_vertices(job->output.num_vertices());
+    m->set_output_faces(job->output.num_faces());
+    m->set_engine_seconds(r.engine_seconds);
+    m->set_busy_seconds(r.busy_seconds);
+    m->set_queue_seconds(Seconds(job->queued_at, job->started_at));
+    m->set_stop_reason(StopReasonName(r.stop_reason));
+    m->set_passes(static_cast<uint32_t>(r.passes.size()));
+    m->set_modeled_cycles(r.modeled_cycles);
+    m->set_has_face_groups(!job->output.face_groups.empty());
+    m->set_contexts(job->contexts());
+    output = std::move(job->output);
+    job->output = RawMesh();
+  }
+  if (client_gone || ctx->IsCancelled())
+    return grpc::Status(grpc::StatusCode::CANCELLED, "client went away");
+  if (!stream->Write(resp)) return grpc::Status(grpc::StatusCode::CANCELLED, "client went away");
+  bool ok = true;
+  wire::ForEachChunk(output, [&](v1::MeshChunk& chunk) {
+    v1::SimplifyResponse c;
+    c.mutable_chunk()->Swap(&chunk);
+    ok = stream->Write(c);
+    return ok;
+  });
+  if (!ok) return grpc::Status(grpc::StatusCode::CANCELLED, "client went away during the result");
+  return grpc::Status::OK;
+}
+
+grpc::Status SimplifierService::GetJob(grpc::ServerContext*, const v1::GetJobRequest* req,
+                                       v1::JobInfo* resp) {
+  std::shared_ptr<Job> job = registry_.Find(req->job_id());
+  if (!job)
+    return grpc::Status(grpc::StatusCode::NOT_FOUND, absl::StrCat("no job '", req->job_id(), "'"));
+  job->Describe(resp, queue_.Position(job.get()));
+  return grpc::Status::OK;
+}
+
+grpc::Status SimplifierService::CancelJob(grpc::ServerContext*, const v1::CancelJobRequest* req,
+                                          v1::CancelJobResponse* resp) {
+  std::shared_ptr<Job> job = registry_.Find(req->job_id());
+  if (!job)
+    return grpc::Status(grpc::StatusCode::NOT_FOUND, absl::StrCat("no job '", req->job_id(), "'"));
+  {
+    std::lock_guard<std::mutex> lock(job->mu);
+    resp->set_previous_state(ToProto(job->state));
+    if (job->done()) return grpc::Status::OK;
+  }
+  job->RequestCancel(grpc::StatusCode::CANCELLED, "cancelled by CancelJob");
+  LogLine(absl::StrCat("job ", job->id, ": CancelJob"));
+  return grpc::Status::OK;
+}
+
+grpc::Status SimplifierService::ListJobs(grpc::ServerContext*, const v1::ListJobsRequest* req,
+                                         v1::ListJobsResponse* resp) {
+  for (const auto& job : registry_.List(req->include_finished()))
+    job->Describe(resp->add_jobs(), queue_.Position(job.get()));
+  return grpc::Status::OK;
+}
+
+grpc::Status SimplifierService::ServerInfo(grpc::ServerContext*, const v1::ServerInfoRequest*,
+                                           v1::ServerInfoResponse* resp) {
+  resp->set_version(kVersion);
+  resp->add_backends("native");
+  resp->add_backends("cell");
+  resp->set_workers(static_cast<uint32_t>(config_.workers));
+  resp->set_queue_capacity(static_cast<uint32_t>(config_.queue_capacity));
+  resp->set_threads_per_job(static_cast<uint32_t>(config_.threads_per_job));
+  resp->set_max_vertices(config_.max_vertices);
+  resp->set_max_faces(config_.max_faces);
+  resp->set_max_request_bytes(config_.max_request_bytes);
+  resp->set_queued_jobs(static_cast<uint32_t>(queue_.waiting()));
+  resp->set_running_jobs(static_cast<uint32_t>(workers_.running()));
+  resp->set_host_cores(std::max(1u, std::thread::hardware_concurrency()));
+  return grpc::Status::OK;
+}
+
+}  // namespace femsimp::server

@@ -1,0 +1,58 @@
+// The femsimp.v1.Simplifier gRPC service: admission, streaming of one job, job queries.
+#pragma once
+
+#include <atomic>
+
+#include "femsimp/v1/femsimp.grpc.pb.h"
+#include "server/config.h"
+#include "server/job_queue.h"
+#include "server/job_registry.h"
+#include "server/metrics.h"
+#include "server/worker_pool.h"
+
+namespace femsimp::server {
+
+inline constexpr char kVersion[] = "0.1.0";
+
+class SimplifierService final : public v1::Simplifier::Service {
+ public:
+  SimplifierService(const ServerConfig& config, JobQueue& queue, JobRegistry& registry,
+                    WorkerPool& workers, Metrics& metrics);
+
+  grpc::Status Simplify(
+      grpc::ServerContext* ctx,
+      grpc::ServerReaderWriter<v1::SimplifyResponse, v1::SimplifyRequest>* stream) override;
+  grpc::Status GetJob(grpc::ServerContext* ctx, const v1::GetJobRequest* req,
+                      v1::JobInfo* resp) override;
+  grpc::Status CancelJob(grpc::ServerContext* ctx, const v1::CancelJobRequest* req,
+                         v1::CancelJobResponse* resp) override;
+  grpc::Status ListJobs(grpc::ServerContext* ctx, const v1::ListJobsRequest* req,
+                        v1::ListJobsResponse* resp) override;
+  grpc::Status ServerInfo(grpc::ServerContext* ctx, const v1::ServerInfoRequest* req,
+                          v1::ServerInfoResponse* resp) override;
+
+  // New Simplify calls get UNAVAILABLE from now on.
+  void BeginShutdown() { shutting_down_.store(true); }
+
+ private:
+  // Everything after admission; the caller records the final status.
+  grpc::Status RunJob(grpc::ServerContext* ctx,
+                      grpc::ServerReaderWriter<v1::SimplifyResponse, v1::SimplifyRequest>* stream,
+                      const std::shared_ptr<Job>& job, class RequestReader& reader,
+                      const v1::JobSpec& spec);
+  // Streams progress until the job is done; cancels it when the client goes away.
+  grpc::Status Follow(grpc::ServerContext* ctx,
+                      grpc::ServerReaderWriter<v1::SimplifyResponse, v1::SimplifyRequest>* stream,
+                      const std::shared_ptr<Job>& job);
+  void CancelForClient(grpc::ServerContext* ctx, const std::shared_ptr<Job>& job);
+  void UpdateQueueGauge();
+
+  const ServerConfig& config_;
+  JobQueue& queue_;
+  JobRegistry& registry_;
+  WorkerPool& workers_;
+  Metrics& metrics_;
+  std::atomic<bool> shutting_down_{false};
+};
+
+}  // namespace femsimp::server
