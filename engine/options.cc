@@ -18,8 +18,6 @@ const char* RejectName(Reject r) {
   switch (r) {
     case Reject::kLink:
       return "link_condition";
-    case Reject::kBoundary:
-      return "boundary";
     case Reject::kValence:
       return "valence";
     case Reject::kFoldOver:

@@ -1,9 +1,163 @@
+// The pass driver (paper section 3): cost, sort, split, remove; repeat.
 #include "engine/simplify.h"
 
-namespace femsimp {
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <vector>
 
-absl::StatusOr<SimplifyResult> Simplify(Mesh&, const SimplifyOptions&, const SimplifyControl&) {
-  return absl::UnimplementedError("engine in progress");
+#include "engine/cost.h"
+#include "engine/criteria.h"
+#include "engine/port.h"
+#include "engine/removal_backend.h"
+#include "engine/worker_pool.h"
+
+namespace femsimp {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double Since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+// Costs are >= 0, so their float bits order like the values; the vertex id breaks ties, which
+// makes the order (and a one-context run) deterministic.
+uint64_t PackKey(float cost, uint32_t v) {
+  uint32_t bits;
+  std::memcpy(&bits, &cost, sizeof bits);
+  return (uint64_t{bits} << 32) | v;
+}
+
+// Computes the cost of every removable vertex (resetting not-removable ones first on
+// reconsideration passes) and sorts them: each context sorts its slice, then slices are merged
+// pairwise in parallel. Returns the vertex ids in cost order.
+std::vector<uint32_t> SortedCandidates(Mesh& mesh, WorkerPool& pool, const VertexCost& cost,
+                                       bool reconsider, double* busy_seconds) {
+  const int n = pool.size();
+  const uint32_t nv = mesh.vertex_capacity();
+  std::vector<std::vector<uint64_t>> slices(n);
+  std::vector<double> busy(n, 0.0);
+  pool.Run([&](int c) {
+    const auto start = Clock::now();
+    NativePort port(mesh);
+    Ring ring;
+    std::vector<uint64_t>& keys = slices[c];
+    const uint32_t begin = uint32_t(uint64_t{nv} * c / n),
+                   end = uint32_t(uint64_t{nv} * (c + 1) / n);
+    std::atomic<uint32_t>* status = mesh.status();
+    for (uint32_t v = begin; v < end; ++v) {
+      uint32_t s = status[v].load(std::memory_order_relaxed);
+      if (reconsider && s == kNotRemovable) {
+        status[v].store(kRemovable, std::memory_order_relaxed);
+        s = kRemovable;
+      }
+      if (s != kRemovable) continue;
+      const float c_v = GatherRing(port, v, ring) == RingResult::kOk
+                            ? cost.Cost(ring)
+                            : std::numeric_limits<float>::max();
+      keys.push_back(PackKey(c_v, v));
+    }
+    std::sort(keys.begin(), keys.end());
+    busy[c] = Since(start);
+  });
+  for (int width = 1; width < n; width *= 2) {
+    pool.Run([&](int c) {
+      if (c % (2 * width) != 0 || c + width >= n) return;
+      const auto start = Clock::now();
+      std::vector<uint64_t> merged(slices[c].size() + slices[c + width].size());
+      std::merge(slices[c].begin(), slices[c].end(), slices[c + width].begin(),
+                 slices[c + width].end(), merged.begin());
+      slices[c].swap(merged);
+      std::vector<uint64_t>().swap(slices[c + width]);
+      busy[c] += Since(start);
+    });
+  }
+  for (double b : busy) *busy_seconds += b;
+  std::vector<uint32_t> ids(slices[0].size());
+  for (size_t i = 0; i < ids.size(); ++i) ids[i] = static_cast<uint32_t>(slices[0][i]);
+  return ids;
+}
+
+}  // namespace
+
+absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& options,
+                                        const SimplifyControl& control) {
+  if (absl::Status s = ValidateOptions(options); !s.ok()) return s;
+  if (options.backend == Backend::kCell)
+    return absl::UnimplementedError("the cell back end is not built into this engine yet");
+  const auto run_start = Clock::now();
+  SimplifyResult result;
+  result.input_vertices = mesh.CountLiveVertices();
+  result.input_faces = mesh.CountLiveFaces();
+
+  RemovalBudget budget;
+  budget.alive.store(static_cast<int64_t>(result.input_vertices));
+  if (options.target_vertices > 0)
+    budget.target = static_cast<int64_t>(options.target_vertices);
+  else if (options.ratio > 0.0)
+    budget.target = std::max<int64_t>(
+        1, static_cast<int64_t>(std::ceil(options.ratio * double(result.input_vertices))));
+
+  WorkerPool pool(options.threads);
+  const CriteriaSet criteria = CriteriaSet::FromOptions(options);
+  const GaussianCurvatureCost cost;
+  std::unique_ptr<RemovalBackend> backend = MakeNativeBackend(mesh, criteria, pool);
+
+  result.stop_reason = StopReason::kMaxPasses;
+  bool reconsider_next = false;
+  for (int pass = 1; pass <= options.max_passes; ++pass) {
+    if (budget.target > 0 && budget.alive.load() <= budget.target) {
+      result.stop_reason = StopReason::kTargetReached;
+      break;
+    }
+    if (control.cancelled && control.cancelled()) {
+      result.stop_reason = StopReason::kCancelled;
+      break;
+    }
+    const auto pass_start = Clock::now();
+    PassStats stats;
+    stats.pass = pass;
+    const bool reconsider =
+        reconsider_next || (pass > 1 && (pass - 1) % options.reconsider_every == 0);
+    reconsider_next = false;
+    const std::vector<uint32_t> sorted =
+        SortedCandidates(mesh, pool, cost, reconsider, &stats.busy_seconds);
+    stats.candidates = static_cast<uint64_t>(
+        std::ceil(options.candidate_fraction * static_cast<double>(sorted.size())));
+    std::atomic<bool> stop{false};
+    budget.stop.store(false);
+    const std::function<bool()> no_cancel;
+    RemovalPhase phase{sorted.data(), stats.candidates, &budget, &stop,
+                       control.cancelled ? &control.cancelled : &no_cancel};
+    backend->RunRemoval(phase, stats);
+    stats.vertices_left = static_cast<uint64_t>(budget.alive.load());
+    stats.seconds = Since(pass_start);
+    result.busy_seconds += stats.busy_seconds;
+    result.passes.push_back(stats);
+    if (control.on_pass) control.on_pass(result.passes.back());
+    if (stop.load() && !budget.stop.load()) {
+      result.stop_reason = StopReason::kCancelled;
+      break;
+    }
+    if (budget.target > 0 && budget.alive.load() <= budget.target) {
+      result.stop_reason = StopReason::kTargetReached;
+      break;
+    }
+    if (stats.removed == 0 && stats.lock_conflicts == 0 && stats.inconsistent == 0) {
+      // Nothing moved: only vertices once rejected could still go, and only if they have not
+      // just been reconsidered.
+      if (reconsider || pass == 1) {
+        result.stop_reason = StopReason::kNoProgress;
+        break;
+      }
+      reconsider_next = true;
+    }
+  }
+  result.output_vertices = mesh.CountLiveVertices();
+  result.output_faces = mesh.CountLiveFaces();
+  result.engine_seconds = Since(run_start);
+  return result;
 }
 
 }  // namespace femsimp

@@ -18,10 +18,9 @@ enum class Backend { kNative, kCell };
 // Why a candidate was given up (each counted per pass).
 enum class Reject : int {
   kLink = 0,         // collapse would join already connected vertices / change topology
-  kBoundary,         // boundary vertex off its boundary, or interior edge between boundaries
   kValence,          // a neighbour would be left with too few edges (tetrahedron, ear)
-  kFoldOver,         // a new triangle flips against the one it replaces
   kDegenerate,       // a new triangle has (almost) zero area
+  kFoldOver,         // a new triangle flips against the one it replaces
   kMinAngle,         // a new triangle has an interior angle below the minimum
   kNormalDeviation,  // a new triangle's normal deviates too much from the old one
   kCount

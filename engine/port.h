@@ -1,0 +1,51 @@
+// The memory "port" the removal kernel is written against. Each back end provides one:
+// the native port touches the shared arrays directly, the cell port goes through an SPE's
+// software cache (reads), DMA puts (writes) and atomic unit (status words).
+//
+//   VertexQ ReadVertex(uint32_t v);
+//   HalfEdgeQ ReadHalfEdge(uint32_t h);
+//   HalfEdgeQ ReadHalfEdgeFresh(uint32_t h);   // bypasses any cached copy (and ReadVertexFresh)
+//   void WriteTarget(uint32_t h, uint32_t v);  // and WriteTwin, WriteFlags, WriteOut
+//   uint32_t LoadStatus(uint32_t v);
+//   bool CasStatus(uint32_t v, uint32_t expected, uint32_t desired);  // acquire
+//   void StoreStatus(uint32_t v, uint32_t value);                       // release
+//   bool Refresh();            // drop cached mesh data after a stale read; false: cannot help
+//   void ChargeCompute(uint32_t cycles);  // cycle model of the arithmetic (no-op natively)
+#pragma once
+
+#include <atomic>
+
+#include "engine/mesh.h"
+
+namespace femsimp {
+
+// Plain shared-memory port: the coherent caches of the host make every read current once the
+// reader holds the locks that guard the data (see kernel.h for which locks guard what).
+class NativePort {
+ public:
+  explicit NativePort(Mesh& mesh) : v_(mesh.vertices()), h_(mesh.halfedges()), s_(mesh.status()) {}
+
+  VertexQ ReadVertex(uint32_t v) const { return v_[v]; }
+  HalfEdgeQ ReadHalfEdge(uint32_t h) const { return h_[h]; }
+  HalfEdgeQ ReadHalfEdgeFresh(uint32_t h) const { return h_[h]; }
+  VertexQ ReadVertexFresh(uint32_t v) const { return v_[v]; }
+  void WriteTarget(uint32_t h, uint32_t v) { h_[h].target = v; }
+  void WriteTwin(uint32_t h, uint32_t t) { h_[h].twin = t; }
+  void WriteFlags(uint32_t h, uint32_t f) { h_[h].flags = f; }
+  void WriteOut(uint32_t v, uint32_t h) { v_[v].out = h; }
+  uint32_t LoadStatus(uint32_t v) const { return s_[v].load(std::memory_order_acquire); }
+  bool CasStatus(uint32_t v, uint32_t expected, uint32_t desired) {
+    return s_[v].compare_exchange_strong(expected, desired, std::memory_order_acq_rel,
+                                         std::memory_order_acquire);
+  }
+  void StoreStatus(uint32_t v, uint32_t value) { s_[v].store(value, std::memory_order_release); }
+  bool Refresh() { return false; }
+  void ChargeCompute(uint32_t) {}
+
+ private:
+  VertexQ* v_;
+  HalfEdgeQ* h_;
+  std::atomic<uint32_t>* s_;
+};
+
+}  // namespace femsimp

@@ -1,0 +1,37 @@
+// A fixed set of threads that run one function per pass phase; the caller is context 0, so
+// callbacks (progress, cancellation) stay on the caller's thread.
+#pragma once
+
+#include <condition_variable>
+#include <functional>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace femsimp {
+
+class WorkerPool {
+ public:
+  explicit WorkerPool(int contexts);
+  ~WorkerPool();
+  WorkerPool(const WorkerPool&) = delete;
+  WorkerPool& operator=(const WorkerPool&) = delete;
+
+  int size() const { return contexts_; }
+  // Runs fn(context) on every context and returns when all are done.
+  void Run(const std::function<void(int)>& fn);
+
+ private:
+  void Loop(int context);
+
+  const int contexts_;
+  std::vector<std::thread> threads_;
+  std::mutex mu_;
+  std::condition_variable start_cv_, done_cv_;
+  const std::function<void(int)>* job_ = nullptr;
+  uint64_t generation_ = 0;
+  int pending_ = 0;
+  bool quit_ = false;
+};
+
+}  // namespace femsimp
