@@ -14,7 +14,7 @@ namespace femsimp::cli {
 namespace {
 
 std::atomic<bool> g_interrupted{false};
-extern "C" void OnSigint(int) { g_interrupted.store(true); }
+void OnSigint(int) { g_interrupted.store(true); }
 
 double SecondsSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -1,14 +1,177 @@
 #include "client/remote_run.h"
 
-#include <cstdio>
+#include <unistd.h>
 
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <thread>
+
+#include "absl/strings/str_format.h"
 #include "client/exit_codes.h"
+#include "client/remote_call.h"
+#include "client/report.h"
+#include "engine/io/mesh_io.h"
+#include "proto/wire.h"
 
 namespace femsimp::cli {
+namespace {
 
-int RunRemote(const SimplifyArgs&) {
-  std::fprintf(stderr, "femsimp: remote mode not written yet\n");
-  return kExitInternal;
+std::atomic<bool> g_interrupted{false};
+void OnSigint(int) { g_interrupted.store(true); }
+
+double SecondsSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// One line redrawn in place: a bar toward the target, then the figures of the last pass.
+std::string ProgressBar(const PassStats& p, uint64_t input_vertices, const SimplifyOptions& o) {
+  uint64_t target = o.target_vertices
+                        ? o.target_vertices
+                        : static_cast<uint64_t>(o.ratio * static_cast<double>(input_vertices));
+  double fraction;
+  if (target > 0 && target < input_vertices) {
+    fraction = static_cast<double>(input_vertices - std::min(input_vertices, p.vertices_left)) /
+               static_cast<double>(input_vertices - target);
+  } else {
+    fraction = static_cast<double>(p.pass) / o.max_passes;
+  }
+  fraction = std::clamp(fraction, 0.0, 1.0);
+  constexpr int kWidth = 30;
+  int filled = static_cast<int>(fraction * kWidth + 0.5);
+  uint64_t rejected = 0;
+  for (uint64_t r : p.rejections) rejected += r;
+  std::string s = absl::StrFormat(
+      "\r[%s%s] %3.0f%% pass %d: %u vertices, -%u, tried %u, "
+      "locks %u, rejected %u, %.3f s",
+      std::string(filled, '#'), std::string(kWidth - filled, '.'), 100 * fraction, p.pass,
+      p.vertices_left, p.removed, p.tried, p.lock_conflicts, rejected, p.seconds);
+  if (p.cell) absl::StrAppend(&s, absl::StrFormat(", cache %.1f%%", 100 * p.cell->hit_ratio()));
+  return s + "\x1b[K";  // clear what a longer previous line left
+}
+
+}  // namespace
+
+int RunRemote(const SimplifyArgs& args) {
+  RunReport report;
+  report.input_path = args.input;
+  report.output_path = args.output;
+  report.options = args.options;
+  report.server = args.server;
+
+  auto t0 = std::chrono::steady_clock::now();
+  absl::StatusOr<RawMesh> raw = ReadMeshFile(args.input);
+  if (!raw.ok()) {
+    std::fprintf(stderr, "femsimp: cannot read %s: %s\n", args.input.c_str(),
+                 std::string(raw.status().message()).c_str());
+    return kExitInputUnreadable;
+  }
+  report.load_seconds = SecondsSince(t0);
+  report.input_vertices = raw->num_vertices();
+  report.input_faces = raw->num_faces();
+
+  v1::JobSpec spec;
+  wire::ToProto(args.options, args.threads_given, spec.mutable_options());
+  spec.set_client_label(args.label.empty() ? args.input : args.label);
+
+  auto stub = v1::Simplifier::NewStub(MakeChannel(args.server));
+  grpc::ClientContext ctx;
+  if (args.deadline_seconds > 0)
+    ctx.set_deadline(std::chrono::system_clock::now() +
+                     std::chrono::microseconds(static_cast<int64_t>(args.deadline_seconds * 1e6)));
+
+  // Ctrl-C cancels the call; the server stops the job within a pass.
+  std::signal(SIGINT, OnSigint);
+  std::atomic<bool> call_done{false};
+  std::thread canceller([&] {
+    while (!call_done.load()) {
+      if (g_interrupted.load()) {
+        ctx.TryCancel();
+        break;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+  });
+
+  const bool tty = isatty(fileno(stdout));
+  bool bar_drawn = false;
+  RemoteCallbacks cb;
+  cb.on_accepted = [&](const v1::Accepted& a) {
+    report.job_id = a.job_id();
+    if (!args.quiet)
+      std::printf("job %s accepted by %s (%u ahead in the queue)\n", a.job_id().c_str(),
+                  args.server.c_str(), a.queue_position());
+    if (!args.quiet && !tty) std::printf("%s\n", PassTableHeader(args.options.backend).c_str());
+    std::fflush(stdout);
+  };
+  cb.on_queue_update = [&](const v1::QueueUpdate& q) {
+    if (args.quiet) return;
+    if (tty) {
+      std::printf("\rqueued: %u jobs ahead\x1b[K", q.queue_position());
+      bar_drawn = true;
+    } else {
+      std::printf("queued: %u jobs ahead\n", q.queue_position());
+    }
+    std::fflush(stdout);
+  };
+  cb.on_progress = [&](const v1::Progress& m) {
+    PassStats p = wire::FromProto(m);
+    if (!args.quiet) {
+      if (tty) {
+        std::printf("%s", ProgressBar(p, report.input_vertices, args.options).c_str());
+        bar_drawn = true;
+      } else {
+        std::printf("%s\n", PassTableRow(p, args.options.backend).c_str());
+      }
+      std::fflush(stdout);
+    }
+    report.passes.push_back(std::move(p));
+  };
+  auto t_rpc = std::chrono::steady_clock::now();
+  RemoteOutcome out = RemoteSimplify(*stub, ctx, std::move(spec), *raw, cb);
+  report.transfer_seconds = SecondsSince(t_rpc);
+  call_done.store(true);
+  canceller.join();
+  std::signal(SIGINT, SIG_DFL);
+  if (bar_drawn) std::printf("\n");
+  *raw = RawMesh();
+
+  if (!out.status.ok()) {
+    grpc::StatusCode code = out.status.error_code();
+    std::fprintf(stderr, "femsimp: %s: %s (%s: %s)\n", args.server.c_str(), GrpcCodeHint(code),
+                 GrpcCodeName(code), out.status.error_message().c_str());
+    if (out.retry_pushback_ms >= 0)
+      std::fprintf(stderr, "femsimp: the server suggests retrying after %d ms\n",
+                   out.retry_pushback_ms);
+    return kExitGrpcBase + static_cast<int>(code);
+  }
+  const v1::Result& r = out.result;
+  report.output_vertices = out.output.num_vertices();
+  report.output_faces = out.output.num_faces();
+  report.engine_seconds = r.engine_seconds();
+  report.busy_seconds = r.busy_seconds();
+  report.queue_seconds = r.queue_seconds();
+  report.stop_reason = r.stop_reason();
+  report.modeled_cycles = r.modeled_cycles();
+  if (args.options.backend == Backend::kNative && r.contexts() > 0)
+    report.options.threads = r.contexts();  // what the server actually ran with
+
+  auto t1 = std::chrono::steady_clock::now();
+  if (absl::Status s = WriteMeshFile(args.output, out.output); !s.ok()) {
+    std::fprintf(stderr, "femsimp: cannot write %s: %s\n", args.output.c_str(),
+                 std::string(s.message()).c_str());
+    return kExitOutputFailed;
+  }
+  report.write_seconds = SecondsSince(t1);
+  std::printf("%s", Summary(report).c_str());
+  if (!args.stats_json.empty()) {
+    if (absl::Status s = WriteTextFile(args.stats_json, ReportJson(report)); !s.ok()) {
+      std::fprintf(stderr, "femsimp: --stats-json: %s\n", std::string(s.message()).c_str());
+      return kExitOutputFailed;
+    }
+  }
+  return kExitOk;
 }
 
 }  // namespace femsimp::cli
