@@ -123,6 +123,31 @@ TEST_F(BadInputTest, TruncatedPly) {
   ExpectReadError(Truncate(ascii, 4), kInvalid, "the data ends in face 3");
 }
 
+// "OFF BINARY" as OpenMesh writes it: little-endian counts, float points, int faces.
+std::string BinaryOff(const RawMesh& m) {
+  std::string s = "OFF BINARY\n";
+  const auto put = [&](const auto& v) { s.append(reinterpret_cast<const char*>(&v), sizeof(v)); };
+  put(int32_t(m.num_vertices()));
+  put(int32_t(m.num_faces()));
+  put(int32_t(0));
+  for (float x : m.positions) put(x);
+  for (size_t f = 0; f < m.num_faces(); ++f) {
+    put(int32_t(3));
+    for (int i = 0; i < 3; ++i) put(int32_t(m.triangles[3 * f + i]));
+  }
+  return s;
+}
+
+TEST_F(BadInputTest, BinaryOffReadsAndTruncationIsCaught) {
+  const std::string data = BinaryOff(testing::Tetrahedron());
+  absl::StatusOr<RawMesh> m = ReadMeshFile(Write("bin.off", data));
+  ASSERT_TRUE(m.ok()) << m.status();
+  EXPECT_EQ(m->positions, testing::Tetrahedron().positions);
+  EXPECT_EQ(m->triangles, testing::Tetrahedron().triangles);
+  ExpectReadError(Write("cut.off", data.substr(0, data.size() - 8)), kInvalid,
+                  "binary OFF truncated: header announces 4 vertices and 4 faces");
+}
+
 TEST_F(BadInputTest, GarbageText) {
   const std::string junk = "hello world\nthis is not a mesh\n";
   ExpectReadError(Write("g.off", junk), kInvalid, "expected an OFF header, found 'hello'");
