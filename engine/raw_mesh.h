@@ -1,6 +1,7 @@
 // Indexed triangle soup: the exchange format between file I/O, the wire format and the engine.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 

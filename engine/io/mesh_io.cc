@@ -1,18 +1,180 @@
 #include "engine/io/mesh_io.h"
 
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <system_error>
+
+#include "absl/status/status.h"
+#include "absl/strings/ascii.h"
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_join.h"
+#include "engine/io/openmesh.h"
+#include "engine/io/raw_importer.h"
+#include "engine/io/survey.h"
+
 namespace femsimp {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A float needs 9 significant digits to survive a text round trip exactly (max_digits10).
+// OpenMesh's OBJ writer uses fixed notation, where precision counts decimals: 17 keeps every
+// float of magnitude above about 1e-10 exact (smaller ones are rounded to 1e-17).
+constexpr std::streamsize kTextPrecision = 9;
+constexpr std::streamsize kObjPrecision = 17;
+
+// The face property that carries face groups in PLY files.
+constexpr char kGroupProperty[] = "group";
+
+std::string LowerExtension(const std::string& path) {
+  return absl::AsciiStrToLower(fs::path(path).extension().string());
+}
+
+absl::Status CheckExtension(const std::string& path, const std::string& ext) {
+  const auto& ok = SupportedMeshExtensions();
+  if (std::find(ok.begin(), ok.end(), ext) != ok.end()) return absl::OkStatus();
+  return absl::InvalidArgumentError(absl::StrCat(path, ": unsupported mesh file extension '", ext,
+                                                 "' (supported: ", absl::StrJoin(ok, ", "), ")"));
+}
+
+absl::StatusOr<std::string> ReadWholeFile(const std::string& path) {
+  std::error_code ec;
+  const fs::file_status st = fs::status(path, ec);
+  if (st.type() == fs::file_type::not_found)
+    return absl::NotFoundError(absl::StrCat(path, ": no such file"));
+  if (ec)  // e.g. a parent directory that cannot be searched
+    return absl::FailedPreconditionError(absl::StrCat(path, ": cannot access: ", ec.message()));
+  if (fs::is_directory(st))
+    return absl::FailedPreconditionError(absl::StrCat(path, ": is a directory, not a mesh file"));
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    const int err = errno;
+    const std::string why = absl::StrCat(path, ": cannot open for reading: ", std::strerror(err));
+    return err == EACCES ? absl::PermissionDeniedError(why) : absl::FailedPreconditionError(why);
+  }
+  std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad())
+    return absl::FailedPreconditionError(
+        absl::StrCat(path, ": read error after ", data.size(), " bytes"));
+  return data;
+}
+
+absl::Status Prefixed(const std::string& path, const absl::Status& s) {
+  return absl::Status(s.code(), absl::StrCat(path, ": ", s.message()));
+}
+
+absl::Status WriteMesh(const std::string& path, const RawMesh& mesh, bool binary) {
+  const std::string ext = LowerExtension(path);
+  if (absl::Status s = CheckExtension(path, ext); !s.ok()) return s;
+  const size_t nv = mesh.num_vertices(), nf = mesh.num_faces();
+  if (mesh.positions.size() % 3 != 0 || mesh.triangles.size() % 3 != 0 ||
+      (!mesh.face_groups.empty() && mesh.face_groups.size() != nf))
+    return absl::InvalidArgumentError(
+        absl::StrCat(path, ": malformed soup: ", mesh.positions.size(), " coordinates, ",
+                     mesh.triangles.size(), " indices, ", mesh.face_groups.size(), " face groups"));
+
+  const fs::path parent = fs::path(path).parent_path();
+  std::error_code ec;
+  if (!parent.empty() && !fs::is_directory(parent, ec))
+    return absl::NotFoundError(
+        absl::StrCat(path, ": directory '", parent.string(), "' does not exist"));
+  // OpenMesh's writers only return false; open the file first to report why it fails.
+  {
+    std::ofstream probe(path, std::ios::binary | std::ios::trunc);
+    if (!probe) {
+      const int err = errno;
+      const std::string why = absl::StrCat(path, ": cannot open for writing: ", std::strerror(err));
+      return err == EACCES ? absl::PermissionDeniedError(why) : absl::FailedPreconditionError(why);
+    }
+  }
+
+  // The output soup is manifold, so OpenMesh's mesh builder keeps it whole and in order.
+  OpenMesh::TriMesh_ArrayKernelT<> om;
+  om.reserve(nv, 3 * nf / 2, nf);
+  for (size_t v = 0; v < nv; ++v)
+    om.add_vertex(OpenMesh::Vec3f(mesh.positions[3 * v], mesh.positions[3 * v + 1],
+                                  mesh.positions[3 * v + 2]));
+  for (size_t f = 0; f < nf; ++f) {
+    const uint32_t* t = &mesh.triangles[3 * f];
+    if (t[0] >= nv || t[1] >= nv || t[2] >= nv)
+      return absl::InvalidArgumentError(
+          absl::StrCat(path, ": face ", f, " references a vertex past ", nv));
+    if (!om.add_face(om.vertex_handle(t[0]), om.vertex_handle(t[1]), om.vertex_handle(t[2]))
+             .is_valid())
+      return absl::InvalidArgumentError(
+          absl::StrCat(path, ": face ", f, " (", t[0], ", ", t[1], ", ", t[2],
+                       ") is non-manifold or degenerate; only a valid mesh can be written"));
+  }
+
+  OpenMesh::IO::Options options;
+  if (binary && (ext == ".stl" || ext == ".ply")) options += OpenMesh::IO::Options::Binary;
+  // Face groups travel as a PLY face property. OFF and STL have no place for them, and
+  // OpenMesh's OBJ writer writes no groups: they are dropped for those formats.
+  OpenMesh::FPropHandleT<int> group;
+  if (ext == ".ply" && !mesh.face_groups.empty()) {
+    om.add_property(group, kGroupProperty);
+    om.property(group).set_persistent(true);
+    for (size_t f = 0; f < nf; ++f)
+      om.property(group, om.face_handle(int(f))) = int(mesh.face_groups[f]);
+    options += OpenMesh::IO::Options::Custom;
+  }
+  if (!OpenMesh::IO::write_mesh(om, path, options, ext == ".obj" ? kObjPrecision : kTextPrecision))
+    return absl::InternalError(absl::StrCat(path, ": OpenMesh's ", ext, " writer failed"));
+  return absl::OkStatus();
+}
+
+}  // namespace
 
 const std::vector<std::string>& SupportedMeshExtensions() {
   static const std::vector<std::string> kExt = {".off", ".obj", ".stl", ".ply"};
   return kExt;
 }
 
-absl::StatusOr<RawMesh> ReadMeshFile(const std::string&) {
-  return absl::UnimplementedError("mesh I/O in progress");
+absl::StatusOr<RawMesh> ReadMeshFile(const std::string& path) {
+  const std::string ext = LowerExtension(path);
+  if (absl::Status s = CheckExtension(path, ext); !s.ok()) return s;
+  absl::StatusOr<std::string> data = ReadWholeFile(path);
+  if (!data.ok()) return data.status();
+  if (data->empty()) return absl::InvalidArgumentError(absl::StrCat(path, ": file is empty"));
+  absl::StatusOr<MeshFileSurvey> survey = SurveyMeshFile(ext, *data);
+  if (!survey.ok()) return Prefixed(path, survey.status());
+
+  RawImporter importer;
+  OpenMesh::IO::Options options;
+  if (!OpenMesh::IO::IOManager().read(path, importer, options))
+    return absl::InvalidArgumentError(
+        absl::StrCat(path, ": OpenMesh's ", ext, " reader cannot parse the file"));
+
+  // The survey counted what the file holds; anything OpenMesh dropped or invented is an error
+  // rather than a silently different mesh. STL corners are merged, so only faces compare.
+  if (importer.faces_seen() != survey->faces ||
+      (ext != ".stl" && importer.n_vertices() != survey->vertices))
+    return absl::InvalidArgumentError(
+        absl::StrCat(path, ": the file holds ", survey->vertices, " vertices and ", survey->faces,
+                     " faces but OpenMesh's reader returned ", importer.n_vertices(), " and ",
+                     importer.faces_seen()));
+  if (importer.first_polygon() != RawImporter::kNoFace)
+    return absl::InvalidArgumentError(absl::StrCat(
+        path, ": face ", importer.first_polygon(), " has ", importer.first_polygon_size(),
+        " vertices: femsimp accepts triangles only; triangulate first"));
+  if (importer.first_bad_index_face() != RawImporter::kNoFace)
+    return absl::InvalidArgumentError(absl::StrCat(path, ": face ", importer.first_bad_index_face(),
+                                                   " has a negative vertex index"));
+  // Face groups are not read back: OpenMesh's PLY reader stores custom properties only into a
+  // mesh kernel, which this importer deliberately does not have.
+  return std::move(importer.mesh());
 }
 
-absl::Status WriteMeshFile(const std::string&, const RawMesh&) {
-  return absl::UnimplementedError("mesh I/O in progress");
+absl::Status WriteMeshFile(const std::string& path, const RawMesh& mesh) {
+  return WriteMesh(path, mesh, /*binary=*/true);
+}
+
+absl::Status WriteMeshFileAscii(const std::string& path, const RawMesh& mesh) {
+  return WriteMesh(path, mesh, /*binary=*/false);
 }
 
 }  // namespace femsimp

@@ -21,4 +21,7 @@ absl::StatusOr<RawMesh> ReadMeshFile(const std::string& path);
 // except OFF and OBJ which are written as text).
 absl::Status WriteMeshFile(const std::string& path, const RawMesh& mesh);
 
+// Writes the soup as text in every format (ASCII STL and PLY), for inspection and tests.
+absl::Status WriteMeshFileAscii(const std::string& path, const RawMesh& mesh);
+
 }  // namespace femsimp

@@ -1,0 +1,107 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "engine/mesh.h"
+#include "tests/engine/small_meshes.h"
+
+namespace femsimp {
+namespace {
+
+using testing::Octahedron;
+
+void ExpectRejected(const RawMesh& raw, const std::string& needle) {
+  absl::StatusOr<Mesh> mesh = Mesh::Build(raw);
+  ASSERT_FALSE(mesh.ok()) << "accepted a mesh that should fail with: " << needle;
+  EXPECT_EQ(mesh.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_NE(mesh.status().message().find(needle), std::string::npos) << mesh.status();
+}
+
+TEST(MeshBuild, AcceptsClosedAndOpenMeshes) {
+  ASSERT_TRUE(Mesh::Build(Octahedron()).ok());
+  absl::StatusOr<Mesh> grid = Mesh::Build(testing::FlatGrid(3));
+  ASSERT_TRUE(grid.ok()) << grid.status();
+  EXPECT_EQ(grid->CountLiveVertices(), 16u);
+  EXPECT_EQ(grid->CountLiveFaces(), 18u);
+}
+
+TEST(MeshBuild, RejectsEmpty) {
+  ExpectRejected(RawMesh{}, "empty");
+  RawMesh no_faces = Octahedron();
+  no_faces.triangles.clear();
+  ExpectRejected(no_faces, "empty");
+}
+
+TEST(MeshBuild, RejectsNonFiniteCoordinates) {
+  RawMesh m = Octahedron();
+  m.positions[4] = std::numeric_limits<float>::quiet_NaN();
+  ExpectRejected(m, "vertex 1 has a non-finite coordinate");
+  m.positions[4] = std::numeric_limits<float>::infinity();
+  ExpectRejected(m, "vertex 1 has a non-finite coordinate");
+}
+
+TEST(MeshBuild, RejectsIndexOutOfRange) {
+  RawMesh m = Octahedron();
+  m.triangles[7] = 99;
+  ExpectRejected(m, "face 2 references vertex 99 but the mesh has 6 vertices");
+}
+
+TEST(MeshBuild, RejectsDegenerateFaces) {
+  RawMesh m = Octahedron();
+  m.triangles[1] = m.triangles[0];
+  ExpectRejected(m, "face 0 is degenerate");
+  RawMesh flat = testing::SingleTriangle();
+  flat.positions[6] = 2;  // third vertex on the line through the first two
+  flat.positions[7] = 0;
+  ExpectRejected(flat, "zero area");
+}
+
+TEST(MeshBuild, RejectsDuplicateFaces) {
+  RawMesh same = testing::SingleTriangle();
+  same.triangles.insert(same.triangles.end(), {0, 1, 2});
+  ExpectRejected(same, "same direction");
+  RawMesh flipped = testing::SingleTriangle();
+  flipped.triangles.insert(flipped.triangles.end(), {0, 2, 1});
+  ExpectRejected(flipped, "duplicates");
+}
+
+TEST(MeshBuild, RejectsNonManifoldEdge) {
+  RawMesh m = {{0, 0, 0, 1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1}, {0, 1, 2, 1, 0, 3, 0, 1, 4}, {}};
+  ExpectRejected(m, "non-manifold edge (0, 1): shared by 3 faces");
+}
+
+TEST(MeshBuild, RejectsNonManifoldVertex) {
+  // Two triangles touching only at vertex 0.
+  RawMesh m = {{0, 0, 0, 1, 0, 0, 0, 1, 0, -1, 0, 0, 0, -1, 0}, {0, 1, 2, 0, 3, 4}, {}};
+  ExpectRejected(m, "vertex 0 is non-manifold");
+}
+
+TEST(MeshBuild, RejectsInconsistentOrientation) {
+  RawMesh m = Octahedron();
+  std::swap(m.triangles[0], m.triangles[1]);  // flip face 0
+  ExpectRejected(m, "inconsistent orientation");
+}
+
+TEST(MeshBuild, DropsIsolatedVertices) {
+  RawMesh m = Octahedron();
+  m.positions.insert(m.positions.end(), {5, 5, 5});
+  absl::StatusOr<Mesh> mesh = Mesh::Build(m);
+  ASSERT_TRUE(mesh.ok()) << mesh.status();
+  EXPECT_EQ(mesh->CountLiveVertices(), 6u);
+  EXPECT_EQ(mesh->ToRaw().num_vertices(), 6u);
+}
+
+TEST(MeshBuild, RoundTripKeepsFacesAndGroups) {
+  RawMesh m = Octahedron();
+  m.face_groups = {1, 1, 1, 1, 2, 2, 2, 2};
+  absl::StatusOr<Mesh> mesh = Mesh::Build(m);
+  ASSERT_TRUE(mesh.ok());
+  const RawMesh back = mesh->ToRaw();
+  EXPECT_EQ(back.positions, m.positions);
+  EXPECT_EQ(back.triangles, m.triangles);
+  EXPECT_EQ(back.face_groups, m.face_groups);
+}
+
+}  // namespace
+}  // namespace femsimp

@@ -1,0 +1,193 @@
+// Whole simplification runs on the test meshes, checked from the output soup.
+#include "engine/simplify.h"
+
+#include <gtest/gtest.h>
+
+#include <set>
+#include <tuple>
+
+#include "tests/engine/mesh_checks.h"
+
+namespace femsimp {
+namespace {
+
+using testing::LoadTestMesh;
+using testing::Topology;
+
+struct SimplifyRun {
+  RawMesh input, output;
+  SimplifyResult result;
+};
+
+SimplifyRun Simplified(const std::string& name, SimplifyOptions options) {
+  SimplifyRun run;
+  run.input = LoadTestMesh(name);
+  absl::StatusOr<Mesh> mesh = Mesh::Build(run.input);
+  EXPECT_TRUE(mesh.ok()) << mesh.status();
+  if (!mesh.ok()) return run;
+  absl::StatusOr<SimplifyResult> result = Simplify(*mesh, options);
+  EXPECT_TRUE(result.ok()) << result.status();
+  if (!result.ok()) return run;
+  EXPECT_EQ(testing::HalfEdgeInvariantViolation(*mesh), "");
+  run.result = *result;
+  run.output = mesh->ToRaw();
+  return run;
+}
+
+// Faces of the output that are not faces of the input were made by collapses.
+std::vector<size_t> NewFaces(const SimplifyRun& run) {
+  std::set<std::tuple<float, float, float, float, float, float, float, float, float>> old;
+  auto key = [](const RawMesh& m, size_t f, int r) {
+    const float* a = &m.positions[3 * m.triangles[3 * f + r]];
+    const float* b = &m.positions[3 * m.triangles[3 * f + (r + 1) % 3]];
+    const float* c = &m.positions[3 * m.triangles[3 * f + (r + 2) % 3]];
+    return std::make_tuple(a[0], a[1], a[2], b[0], b[1], b[2], c[0], c[1], c[2]);
+  };
+  for (size_t f = 0; f < run.input.num_faces(); ++f)
+    for (int r = 0; r < 3; ++r) old.insert(key(run.input, f, r));
+  std::vector<size_t> fresh;
+  for (size_t f = 0; f < run.output.num_faces(); ++f)
+    if (!old.count(key(run.output, f, 0))) fresh.push_back(f);
+  return fresh;
+}
+
+class SimplifyOnMesh : public ::testing::TestWithParam<std::tuple<std::string, int, bool>> {};
+
+TEST_P(SimplifyOnMesh, KeepsTopologyAndShape) {
+  const auto& [name, threads, topology_only] = GetParam();
+  SimplifyOptions options;
+  options.threads = threads;
+  options.topology_only = topology_only;
+  const SimplifyRun run = Simplified(name, options);
+  ASSERT_GT(run.output.num_faces(), 0u);
+  // Consistent orientation, no degenerate, duplicate or non-manifold face: Build checks all.
+  absl::StatusOr<Mesh> rebuilt = Mesh::Build(run.output);
+  ASSERT_TRUE(rebuilt.ok()) << rebuilt.status();
+  const auto in = Topology(run.input), out = Topology(run.output);
+  EXPECT_EQ(in.euler(), out.euler());
+  EXPECT_EQ(in.components, out.components);
+  EXPECT_EQ(in.boundary_edges == 0, out.boundary_edges == 0) << "closed stays closed";
+  EXPECT_EQ(run.result.output_vertices, run.output.num_vertices());
+  EXPECT_EQ(run.result.output_faces, run.output.num_faces());
+  if (!topology_only) {
+    for (size_t f : NewFaces(run))
+      ASSERT_GE(testing::MinAngleDegrees(run.output, f), options.min_angle_deg - 1e-4)
+          << "new face " << f;
+  }
+  // Per-pass reports add up.
+  uint64_t removed = 0;
+  for (const PassStats& p : run.result.passes) {
+    removed += p.removed;
+    EXPECT_LE(p.removed, p.tried);
+    EXPECT_LE(p.tried, p.candidates);
+  }
+  EXPECT_EQ(run.result.input_vertices - removed, run.result.output_vertices);
+}
+
+INSTANTIATE_TEST_SUITE_P(Meshes, SimplifyOnMesh,
+                         ::testing::Combine(::testing::Values("fandisk.off", "blade.off",
+                                                              "femur.off", "rotor_small.off"),
+                                            ::testing::Values(1, 2, 8), ::testing::Bool()),
+                         [](const auto& info) {
+                           std::string name = std::get<0>(info.param);
+                           name = name.substr(0, name.find('.'));
+                           return name + "_t" + std::to_string(std::get<1>(info.param)) +
+                                  (std::get<2>(info.param) ? "_topology" : "_geometric");
+                         });
+
+TEST(Simplify, OneThreadIsDeterministic) {
+  SimplifyOptions options;
+  const SimplifyRun a = Simplified("femur.off", options), b = Simplified("femur.off", options);
+  EXPECT_EQ(a.output.positions, b.output.positions);
+  EXPECT_EQ(a.output.triangles, b.output.triangles);
+}
+
+TEST(Simplify, FandiskWithThePapersSettingsLosesAtLeastHalf) {
+  SimplifyOptions paper;  // 25 deg normal deviation, 10 deg min angle, 90 % candidates
+  const SimplifyRun run = Simplified("fandisk.off", paper);
+  EXPECT_LE(run.result.output_vertices * 2, run.result.input_vertices)
+      << run.result.output_vertices << " of " << run.result.input_vertices << " left";
+}
+
+TEST(Simplify, StopsExactlyAtTheTarget) {
+  for (int threads : {1, 4}) {
+    SimplifyOptions options;
+    options.threads = threads;
+    options.topology_only = true;
+    options.target_vertices = 1000;
+    const SimplifyRun run = Simplified("fandisk.off", options);
+    EXPECT_EQ(run.result.output_vertices, 1000u);
+    EXPECT_EQ(run.result.stop_reason, StopReason::kTargetReached);
+    options.target_vertices = 0;
+    options.ratio = 0.5;
+    const SimplifyRun half = Simplified("femur.off", options);
+    EXPECT_EQ(half.result.output_vertices, (half.result.input_vertices + 1) / 2);
+  }
+}
+
+TEST(Simplify, PassLimitAndProgressCallback) {
+  RawMesh raw = LoadTestMesh("fandisk.off");
+  absl::StatusOr<Mesh> mesh = Mesh::Build(raw);
+  ASSERT_TRUE(mesh.ok());
+  SimplifyOptions options;
+  options.max_passes = 2;
+  std::vector<int> seen;
+  SimplifyControl control;
+  control.on_pass = [&](const PassStats& p) { seen.push_back(p.pass); };
+  absl::StatusOr<SimplifyResult> r = Simplify(*mesh, options, control);
+  ASSERT_TRUE(r.ok());
+  EXPECT_EQ(seen, (std::vector<int>{1, 2}));
+  EXPECT_EQ(r->stop_reason, StopReason::kMaxPasses);
+}
+
+TEST(Simplify, CancellationStopsWithAValidMesh) {
+  RawMesh raw = LoadTestMesh("fandisk.off");
+  absl::StatusOr<Mesh> mesh = Mesh::Build(raw);
+  ASSERT_TRUE(mesh.ok());
+  SimplifyOptions options;
+  options.threads = 2;
+  int polls = 0;
+  SimplifyControl control;
+  control.cancelled = [&] { return ++polls > 3; };  // inside the first pass
+  absl::StatusOr<SimplifyResult> r = Simplify(*mesh, options, control);
+  ASSERT_TRUE(r.ok());
+  EXPECT_EQ(r->stop_reason, StopReason::kCancelled);
+  EXPECT_LE(r->passes.size(), 1u);
+  EXPECT_EQ(testing::HalfEdgeInvariantViolation(*mesh), "");
+  EXPECT_TRUE(Mesh::Build(mesh->ToRaw()).ok());
+}
+
+TEST(Simplify, RejectsParametersOutOfRange) {
+  RawMesh raw = LoadTestMesh("femur.off");
+  absl::StatusOr<Mesh> mesh = Mesh::Build(raw);
+  ASSERT_TRUE(mesh.ok());
+  auto expect_bad = [&](SimplifyOptions o, const std::string& name) {
+    absl::StatusOr<SimplifyResult> r = Simplify(*mesh, o);
+    ASSERT_FALSE(r.ok()) << name;
+    EXPECT_EQ(r.status().code(), absl::StatusCode::kInvalidArgument);
+    EXPECT_NE(r.status().message().find(name), std::string::npos) << r.status();
+  };
+  SimplifyOptions o;
+  o.ratio = 1.5;
+  expect_bad(o, "ratio");
+  o = {};
+  o.threads = 0;
+  expect_bad(o, "threads");
+  o = {};
+  o.min_angle_deg = 75;
+  expect_bad(o, "min_angle");
+  o = {};
+  o.candidate_fraction = 0;
+  expect_bad(o, "candidate_fraction");
+  o = {};
+  o.max_normal_deviation_deg = -1;
+  expect_bad(o, "max_normal_deviation");
+  o = {};
+  o.ratio = 0.5;
+  o.target_vertices = 10;
+  expect_bad(o, "either");
+  EXPECT_EQ(mesh->CountLiveVertices(), raw.num_vertices());
+}
+
+}  // namespace
+}  // namespace femsimp

@@ -1,0 +1,279 @@
+// Every class of bad input: file-level problems fail in ReadMeshFile, topology problems pass
+// through it unchanged and fail in Mesh::Build. Each case checks the code and the message.
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <string>
+
+#include "engine/io/mesh_io.h"
+#include "engine/mesh.h"
+#include "gtest/gtest.h"
+#include "tests/io/test_files.h"
+
+namespace femsimp {
+namespace {
+
+class BadInputTest : public testing::TempDirTest {
+ protected:
+  void ExpectReadError(const std::string& path, absl::StatusCode code, const std::string& part) {
+    absl::StatusOr<RawMesh> m = ReadMeshFile(path);
+    ASSERT_FALSE(m.ok()) << path << " was accepted";
+    EXPECT_EQ(m.status().code(), code) << m.status();
+    EXPECT_NE(m.status().message().find(part), std::string::npos)
+        << "'" << part << "' not in: " << m.status();
+    EXPECT_NE(m.status().message().find(path), std::string::npos) << "path missing: " << m.status();
+  }
+  void ExpectBuildError(const std::string& path, const std::string& part) {
+    absl::StatusOr<RawMesh> m = ReadMeshFile(path);
+    ASSERT_TRUE(m.ok()) << m.status();
+    absl::StatusOr<Mesh> mesh = Mesh::Build(*m);
+    ASSERT_FALSE(mesh.ok()) << path << " was accepted by Mesh::Build";
+    EXPECT_EQ(mesh.status().code(), absl::StatusCode::kInvalidArgument);
+    EXPECT_NE(mesh.status().message().find(part), std::string::npos)
+        << "'" << part << "' not in: " << mesh.status();
+  }
+  // An OFF file from its vertex lines and face lines.
+  std::string Off(const std::string& name, const std::vector<std::string>& vertices,
+                  const std::vector<std::string>& faces) {
+    std::ostringstream s;
+    s << "OFF\n" << vertices.size() << " " << faces.size() << " 0\n";
+    for (const auto& v : vertices) s << v << "\n";
+    for (const auto& f : faces) s << f << "\n";
+    return Write(name, s.str());
+  }
+  std::string Truncate(const std::string& path, size_t bytes) {
+    std::ifstream in(path, std::ios::binary);
+    std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    return Write("cut_" + path.substr(path.rfind('/') + 1), data.substr(0, data.size() - bytes));
+  }
+};
+
+constexpr auto kInvalid = absl::StatusCode::kInvalidArgument;
+const std::vector<std::string> kSquare = {"0 0 0", "1 0 0", "1 1 0", "0 1 0"};
+constexpr char kTriangles[] = "femsimp accepts triangles only; triangulate first";
+
+// ------------------------------------------------------------------------- file level
+
+TEST_F(BadInputTest, MissingFile) {
+  ExpectReadError(Path("absent.off"), absl::StatusCode::kNotFound, "no such file");
+}
+
+TEST_F(BadInputTest, Directory) {
+  std::filesystem::create_directory(Path("dir.off"));
+  ExpectReadError(Path("dir.off"), absl::StatusCode::kFailedPrecondition, "is a directory");
+}
+
+TEST_F(BadInputTest, UnreadableFile) {
+  if (geteuid() == 0) GTEST_SKIP() << "root reads any file";
+  const std::string path = Off("locked.off", kSquare, {"3 0 1 2"});
+  chmod(path.c_str(), 0);
+  ExpectReadError(path, absl::StatusCode::kPermissionDenied, "cannot open for reading");
+}
+
+TEST_F(BadInputTest, UnknownExtension) {
+  ExpectReadError(Write("mesh.xyz", "OFF\n"), kInvalid,
+                  "unsupported mesh file extension '.xyz' (supported: .off, .obj, .stl, .ply)");
+  ExpectReadError(Write("mesh", "OFF\n"), kInvalid, "unsupported mesh file extension ''");
+}
+
+TEST_F(BadInputTest, EmptyFile) {
+  for (const char* name : {"empty.off", "empty.obj", "empty.stl", "empty.ply"})
+    ExpectReadError(Write(name, ""), kInvalid, "file is empty");
+}
+
+TEST_F(BadInputTest, TruncatedOffFaces) {
+  ExpectReadError(Write("t.off", "OFF\n4 3 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n"),
+                  kInvalid,
+                  "truncated: header announces 4 vertices and 3 faces but the file ends after "
+                  "2 faces");
+}
+
+TEST_F(BadInputTest, TruncatedOffVertices) {
+  ExpectReadError(Write("t.off", "OFF\n5 1 0\n0 0 0\n1 0 0\n1 1 0\n"), kInvalid,
+                  "ends after 3 vertices");
+}
+
+TEST_F(BadInputTest, TruncatedBinaryStl) {
+  const std::string path = Path("tet.stl");
+  ASSERT_TRUE(WriteMeshFile(path, testing::Tetrahedron()).ok());
+  ExpectReadError(Truncate(path, 30), kInvalid,
+                  "binary STL size mismatch (truncated?): header announces 4 triangles (284 "
+                  "bytes) but the file has 254 bytes");
+}
+
+TEST_F(BadInputTest, TruncatedAsciiStl) {
+  const std::string path = Path("tet.stl");
+  ASSERT_TRUE(WriteMeshFileAscii(path, testing::Tetrahedron()).ok());
+  ExpectReadError(Truncate(path, 10), kInvalid, "truncated");
+}
+
+TEST_F(BadInputTest, TruncatedPly) {
+  const std::string binary = Path("tet.ply");
+  ASSERT_TRUE(WriteMeshFile(binary, testing::Tetrahedron()).ok());
+  ExpectReadError(Truncate(binary, 5), kInvalid,
+                  "truncated: header announces 4 vertices and 4 faces but the data ends in "
+                  "face 3");
+  const std::string ascii = Path("tet_ascii.ply");
+  ASSERT_TRUE(WriteMeshFileAscii(ascii, testing::Tetrahedron()).ok());
+  ExpectReadError(Truncate(ascii, 4), kInvalid, "the data ends in face 3");
+}
+
+// "OFF BINARY" as OpenMesh writes it: little-endian counts, float points, int faces.
+std::string BinaryOff(const RawMesh& m) {
+  std::string s = "OFF BINARY\n";
+  const auto put = [&](const auto& v) { s.append(reinterpret_cast<const char*>(&v), sizeof(v)); };
+  put(int32_t(m.num_vertices()));
+  put(int32_t(m.num_faces()));
+  put(int32_t(0));
+  for (float x : m.positions) put(x);
+  for (size_t f = 0; f < m.num_faces(); ++f) {
+    put(int32_t(3));
+    for (int i = 0; i < 3; ++i) put(int32_t(m.triangles[3 * f + i]));
+  }
+  return s;
+}
+
+TEST_F(BadInputTest, BinaryOffReadsAndTruncationIsCaught) {
+  const std::string data = BinaryOff(testing::Tetrahedron());
+  absl::StatusOr<RawMesh> m = ReadMeshFile(Write("bin.off", data));
+  ASSERT_TRUE(m.ok()) << m.status();
+  EXPECT_EQ(m->positions, testing::Tetrahedron().positions);
+  EXPECT_EQ(m->triangles, testing::Tetrahedron().triangles);
+  ExpectReadError(Write("cut.off", data.substr(0, data.size() - 8)), kInvalid,
+                  "binary OFF truncated: header announces 4 vertices and 4 faces");
+}
+
+TEST_F(BadInputTest, GarbageText) {
+  const std::string junk = "hello world\nthis is not a mesh\n";
+  ExpectReadError(Write("g.off", junk), kInvalid, "expected an OFF header, found 'hello'");
+  ExpectReadError(Write("g.obj", junk), kInvalid, "line 1: unknown OBJ statement 'hello'");
+  ExpectReadError(Write("g.stl", junk), kInvalid, "not an ASCII STL");
+  ExpectReadError(Write("g.ply", junk), kInvalid, "not a PLY file");
+}
+
+TEST_F(BadInputTest, UnparsableNumber) {
+  ExpectReadError(Off("n.off", {"0 0 0", "1 zero 0", "1 1 0"}, {"3 0 1 2"}), kInvalid,
+                  "vertex 1 (line 4): cannot parse 'zero' as a number");
+  ExpectReadError(Write("n.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0 \nf 1 2 x\n"), kInvalid,
+                  "face 0 (line 4): invalid vertex index 'x'");
+}
+
+TEST_F(BadInputTest, QuadFace) {
+  const std::string message = std::string("face 1 (line 8) has 4 vertices: ") + kTriangles;
+  ExpectReadError(Off("q.off", kSquare, {"3 0 1 2", "4 0 1 2 3"}), kInvalid, message);
+  ExpectReadError(Write("q.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\n\n\nf 1 2 3 4\n"),
+                  kInvalid, message);
+  ExpectReadError(Write("q.ply",
+                        "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\n"
+                        "property float y\nproperty float z\nelement face 1\n"
+                        "property list uchar int vertex_indices\nend_header\n"
+                        "0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n"),
+                  kInvalid, std::string("has 4 vertices: ") + kTriangles);
+  // OpenMesh's OBJ reader would drop a two-corner face silently.
+  ExpectReadError(Write("two.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2\n"), kInvalid,
+                  "face 0 (line 4) has 2 vertices");
+}
+
+TEST_F(BadInputTest, NonFiniteCoordinate) {
+  ExpectReadError(Off("nan.off", {"0 0 0", "nan 0 0", "1 1 0"}, {"3 0 1 2"}), kInvalid,
+                  "vertex 1 (line 4): coordinate 'nan' is not a finite float");
+  ExpectReadError(Off("inf.off", {"0 0 0", "1 0 0", "1 -inf 0"}, {"3 0 1 2"}), kInvalid,
+                  "vertex 2 (line 5): coordinate '-inf' is not a finite float");
+  ExpectReadError(Off("big.off", {"0 0 0", "1 0 0", "1 1e39 0"}, {"3 0 1 2"}), kInvalid,
+                  "coordinate '1e39' is not a finite float");
+  ExpectReadError(Write("nan.obj", "v 0 0 0\nv 1 NaN 0\nv 1 1 0\nf 1 2 3\n"), kInvalid,
+                  "vertex 1 (line 2): coordinate 'NaN' is not a finite float");
+  // Binary files carry the NaN bits: the writer does not refuse them, the reader does.
+  RawMesh tet = testing::Tetrahedron();
+  tet.positions[4] = std::numeric_limits<float>::quiet_NaN();
+  ASSERT_TRUE(WriteMeshFile(Path("nan.ply"), tet).ok());
+  ExpectReadError(Path("nan.ply"), kInvalid, "vertex 1 (byte");
+  ExpectReadError(Path("nan.ply"), kInvalid, "coordinate y = nan is not a finite float");
+  ASSERT_TRUE(WriteMeshFile(Path("nan.stl"), tet).ok());
+  ExpectReadError(Path("nan.stl"), kInvalid, "has a non-finite coordinate nan");
+}
+
+TEST_F(BadInputTest, NegativeIndex) {
+  ExpectReadError(Off("neg.off", kSquare, {"3 0 1 -1"}), kInvalid,
+                  "face 0 (line 7) has a negative vertex index -1");
+  ExpectReadError(Write("neg.obj", "v 0 0 0\nv 1 0 0\nf 1 2 -3\n"), kInvalid,
+                  "relative index '-3' points before the first vertex");
+}
+
+// ------------------------------------------------------------------------- topology
+
+TEST_F(BadInputTest, IndexOutOfRange) {
+  ExpectBuildError(Off("r.off", kSquare, {"3 0 1 2", "3 0 2 7"}),
+                   "face 1 references vertex 7 but the mesh has 4 vertices");
+  ExpectBuildError(Write("r.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 9\n"),
+                   "face 0 references vertex 8 but the mesh has 3 vertices");
+}
+
+TEST_F(BadInputTest, DegenerateFace) {
+  ExpectBuildError(Off("d.off", kSquare, {"3 0 1 2", "3 0 2 2"}),
+                   "face 1 is degenerate: vertices (0, 2, 2) repeat an index");
+  ExpectBuildError(Write("d.ply",
+                         "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                         "property float y\nproperty float z\nelement face 1\n"
+                         "property list uchar int vertex_indices\nend_header\n"
+                         "0 0 0\n1 0 0\n1 1 0\n3 0 1 0\n"),
+                   "face 0 is degenerate");
+  // OpenMesh drops these from OBJ and STL files, so the survey reports them.
+  ExpectReadError(Write("d.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\nf 1 3 -1\n"), kInvalid,
+                  "face 1 (line 5) is degenerate: it repeats a vertex index");
+  ExpectReadError(Write("d.stl",
+                        "solid d\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
+                        "vertex 0 0 0\nendloop\nendfacet\nendsolid d\n"),
+                  kInvalid, "facet 0 (line 6) is degenerate: two of its corners coincide");
+}
+
+TEST_F(BadInputTest, ZeroAreaFace) {
+  ExpectBuildError(Off("z.off", {"0 0 0", "1 0 0", "2 0 0"}, {"3 0 1 2"}),
+                   "face 0 (0, 1, 2) has zero area");
+}
+
+TEST_F(BadInputTest, DuplicateFaces) {
+  ExpectBuildError(Off("dup.off", kSquare, {"3 0 1 2", "3 0 1 2"}),
+                   "faces 0 and 1 both use edge (2, 0) in the same direction: inconsistent "
+                   "orientation or duplicate face");
+  ExpectBuildError(Off("pillow.off", kSquare, {"3 0 1 2", "3 0 2 1"}),
+                   "faces 0 and 1 are duplicates (same three vertices)");
+}
+
+TEST_F(BadInputTest, NonManifoldEdge) {
+  // Three triangles hinge on edge (0, 1).
+  ExpectBuildError(Off("nme.off", {"0 0 0", "1 0 0", "0 1 0", "0 -1 0", "0 0 1"},
+                       {"3 0 1 2", "3 1 0 3", "3 0 1 4"}),
+                   "non-manifold edge (0, 1): shared by 3 faces");
+}
+
+TEST_F(BadInputTest, NonManifoldVertex) {
+  // Two triangles touching only at vertex 0.
+  ExpectBuildError(
+      Off("bowtie.off", {"0 0 0", "1 0 0", "0 1 0", "-1 0 0", "0 -1 0"}, {"3 0 1 2", "3 0 3 4"}),
+      "vertex 0 is non-manifold: 2 boundary fans meet there");
+  // Two closed tetrahedra sharing vertex 0: no boundary, two fans.
+  ExpectBuildError(
+      Off("tets.off", {"0 0 0", "1 0 0", "0 1 0", "0 0 1", "-1 0 0", "0 -1 0", "0 0 -1"},
+          {"3 0 2 1", "3 0 1 3", "3 1 2 3", "3 0 3 2", "3 0 5 4", "3 0 4 6", "3 4 5 6", "3 0 6 5"}),
+      "vertex 0 is non-manifold: its 6 faces form more than one fan");
+}
+
+TEST_F(BadInputTest, InconsistentOrientation) {
+  ExpectBuildError(Off("o.off", kSquare, {"3 0 1 2", "3 0 3 2"}), "faces 0 and 1 both use edge");
+}
+
+TEST_F(BadInputTest, NoFaces) {
+  ExpectBuildError(Off("none.off", {"0 0 0", "1 0 0", "1 1 0"}, {}),
+                   "mesh is empty (3 vertices, 0 faces)");
+  ExpectBuildError(Write("none.obj", "# only a comment\nv 0 0 0\n"),
+                   "mesh is empty (1 vertices, 0 faces)");
+}
+
+}  // namespace
+}  // namespace femsimp
