@@ -136,7 +136,8 @@ const char* GrpcCodeHint(grpc::StatusCode code) {
     case grpc::StatusCode::RESOURCE_EXHAUSTED:
       return "the server is full or the mesh exceeds one of its limits";
     case grpc::StatusCode::UNIMPLEMENTED:
-      return "the server does not implement this (version mismatch?)";
+      return "the server does not support this (back end or feature not available, or a version "
+             "mismatch)";
     case grpc::StatusCode::INTERNAL:
       return "the server failed internally";
     case grpc::StatusCode::UNAVAILABLE:

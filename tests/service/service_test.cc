@@ -1,0 +1,327 @@
+// The service end to end, in process on loopback ports.
+#include <atomic>
+#include <chrono>
+#include <thread>
+
+#include "engine/mesh.h"
+#include "gtest/gtest.h"
+#include "proto/wire.h"
+#include "tests/service/test_util.h"
+
+namespace femsimp {
+namespace {
+
+using testing::InProcessServer;
+using testing::RatioSpec;
+
+v1::SimplifyRequest SpecRequest(uint64_t vertices, uint64_t faces,
+                                v1::JobSpec spec = RatioSpec(0.5)) {
+  v1::SimplifyRequest r;
+  *r.mutable_spec() = std::move(spec);
+  r.mutable_spec()->set_vertex_count(vertices);
+  r.mutable_spec()->set_face_count(faces);
+  return r;
+}
+
+// Waits until the job is RUNNING (true) or finished / timed out (false).
+bool WaitRunning(v1::Simplifier::Stub& stub, const std::string& id) {
+  for (int i = 0; i < 2000; ++i) {
+    grpc::ClientContext ctx;
+    v1::GetJobRequest req;
+    req.set_job_id(id);
+    v1::JobInfo info;
+    if (stub.GetJob(&ctx, req, &info).ok()) {
+      if (info.state() == v1::JOB_STATE_RUNNING) return true;
+      if (info.state() != v1::JOB_STATE_QUEUED) return false;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  return false;
+}
+
+TEST(Service, FandiskRoundTrip) {
+  InProcessServer s;
+  RawMesh in = testing::LoadTestMesh("fandisk.off");
+  ASSERT_GT(in.num_vertices(), 0u);
+  grpc::ClientContext ctx;
+  int progress = 0;
+  cli::RemoteCallbacks cb;
+  cb.on_progress = [&](const v1::Progress& p) {
+    ++progress;
+    EXPECT_EQ(p.rejections().size(), static_cast<size_t>(Reject::kCount));
+  };
+  cli::RemoteOutcome out = cli::RemoteSimplify(s.stub(), ctx, RatioSpec(0.5), in, cb);
+  ASSERT_TRUE(out.status.ok()) << out.status.error_message();
+  EXPECT_GT(progress, 0);
+  EXPECT_FALSE(out.job_id.empty());
+  EXPECT_LT(out.output.num_vertices(), in.num_vertices());
+  EXPECT_EQ(out.result.output_vertices(), out.output.num_vertices());
+  auto mesh = Mesh::Build(out.output);
+  EXPECT_TRUE(mesh.ok()) << mesh.status();
+
+  grpc::ClientContext ictx;
+  v1::ServerInfoResponse info;
+  ASSERT_TRUE(s.stub().ServerInfo(&ictx, {}, &info).ok());
+  EXPECT_EQ(info.queue_capacity(), 16u);
+  grpc::ClientContext lctx;
+  v1::ListJobsRequest lreq;
+  lreq.set_include_finished(true);
+  v1::ListJobsResponse list;
+  ASSERT_TRUE(s.stub().ListJobs(&lctx, lreq, &list).ok());
+  ASSERT_EQ(list.jobs_size(), 1);
+  EXPECT_EQ(list.jobs(0).job_id(), out.job_id);
+  EXPECT_EQ(list.jobs(0).state(), v1::JOB_STATE_SUCCEEDED);
+}
+
+TEST(Service, LargeMeshNeedsChunking) {
+  InProcessServer s;
+  RawMesh in = testing::MakeTorus(500, 500);  // 250k vertices: 3 MB + 6 MB of arrays
+  ASSERT_GT(in.positions.size() * 4 + in.triangles.size() * 4, 4u << 20);
+  grpc::ClientContext ctx;
+  cli::RemoteOutcome out = cli::RemoteSimplify(s.stub(), ctx, RatioSpec(0.5), in);
+  ASSERT_TRUE(out.status.ok()) << out.status.error_message();
+  EXPECT_LT(out.output.num_vertices(), in.num_vertices());
+  EXPECT_GT(out.chunks_received, 0);
+  EXPECT_TRUE(Mesh::Build(out.output).ok());
+}
+
+TEST(Service, CancelRunningJobThenWorkerTakesNext) {
+  server::ServerConfig config = testing::TestConfig();
+  config.workers = 1;
+  config.threads_per_job = 1;
+  InProcessServer s(config);
+  RawMesh big = testing::MakeTorus(1000, 1000);
+  v1::JobSpec spec;
+  spec.mutable_options()->set_target_vertices(50);
+  spec.mutable_options()->set_threads(1);
+  grpc::ClientContext ctx;
+  std::atomic<bool> cancelled_at_running{false};
+  std::chrono::steady_clock::time_point cancel_time;
+  std::thread canceller;
+  cli::RemoteCallbacks cb;
+  cb.on_accepted = [&](const v1::Accepted& a) {
+    canceller = std::thread([&, id = a.job_id()] {
+      if (WaitRunning(s.stub(), id)) {
+        cancel_time = std::chrono::steady_clock::now();
+        cancelled_at_running = true;
+        ctx.TryCancel();
+      }
+    });
+  };
+  cli::RemoteOutcome out = cli::RemoteSimplify(s.stub(), ctx, spec, big, cb, false);
+  canceller.join();
+  ASSERT_TRUE(cancelled_at_running) << "job was never seen running";
+  EXPECT_EQ(out.status.error_code(), grpc::StatusCode::CANCELLED);
+  // The server side ends the job within a pass (here: well under the job's run time).
+  grpc::ClientContext gctx;
+  v1::GetJobRequest req;
+  req.set_job_id(out.job_id);
+  v1::JobInfo info;
+  for (int i = 0; i < 500; ++i) {
+    grpc::ClientContext c;
+    ASSERT_TRUE(s.stub().GetJob(&c, req, &info).ok());
+    if (info.state() != v1::JOB_STATE_RUNNING) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  EXPECT_EQ(info.state(), v1::JOB_STATE_CANCELLED);
+  EXPECT_EQ(info.status_code(), "CANCELLED");
+
+  // The single worker is free again.
+  grpc::ClientContext ctx2;
+  cli::RemoteOutcome next =
+      cli::RemoteSimplify(s.stub(), ctx2, RatioSpec(0.5), testing::LoadTestMesh("fandisk.off"));
+  EXPECT_TRUE(next.status.ok()) << next.status.error_message();
+}
+
+TEST(Service, CancelJobRpc) {
+  server::ServerConfig config = testing::TestConfig();
+  config.workers = 1;
+  config.threads_per_job = 1;
+  InProcessServer s(config);
+  RawMesh big = testing::MakeTorus(1000, 1000);
+  v1::JobSpec spec;
+  spec.mutable_options()->set_target_vertices(50);
+  grpc::ClientContext ctx;
+  std::thread canceller;
+  cli::RemoteCallbacks cb;
+  cb.on_accepted = [&](const v1::Accepted& a) {
+    canceller = std::thread([&, id = a.job_id()] {
+      WaitRunning(s.stub(), id);
+      grpc::ClientContext c;
+      v1::CancelJobRequest req;
+      req.set_job_id(id);
+      v1::CancelJobResponse resp;
+      EXPECT_TRUE(s.stub().CancelJob(&c, req, &resp).ok());
+    });
+  };
+  cli::RemoteOutcome out = cli::RemoteSimplify(s.stub(), ctx, spec, big, cb, false);
+  canceller.join();
+  EXPECT_EQ(out.status.error_code(), grpc::StatusCode::CANCELLED) << out.status.error_message();
+  EXPECT_NE(out.status.error_message().find("CancelJob"), std::string::npos);
+}
+
+TEST(Service, DeadlineExceeded) {
+  InProcessServer s;
+  RawMesh big = testing::MakeTorus(1000, 1000);
+  v1::JobSpec spec;
+  spec.mutable_options()->set_target_vertices(50);
+  grpc::ClientContext ctx;
+  ctx.set_deadline(std::chrono::system_clock::now() + std::chrono::milliseconds(300));
+  cli::RemoteOutcome out = cli::RemoteSimplify(s.stub(), ctx, spec, big, {}, false);
+  EXPECT_EQ(out.status.error_code(), grpc::StatusCode::DEADLINE_EXCEEDED);
+  // The server is still serving.
+  grpc::ClientContext ctx2;
+  cli::RemoteOutcome next =
+      cli::RemoteSimplify(s.stub(), ctx2, RatioSpec(0.5), testing::LoadTestMesh("fandisk.off"));
+  EXPECT_TRUE(next.status.ok()) << next.status.error_message();
+}
+
+TEST(Service, QueueFullIsResourceExhaustedWithPushback) {
+  server::ServerConfig config = testing::TestConfig();
+  config.workers = 1;
+  config.queue_capacity = 1;
+  InProcessServer s(config);
+  // A call that sent its spec holds the only queue slot while it "uploads".
+  grpc::ClientContext hold_ctx;
+  auto hold = s.stub().Simplify(&hold_ctx);
+  ASSERT_TRUE(hold->Write(SpecRequest(3, 1)));
+  v1::SimplifyResponse accepted;
+  ASSERT_TRUE(hold->Read(&accepted));
+  ASSERT_TRUE(accepted.has_accepted());
+
+  grpc::ClientContext ctx;
+  cli::RemoteOutcome out =
+      cli::RemoteSimplify(s.stub(), ctx, RatioSpec(0.5), testing::LoadTestMesh("fandisk.off"));
+  EXPECT_EQ(out.status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
+  EXPECT_NE(out.status.error_message().find("queue is full"), std::string::npos);
+  EXPECT_EQ(out.retry_pushback_ms, 250);
+
+  hold_ctx.TryCancel();
+  hold->Finish();
+}
+
+TEST(Service, MalformedStreamsAreInvalidArgument) {
+  server::ServerConfig config = testing::TestConfig();
+  config.max_vertices = 1'000'000;
+  InProcessServer s(config);
+  v1::SimplifyRequest tri;
+  for (float x : {0, 0, 0, 1, 0, 0, 0, 1, 0}) tri.mutable_chunk()->add_positions(x);
+  for (uint32_t i : {0u, 1u, 2u}) tri.mutable_chunk()->add_indices(i);
+  v1::SimplifyRequest nan = tri;
+  nan.mutable_chunk()->set_positions(4, std::nanf(""));
+  v1::SimplifyRequest out_of_range = tri;
+  out_of_range.mutable_chunk()->set_indices(2, 7);
+  v1::SimplifyRequest degenerate = tri;
+  degenerate.mutable_chunk()->set_indices(2, 1);
+  v1::JobSpec bad_angle = RatioSpec(0.5);
+  bad_angle.mutable_options()->set_min_angle_deg(80);
+  v1::JobSpec bad_ratio = RatioSpec(1.5);
+
+  struct Case {
+    const char* name;
+    std::vector<v1::SimplifyRequest> requests;
+    grpc::StatusCode code;
+    const char* message;
+  } cases[] = {
+      {"empty stream", {}, grpc::StatusCode::INVALID_ARGUMENT, "before the job spec"},
+      {"no spec first", {tri}, grpc::StatusCode::INVALID_ARGUMENT, "spec must come first"},
+      {"two specs",
+       {SpecRequest(3, 1), SpecRequest(3, 1)},
+       grpc::StatusCode::INVALID_ARGUMENT,
+       "second job spec"},
+      {"chunk past declared",
+       {SpecRequest(3, 1), tri, tri},
+       grpc::StatusCode::INVALID_ARGUMENT,
+       "past the declared"},
+      {"missing chunks", {SpecRequest(3, 1)}, grpc::StatusCode::INVALID_ARGUMENT, "ended early"},
+      {"index out of range",
+       {SpecRequest(3, 1), out_of_range},
+       grpc::StatusCode::INVALID_ARGUMENT,
+       "references vertex 7"},
+      {"NaN", {SpecRequest(3, 1), nan}, grpc::StatusCode::INVALID_ARGUMENT, "non-finite"},
+      {"parameter out of range",
+       {SpecRequest(3, 1, bad_angle), tri},
+       grpc::StatusCode::INVALID_ARGUMENT,
+       "min_angle"},
+      {"ratio out of range",
+       {SpecRequest(3, 1, bad_ratio), tri},
+       grpc::StatusCode::INVALID_ARGUMENT,
+       "ratio"},
+      {"Mesh::Build message",
+       {SpecRequest(3, 1), degenerate},
+       grpc::StatusCode::INVALID_ARGUMENT,
+       "invalid mesh: face 0 is degenerate"},
+      {"empty mesh", {SpecRequest(0, 0)}, grpc::StatusCode::INVALID_ARGUMENT, "vertex_count"},
+      {"over max_vertices",
+       {SpecRequest(2'000'000, 1)},
+       grpc::StatusCode::RESOURCE_EXHAUSTED,
+       "max_vertices"},
+  };
+  for (const Case& c : cases) {
+    grpc::Status st = testing::SendRaw(s.stub(), c.requests);
+    EXPECT_EQ(st.error_code(), c.code) << c.name << ": " << st.error_message();
+    EXPECT_NE(st.error_message().find(c.message), std::string::npos)
+        << c.name << ": " << st.error_message();
+  }
+}
+
+TEST(Service, MessageOverMaxRequestBytes) {
+  server::ServerConfig config = testing::TestConfig();
+  config.max_request_bytes = 256 << 10;
+  InProcessServer s(config);
+  RawMesh torus = testing::MakeTorus(200, 200);  // 40k vertices = 480 KB in one chunk
+  std::vector<v1::SimplifyRequest> reqs = {SpecRequest(torus.num_vertices(), torus.num_faces())};
+  reqs.emplace_back();
+  reqs.back().mutable_chunk()->mutable_positions()->Add(torus.positions.begin(),
+                                                        torus.positions.end());
+  grpc::Status st = testing::SendRaw(s.stub(), reqs);
+  EXPECT_EQ(st.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED) << st.error_message();
+}
+
+TEST(Service, SixteenConcurrentJobs) {
+  InProcessServer s;
+  RawMesh in = testing::LoadTestMesh("fandisk.off");
+  std::vector<std::thread> clients;
+  std::atomic<int> ok{0};
+  for (int i = 0; i < 16; ++i)
+    clients.emplace_back([&] {
+      grpc::ClientContext ctx;
+      cli::RemoteOutcome out = cli::RemoteSimplify(s.stub(), ctx, RatioSpec(0.3), in);
+      EXPECT_TRUE(out.status.ok()) << out.status.error_message();
+      if (out.status.ok() && out.output.num_vertices() < in.num_vertices()) ++ok;
+    });
+  for (auto& t : clients) t.join();
+  EXPECT_EQ(ok.load(), 16);
+}
+
+TEST(Service, MetricsMove) {
+  InProcessServer s;
+  ASSERT_GT(s.server().metrics_port(), 0);
+  auto before = testing::ParseMetrics(testing::HttpGet(s.server().metrics_port(), "/metrics"));
+  EXPECT_EQ(before.count("femsimp_jobs_total{status=\"OK\"}"), 0u);
+  EXPECT_EQ(before.at("femsimp_queue_depth"), 0);
+  RawMesh in = testing::LoadTestMesh("fandisk.off");
+  for (int i = 0; i < 2; ++i) {
+    grpc::ClientContext ctx;
+    ASSERT_TRUE(cli::RemoteSimplify(s.stub(), ctx, RatioSpec(0.5), in).status.ok());
+  }
+  testing::SendRaw(s.stub(), {});  // one INVALID_ARGUMENT
+  auto after = testing::ParseMetrics(testing::HttpGet(s.server().metrics_port(), "/metrics"));
+  EXPECT_EQ(after.at("femsimp_jobs_total{status=\"OK\"}"), 2);
+  EXPECT_EQ(after.at("femsimp_jobs_total{status=\"INVALID_ARGUMENT\"}"), 1);
+  EXPECT_EQ(after.at("femsimp_vertices_in_total"), 2.0 * in.num_vertices());
+  EXPECT_GT(after.at("femsimp_vertices_removed_total"), 0);
+  EXPECT_GT(after.at("femsimp_passes_total{backend=\"native\"}"), 0);
+  EXPECT_EQ(after.at("femsimp_job_duration_seconds_count{backend=\"native\"}"), 2);
+  EXPECT_EQ(after.at("femsimp_running_jobs"), 0);
+  bool speedup = false;
+  for (const auto& [k, v] : after)
+    if (k.rfind("femsimp_parallel_speedup_count{", 0) == 0 &&
+        k.find("backend=\"native\"") != std::string::npos &&
+        k.find("contexts=\"2\"") != std::string::npos)
+      speedup = v == 2;
+  EXPECT_TRUE(speedup);
+}
+
+}  // namespace
+}  // namespace femsimp

@@ -1,0 +1,49 @@
+// Helpers of the service tests: generated meshes, an in-process server, raw request streams,
+// a minimal HTTP GET for /metrics.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "client/remote_call.h"
+#include "engine/raw_mesh.h"
+#include "femsimp/v1/femsimp.grpc.pb.h"
+#include "server/server.h"
+
+namespace femsimp::testing {
+
+// Closed torus of n * m vertices and 2nm faces (a valid closed 2-manifold).
+RawMesh MakeTorus(int n, int m);
+RawMesh LoadTestMesh(const std::string& name);  // from FEMSIMP_TEST_DATA
+
+// Listens on free loopback ports; small limits the tests can reach.
+server::ServerConfig TestConfig();
+
+class InProcessServer {
+ public:
+  explicit InProcessServer(server::ServerConfig config = TestConfig());
+  ~InProcessServer();
+  std::string address() const;
+  v1::Simplifier::Stub& stub() { return *stub_; }
+  server::FemsimpServer& server() { return *server_; }
+
+ private:
+  std::unique_ptr<server::FemsimpServer> server_;
+  std::unique_ptr<v1::Simplifier::Stub> stub_;
+};
+
+v1::JobSpec RatioSpec(double ratio, int threads = 0);
+
+// Sends exactly these requests, half-closes, reads to the end; the call's status.
+grpc::Status SendRaw(v1::Simplifier::Stub& stub, const std::vector<v1::SimplifyRequest>& requests);
+
+// GET http://127.0.0.1:port/path; the body ("" on failure).
+std::string HttpGet(int port, const std::string& path);
+// Prometheus text format: "name{labels}" -> value, comments skipped.
+std::map<std::string, double> ParseMetrics(const std::string& text);
+
+int FreePort();
+
+}  // namespace femsimp::testing
