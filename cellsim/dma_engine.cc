@@ -38,17 +38,17 @@ absl::Status DmaEngine::Validate(Dir dir, const void* ls, uint64_t ea, size_t si
         absl::StrFormat("%s: tag %d out of range [0, %d)", what, tag, kNumTags));
   }
   if (size == 0 || size % 16 != 0 || size > kMaxTransferBytes) {
-    return absl::InvalidArgumentError(absl::StrFormat(
-        "%s: size %d must be a positive multiple of 16 of at most %d bytes", what, size,
-        kMaxTransferBytes));
+    return absl::InvalidArgumentError(
+        absl::StrFormat("%s: size %d must be a positive multiple of 16 of at most %d bytes", what,
+                        size, kMaxTransferBytes));
   }
   if (ea % 16 != 0) {
     return absl::InvalidArgumentError(
         absl::StrFormat("%s: effective address 0x%x is not 16-byte aligned", what, ea));
   }
   if (reinterpret_cast<uintptr_t>(ls) % 16 != 0) {
-    return absl::InvalidArgumentError(absl::StrFormat(
-        "%s: local store address %p is not 16-byte aligned", what, ls));
+    return absl::InvalidArgumentError(
+        absl::StrFormat("%s: local store address %p is not 16-byte aligned", what, ls));
   }
   if (!ls_->Contains(ls, size)) {
     return absl::InvalidArgumentError(absl::StrFormat(
@@ -57,8 +57,8 @@ absl::Status DmaEngine::Validate(Dir dir, const void* ls, uint64_t ea, size_t si
   return memory_->Check(ea, size, what);
 }
 
-absl::StatusOr<uint64_t> DmaEngine::Issue(Dir dir, void* ls, uint64_t ea, size_t size,
-                                          unsigned tag, bool fenced) {
+absl::StatusOr<uint64_t> DmaEngine::Issue(Dir dir, void* ls, uint64_t ea, size_t size, unsigned tag,
+                                          bool fenced) {
   if (absl::Status s = Validate(dir, ls, ea, size, tag); !s.ok()) return s;
   clock_->AddDmaIssue(cost_->dma_issue_cycles);
 

@@ -17,19 +17,19 @@ void LocalStore::AlignedDelete::operator()(std::byte* p) const {
 
 absl::StatusOr<std::unique_ptr<LocalStore>> LocalStore::Create(size_t bytes) {
   if (bytes == 0 || bytes % 16 != 0) {
-    return absl::InvalidArgumentError(absl::StrFormat(
-        "local store size must be a positive multiple of 16 bytes, got %d", bytes));
+    return absl::InvalidArgumentError(
+        absl::StrFormat("local store size must be a positive multiple of 16 bytes, got %d", bytes));
   }
   auto* base = static_cast<std::byte*>(::operator new[](bytes, std::align_val_t{kArenaAlignment}));
   return std::unique_ptr<LocalStore>(new LocalStore(base, bytes));
 }
 
 absl::StatusOr<std::byte*> LocalStore::Allocate(size_t bytes, size_t alignment,
-                                               std::string_view what) {
+                                                std::string_view what) {
   if (alignment < 16 || (alignment & (alignment - 1)) != 0 || alignment > kArenaAlignment) {
-    return absl::InvalidArgumentError(absl::StrFormat(
-        "local store: alignment %d for '%s' must be a power of two in [16, %d]", alignment, what,
-        kArenaAlignment));
+    return absl::InvalidArgumentError(
+        absl::StrFormat("local store: alignment %d for '%s' must be a power of two in [16, %d]",
+                        alignment, what, kArenaAlignment));
   }
   const size_t start = (used_ + alignment - 1) & ~(alignment - 1);
   if (start > capacity_ || bytes > capacity_ - start) {

@@ -13,8 +13,8 @@ absl::Status MainMemory::Register(const void* base, size_t bytes, std::string na
         absl::StrFormat("main memory region '%s': null base or zero size", name));
   }
   if (begin % 4 != 0) {
-    return absl::InvalidArgumentError(absl::StrFormat(
-        "main memory region '%s': base 0x%x is not 4-byte aligned", name, begin));
+    return absl::InvalidArgumentError(
+        absl::StrFormat("main memory region '%s': base 0x%x is not 4-byte aligned", name, begin));
   }
   const uint64_t end = begin + bytes;
   for (const Region& r : regions_) {
@@ -35,8 +35,7 @@ absl::Status MainMemory::Unregister(const void* base) {
   auto it = std::find_if(regions_.begin(), regions_.end(),
                          [&](const Region& r) { return r.begin == Ea(base); });
   if (it == regions_.end()) {
-    return absl::NotFoundError(
-        absl::StrFormat("no main memory region starts at 0x%x", Ea(base)));
+    return absl::NotFoundError(absl::StrFormat("no main memory region starts at 0x%x", Ea(base)));
   }
   regions_.erase(it);
   return absl::OkStatus();

@@ -67,9 +67,9 @@ absl::Status SoftThreadScheduler::Run(int k, size_t stack_bytes, const Body& bod
         absl::StrFormat("software threads: need at least 1 thread, got %d", k));
   }
   if (stack_bytes < kMinStackBytes || stack_bytes % 16 != 0) {
-    return absl::InvalidArgumentError(absl::StrFormat(
-        "software threads: stack size %d must be a multiple of 16 of at least %d", stack_bytes,
-        kMinStackBytes));
+    return absl::InvalidArgumentError(
+        absl::StrFormat("software threads: stack size %d must be a multiple of 16 of at least %d",
+                        stack_bytes, kMinStackBytes));
   }
   if (active() || body_ != nullptr) {
     return absl::FailedPreconditionError("software threads: RunThreads is already running");

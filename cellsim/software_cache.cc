@@ -17,9 +17,9 @@ absl::StatusOr<std::unique_ptr<SoftwareCache>> SoftwareCache::Create(
     CycleClock* clock, SpeCounters* counters, const CostModel* cost, Waiter* waiter) {
   if (!IsPowerOfTwo(config.line_bytes) || config.line_bytes < 16 ||
       config.line_bytes > DmaEngine::kMaxTransferBytes) {
-    return absl::InvalidArgumentError(absl::StrFormat(
-        "software cache: line size %d must be a power of two in [16, %d]", config.line_bytes,
-        DmaEngine::kMaxTransferBytes));
+    return absl::InvalidArgumentError(
+        absl::StrFormat("software cache: line size %d must be a power of two in [16, %d]",
+                        config.line_bytes, DmaEngine::kMaxTransferBytes));
   }
   if (config.ways == 0 || config.size_bytes == 0 ||
       config.size_bytes % (config.line_bytes * config.ways) != 0 ||
@@ -44,9 +44,9 @@ absl::StatusOr<std::unique_ptr<SoftwareCache>> SoftwareCache::Create(
       new SoftwareCache(config, *data, tags, dma, memory, clock, counters, cost, waiter));
 }
 
-SoftwareCache::SoftwareCache(const CacheConfig& config, std::byte* data, Tag* tags,
-                             DmaEngine* dma, const MainMemory* memory, CycleClock* clock,
-                             SpeCounters* counters, const CostModel* cost, Waiter* waiter)
+SoftwareCache::SoftwareCache(const CacheConfig& config, std::byte* data, Tag* tags, DmaEngine* dma,
+                             const MainMemory* memory, CycleClock* clock, SpeCounters* counters,
+                             const CostModel* cost, Waiter* waiter)
     : config_(config),
       num_sets_(config.size_bytes / (config.line_bytes * config.ways)),
       data_(data),

@@ -49,13 +49,9 @@ class SoftwareCache : public PutObserver {
  public:
   // Allocates lines and tags from `ls`; fails (ResourceExhausted) when they do not fit, or
   // (InvalidArgument) on a bad geometry.
-  static absl::StatusOr<std::unique_ptr<SoftwareCache>> Create(const CacheConfig& config,
-                                                               LocalStore* ls, DmaEngine* dma,
-                                                               const MainMemory* memory,
-                                                               CycleClock* clock,
-                                                               SpeCounters* counters,
-                                                               const CostModel* cost,
-                                                               Waiter* waiter);
+  static absl::StatusOr<std::unique_ptr<SoftwareCache>> Create(
+      const CacheConfig& config, LocalStore* ls, DmaEngine* dma, const MainMemory* memory,
+      CycleClock* clock, SpeCounters* counters, const CostModel* cost, Waiter* waiter);
 
   // Pointer to the `size` bytes at `ea`, in the local store, after any needed fill.
   absl::StatusOr<const std::byte*> Read(uint64_t ea, size_t size);

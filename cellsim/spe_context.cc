@@ -9,8 +9,7 @@ absl::StatusOr<std::unique_ptr<SpeContext>> SpeContext::Create(int index, int nu
                                                                const MainMemory* memory) {
   absl::StatusOr<std::unique_ptr<LocalStore>> ls = LocalStore::Create(config.local_store_bytes);
   if (!ls.ok()) return ls.status();
-  std::unique_ptr<SpeContext> ctx(
-      new SpeContext(index, num_spes, config, memory, std::move(*ls)));
+  std::unique_ptr<SpeContext> ctx(new SpeContext(index, num_spes, config, memory, std::move(*ls)));
   absl::StatusOr<std::unique_ptr<SoftwareCache>> cache =
       SoftwareCache::Create(ctx->config_.cache, ctx->ls_.get(), &ctx->dma_, memory, &ctx->clock_,
                             &ctx->counters_, &ctx->config_.cost, ctx.get());
