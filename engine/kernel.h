@@ -63,6 +63,7 @@ class RemovalKernel {
 
   Outcome TryRemove(uint32_t v) {
     ++stats_.tried;
+    port_.BeginCandidate();
     if (!port_.CasStatus(v, kRemovable, kRemovable | kLockedBit)) {
       const uint32_t s = port_.LoadStatus(v);
       if (s & kLockedBit) return Count(Outcome::kConflict);

@@ -23,7 +23,7 @@ class NativeBackend final : public RemovalBackend {
 
   int contexts() const override { return pool_.size(); }
 
-  void RunRemoval(const RemovalPhase& phase, PassStats& stats) override {
+  absl::Status RunRemoval(const RemovalPhase& phase, PassStats& stats) override {
     const int n = pool_.size();
     std::vector<KernelStats> per_context(n);
     std::vector<double> busy(n, 0.0);
@@ -49,6 +49,7 @@ class NativeBackend final : public RemovalBackend {
       AddKernelStats(per_context[c], stats);
       stats.busy_seconds += busy[c];
     }
+    return absl::OkStatus();
   }
 
  private:

@@ -69,6 +69,8 @@ absl::Status ValidateOptions(const SimplifyOptions& o) {
       return OutOfRange("local_store_kib", c.local_store_kib, "in [16, 65536]");
     if (c.ls_cache_kib < 1 || c.ls_cache_kib >= c.local_store_kib)
       return OutOfRange("ls_cache_kib", c.ls_cache_kib, "in [1, local_store_kib)");
+    if ((c.ls_cache_kib & (c.ls_cache_kib - 1)) != 0)
+      return OutOfRange("ls_cache_kib", c.ls_cache_kib, "a power of two (cache sets are)");
     if (c.spe_threads < 1 || c.spe_threads > 16)
       return OutOfRange("spe_threads", c.spe_threads, "in [1, 16]");
   }

@@ -9,6 +9,7 @@
 //   uint32_t LoadStatus(uint32_t v);
 //   bool CasStatus(uint32_t v, uint32_t expected, uint32_t desired);  // acquire
 //   void StoreStatus(uint32_t v, uint32_t value);                       // release
+//   void BeginCandidate();     // a new candidate starts (the cell port logs what it reads)
 //   bool Refresh();            // drop cached mesh data after a stale read; false: cannot help
 //   void ChargeCompute(uint32_t cycles);  // cycle model of the arithmetic (no-op natively)
 #pragma once
@@ -39,6 +40,7 @@ class NativePort {
                                          std::memory_order_acquire);
   }
   void StoreStatus(uint32_t v, uint32_t value) { s_[v].store(value, std::memory_order_release); }
+  void BeginCandidate() {}
   bool Refresh() { return false; }
   void ChargeCompute(uint32_t) {}
 

@@ -19,6 +19,7 @@ namespace femsimp {
 struct RemovalPhase {
   const uint32_t* candidates;  // vertex ids in cost order
   size_t count;
+  size_t sorted;  // removable vertices sorted this pass (candidates are the first `count`)
   RemovalBudget* budget;
   std::atomic<bool>* stop;                 // set on cancellation or a spent budget
   const std::function<bool()>* cancelled;  // polled by context 0 only
@@ -29,11 +30,16 @@ class RemovalBackend {
   virtual ~RemovalBackend() = default;
   virtual int contexts() const = 0;
   // Fills tried/removed/conflicts/inconsistent/rejections/busy_seconds (and the cell counters).
-  virtual void RunRemoval(const RemovalPhase& phase, PassStats& stats) = 0;
+  virtual absl::Status RunRemoval(const RemovalPhase& phase, PassStats& stats) = 0;
 };
 
 std::unique_ptr<RemovalBackend> MakeNativeBackend(Mesh& mesh, const CriteriaSet& criteria,
                                                   WorkerPool& pool);
+
+// Emulated Cell BE: fails when the local store cannot hold the cache and thread stacks.
+absl::StatusOr<std::unique_ptr<RemovalBackend>> MakeCellBackend(Mesh& mesh,
+                                                                const CriteriaSet& criteria,
+                                                                const CellOptions& options);
 
 // Adds one context's kernel counters into the pass statistics.
 void AddKernelStats(const KernelStats& k, PassStats& stats);

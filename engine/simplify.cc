@@ -84,8 +84,6 @@ std::vector<uint32_t> SortedCandidates(Mesh& mesh, WorkerPool& pool, const Verte
 absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& options,
                                         const SimplifyControl& control) {
   if (absl::Status s = ValidateOptions(options); !s.ok()) return s;
-  if (options.backend == Backend::kCell)
-    return absl::UnimplementedError("the cell back end is not built into this engine yet");
   const auto run_start = Clock::now();
   SimplifyResult result;
   result.input_vertices = mesh.CountLiveVertices();
@@ -102,10 +100,19 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
   WorkerPool pool(options.threads);
   const CriteriaSet criteria = CriteriaSet::FromOptions(options);
   const GaussianCurvatureCost cost;
-  std::unique_ptr<RemovalBackend> backend = MakeNativeBackend(mesh, criteria, pool);
+  std::unique_ptr<RemovalBackend> backend;
+  if (options.backend == Backend::kCell) {
+    absl::StatusOr<std::unique_ptr<RemovalBackend>> cell =
+        MakeCellBackend(mesh, criteria, options.cell);
+    if (!cell.ok()) return cell.status();
+    backend = *std::move(cell);
+  } else {
+    backend = MakeNativeBackend(mesh, criteria, pool);
+  }
 
   result.stop_reason = StopReason::kMaxPasses;
   bool reconsider_next = false;
+  int idle_passes = 0;
   for (int pass = 1; pass <= options.max_passes; ++pass) {
     if (budget.target > 0 && budget.alive.load() <= budget.target) {
       result.stop_reason = StopReason::kTargetReached;
@@ -128,9 +135,11 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
     std::atomic<bool> stop{false};
     budget.stop.store(false);
     const std::function<bool()> no_cancel;
-    RemovalPhase phase{sorted.data(), stats.candidates, &budget, &stop,
-                       control.cancelled ? &control.cancelled : &no_cancel};
-    backend->RunRemoval(phase, stats);
+    RemovalPhase phase{sorted.data(), stats.candidates,
+                       sorted.size(), &budget,
+                       &stop,         control.cancelled ? &control.cancelled : &no_cancel};
+    if (absl::Status s = backend->RunRemoval(phase, stats); !s.ok()) return s;
+    result.modeled_cycles += stats.modeled_pass_cycles;
     stats.vertices_left = static_cast<uint64_t>(budget.alive.load());
     stats.seconds = Since(pass_start);
     result.busy_seconds += stats.busy_seconds;
@@ -144,14 +153,20 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
       result.stop_reason = StopReason::kTargetReached;
       break;
     }
-    if (stats.removed == 0 && stats.lock_conflicts == 0 && stats.inconsistent == 0) {
-      // Nothing moved: only vertices once rejected could still go, and only if they have not
-      // just been reconsidered.
-      if (reconsider || pass == 1) {
+    if (stats.removed == 0) {
+      // Only vertices once rejected could still go (if they have not just been reconsidered),
+      // or ones that lost a lock race; a whole reconsideration cycle without removals ends it,
+      // so contexts that keep colliding on a tiny mesh cannot spin until the pass limit.
+      ++idle_passes;
+      const bool only_rejections = stats.lock_conflicts == 0 && stats.inconsistent == 0;
+      if ((only_rejections && (reconsider || pass == 1)) ||
+          idle_passes > options.reconsider_every) {
         result.stop_reason = StopReason::kNoProgress;
         break;
       }
-      reconsider_next = true;
+      reconsider_next = only_rejections;
+    } else {
+      idle_passes = 0;
     }
   }
   result.output_vertices = mesh.CountLiveVertices();

@@ -1,0 +1,47 @@
+#ifndef FEMSIMP_CELLSIM_COST_MODEL_H_
+#define FEMSIMP_CELLSIM_COST_MODEL_H_
+
+#include <cstddef>
+#include <cstdint>
+
+namespace femsimp::cellsim {
+
+// Cycle costs of the emulated SPE, in SPU clock cycles (3.2 GHz on a QS21). The defaults are
+// round figures in the range published for the Cell BE; they are assumptions, not measurements,
+// and every one can be changed per run. docs/CELLSIM.md explains each one.
+struct CostModel {
+  // DMA: a transfer of B bytes issued at cycle t on an idle channel completes at
+  //   t + dma_latency_cycles + ceil(B / dma_bytes_per_cycle).
+  // Gets and puts each have one channel; transfers in one direction share its bandwidth
+  // (the byte time is serialised, the latency overlaps).
+  uint64_t dma_latency_cycles = 450;
+  uint64_t dma_bytes_per_cycle = 8;  // 25.6 GB/s at 3.2 GHz, one EIB port.
+  uint64_t dma_issue_cycles = 10;    // SPU channel writes to enqueue one MFC command.
+
+  // Software cache bookkeeping on the SPU (tag lookup, LRU update, victim choice).
+  uint64_t cache_hit_cycles = 12;
+  uint64_t cache_miss_cycles = 40;  // Plus the DMA get of the line and any stall on it.
+
+  // Atomic unit (getllar / putllc / putlluc through the MFC's atomic cache).
+  uint64_t atomic_getllar_cycles = 400;
+  uint64_t atomic_putllc_cycles = 100;
+  uint64_t atomic_putlluc_cycles = 100;
+  uint64_t atomic_load_cycles = 400;
+
+  // Saving and restoring the SPU registers of one software-managed thread.
+  uint64_t thread_switch_cycles = 50;
+
+  // PPE cost of starting and joining the SPE contexts for one Runtime::Run (per run, not per
+  // SPE: contexts start in parallel). The paper blames this for the poor fandisk speedup.
+  uint64_t spe_run_overhead_cycles = 30000;
+
+  // Modeled duration of moving `bytes` over one channel (without latency).
+  uint64_t ByteCycles(size_t bytes) const {
+    const uint64_t bpc = dma_bytes_per_cycle == 0 ? 1 : dma_bytes_per_cycle;
+    return (bytes + bpc - 1) / bpc;
+  }
+};
+
+}  // namespace femsimp::cellsim
+
+#endif  // FEMSIMP_CELLSIM_COST_MODEL_H_

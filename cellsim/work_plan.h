@@ -1,0 +1,57 @@
+#ifndef FEMSIMP_CELLSIM_WORK_PLAN_H_
+#define FEMSIMP_CELLSIM_WORK_PLAN_H_
+
+#include <atomic>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+namespace femsimp::cellsim {
+
+// How one Runtime::Run hands out work items; SPE kernels (and their software threads) pull
+// items with SpeContext::NextWorkItem until it returns nullopt.
+//  - PerSpe: SPE i gets the values of lists[i], in order (the paper: candidates split
+//    uniformly, each SPE visits its own in cost order). The lists must outlive the run.
+//  - Shared: items 0..count-1 from one shared index, taken `chunk` at a time (dynamic load
+//    balancing; each chunk is charged one getllar + putllc in atomic cycles).
+//  - None: NextWorkItem returns nullopt at once.
+class WorkPlan {
+ public:
+  enum class Kind { kNone, kPerSpe, kShared };
+
+  static WorkPlan None() { return WorkPlan(); }
+  static WorkPlan PerSpe(std::vector<std::span<const uint32_t>> lists);
+  static WorkPlan Shared(uint64_t count, uint64_t chunk = 1);
+
+  Kind kind() const { return kind_; }
+  const std::vector<std::span<const uint32_t>>& lists() const { return lists_; }
+  uint64_t count() const { return count_; }
+  uint64_t chunk() const { return chunk_; }
+
+ private:
+  Kind kind_ = Kind::kNone;
+  std::vector<std::span<const uint32_t>> lists_;
+  uint64_t count_ = 0;
+  uint64_t chunk_ = 1;
+};
+
+// One SPE's position in a WorkPlan during a run.
+class WorkCursor {
+ public:
+  void Begin(const WorkPlan* plan, std::atomic<uint64_t>* shared_next, int spe_index);
+  void End() { *this = WorkCursor(); }
+  // The next item, or nullopt. Sets *took_chunk when it had to take a shared chunk.
+  std::optional<uint64_t> Next(bool* took_chunk);
+
+ private:
+  const WorkPlan* plan_ = nullptr;
+  std::atomic<uint64_t>* shared_next_ = nullptr;
+  std::span<const uint32_t> list_;
+  uint64_t pos_ = 0;
+  uint64_t end_ = 0;
+};
+
+}  // namespace femsimp::cellsim
+
+#endif  // FEMSIMP_CELLSIM_WORK_PLAN_H_

@@ -1,0 +1,144 @@
+// Memory port of one emulated SPE (software thread): vertices and half-edges are read through
+// the SPE's non-coherent software cache, written with DMA puts straight to main memory, and the
+// status words change only through the atomic unit. Knows the mesh layout; cellsim does not.
+#pragma once
+
+#include <atomic>
+#include <cstring>
+
+#include "cellsim/cellsim.h"
+#include "engine/mesh.h"
+
+namespace femsimp {
+
+class CellPort {
+ public:
+  CellPort(cellsim::SpeContext& spe, Mesh& mesh)
+      : spe_(spe),
+        v_(mesh.vertices()),
+        h_(mesh.halfedges()),
+        s_(reinterpret_cast<uint32_t*>(mesh.status())) {
+    static_assert(sizeof(std::atomic<uint32_t>) == sizeof(uint32_t));
+  }
+
+  void BeginCandidate() { logged_ = 0; }
+
+  VertexQ ReadVertex(uint32_t v) { return Read<VertexQ>(&v_[v], VertexQ{0, 0, 0, kNone}); }
+  HalfEdgeQ ReadHalfEdge(uint32_t h) {
+    return Read<HalfEdgeQ>(&h_[h], HalfEdgeQ{kNone, kNone, 0, kFaceRemoved});
+  }
+  VertexQ ReadVertexFresh(uint32_t v) {
+    spe_.cache().Dirty(cellsim::Ea(&v_[v]));
+    return ReadVertex(v);
+  }
+  HalfEdgeQ ReadHalfEdgeFresh(uint32_t h) {
+    spe_.cache().Dirty(cellsim::Ea(&h_[h]));
+    return ReadHalfEdge(h);
+  }
+
+  // A write puts the whole quadword. The other three words come from this SPE's copy, which
+  // the kernel has validated (or re-read fresh) under the locks, so they are current; and no
+  // other SPE writes the quadword meanwhile (kernel.h).
+  void WriteTarget(uint32_t h, uint32_t v) {
+    HalfEdgeQ q = ReadHalfEdge(h);
+    q.target = v;
+    Put(&h_[h], q);
+  }
+  void WriteTwin(uint32_t h, uint32_t t) {
+    HalfEdgeQ q = ReadHalfEdge(h);
+    q.twin = t;
+    Put(&h_[h], q);
+  }
+  void WriteFlags(uint32_t h, uint32_t f) {
+    HalfEdgeQ q = ReadHalfEdge(h);
+    q.flags = f;
+    Put(&h_[h], q);
+  }
+  void WriteOut(uint32_t v, uint32_t h) {
+    VertexQ q = ReadVertex(v);
+    q.out = h;
+    Put(&v_[v], q);
+  }
+
+  uint32_t LoadStatus(uint32_t v) { return Check(spe_.atomic().Load(&s_[v]), uint32_t{kRemoved}); }
+  bool CasStatus(uint32_t v, uint32_t expected, uint32_t desired) {
+    return Check(spe_.atomic().CompareAndSwap(&s_[v], expected, desired), false);
+  }
+  void StoreStatus(uint32_t v, uint32_t value) {
+    // The DMA puts of an update must be complete before its status words are released.
+    if (puts_in_flight_) {
+      (void)spe_.dma().WaitTagMask(1u << kPutTag);
+      puts_in_flight_ = 0;
+    }
+    Check(spe_.atomic().PutLluc(&s_[v], value));
+  }
+
+  // Stale data detected: dirty the lines this candidate has read, so they are fetched again.
+  bool Refresh() {
+    ++spe_.counters().stale_detections;
+    if (logged_ > kLogSize) {
+      spe_.cache().InvalidateAll();
+    } else {
+      for (int i = 0; i < logged_; ++i) spe_.cache().Dirty(log_[i]);
+    }
+    logged_ = 0;
+    return reread_on_stale_;
+  }
+  void set_reread_on_stale(bool on) { reread_on_stale_ = on; }
+
+  void ChargeCompute(uint32_t cycles) { spe_.AddComputeCycles(cycles); }
+
+ private:
+  static constexpr unsigned kPutTag = 1;
+  static constexpr int kLogSize = 256;
+  static constexpr int kPutBuffers = 32;
+
+  template <class Q>
+  Q Read(const Q* p, Q poison) {
+    const uint64_t ea = cellsim::Ea(p);
+    if (logged_ < kLogSize) log_[logged_] = ea;
+    ++logged_;
+    absl::StatusOr<Q> q = spe_.cache().ReadValue<Q>(ea);
+    if (!q.ok()) {
+      spe_.ReportError(q.status());
+      return poison;  // fails every consistency check, so the candidate is given up
+    }
+    return *q;
+  }
+
+  template <class Q>
+  void Put(Q* p, const Q& q) {
+    // DMA sources must live in the local store: the buffers are members of this port, which
+    // sits on the software thread's stack, itself allocated from the local store.
+    if (puts_in_flight_ == kPutBuffers) {
+      (void)spe_.dma().WaitTagMask(1u << kPutTag);
+      puts_in_flight_ = 0;
+    }
+    void* buffer = &put_buffers_[puts_in_flight_++];
+    std::memcpy(buffer, &q, sizeof q);
+    absl::StatusOr<uint64_t> done = spe_.dma().Put(buffer, cellsim::Ea(p), sizeof q, kPutTag);
+    if (!done.ok()) spe_.ReportError(done.status());
+  }
+
+  template <class T>
+  T Check(absl::StatusOr<T> r, T fallback) {
+    if (r.ok()) return *r;
+    spe_.ReportError(r.status());
+    return fallback;
+  }
+  void Check(absl::Status s) {
+    if (!s.ok()) spe_.ReportError(s);
+  }
+
+  cellsim::SpeContext& spe_;
+  VertexQ* v_;
+  HalfEdgeQ* h_;
+  uint32_t* s_;
+  bool reread_on_stale_ = true;
+  int logged_ = 0;
+  uint64_t log_[kLogSize];
+  int puts_in_flight_ = 0;
+  alignas(16) HalfEdgeQ put_buffers_[kPutBuffers];
+};
+
+}  // namespace femsimp

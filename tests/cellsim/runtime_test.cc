@@ -1,0 +1,132 @@
+#include "cellsim/runtime.h"
+
+#include <atomic>
+#include <cstring>
+#include <thread>
+#include <vector>
+
+#include "gtest/gtest.h"
+#include "test_util.h"
+
+namespace femsimp::cellsim {
+namespace {
+
+using testing::Quad;
+using testing::QuadArray;
+
+RuntimeConfig SmallConfig(int spes) {
+  RuntimeConfig config;
+  config.num_spes = spes;
+  config.spe.cache.size_bytes = 16 * 1024;
+  return config;
+}
+
+TEST(RuntimeTest, ReusesContextsAcrossManyRuns) {
+  absl::StatusOr<std::unique_ptr<Runtime>> rt = Runtime::Create(SmallConfig(4));
+  ASSERT_TRUE(rt.ok()) << rt.status();
+  std::vector<int> per_spe(4, 0);  // Each SPE writes only its own slot.
+  for (int run = 0; run < 200; ++run) {
+    ASSERT_TRUE((*rt)
+                    ->Run([&](SpeContext& spe) {
+                      ++per_spe[spe.index()];
+                      spe.AddComputeCycles(100 + spe.index());
+                    })
+                    .ok());
+  }
+  EXPECT_EQ(per_spe, (std::vector<int>{200, 200, 200, 200}));
+  EXPECT_EQ((*rt)->runs(), 200u);
+  const uint64_t overhead = (*rt)->spe(0).config().cost.spe_run_overhead_cycles;
+  EXPECT_EQ((*rt)->last_run_cycles(), overhead + 103);  // The slowest SPE.
+  EXPECT_EQ((*rt)->ElapsedCycles(), 200 * (overhead + 103));
+  (*rt)->AddPpeCycles(5000);
+  EXPECT_EQ((*rt)->ElapsedCycles(), 200 * (overhead + 103) + 5000);
+  EXPECT_EQ((*rt)->TotalCounters().compute_cycles, 200u * (100 + 101 + 102 + 103));
+  (*rt)->ResetCounters();
+  EXPECT_EQ((*rt)->ElapsedCycles(), 0u);
+  EXPECT_EQ((*rt)->TotalCounters().ModeledCycles(), 0u);
+}
+
+TEST(RuntimeTest, HandsOutWorkPerSpeAndShared) {
+  absl::StatusOr<std::unique_ptr<Runtime>> rt = Runtime::Create(SmallConfig(3));
+  ASSERT_TRUE(rt.ok()) << rt.status();
+  std::vector<uint32_t> a = {1, 2, 3}, b = {10}, c = {};
+  std::vector<std::vector<uint64_t>> seen(3);
+  ASSERT_TRUE((*rt)
+                  ->Run(
+                      [&](SpeContext& spe) {
+                        while (auto item = spe.NextWorkItem()) seen[spe.index()].push_back(*item);
+                      },
+                      WorkPlan::PerSpe({a, b, c}))
+                  .ok());
+  EXPECT_EQ(seen[0], (std::vector<uint64_t>{1, 2, 3}));
+  EXPECT_EQ(seen[1], (std::vector<uint64_t>{10}));
+  EXPECT_TRUE(seen[2].empty());
+
+  constexpr uint64_t kItems = 1000;
+  std::vector<std::atomic<int>> hits(kItems);
+  ASSERT_TRUE((*rt)
+                  ->Run(
+                      [&](SpeContext& spe) {
+                        while (auto item = spe.NextWorkItem()) hits[*item].fetch_add(1);
+                      },
+                      WorkPlan::Shared(kItems, 7))
+                  .ok());
+  for (uint64_t i = 0; i < kItems; ++i) EXPECT_EQ(hits[i].load(), 1) << i;
+  EXPECT_EQ((*rt)->TotalCounters().work_items, kItems + 4);
+}
+
+TEST(RuntimeTest, ReportsTheFirstKernelError) {
+  absl::StatusOr<std::unique_ptr<Runtime>> rt = Runtime::Create(SmallConfig(3));
+  ASSERT_TRUE(rt.ok());
+  absl::Status s = (*rt)->Run([](SpeContext& spe) {
+    if (spe.index() == 2) spe.ReportError(absl::InternalError("boom"));
+  });
+  EXPECT_EQ(s.code(), absl::StatusCode::kInternal);
+  EXPECT_NE(s.message().find("SPE 2: boom"), std::string::npos) << s;
+  EXPECT_TRUE((*rt)->Run([](SpeContext&) {}).ok());  // Errors do not stick.
+  EXPECT_FALSE(Runtime::Create(SmallConfig(0)).ok());
+}
+
+// SPE 0 caches a quadword; SPE 1 changes it in main memory and publishes through a status
+// word; SPE 0 still reads its stale line until it dirties it.
+TEST(RuntimeTest, StaleLinesAcrossConcurrentSpes) {
+  absl::StatusOr<std::unique_ptr<Runtime>> rt = Runtime::Create(SmallConfig(2));
+  ASSERT_TRUE(rt.ok());
+  QuadArray data(8);
+  alignas(16) uint32_t flags[4] = {};  // [0]: SPE 0 has read; [1]: SPE 1 has written.
+  ASSERT_TRUE((*rt)->RegisterMainMemory(data.data(), data.bytes(), "data").ok());
+  ASSERT_TRUE((*rt)->RegisterMainMemory(flags, sizeof(flags), "flags").ok());
+  uint32_t before = 0, stale = 0, fresh = 0;
+  auto wait_for = [](SpeContext& spe, uint32_t* word) {
+    while (*spe.atomic().Load(word) == 0) std::this_thread::yield();
+  };
+  absl::Status s = (*rt)->Run([&](SpeContext& spe) {
+    const uint64_t ea = Ea(&data[2]);
+    if (spe.index() == 0) {
+      before = spe.cache().ReadValue<Quad>(ea)->w[0];
+      (void)spe.atomic().PutLluc(&flags[0], 1);
+      wait_for(spe, &flags[1]);
+      stale = spe.cache().ReadValue<Quad>(ea)->w[0];
+      spe.cache().Dirty(ea);
+      ++spe.counters().stale_detections;
+      fresh = spe.cache().ReadValue<Quad>(ea)->w[0];
+    } else {
+      wait_for(spe, &flags[0]);
+      absl::StatusOr<std::byte*> buf = spe.local_store().Allocate(16);
+      if (!buf.ok()) return spe.ReportError(buf.status());
+      Quad q{{42, 0, 0, 0}};
+      std::memcpy(*buf, &q, 16);
+      (void)spe.dma().Put(*buf, ea, 16, 0);
+      (void)spe.atomic().PutLluc(&flags[1], 1);
+    }
+  });
+  ASSERT_TRUE(s.ok()) << s;
+  EXPECT_EQ(before, 2u);
+  EXPECT_EQ(stale, 2u);
+  EXPECT_EQ(fresh, 42u);
+  EXPECT_EQ((*rt)->TotalCounters().stale_detections, 1u);
+  EXPECT_EQ((*rt)->RegisterMainMemory(flags, 4, "again").code(), absl::StatusCode::kAlreadyExists);
+}
+
+}  // namespace
+}  // namespace femsimp::cellsim

@@ -1,0 +1,111 @@
+// The same kernel on the emulated Cell BE: outputs must pass the native back end's checks.
+#include <gtest/gtest.h>
+
+#include "engine/simplify.h"
+#include "tests/engine/mesh_checks.h"
+
+namespace femsimp {
+namespace {
+
+struct CellRun {
+  SimplifyResult result;
+  RawMesh output;
+};
+
+CellRun RunCell(const RawMesh& raw, int spes, int ls_cache_kib, int spe_threads,
+                bool topology_only = false) {
+  SimplifyOptions options;
+  options.backend = Backend::kCell;
+  options.cell.spes = spes;
+  options.cell.ls_cache_kib = ls_cache_kib;
+  options.cell.spe_threads = spe_threads;
+  options.topology_only = topology_only;
+  absl::StatusOr<Mesh> mesh = Mesh::Build(raw);
+  EXPECT_TRUE(mesh.ok());
+  absl::StatusOr<SimplifyResult> result = Simplify(*mesh, options);
+  EXPECT_TRUE(result.ok()) << result.status();
+  if (!result.ok()) return {};
+  EXPECT_EQ(testing::HalfEdgeInvariantViolation(*mesh), "");
+  return {*result, mesh->ToRaw()};
+}
+
+void ExpectValid(const RawMesh& in, const CellRun& run) {
+  ASSERT_TRUE(Mesh::Build(run.output).ok()) << Mesh::Build(run.output).status();
+  const auto a = testing::Topology(in), b = testing::Topology(run.output);
+  EXPECT_EQ(a.euler(), b.euler());
+  EXPECT_EQ(a.components, b.components);
+  EXPECT_EQ(b.boundary_edges, 0);
+  EXPECT_LT(run.result.output_vertices, run.result.input_vertices / 2);
+  for (const PassStats& p : run.result.passes) {
+    ASSERT_TRUE(p.cell.has_value());
+    EXPECT_GT(p.modeled_pass_cycles, 0u);
+  }
+}
+
+class CellSpes : public ::testing::TestWithParam<int> {};
+
+TEST_P(CellSpes, ValidOutputWithTheDefaultCache) {
+  const RawMesh raw = testing::LoadTestMesh("fandisk.off");
+  const CellRun run = RunCell(raw, GetParam(), 64, 1);
+  ExpectValid(raw, run);
+  const CellPassCounters& first = *run.result.passes[0].cell;
+  EXPECT_GT(first.cache_hits, 0u);
+  EXPECT_GT(first.cache_misses, 0u);
+  EXPECT_GT(first.atomic_ops, 0u);
+  EXPECT_EQ(run.result.passes[0].cell_per_spe.size(), size_t(GetParam()));
+}
+
+TEST_P(CellSpes, ValidOutputWithATinyCacheForcingMissesAndStaleReads) {
+  const RawMesh raw = testing::LoadTestMesh("fandisk.off");
+  const CellRun run = RunCell(raw, GetParam(), 1, 1, GetParam() == 8);
+  ExpectValid(raw, run);
+  EXPECT_LT(run.result.passes[0].cell->hit_ratio(), 0.9);
+}
+
+INSTANTIATE_TEST_SUITE_P(Spes, CellSpes, ::testing::Values(1, 8, 32));
+
+TEST(CellBackend, SoftwareThreadsOnAndOffBothValid) {
+  const RawMesh raw = testing::LoadTestMesh("femur.off");
+  for (int threads : {1, 3}) {
+    const CellRun run = RunCell(raw, 4, 16, threads);
+    ASSERT_TRUE(Mesh::Build(run.output).ok());
+    EXPECT_EQ(testing::Topology(raw).euler(), testing::Topology(run.output).euler());
+    uint64_t switches = 0;
+    for (const PassStats& p : run.result.passes) switches += p.cell->thread_switches;
+    if (threads == 1) {
+      EXPECT_EQ(switches, 0u);
+    } else {
+      EXPECT_GT(switches, 0u);
+    }
+  }
+}
+
+TEST(CellBackend, MoreSpesTakeFewerModeledCycles) {
+  const RawMesh raw = testing::LoadTestMesh("fandisk.off");
+  const CellRun one = RunCell(raw, 1, 64, 1), eight = RunCell(raw, 8, 64, 1);
+  const PassStats &a = one.result.passes[0], &b = eight.result.passes[0];
+  EXPECT_LT(b.modeled_pass_cycles * 2, a.modeled_pass_cycles);
+}
+
+TEST(CellBackend, CacheThatIsNotAPowerOfTwoIsRejected) {
+  SimplifyOptions options;
+  options.backend = Backend::kCell;
+  options.cell.ls_cache_kib = 200;
+  EXPECT_NE(ValidateOptions(options).message().find("ls_cache_kib"), std::string::npos);
+}
+
+TEST(CellBackend, CacheAndStacksThatDoNotFitAreRejected) {
+  SimplifyOptions options;
+  options.backend = Backend::kCell;
+  options.cell.ls_cache_kib = 128;
+  options.cell.spe_threads = 4;
+  absl::StatusOr<Mesh> mesh = Mesh::Build(testing::LoadTestMesh("femur.off"));
+  ASSERT_TRUE(mesh.ok());
+  absl::StatusOr<SimplifyResult> r = Simplify(*mesh, options);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.status().code(), absl::StatusCode::kResourceExhausted);
+  EXPECT_NE(r.status().message().find("local store"), std::string::npos) << r.status();
+}
+
+}  // namespace
+}  // namespace femsimp
