@@ -101,17 +101,19 @@ void WorkerPool::Run(const std::shared_ptr<Job>& job) {
     job->result = *result;
   }
   mesh.reset();  // the engine's arrays go before the next job starts
+  // Metrics before Finish(): a client that saw its job end then sees it counted.
+  if (final_state == JobState::kSucceeded)
+    metrics_.JobCompleted(o.backend, job->contexts(), result->engine_seconds, queued, *result);
+  metrics_.SetRunning(--running_);
   job->Finish(final_state, status);
   registry_.MarkFinished(job);
-  metrics_.SetRunning(--running_);
 
   double run_seconds;
   {
     std::lock_guard<std::mutex> lock(job->mu);
     run_seconds = Seconds(job->started_at, job->finished_at);
   }
-  if (result.ok() && final_state == JobState::kSucceeded) {
-    metrics_.JobCompleted(o.backend, job->contexts(), result->engine_seconds, queued, *result);
+  if (final_state == JobState::kSucceeded) {
     double speedup = result->engine_seconds > 0 ? result->busy_seconds / result->engine_seconds : 0;
     LogLine(absl::StrFormat(
         "job %s end: OK vertices=%u->%u faces=%u->%u passes=%u engine=%.3fs busy=%.3fs "
