@@ -176,6 +176,12 @@ grpc::Status SimplifierService::Follow(grpc::ServerContext* ctx, Stream* stream,
       job->Finish(JobState::kCancelled, s);
       done = true;
     }
+    // Passes fetched together with the end of the job still go out before the result.
+    for (const PassStats& p : fresh) {
+      v1::SimplifyResponse resp;
+      wire::ToProto(p, resp.mutable_progress());
+      if (!client_gone && !stream->Write(resp)) client_gone = true;
+    }
     if (done) break;
     if (client_gone) continue;  // wait for the worker to let go of the job
     if (state == JobState::kQueued) {
@@ -186,11 +192,6 @@ grpc::Status SimplifierService::Follow(grpc::ServerContext* ctx, Stream* stream,
         if (!stream->Write(resp)) client_gone = true;
         last_position = pos;
       }
-    }
-    for (const PassStats& p : fresh) {
-      v1::SimplifyResponse resp;
-      wire::ToProto(p, resp.mutable_progress());
-      if (!client_gone && !stream->Write(resp)) client_gone = true;
     }
   }
 

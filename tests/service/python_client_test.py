@@ -115,6 +115,7 @@ try:
     assert kinds[0] == "accepted", kinds
     assert "progress" in kinds, kinds
     assert result is not None
+    assert kinds.count("progress") == result.passes, (kinds, result.passes)
     print(f"simplified {nv} -> {result.output_vertices} vertices, stop {result.stop_reason}")
     assert result.output_vertices < nv
     assert len(out_pos) == 3 * result.output_vertices
