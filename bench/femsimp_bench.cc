@@ -1,0 +1,662 @@
+// Engine benchmark: femsimp (paper's geometric criteria, topology only) against OpenMesh's
+// Decimater and meshoptimizer on one loaded mesh, interleaved, best of N; plus output quality.
+//
+// Memory: this binary replaces the global operator new/delete with counting versions, so the
+// figures are live heap bytes (malloc_usable_size) allocated by the engine or peer during the
+// run, peak minus the level before it. The input soup (RawMesh) is loaded before and excluded.
+// All three libraries allocate through operator new (meshoptimizer's default allocator is
+// ::operator new), so nothing is missed, and allocator caching cannot hide or inflate figures.
+#include <malloc.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cfloat>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <new>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <meshoptimizer.h>
+
+#include "bench/self_intersect.h"
+#include "engine/io/mesh_io.h"
+#include "engine/io/openmesh.h"
+#include "engine/mesh.h"
+#include "engine/simplify.h"
+
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#include <OpenMesh/Tools/Decimater/DecimaterT.hh>
+#include <OpenMesh/Tools/Decimater/ModAspectRatioT.hh>
+#include <OpenMesh/Tools/Decimater/ModNormalFlippingT.hh>
+#include <OpenMesh/Tools/Decimater/ModQuadricT.hh>
+#pragma GCC diagnostic pop
+
+// ---- counting allocator ---------------------------------------------------------------------
+
+namespace {
+std::atomic<int64_t> g_live{0}, g_peak{0};
+
+void Count(void* p) {
+  if (!p) throw std::bad_alloc();
+  const int64_t n = g_live.fetch_add(static_cast<int64_t>(malloc_usable_size(p))) +
+                    static_cast<int64_t>(malloc_usable_size(p));
+  int64_t peak = g_peak.load(std::memory_order_relaxed);
+  while (n > peak && !g_peak.compare_exchange_weak(peak, n, std::memory_order_relaxed)) {
+  }
+}
+void Uncount(void* p) {
+  if (p) g_live.fetch_sub(static_cast<int64_t>(malloc_usable_size(p)));
+}
+void* Aligned(size_t n, std::align_val_t a) {
+  const size_t al = static_cast<size_t>(a);
+  void* p = std::aligned_alloc(al, (n + al - 1) / al * al);
+  Count(p);
+  return p;
+}
+}  // namespace
+
+void* operator new(size_t n) {
+  void* p = std::malloc(n ? n : 1);
+  Count(p);
+  return p;
+}
+void* operator new[](size_t n) { return operator new(n); }
+void* operator new(size_t n, std::align_val_t a) { return Aligned(n, a); }
+void* operator new[](size_t n, std::align_val_t a) { return Aligned(n, a); }
+void operator delete(void* p) noexcept {
+  Uncount(p);
+  std::free(p);
+}
+void operator delete[](void* p) noexcept { operator delete(p); }
+void operator delete(void* p, size_t) noexcept { operator delete(p); }
+void operator delete[](void* p, size_t) noexcept { operator delete(p); }
+void operator delete(void* p, std::align_val_t) noexcept { operator delete(p); }
+void operator delete[](void* p, std::align_val_t) noexcept { operator delete(p); }
+void operator delete(void* p, size_t, std::align_val_t) noexcept { operator delete(p); }
+void operator delete[](void* p, size_t, std::align_val_t) noexcept { operator delete(p); }
+
+namespace {
+
+using femsimp::RawMesh;
+using Clock = std::chrono::steady_clock;
+using TriMesh = OpenMesh::TriMesh_ArrayKernelT<>;
+bool g_pass_log = false;
+
+double Seconds(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double>(b - a).count();
+}
+void ResetPeak() { g_peak.store(g_live.load()); }
+
+// Process CPU time over all threads: on a shared machine, comparing it between thread counts
+// separates the engine's own parallel overhead from time lost to other processes.
+double CpuSeconds() {
+  rusage u;
+  getrusage(RUSAGE_SELF, &u);
+  return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+         1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
+// ---- quality ---------------------------------------------------------------------------------
+
+struct Quality {
+  size_t vertices = 0, faces = 0;  // referenced vertices only
+  size_t boundary_edges = 0, nonmanifold_edges = 0;
+  bool manifold = false;  // femsimp::Mesh::Build accepts it
+  std::string build_error;
+  double min_angle_deg = 0.0;
+  double frac_below_10 = 0.0;  // share of triangles with an angle below 10 degrees
+  std::string self_intersect = "not checked";
+  double self_intersect_seconds = 0.0;
+};
+
+double MinAngleDeg(const float* a, const float* b, const float* c) {
+  const float* p[3] = {a, b, c};
+  double best = 180.0;
+  for (int i = 0; i < 3; ++i) {
+    const float *o = p[i], *u = p[(i + 1) % 3], *w = p[(i + 2) % 3];
+    double e1[3], e2[3];
+    for (int k = 0; k < 3; ++k) e1[k] = double(u[k]) - o[k], e2[k] = double(w[k]) - o[k];
+    const double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2],
+                 cz = e1[0] * e2[1] - e1[1] * e2[0];
+    const double dot = e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2];
+    best = std::min(best, std::atan2(std::sqrt(cx * cx + cy * cy + cz * cz), dot) * 180.0 / M_PI);
+  }
+  return best;
+}
+
+// Runs the CGAL check in a forked child so that a slow one can be abandoned after the limit.
+void CheckSelfIntersections(const RawMesh& m, double limit_s, Quality& q) {
+  if (limit_s <= 0) return;
+  int fds[2];
+  if (pipe(fds) != 0) return;
+  const auto t0 = Clock::now();
+  const pid_t pid = fork();
+  if (pid == 0) {
+    close(fds[0]);
+    const char r = femsimp::bench::DoesSelfIntersect(m) ? 'y' : 'n';
+    if (write(fds[1], &r, 1) != 1) _exit(1);
+    _exit(0);
+  }
+  close(fds[1]);
+  if (pid < 0) {
+    close(fds[0]);
+    return;
+  }
+  int status = 0;
+  while (waitpid(pid, &status, WNOHANG) == 0) {
+    if (Seconds(t0, Clock::now()) > limit_s) {
+      kill(pid, SIGKILL);
+      waitpid(pid, &status, 0);
+      q.self_intersect = "not checked (>" + std::to_string(static_cast<int>(limit_s)) + " s)";
+      close(fds[0]);
+      return;
+    }
+    usleep(20000);
+  }
+  q.self_intersect_seconds = Seconds(t0, Clock::now());
+  char r = 0;
+  if (read(fds[0], &r, 1) == 1) q.self_intersect = r == 'y' ? "yes" : "no";
+  close(fds[0]);
+}
+
+Quality Analyze(const RawMesh& m, double si_limit_s) {
+  Quality q;
+  q.faces = m.num_faces();
+  std::vector<char> used(m.num_vertices(), 0);
+  std::vector<uint64_t> edges;
+  edges.reserve(m.triangles.size());
+  double min_angle = 180.0;
+  size_t below = 0;
+  for (size_t f = 0; f < q.faces; ++f) {
+    const uint32_t* t = &m.triangles[3 * f];
+    for (int i = 0; i < 3; ++i) {
+      used[t[i]] = 1;
+      const uint64_t a = std::min(t[i], t[(i + 1) % 3]), b = std::max(t[i], t[(i + 1) % 3]);
+      edges.push_back(a << 32 | b);
+    }
+    const double ang =
+        MinAngleDeg(&m.positions[3 * t[0]], &m.positions[3 * t[1]], &m.positions[3 * t[2]]);
+    min_angle = std::min(min_angle, ang);
+    below += ang < 10.0;
+  }
+  q.min_angle_deg = q.faces ? min_angle : 0.0;
+  q.frac_below_10 = q.faces ? double(below) / double(q.faces) : 0.0;
+  q.vertices = static_cast<size_t>(std::count(used.begin(), used.end(), 1));
+  std::sort(edges.begin(), edges.end());
+  for (size_t i = 0; i < edges.size();) {
+    size_t j = i;
+    while (j < edges.size() && edges[j] == edges[i]) ++j;
+    q.boundary_edges += j - i == 1;
+    q.nonmanifold_edges += j - i > 2;
+    i = j;
+  }
+  auto built = femsimp::Mesh::Build(m);
+  q.manifold = built.ok();
+  if (!built.ok()) q.build_error = std::string(built.status().message());
+  CheckSelfIntersections(m, si_limit_s, q);
+  return q;
+}
+
+// ---- runs ------------------------------------------------------------------------------------
+
+enum class Kind { kFemsimp, kOpenMesh, kMeshopt };
+
+struct Config {
+  std::string name;  // row label
+  Kind kind = Kind::kFemsimp;
+  femsimp::SimplifyOptions options;  // femsimp only
+  uint64_t target_vertices = 0;      // peers only
+  uint64_t target_faces = 0;         // meshoptimizer only (it counts indices)
+  std::string family;                // rows with the same family compare threads
+};
+
+struct Sample {
+  double seconds = 0;        // engine time: only the simplification
+  double build_seconds = 0;  // femsimp: Mesh::Build; OpenMesh: TriMesh construction
+  double cpu_seconds = 0;    // CPU time of the simplification, all threads
+  int64_t total_bytes = 0;   // peak heap beyond the input soup over build + simplification
+  int64_t work_bytes = 0;    // peak heap during the simplification beyond its input structure
+};
+
+struct Row {
+  Config config;
+  std::vector<Sample> samples;
+  RawMesh output;  // from the first repetition
+  std::optional<femsimp::SimplifyResult> result;
+  Quality quality;
+  double best() const {
+    double b = 1e300;
+    for (const Sample& s : samples) b = std::min(b, s.seconds);
+    return b;
+  }
+  const Sample& best_sample() const {
+    return *std::min_element(samples.begin(), samples.end(), [](const Sample& a, const Sample& b) {
+      return a.seconds < b.seconds;
+    });
+  }
+};
+
+RawMesh Compact(const std::vector<float>& positions, const uint32_t* tris, size_t nf) {
+  RawMesh out;
+  std::vector<uint32_t> remap(positions.size() / 3, femsimp::kNone);
+  for (size_t i = 0; i < 3 * nf; ++i) {
+    uint32_t& r = remap[tris[i]];
+    if (r == femsimp::kNone) {
+      r = static_cast<uint32_t>(out.positions.size() / 3);
+      out.positions.insert(out.positions.end(), &positions[3 * tris[i]],
+                           &positions[3 * tris[i]] + 3);
+    }
+    out.triangles.push_back(r);
+  }
+  return out;
+}
+
+bool RunFemsimp(const RawMesh& in, Row& row, bool keep) {
+  const int64_t live0 = g_live.load();
+  ResetPeak();
+  Sample s;
+  const auto t0 = Clock::now();
+  auto mesh = femsimp::Mesh::Build(in);
+  s.build_seconds = Seconds(t0, Clock::now());
+  if (!mesh.ok()) {
+    std::fprintf(stderr, "Mesh::Build: %s\n", std::string(mesh.status().message()).c_str());
+    return false;
+  }
+  const int64_t build_peak = g_peak.load(), live1 = g_live.load();
+  ResetPeak();
+  const double cpu0 = CpuSeconds();
+  auto result = femsimp::Simplify(*mesh, row.config.options);
+  s.cpu_seconds = CpuSeconds() - cpu0;
+  if (!result.ok()) {
+    std::fprintf(stderr, "Simplify: %s\n", std::string(result.status().message()).c_str());
+    return false;
+  }
+  const int64_t simp_peak = g_peak.load();
+  s.seconds = result->engine_seconds;
+  s.work_bytes = simp_peak - live1;
+  s.total_bytes = std::max(build_peak, simp_peak) - live0;
+  row.samples.push_back(s);
+  if (keep && g_pass_log)
+    for (const auto& p : result->passes)
+      std::fprintf(stderr,
+                   "  [%s thr=%d] pass %d: candidates %llu tried %llu removed %llu lock %llu "
+                   "inconsistent %llu left %llu %.3f s (busy %.3f s)\n",
+                   row.config.name.c_str(), row.config.options.threads, p.pass,
+                   (unsigned long long)p.candidates, (unsigned long long)p.tried,
+                   (unsigned long long)p.removed, (unsigned long long)p.lock_conflicts,
+                   (unsigned long long)p.inconsistent, (unsigned long long)p.vertices_left,
+                   p.seconds, p.busy_seconds);
+  if (keep) {
+    row.output = mesh->ToRaw();
+    row.result = *result;
+  }
+  return true;
+}
+
+bool RunOpenMesh(const RawMesh& in, Row& row, bool keep) {
+  const int64_t live0 = g_live.load();
+  ResetPeak();
+  Sample s;
+  TriMesh mesh;
+  auto t0 = Clock::now();
+  std::vector<TriMesh::VertexHandle> vh;
+  vh.reserve(in.num_vertices());
+  for (size_t v = 0; v < in.num_vertices(); ++v)
+    vh.push_back(mesh.add_vertex(
+        TriMesh::Point(in.positions[3 * v], in.positions[3 * v + 1], in.positions[3 * v + 2])));
+  for (size_t f = 0; f < in.num_faces(); ++f)
+    mesh.add_face(vh[in.triangles[3 * f]], vh[in.triangles[3 * f + 1]],
+                  vh[in.triangles[3 * f + 2]]);
+  mesh.request_face_normals();  // ModNormalFlipping needs them
+  mesh.update_face_normals();
+  std::vector<TriMesh::VertexHandle>().swap(vh);
+  const int64_t live1 = g_live.load();
+  s.build_seconds = Seconds(t0, Clock::now());
+  t0 = Clock::now();
+  const double cpu0 = CpuSeconds();
+  {
+    OpenMesh::Decimater::DecimaterT<TriMesh> dec(mesh);
+    OpenMesh::Decimater::ModQuadricT<TriMesh>::Handle quadric;
+    OpenMesh::Decimater::ModNormalFlippingT<TriMesh>::Handle flipping;
+    OpenMesh::Decimater::ModAspectRatioT<TriMesh>::Handle aspect;
+    dec.add(quadric);
+    dec.add(flipping);
+    dec.add(aspect);
+    dec.initialize();
+    dec.decimate_to(row.config.target_vertices);
+    mesh.garbage_collection();  // before the decimater releases its status flags
+  }
+  s.seconds = Seconds(t0, Clock::now());
+  s.cpu_seconds = CpuSeconds() - cpu0;
+  s.total_bytes = g_peak.load() - live0;
+  s.work_bytes = g_peak.load() - live1;
+  row.samples.push_back(s);
+  if (keep) {
+    RawMesh& out = row.output;
+    out = {};
+    for (auto v : mesh.vertices()) {
+      const auto& p = mesh.point(v);
+      out.positions.insert(out.positions.end(), {p[0], p[1], p[2]});
+    }
+    for (auto f : mesh.faces())
+      for (auto v : mesh.fv_range(f)) out.triangles.push_back(static_cast<uint32_t>(v.idx()));
+  }
+  return true;
+}
+
+bool RunMeshopt(const RawMesh& in, Row& row, bool keep) {
+  const int64_t live0 = g_live.load();
+  ResetPeak();
+  Sample s;
+  std::vector<uint32_t> dst(in.triangles.size());
+  float error = 0;
+  const auto t0 = Clock::now();
+  const double cpu0 = CpuSeconds();
+  // FLT_MAX: no error bound, stop at the count. LockBorder keeps the open boundary like the
+  // other two do.
+  const size_t n = meshopt_simplify(
+      dst.data(), in.triangles.data(), in.triangles.size(), in.positions.data(), in.num_vertices(),
+      3 * sizeof(float), 3 * row.config.target_faces, FLT_MAX, meshopt_SimplifyLockBorder, &error);
+  s.seconds = Seconds(t0, Clock::now());
+  s.cpu_seconds = CpuSeconds() - cpu0;
+  s.total_bytes = s.work_bytes = g_peak.load() - live0;
+  row.samples.push_back(s);
+  if (keep) row.output = Compact(in.positions, dst.data(), n / 3);
+  return true;
+}
+
+bool Run(const RawMesh& in, Row& row, bool keep) {
+  switch (row.config.kind) {
+    case Kind::kFemsimp:
+      return RunFemsimp(in, row, keep);
+    case Kind::kOpenMesh:
+      return RunOpenMesh(in, row, keep);
+    case Kind::kMeshopt:
+      return RunMeshopt(in, row, keep);
+  }
+  return false;
+}
+
+// ---- report ----------------------------------------------------------------------------------
+
+struct Args {
+  std::string mesh, label, json;
+  int repeats = 3;
+  std::vector<int> threads = {1, 2};
+  bool peers = true;
+  std::string variant = "auto";  // min-angle-0 variant: auto (paper removes < 10 %), on, off
+  double si_limit_s = 60;
+  double ratio = 0;  // target for topology-only and the variant (0: until the criteria stop)
+};
+
+std::string Fmt(const char* f, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, f, v);
+  return buf;
+}
+
+std::string Yes(bool b) { return b ? "yes" : "no"; }
+
+void PrintReport(const Args& a, const RawMesh& in, const Quality& qin, double load_s,
+                 const std::vector<Row>& rows, FILE* out) {
+  const double nf = static_cast<double>(in.num_faces());
+  std::fprintf(out, "### %s\n\n", a.label.c_str());
+  std::fprintf(out,
+               "Input `%s`: %zu vertices, %zu triangles, %zu boundary edges, manifold %s, min "
+               "angle %.2f°, %.1f %% of triangles have an angle below 10°, self-intersections: "
+               "%s. Loaded in %.2f s. Best of %d interleaved repetitions.\n\n",
+               a.mesh.c_str(), in.num_vertices(), in.num_faces(), qin.boundary_edges,
+               Yes(qin.manifold).c_str(), qin.min_angle_deg, 100 * qin.frac_below_10,
+               qin.self_intersect.c_str(), load_s, a.repeats);
+  std::fprintf(out,
+               "| run | thr | out V | out F | removed V | engine s (best) | all runs s | input "
+               "tri/s | speedup vs 1 thr | CPU s (best run) | build s | engine mem B/face | "
+               "working mem B/face | "
+               "boundary edges in/out | manifold | min angle ° | tris < 10° | self-int |\n");
+  std::fprintf(out, "|---|--:|--:|--:|--:|--:|---|--:|--:|--:|--:|--:|--:|--:|---|--:|--:|---|\n");
+  for (const Row& r : rows) {
+    const Config& c = r.config;
+    const Sample& b = r.best_sample();
+    std::string all;
+    for (const Sample& s : r.samples) {
+      if (!all.empty()) all += ' ';
+      all += Fmt("%.3f", s.seconds);
+    }
+    std::string speedup = "";
+    if (c.kind == Kind::kFemsimp && c.options.threads > 1)
+      for (const Row& o : rows)
+        if (o.config.family == c.family && o.config.kind == Kind::kFemsimp &&
+            o.config.options.threads == 1)
+          speedup = Fmt("%.2f×", o.best() / r.best());
+    const int thr = c.kind == Kind::kFemsimp ? c.options.threads : 1;
+    const Quality& q = r.quality;
+    std::string manifold = Yes(q.manifold);
+    if (!q.manifold) {
+      manifold += " (";
+      manifold += std::to_string(q.nonmanifold_edges);
+      manifold += " non-manifold edges)";
+    }
+    std::fprintf(
+        out,
+        "| %s | %d | %zu | %zu | %.1f %% | %.3f | %s | %.2fM | %s | %.3f | %s | %.1f | %.1f | "
+        "%zu / %zu | %s | %.2f | %.1f %% | %s |\n",
+        c.name.c_str(), thr, q.vertices, q.faces,
+        100.0 * (1.0 - double(q.vertices) / double(in.num_vertices())), r.best(), all.c_str(),
+        nf / r.best() / 1e6, speedup.c_str(), b.cpu_seconds,
+        c.kind == Kind::kMeshopt ? "–" : Fmt("%.3f", b.build_seconds).c_str(),
+        double(b.total_bytes) / nf, double(b.work_bytes) / nf, qin.boundary_edges, q.boundary_edges,
+        manifold.c_str(), q.min_angle_deg, 100 * q.frac_below_10, q.self_intersect.c_str());
+  }
+  std::fprintf(out, "\nPeers' targets: ");
+  for (const Row& r : rows)
+    if (r.config.kind == Kind::kOpenMesh)
+      std::fprintf(out, "%s → %llu vertices; ", r.config.name.c_str(),
+                   static_cast<unsigned long long>(r.config.target_vertices));
+    else if (r.config.kind == Kind::kMeshopt)
+      std::fprintf(out, "%s → %llu triangles; ", r.config.name.c_str(),
+                   static_cast<unsigned long long>(r.config.target_faces));
+  std::fprintf(out, "\n\nfemsimp passes and rejections (first repetition):\n\n");
+  std::fprintf(out,
+               "| run | thr | passes | stop | tried | removed | lock conflicts | inconsistent");
+  for (int k = 0; k < static_cast<int>(femsimp::Reject::kCount); ++k)
+    std::fprintf(out, " | %s", femsimp::RejectName(static_cast<femsimp::Reject>(k)));
+  std::fprintf(out, " |\n|---|--:|--:|---|--:|--:|--:|--:");
+  for (int k = 0; k < static_cast<int>(femsimp::Reject::kCount); ++k) std::fprintf(out, "|--:");
+  std::fprintf(out, "|\n");
+  for (const Row& r : rows) {
+    if (!r.result) continue;
+    uint64_t tried = 0, removed = 0, locks = 0, inc = 0;
+    std::array<uint64_t, static_cast<int>(femsimp::Reject::kCount)> rej{};
+    for (const auto& p : r.result->passes) {
+      tried += p.tried, removed += p.removed, locks += p.lock_conflicts, inc += p.inconsistent;
+      for (size_t k = 0; k < rej.size(); ++k) rej[k] += p.rejections[k];
+    }
+    std::fprintf(out, "| %s | %d | %zu | %s | %llu | %llu | %llu | %llu", r.config.name.c_str(),
+                 r.config.options.threads, r.result->passes.size(),
+                 femsimp::StopReasonName(r.result->stop_reason), (unsigned long long)tried,
+                 (unsigned long long)removed, (unsigned long long)locks, (unsigned long long)inc);
+    for (uint64_t v : rej) std::fprintf(out, " | %llu", (unsigned long long)v);
+    std::fprintf(out, " |\n");
+  }
+  std::fprintf(out, "\n");
+}
+
+void WriteJson(const Args& a, const RawMesh& in, const std::vector<Row>& rows) {
+  FILE* f = std::fopen(a.json.c_str(), "w");
+  if (!f) return;
+  std::fprintf(f, "{\"mesh\": \"%s\", \"input_vertices\": %zu, \"input_faces\": %zu, \"runs\": [",
+               a.mesh.c_str(), in.num_vertices(), in.num_faces());
+  for (size_t i = 0; i < rows.size(); ++i) {
+    const Row& r = rows[i];
+    const Sample& b = r.best_sample();
+    const char* kind = r.config.kind == Kind::kFemsimp    ? "femsimp"
+                       : r.config.kind == Kind::kOpenMesh ? "openmesh"
+                                                          : "meshoptimizer";
+    std::fprintf(f,
+                 "%s\n  {\"name\": \"%s\", \"kind\": \"%s\", \"family\": \"%s\", \"threads\": %d, "
+                 "\"best_seconds\": %.6f, \"seconds\": [",
+                 i ? "," : "", r.config.name.c_str(), kind, r.config.family.c_str(),
+                 r.config.kind == Kind::kFemsimp ? r.config.options.threads : 1, r.best());
+    for (size_t k = 0; k < r.samples.size(); ++k)
+      std::fprintf(f, "%s%.6f", k ? ", " : "", r.samples[k].seconds);
+    const Quality& q = r.quality;
+    std::fprintf(f,
+                 "], \"cpu_seconds\": %.6f, \"build_seconds\": %.6f, \"engine_bytes\": %lld, "
+                 "\"working_bytes\": %lld, "
+                 "\"output_vertices\": %zu, \"output_faces\": %zu, \"boundary_edges\": %zu, "
+                 "\"manifold\": %s, \"min_angle_deg\": %.4f, \"self_intersect\": \"%s\"",
+                 b.cpu_seconds, b.build_seconds, (long long)b.total_bytes, (long long)b.work_bytes,
+                 q.vertices, q.faces, q.boundary_edges, q.manifold ? "true" : "false",
+                 q.min_angle_deg, q.self_intersect.c_str());
+    if (r.result)
+      std::fprintf(f, ", \"passes\": %zu, \"stop\": \"%s\", \"ratio\": %g", r.result->passes.size(),
+                   femsimp::StopReasonName(r.result->stop_reason), r.config.options.ratio);
+    std::fprintf(f, "}");
+  }
+  std::fprintf(f, "\n]}\n");
+  std::fclose(f);
+}
+
+int Usage(const char* argv0) {
+  std::fprintf(stderr,
+               "usage: %s MESH [--label=TEXT] [--repeats=N] [--threads=1,2] [--no-peers]\n"
+               "       [--variant=auto|on|off] [--si-timeout=SECONDS (0: skip)] [--json=PATH]\n"
+               "       [--ratio=R (topology-only and min-angle-0 keep R of the vertices)]\n"
+               "       [--pass-log (per-pass femsimp stats of the first repetition)]\n",
+               argv0);
+  return 2;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Args a;
+  for (int i = 1; i < argc; ++i) {
+    std::string s = argv[i];
+    auto val = [&](const char* key) -> std::optional<std::string> {
+      const size_t n = std::strlen(key);
+      if (s.compare(0, n, key) == 0) return s.substr(n);
+      return std::nullopt;
+    };
+    if (auto v = val("--label="))
+      a.label = *v;
+    else if (auto v = val("--repeats="))
+      a.repeats = std::max(1, std::atoi(v->c_str()));
+    else if (auto v = val("--threads=")) {
+      a.threads.clear();
+      for (size_t p = 0; p < v->size();) {
+        a.threads.push_back(std::atoi(v->c_str() + p));
+        p = v->find(',', p);
+        p = p == std::string::npos ? v->size() : p + 1;
+      }
+    } else if (s == "--no-peers")
+      a.peers = false;
+    else if (auto v = val("--variant="))
+      a.variant = *v;
+    else if (auto v = val("--si-timeout="))
+      a.si_limit_s = std::atof(v->c_str());
+    else if (auto v = val("--json="))
+      a.json = *v;
+    else if (auto v = val("--ratio="))
+      a.ratio = std::atof(v->c_str());
+    else if (s == "--pass-log")
+      g_pass_log = true;
+    else if (s[0] == '-')
+      return Usage(argv[0]);
+    else
+      a.mesh = s;
+  }
+  if (a.mesh.empty()) return Usage(argv[0]);
+  if (a.label.empty()) a.label = a.mesh;
+
+  const auto t0 = Clock::now();
+  auto loaded = femsimp::ReadMeshFile(a.mesh);
+  if (!loaded.ok()) {
+    std::fprintf(stderr, "%s\n", std::string(loaded.status().message()).c_str());
+    return 1;
+  }
+  const RawMesh& in = *loaded;
+  const double load_s = Seconds(t0, Clock::now());
+  std::fprintf(stderr, "loaded %s: %zu vertices, %zu faces in %.2f s\n", a.mesh.c_str(),
+               in.num_vertices(), in.num_faces(), load_s);
+
+  auto femsimp_row = [&](std::string name, std::string family, int threads, double min_angle,
+                         bool topology) {
+    Row r;
+    if (family != "geo" && a.ratio > 0) {
+      r.config.options.ratio = a.ratio;
+      name += " → " + Fmt("%g", 100 * a.ratio) + " %";
+    }
+    r.config.name = std::move(name);
+    r.config.family = std::move(family);
+    r.config.options.threads = threads;
+    r.config.options.min_angle_deg = min_angle;
+    r.config.options.topology_only = topology;
+    return r;
+  };
+  std::vector<Row> rows;
+  // The first geometric 1-thread run fixes the peers' targets and whether the variant runs.
+  for (int t : a.threads) rows.push_back(femsimp_row("femsimp geometric (paper)", "geo", t, 10, 0));
+  std::sort(rows.begin(), rows.end(), [](const Row& x, const Row& y) {
+    return x.config.options.threads < y.config.options.threads;
+  });
+  if (!Run(in, rows[0], true)) return 1;
+  const uint64_t geo_v = rows[0].output.num_vertices(), geo_f = rows[0].output.num_faces();
+  const double removed = 1.0 - double(geo_v) / double(in.num_vertices());
+  std::fprintf(stderr, "paper settings removed %.2f %% of the vertices\n", 100 * removed);
+  const bool variant = a.variant == "on" || (a.variant == "auto" && removed < 0.10);
+  for (int t : a.threads) rows.push_back(femsimp_row("femsimp topology only", "topo", t, 10, 1));
+  if (variant)
+    for (int t : a.threads)
+      rows.push_back(femsimp_row("femsimp geometric, min angle 0", "geo0", t, 0, 0));
+  const size_t n_femsimp = rows.size();
+  std::vector<Row> peer_rows;
+  auto add_peers = [&](const char* tag, uint64_t v, uint64_t f) {
+    Row om;
+    om.config.kind = Kind::kOpenMesh;
+    om.config.name = std::string("OpenMesh Decimater @ ") + tag;
+    om.config.target_vertices = v;
+    Row mo;
+    mo.config.kind = Kind::kMeshopt;
+    mo.config.name = std::string("meshoptimizer @ ") + tag;
+    mo.config.target_faces = f;
+    rows.push_back(om);
+    rows.push_back(mo);
+  };
+  if (a.peers) {
+    add_peers("paper's count", geo_v, geo_f);
+    if (variant) {
+      // The variant's 1-thread output fixes the second pair of peer targets.
+      Row& v1 = rows[n_femsimp - a.threads.size()];
+      if (!Run(in, v1, true)) return 1;
+      add_peers("min-angle-0 count", v1.output.num_vertices(), v1.output.num_faces());
+    }
+  }
+
+  for (int rep = 0; rep < a.repeats; ++rep) {
+    std::fprintf(stderr, "repetition %d/%d\n", rep + 1, a.repeats);
+    for (Row& r : rows) {
+      const bool keep = r.samples.empty();
+      if (rep == 0 && !keep) continue;  // already ran once to fix the targets
+      if (!Run(in, r, keep)) return 1;
+      std::fprintf(stderr, "  %-34s thr=%d %.3f s\n", r.config.name.c_str(),
+                   r.config.options.threads, r.samples.back().seconds);
+    }
+  }
+  std::fprintf(stderr, "checking quality\n");
+  Quality qin = Analyze(in, a.si_limit_s);
+  for (Row& r : rows) r.quality = Analyze(r.output, a.si_limit_s);
+  PrintReport(a, in, qin, load_s, rows, stdout);
+  if (!a.json.empty()) WriteJson(a, in, rows);
+  return 0;
+}
