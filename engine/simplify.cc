@@ -17,6 +17,9 @@ namespace femsimp {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+// A reconsideration cycle that removes at most this fraction of the vertices left ends the run.
+constexpr double kTrickleFraction = 1e-4;
 double Since(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
 }
@@ -112,7 +115,7 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
 
   result.stop_reason = StopReason::kMaxPasses;
   bool reconsider_next = false;
-  int idle_passes = 0;
+  std::vector<uint64_t> recent_removed;  // per pass, the last reconsider_every passes
   for (int pass = 1; pass <= options.max_passes; ++pass) {
     if (budget.target > 0 && budget.alive.load() <= budget.target) {
       result.stop_reason = StopReason::kTargetReached;
@@ -153,20 +156,30 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
       result.stop_reason = StopReason::kTargetReached;
       break;
     }
+    // Progress over the last reconsideration cycle: when a whole cycle removes (almost)
+    // nothing, every vertex has had its chance in the current neighbourhoods, and further
+    // passes would re-try the same candidates for a trickle of removals (or for vertices that
+    // only keep losing lock races to each other).
+    recent_removed.push_back(stats.removed);
+    if (recent_removed.size() > static_cast<size_t>(options.reconsider_every))
+      recent_removed.erase(recent_removed.begin());
+    uint64_t cycle_removed = 0;
+    for (uint64_t r : recent_removed) cycle_removed += r;
+    const bool full_cycle = recent_removed.size() == static_cast<size_t>(options.reconsider_every);
+    const uint64_t trickle = static_cast<uint64_t>(kTrickleFraction * stats.vertices_left);
+    if (full_cycle && pass > options.reconsider_every && cycle_removed <= trickle) {
+      result.stop_reason = StopReason::kNoProgress;
+      break;
+    }
     if (stats.removed == 0) {
-      // Only vertices once rejected could still go (if they have not just been reconsidered),
-      // or ones that lost a lock race; a whole reconsideration cycle without removals ends it,
-      // so contexts that keep colliding on a tiny mesh cannot spin until the pass limit.
-      ++idle_passes;
+      // Only vertices once rejected could still go, and only if they have not just been
+      // reconsidered: then reconsider them at once rather than waiting for the cycle.
       const bool only_rejections = stats.lock_conflicts == 0 && stats.inconsistent == 0;
-      if ((only_rejections && (reconsider || pass == 1)) ||
-          idle_passes > options.reconsider_every) {
+      if (only_rejections && (reconsider || pass == 1)) {
         result.stop_reason = StopReason::kNoProgress;
         break;
       }
       reconsider_next = only_rejections;
-    } else {
-      idle_passes = 0;
     }
   }
   result.output_vertices = mesh.CountLiveVertices();
