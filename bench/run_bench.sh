@@ -5,7 +5,7 @@
 # Environment: BUILD_DIR (default build), REPEATS (default 3), JOBS (default 2).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
-build=${BUILD_DIR:-$root/build}
+build=${BUILD_DIR:-$root/build-bench}  # its own tree: it configures without the service
 repeats=${REPEATS:-3}
 data=$root/bench/data
 results=$build/bench-results

@@ -225,7 +225,9 @@ class RemovalKernel {
   TopologyResult CheckTopology(int i) {
     const uint32_t vd = ring_.nbr[i];
     const Deleted del = DeletedFaces(i);
-    if (GatherRing(port_, vd, other_) != RingResult::kOk) return Stale();
+    const RingResult ring = GatherRing(port_, vd, other_);
+    if (ring == RingResult::kTooWide) return TopologyResult::kValence;
+    if (ring != RingResult::kOk) return Stale();
     bool sees_v = false;
     for (int a = 0; a < other_.neighbours(); ++a) {
       const uint32_t w = other_.nbr[a];
