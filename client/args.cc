@@ -74,7 +74,7 @@ Engine:
 Back end:
   --backend native|cell     shared-memory threads (default) or the emulated Cell BE
   --spes N                  cell: SPE contexts, in [1, 256] (default 1)
-  --ls-cache-kib K          cell: software cache size per local store in KiB (default 128)
+  --ls-cache-kib K          cell: software cache size per local store in KiB (default 64, a power of two)
   --spe-threads K           cell: software threads per SPE, in [1, 16] (default 1)
 Output:
   --stats-json FILE         write input/output sizes, timings, options and every pass as JSON

@@ -98,6 +98,12 @@ CriteriaSet CriteriaSet::FromOptions(const SimplifyOptions& options) {
   return set;
 }
 
+uint32_t CriteriaSet::CyclesPerFace() const {
+  uint32_t cycles = 0;
+  for (const auto& c : criteria_) cycles += c->cycles_per_face();
+  return cycles;
+}
+
 bool CriteriaSet::Accept(const CollapseGeometry& g, Reject* failed) const {
   for (const auto& c : criteria_)
     if (!c->Accept(g)) {

@@ -29,6 +29,8 @@ class CollapseCriterion {
   virtual ~CollapseCriterion() = default;
   virtual Reject reason() const = 0;
   virtual bool Accept(const CollapseGeometry& g) const = 0;
+  // Modeled SPU cycles per new triangle (the cell back end's cycle model).
+  virtual uint32_t cycles_per_face() const = 0;
 };
 
 // No new triangle may be (almost) flat.
@@ -36,6 +38,7 @@ class DegenerateCriterion final : public CollapseCriterion {
  public:
   Reject reason() const override { return Reject::kDegenerate; }
   bool Accept(const CollapseGeometry& g) const override;
+  uint32_t cycles_per_face() const override { return 20; }
 };
 
 // No new triangle may turn over against the one it replaces.
@@ -43,6 +46,7 @@ class FoldOverCriterion final : public CollapseCriterion {
  public:
   Reject reason() const override { return Reject::kFoldOver; }
   bool Accept(const CollapseGeometry& g) const override;
+  uint32_t cycles_per_face() const override { return 8; }
 };
 
 // Every interior angle of every new triangle at least min_angle (paper: 10 degrees).
@@ -51,6 +55,7 @@ class MinAngleCriterion final : public CollapseCriterion {
   explicit MinAngleCriterion(double degrees);
   Reject reason() const override { return Reject::kMinAngle; }
   bool Accept(const CollapseGeometry& g) const override;
+  uint32_t cycles_per_face() const override { return 60; }
 
  private:
   double cos_max_;  // cos(min_angle): an angle is too small when its cosine exceeds this
@@ -62,6 +67,7 @@ class NormalDeviationCriterion final : public CollapseCriterion {
   explicit NormalDeviationCriterion(double degrees);
   Reject reason() const override { return Reject::kNormalDeviation; }
   bool Accept(const CollapseGeometry& g) const override;
+  uint32_t cycles_per_face() const override { return 50; }
 
  private:
   double cos_min_;
@@ -77,6 +83,8 @@ class CriteriaSet {
   static CriteriaSet FromOptions(const SimplifyOptions& options);
   // Returns true or sets *failed to the first criterion that rejects.
   bool Accept(const CollapseGeometry& g, Reject* failed) const;
+  // Modeled cycles per triangle when every criterion runs (the geometry itself is extra).
+  uint32_t CyclesPerFace() const;
 
  private:
   std::vector<std::unique_ptr<CollapseCriterion>> criteria_;

@@ -53,6 +53,8 @@ struct RemovalBudget {
   }
 };
 
+inline constexpr uint32_t kGeometryCyclesPerFace = 30;
+
 enum class Outcome { kRemoved, kRejected, kConflict, kInconsistent, kSkipped, kBudgetSpent };
 
 template <class Port>
@@ -148,7 +150,8 @@ class RemovalKernel {
     for (int i = 0; i < n; ++i) {
       if (ring_.boundary && i != 0 && i != n - 1) continue;
       geometry_.Build(ring_, i);
-      port_.ChargeCompute(60 * geometry_.faces);
+      // Two cross products per triangle, then the criteria (the topology-only mode runs fewer).
+      port_.ChargeCompute((kGeometryCyclesPerFace + criteria_.CyclesPerFace()) * geometry_.faces);
       Reject failed;
       if (!criteria_.Accept(geometry_, &failed)) {
         if (static_cast<int>(failed) > static_cast<int>(furthest)) furthest = failed;

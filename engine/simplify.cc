@@ -175,7 +175,9 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
       // Only vertices once rejected could still go, and only if they have not just been
       // reconsidered: then reconsider them at once rather than waiting for the cycle.
       const bool only_rejections = stats.lock_conflicts == 0 && stats.inconsistent == 0;
-      if (only_rejections && (reconsider || pass == 1)) {
+      // Vertices beyond the candidate fraction were not tried yet: they go next pass.
+      const bool all_tried = stats.candidates == sorted.size();
+      if (only_rejections && all_tried && (reconsider || pass == 1)) {
         result.stop_reason = StopReason::kNoProgress;
         break;
       }
