@@ -160,14 +160,21 @@ def main():
     print("\n".join(out))
 
     # Plot data: N, ideal, then one column per series (NaN where missing).
+    # The modeled data also has the pass-1-only speedup of the two blade3 geometric series.
+    pass1 = [("blade3", "geo", "blade3 geometric, pass 1"),
+             ("blade3", "geoma1", "blade3 geometric --min-angle 1, pass 1")]
     for kind, key in (("modeled", "cycles"), ("measured", "wall")):
         with open(os.path.join(a.dir, f"{kind}.dat"), "w") as f:
-            f.write("# SPEs ideal " + " ".join(f'"{t}"' for _, _, t in plot_series) + "\n")
+            f.write("# SPEs ideal " + " ".join(f'"{t}"' for _, _, t in plot_series + pass1) + "\n")
             for n in spes:
                 cols = [str(n), str(n)]
                 for m, c, _ in plot_series:
                     b, r = runs.get((m, c, spes[0])), runs.get((m, c, n))
                     cols.append(f"{b[key] / r[key]:.4f}" if b and r else "NaN")
+                for m, c, _ in pass1:
+                    b, r = runs.get((m, c, spes[0])), runs.get((m, c, n))
+                    ok = kind == "modeled" and b and r
+                    cols.append(f"{b['p1'] / r['p1']:.4f}" if ok else "NaN")
                 f.write(" ".join(cols) + "\n")
 
 
