@@ -7,6 +7,7 @@
 
 #include "client/exit_codes.h"
 #include "client/report.h"
+#include "client/run_input.h"
 #include "engine/io/mesh_io.h"
 #include "engine/mesh.h"
 
@@ -16,33 +17,19 @@ namespace {
 std::atomic<bool> g_interrupted{false};
 void OnSigint(int) { g_interrupted.store(true); }
 
-double SecondsSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
 }  // namespace
 
 int RunLocal(const SimplifyArgs& args) {
-  RunReport report;
-  report.input_path = args.input;
-  report.output_path = args.output;
-  report.options = args.options;
-
+  RunReport report = StartReport(args);
   auto t0 = std::chrono::steady_clock::now();
-  absl::StatusOr<RawMesh> raw = ReadMeshFile(args.input);
-  if (!raw.ok()) {
-    std::fprintf(stderr, "femsimp: cannot read %s: %s\n", args.input.c_str(),
-                 std::string(raw.status().message()).c_str());
-    return kExitInputUnreadable;
-  }
+  std::optional<RawMesh> raw = ReadInput(args, report);
+  if (!raw) return kExitInputUnreadable;
   absl::StatusOr<Mesh> mesh = Mesh::Build(*raw);
   if (!mesh.ok()) {
     std::fprintf(stderr, "femsimp: %s is not a valid mesh: %s\n", args.input.c_str(),
                  std::string(mesh.status().message()).c_str());
     return kExitInputInvalid;
   }
-  report.input_vertices = raw->num_vertices();
-  report.input_faces = raw->num_faces();
   report.load_seconds = SecondsSince(t0);
   *raw = RawMesh();  // the engine's arrays are the only copy from here on
 

@@ -12,6 +12,7 @@
 #include "client/exit_codes.h"
 #include "client/remote_call.h"
 #include "client/report.h"
+#include "client/run_input.h"
 #include "engine/io/mesh_io.h"
 #include "proto/wire.h"
 
@@ -20,10 +21,6 @@ namespace {
 
 std::atomic<bool> g_interrupted{false};
 void OnSigint(int) { g_interrupted.store(true); }
-
-double SecondsSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 // One line redrawn in place: a bar toward the target, then the figures of the last pass.
 std::string ProgressBar(const PassStats& p, uint64_t input_vertices, const SimplifyOptions& o) {
@@ -54,22 +51,11 @@ std::string ProgressBar(const PassStats& p, uint64_t input_vertices, const Simpl
 }  // namespace
 
 int RunRemote(const SimplifyArgs& args) {
-  RunReport report;
-  report.input_path = args.input;
-  report.output_path = args.output;
-  report.options = args.options;
-  report.server = args.server;
-
+  RunReport report = StartReport(args);
   auto t0 = std::chrono::steady_clock::now();
-  absl::StatusOr<RawMesh> raw = ReadMeshFile(args.input);
-  if (!raw.ok()) {
-    std::fprintf(stderr, "femsimp: cannot read %s: %s\n", args.input.c_str(),
-                 std::string(raw.status().message()).c_str());
-    return kExitInputUnreadable;
-  }
+  std::optional<RawMesh> raw = ReadInput(args, report);
+  if (!raw) return kExitInputUnreadable;
   report.load_seconds = SecondsSince(t0);
-  report.input_vertices = raw->num_vertices();
-  report.input_faces = raw->num_faces();
 
   v1::JobSpec spec;
   wire::ToProto(args.options, args.threads_given, spec.mutable_options());

@@ -80,25 +80,12 @@ class CellBackend final : public RemovalBackend {
     if (!status.ok()) return status;
 
     CellPassCounters total;
-    uint64_t slowest = 0;
     for (int i = 0; i < n; ++i) {
       AddKernelStats(per_spe[i], stats);
-      const cellsim::SpeCounters& c = runtime_->spe(i).counters();
-      CellPassCounters p = ToPassCounters(c);
+      CellPassCounters p = ToPassCounters(runtime_->spe(i).counters());
       p.stale_reread = per_spe[i].stale_reread;
       p.stale_skipped = per_spe[i].inconsistent;
-      total.cache_hits += p.cache_hits;
-      total.cache_misses += p.cache_misses;
-      total.stale_detected += p.stale_detected;
-      total.stale_reread += p.stale_reread;
-      total.stale_skipped += p.stale_skipped;
-      total.dma_transfers += p.dma_transfers;
-      total.dma_bytes += p.dma_bytes;
-      total.atomic_ops += p.atomic_ops;
-      total.thread_switches += p.thread_switches;
-      total.busy_cycles += p.busy_cycles;
-      total.modeled_cycles += p.modeled_cycles;
-      slowest = std::max(slowest, p.modeled_cycles);
+      total += p;
       stats.cell_per_spe.push_back(p);
     }
     stats.cell = total;
@@ -106,7 +93,6 @@ class CellBackend final : public RemovalBackend {
     stats.modeled_pass_cycles = cost_cycles + sort_cycles + runtime_->last_run_cycles();
     // Host threads run the SPEs; their summed time is the measured parallel work.
     stats.busy_seconds += wall * std::min(n, static_cast<int>(std::thread::hardware_concurrency()));
-    (void)slowest;
     return absl::OkStatus();
   }
 

@@ -22,6 +22,7 @@ void CollapseGeometry::Build(const Ring& ring, int target_index) {
   vd = ToD(ring.pos[target_index]);
   const int n = ring.neighbours();
   faces = 0;
+  min_normal_cosine_ = 2.0;
   for (int i = 0; i < ring.faces; ++i) {
     const int j = (i + 1) % n;
     if (ring.nbr[i] == vd_index || ring.nbr[j] == vd_index) continue;  // collapsed away
@@ -70,18 +71,19 @@ bool MinAngleCriterion::Accept(const CollapseGeometry& g) const {
 NormalDeviationCriterion::NormalDeviationCriterion(double degrees) : cos_min_(CosDeg(degrees)) {}
 
 bool NormalDeviationCriterion::Accept(const CollapseGeometry& g) const {
-  return MinNormalCosine(g) >= cos_min_;
+  return g.MinNormalCosine() >= cos_min_;
 }
 
-double MinNormalCosine(const CollapseGeometry& g) {
+double CollapseGeometry::MinNormalCosine() const {
+  if (min_normal_cosine_ <= 1.0) return min_normal_cosine_;
   double worst = 1.0;
-  for (int i = 0; i < g.faces; ++i) {
-    const double d = Dot(g.old_normal[i], g.new_normal[i]);
-    const double nn = Dot(g.old_normal[i], g.old_normal[i]) * Dot(g.new_normal[i], g.new_normal[i]);
+  for (int i = 0; i < faces; ++i) {
+    const double d = Dot(old_normal[i], new_normal[i]);
+    const double nn = Dot(old_normal[i], old_normal[i]) * Dot(new_normal[i], new_normal[i]);
     const double c = nn > 0.0 ? d / std::sqrt(nn) : -1.0;
     worst = std::min(worst, c);
   }
-  return worst;
+  return min_normal_cosine_ = worst;
 }
 
 CriteriaSet CriteriaSet::FromOptions(const SimplifyOptions& options) {

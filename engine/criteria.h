@@ -22,6 +22,13 @@ struct CollapseGeometry {
   DVec3 b[kMaxRing], c[kMaxRing], vd;
 
   void Build(const Ring& ring, int target_index);
+
+  // Smallest cosine between old and new normals, computed once per Build: the normal
+  // criterion tests it and the kernel ranks directions by it (largest bends the surface least).
+  double MinNormalCosine() const;
+
+ private:
+  mutable double min_normal_cosine_ = 2.0;  // 2: not computed yet
 };
 
 class CollapseCriterion {
@@ -72,10 +79,6 @@ class NormalDeviationCriterion final : public CollapseCriterion {
  private:
   double cos_min_;
 };
-
-// Smallest cosine between old and new normals: the collapse direction with the largest value
-// changes the surface least.
-double MinNormalCosine(const CollapseGeometry& g);
 
 // The criteria for a run, in the order they are checked (cheapest and most selective first).
 class CriteriaSet {

@@ -159,7 +159,7 @@ class RemovalKernel {
       }
       any_geometric_pass = true;
       // Insertion by score: the direction that bends the surface least is tried first.
-      const double s = MinNormalCosine(geometry_);
+      const double s = geometry_.MinNormalCosine();
       int k = passing++;
       while (k > 0 && score[k - 1] < s) {
         score[k] = score[k - 1];

@@ -61,6 +61,20 @@ struct CellPassCounters {
   uint64_t atomic_ops = 0, thread_switches = 0;
   uint64_t busy_cycles = 0;
   uint64_t modeled_cycles = 0;  // compute + DMA stalls + atomics
+  CellPassCounters& operator+=(const CellPassCounters& o) {
+    cache_hits += o.cache_hits;
+    cache_misses += o.cache_misses;
+    stale_detected += o.stale_detected;
+    stale_reread += o.stale_reread;
+    stale_skipped += o.stale_skipped;
+    dma_transfers += o.dma_transfers;
+    dma_bytes += o.dma_bytes;
+    atomic_ops += o.atomic_ops;
+    thread_switches += o.thread_switches;
+    busy_cycles += o.busy_cycles;
+    modeled_cycles += o.modeled_cycles;
+    return *this;
+  }
   double hit_ratio() const {
     uint64_t n = cache_hits + cache_misses;
     return n ? static_cast<double>(cache_hits) / static_cast<double>(n) : 0.0;
