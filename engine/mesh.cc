@@ -37,6 +37,26 @@ absl::Status CheckSoup(const RawMesh& raw) {
   if (!raw.face_groups.empty() && raw.face_groups.size() != nf)
     return absl::InvalidArgumentError(
         absl::StrCat("face groups: ", raw.face_groups.size(), " ids for ", nf, " faces"));
+  if (raw.face_fields.size() > kMaxFaceFields)
+    return absl::InvalidArgumentError(absl::StrCat("face fields: ", raw.face_fields.size(),
+                                                   " given, at most ", kMaxFaceFields));
+  for (size_t i = 0; i < raw.face_fields.size(); ++i) {
+    const FaceField& field = raw.face_fields[i];
+    if (field.name.empty())
+      return absl::InvalidArgumentError(absl::StrCat("face field ", i, " has no name"));
+    for (size_t j = 0; j < i; ++j)
+      if (raw.face_fields[j].name == field.name)
+        return absl::InvalidArgumentError(
+            absl::StrCat("face field '", field.name, "' is given twice"));
+    if (field.values.size() != nf)
+      return absl::InvalidArgumentError(absl::StrCat("face field '", field.name, "': ",
+                                                     field.values.size(), " values for ", nf,
+                                                     " faces"));
+    for (size_t f = 0; f < nf; ++f)
+      if (!std::isfinite(field.values[f]))
+        return absl::InvalidArgumentError(absl::StrCat("face field '", field.name, "': face ", f,
+                                                       " has a non-finite value"));
+  }
   // Indices are 32-bit and kNone is reserved.
   if (nv >= kNone || 3 * nf >= kNone)
     return absl::InvalidArgumentError(
@@ -151,7 +171,23 @@ absl::StatusOr<Mesh> Mesh::Build(const RawMesh& raw) {
     q.out = start;
     mesh.status_[v].store(kRemovable, std::memory_order_relaxed);
   }
+  if (!raw.face_fields.empty()) {
+    mesh.EnsureFaceAttrs();
+    for (size_t i = 0; i < raw.face_fields.size(); ++i) {
+      mesh.field_names_.push_back(raw.face_fields[i].name);
+      for (uint32_t f = 0; f < nh / 3; ++f)
+        mesh.face_attrs_[f].field[i] = raw.face_fields[i].values[f];
+    }
+  }
   return mesh;
+}
+
+void Mesh::EnsureFaceAttrs() {
+  if (face_attrs_.empty()) face_attrs_.assign(face_capacity(), FaceAttrQ{0.f, {0.f, 0.f, 0.f}});
+}
+
+void Mesh::EnsureQuadrics() {
+  if (quadrics_.empty()) quadrics_.assign(vertex_capacity(), QuadricQ{});
 }
 
 RawMesh Mesh::ToRaw() const {
@@ -164,11 +200,14 @@ RawMesh Mesh::ToRaw() const {
     raw.positions.insert(raw.positions.end(), {vertices_[v].x, vertices_[v].y, vertices_[v].z});
   }
   bool any_group = false;
+  for (const std::string& name : field_names_) raw.face_fields.push_back({name, {}});
   for (uint32_t f = 0; f < face_capacity(); ++f) {
     if (IsFaceRemoved(f)) continue;
     for (int i = 0; i < 3; ++i) raw.triangles.push_back(remap[halfedges_[3 * f + i].target]);
     raw.face_groups.push_back(halfedges_[3 * f].group);
     any_group |= halfedges_[3 * f].group != 0;
+    for (size_t i = 0; i < field_names_.size(); ++i)
+      raw.face_fields[i].values.push_back(face_attrs_[f].field[i]);
   }
   if (!any_group) raw.face_groups.clear();
   return raw;
@@ -188,7 +227,8 @@ size_t Mesh::CountLiveFaces() const {
 
 size_t Mesh::MemoryBytes() const {
   return vertices_.size() * (sizeof(VertexQ) + sizeof(std::atomic<uint32_t>)) +
-         halfedges_.size() * sizeof(HalfEdgeQ);
+         halfedges_.size() * sizeof(HalfEdgeQ) + face_attrs_.size() * sizeof(FaceAttrQ) +
+         quadrics_.size() * sizeof(QuadricQ);
 }
 
 }  // namespace femsimp

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "absl/status/statusor.h"
@@ -22,8 +23,21 @@ class Mesh {
   Mesh(Mesh&&) = default;
   Mesh& operator=(Mesh&&) = default;
 
-  // The surviving vertices and faces, compacted, with their face groups.
+  // The surviving vertices and faces, compacted, with their face groups and fields.
   RawMesh ToRaw() const;
+
+  // Per-face side quadwords (error bound, field values): allocated by Build when the input has
+  // fields, or on demand when a tolerance is tracked (errors start at 0: the input itself).
+  void EnsureFaceAttrs();
+  FaceAttrQ* face_attrs() { return face_attrs_.empty() ? nullptr : face_attrs_.data(); }
+  const FaceAttrQ* face_attrs() const {
+    return face_attrs_.empty() ? nullptr : face_attrs_.data();
+  }
+  const std::vector<std::string>& field_names() const { return field_names_; }
+
+  // Per-vertex quadrics (quadric cost); allocated zeroed on demand.
+  void EnsureQuadrics();
+  QuadricQ* quadrics() { return quadrics_.empty() ? nullptr : quadrics_.data(); }
 
   uint32_t vertex_capacity() const { return static_cast<uint32_t>(vertices_.size()); }
   uint32_t halfedge_capacity() const { return static_cast<uint32_t>(halfedges_.size()); }
@@ -52,6 +66,9 @@ class Mesh {
   std::vector<VertexQ> vertices_;
   std::vector<HalfEdgeQ> halfedges_;
   std::unique_ptr<std::atomic<uint32_t>[]> status_;
+  std::vector<FaceAttrQ> face_attrs_;
+  std::vector<std::string> field_names_;
+  std::vector<QuadricQ> quadrics_;
 };
 
 }  // namespace femsimp

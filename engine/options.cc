@@ -28,8 +28,28 @@ const char* RejectName(Reject r) {
       return "min_angle";
     case Reject::kNormalDeviation:
       return "normal_deviation";
+    case Reject::kFeature:
+      return "feature";
+    case Reject::kTolerance:
+      return "tolerance";
+    case Reject::kVolume:
+      return "volume";
+    case Reject::kCentroid:
+      return "centroid";
+    case Reject::kFieldResultant:
+      return "field_resultant";
     case Reject::kCount:
       break;
+  }
+  return "unknown";
+}
+
+const char* CostKindName(CostKind c) {
+  switch (c) {
+    case CostKind::kGaussianCurvature:
+      return "gaussian_curvature";
+    case CostKind::kQuadric:
+      return "quadric";
   }
   return "unknown";
 }
@@ -62,6 +82,21 @@ absl::Status ValidateOptions(const SimplifyOptions& o) {
   if (o.max_passes < 1 || o.max_passes > 100000)
     return OutOfRange("max_passes", o.max_passes, "in [1, 100000]");
   if (o.reconsider_every < 1) return OutOfRange("reconsider_every", o.reconsider_every, ">= 1");
+  if (!(o.tolerance >= 0.0 && std::isfinite(o.tolerance)))
+    return OutOfRange("tolerance", o.tolerance, ">= 0 and finite (0: off)");
+  if (!(o.tolerance_relative >= 0.0 && o.tolerance_relative <= 1.0))
+    return OutOfRange("tolerance_relative", o.tolerance_relative,
+                      "in [0, 1] of the bounding-box diagonal (0: off)");
+  if (!(o.feature_angle_deg > 0.0 && o.feature_angle_deg <= 180.0))
+    return OutOfRange("feature_angle", o.feature_angle_deg, "in (0, 180] degrees");
+  if (!(o.max_volume_change >= 0.0 && o.max_volume_change <= 1.0))
+    return OutOfRange("max_volume_change", o.max_volume_change, "in [0, 1] (0: off)");
+  if (!(o.max_centroid_shift >= 0.0 && o.max_centroid_shift <= 1.0))
+    return OutOfRange("max_centroid_shift", o.max_centroid_shift, "in [0, 1] (0: off)");
+  if (!(o.max_field_change > 0.0 && o.max_field_change <= 1.0))
+    return OutOfRange("max_field_change", o.max_field_change, "in (0, 1]");
+  if (o.cost != CostKind::kGaussianCurvature && o.cost != CostKind::kQuadric)
+    return absl::InvalidArgumentError("cost: unknown kind");
   if (o.backend == Backend::kCell) {
     const CellOptions& c = o.cell;
     if (c.spes < 1 || c.spes > 256) return OutOfRange("spes", c.spes, "in [1, 256]");

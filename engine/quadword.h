@@ -23,9 +23,28 @@ struct alignas(16) HalfEdgeQ {
 };
 
 inline constexpr uint32_t kFaceRemoved = 1u;
+// On both half-edges of a feature edge: a boundary, a group border, or a dihedral angle above
+// the feature angle. Set before the passes; a collapse that joins two edges ORs their bits.
+inline constexpr uint32_t kFeatureEdge = 2u;
+
+// Side quadword per face, present when a tolerance or face fields are asked for: the bound on
+// how far the face's points moved from the original surface (docs/FIDELITY.md) and the face's
+// field values. Guarded like the face's half-edges.
+struct alignas(16) FaceAttrQ {
+  float error;
+  float field[3];
+};
+
+// Side data per vertex for the quadric cost: the Garland-Heckbert quadric (upper triangle of the
+// 4x4 symmetric matrix, 10 floats), accumulated onto the survivor of each collapse.
+struct alignas(16) QuadricQ {
+  float q[10];
+  float pad[2];
+};
 
 static_assert(sizeof(VertexQ) == 16 && alignof(VertexQ) == 16);
 static_assert(sizeof(HalfEdgeQ) == 16 && alignof(HalfEdgeQ) == 16);
+static_assert(sizeof(FaceAttrQ) == 16 && sizeof(QuadricQ) == 48);
 
 inline uint32_t FaceOf(uint32_t h) { return h / 3; }
 inline uint32_t Next(uint32_t h) { return h % 3 == 2 ? h - 2 : h + 1; }
@@ -37,6 +56,7 @@ enum VertexState : uint32_t {
   kRemovable = 0,
   kNotRemovable = 1,
   kRemoved = 2,
+  kFixed = 3,  // a feature corner (or end of a feature line): never removed
 };
 inline constexpr uint32_t kLockedBit = 0x80000000u;
 inline constexpr uint32_t kStateMask = 0x3u;

@@ -3,14 +3,26 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace femsimp {
+
+// A per-face scalar carried through the simplification, e.g. a pressure. The engine treats it as
+// a traction normal to the face and keeps its resultant (sum of value * area vector) per face
+// group (docs/FIDELITY.md).
+struct FaceField {
+  std::string name;
+  std::vector<float> values;  // one per face
+};
+
+inline constexpr size_t kMaxFaceFields = 3;  // they share one 16-byte quadword with the error bound
 
 struct RawMesh {
   std::vector<float> positions;       // x, y, z per vertex
   std::vector<uint32_t> triangles;    // three vertex indices per face, counter-clockwise
   std::vector<uint32_t> face_groups;  // empty, or one group id per face
+  std::vector<FaceField> face_fields; // at most kMaxFaceFields
 
   size_t num_vertices() const { return positions.size() / 3; }
   size_t num_faces() const { return triangles.size() / 3; }

@@ -15,6 +15,10 @@ namespace femsimp {
 
 enum class Backend { kNative, kCell };
 
+// What orders the candidates of a pass (and, for the quadric, the collapse directions).
+enum class CostKind { kGaussianCurvature, kQuadric };
+const char* CostKindName(CostKind c);  // "gaussian_curvature", "quadric"
+
 // Why a candidate was given up (each counted per pass).
 enum class Reject : int {
   kLink = 0,         // collapse would join already connected vertices / change topology
@@ -23,6 +27,11 @@ enum class Reject : int {
   kFoldOver,         // a new triangle flips against the one it replaces
   kMinAngle,         // a new triangle has an interior angle below the minimum
   kNormalDeviation,  // a new triangle's normal deviates too much from the old one
+  kFeature,          // would move a feature corner, or leave its feature line
+  kTolerance,        // the guaranteed deviation bound would exceed the tolerance
+  kVolume,           // the enclosed volume would change more than allowed
+  kCentroid,         // the centre of mass would move more than allowed
+  kFieldResultant,   // a face field's resultant per group would change more than allowed
   kCount
 };
 const char* RejectName(Reject r);  // snake_case, stable: used in JSON, proto and metrics
@@ -47,6 +56,22 @@ struct SimplifyOptions {
   int max_passes = 100;
   int reconsider_every = 3;  // not-removable vertices become candidates again every Nth pass
   bool topology_only = false;
+  CostKind cost = CostKind::kGaussianCurvature;
+
+  // Fidelity (docs/FIDELITY.md). 0 turns a bound off.
+  // Guaranteed two-sided (Hausdorff) deviation from the input surface, absolute and/or as a
+  // fraction of the bounding-box diagonal; when both are given the smaller one applies.
+  double tolerance = 0.0;
+  double tolerance_relative = 0.0;
+  // Edges whose dihedral angle exceeds this are feature edges; a feature line turning by more
+  // than this at a vertex makes it a corner. 180 keeps only boundaries and group borders.
+  double feature_angle_deg = 30.0;
+  double max_volume_change = 0.0;   // relative to the input volume; closed meshes only
+  double max_centroid_shift = 0.0;  // relative to the bounding-box diagonal
+  // Relative change allowed of each face field's resultant per group, measured against the
+  // group's total absolute load (sum of |value| * area). Applies when the mesh has fields.
+  double max_field_change = 0.01;
+
   Backend backend = Backend::kNative;
   CellOptions cell;
 };
@@ -111,6 +136,15 @@ struct SimplifyResult {
   std::vector<PassStats> passes;
   // Cell back end: modeled speedup needs the one-SPE time, so only the cycle totals are kept.
   uint64_t modeled_cycles = 0;
+
+  // Fidelity figures of the output (docs/FIDELITY.md).
+  uint64_t feature_edges = 0;     // in the input
+  uint64_t corner_vertices = 0;   // fixed feature corners in the input
+  double tolerance_abs = 0.0;     // the tolerance that applied (0: none)
+  double deviation_bound = 0.0;   // guaranteed Hausdorff bound reached (tracked when a tolerance is set)
+  double volume_change = 0.0;     // relative, signed (closed meshes)
+  double centroid_shift = 0.0;    // relative to the bounding-box diagonal
+  double max_field_change = 0.0;  // worst relative resultant change over fields and groups
 };
 
 struct SimplifyControl {

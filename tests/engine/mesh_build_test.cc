@@ -67,13 +67,13 @@ TEST(MeshBuild, RejectsDuplicateFaces) {
 }
 
 TEST(MeshBuild, RejectsNonManifoldEdge) {
-  RawMesh m = {{0, 0, 0, 1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1}, {0, 1, 2, 1, 0, 3, 0, 1, 4}, {}};
+  RawMesh m = {{0, 0, 0, 1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1}, {0, 1, 2, 1, 0, 3, 0, 1, 4}, {}, {}};
   ExpectRejected(m, "non-manifold edge (0, 1): shared by 3 faces");
 }
 
 TEST(MeshBuild, RejectsNonManifoldVertex) {
   // Two triangles touching only at vertex 0.
-  RawMesh m = {{0, 0, 0, 1, 0, 0, 0, 1, 0, -1, 0, 0, 0, -1, 0}, {0, 1, 2, 0, 3, 4}, {}};
+  RawMesh m = {{0, 0, 0, 1, 0, 0, 0, 1, 0, -1, 0, 0, 0, -1, 0}, {0, 1, 2, 0, 3, 4}, {}, {}};
   ExpectRejected(m, "vertex 0 is non-manifold");
 }
 
