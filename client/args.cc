@@ -83,6 +83,11 @@ Remote mode:
   --server HOST:PORT        run the job on a femsimp-server instead of locally
   --deadline SECONDS        give up (and cancel the job) after SECONDS (default: none)
   --label TEXT              a label for the job in the server's list and logs
+  --max-attempts N          calls per job, in [1, 100] (default 5): a job that fails with
+                            UNAVAILABLE (server or replica gone) or RESOURCE_EXHAUSTED with a
+                            retry pushback (queue full) is sent again after a backoff (0.25 s
+                            doubling up to 8 s, +-20 %) or the server's pushback; --deadline
+                            bounds all attempts together
   --help                    this text
 
 )",
@@ -112,6 +117,7 @@ absl::StatusOr<SimplifyArgs> ParseSimplifyArgs(const std::vector<std::string>& a
   SimplifyOptions& o = out.options;
   std::vector<std::string> positional;
   bool cell_flag_given = false;
+  bool max_attempts_given = false;
   std::string cell_flag;
 
   // Flags taking a value; each setter parses and stores it.
@@ -202,6 +208,11 @@ absl::StatusOr<SimplifyArgs> ParseSimplifyArgs(const std::vector<std::string>& a
          out.label = v;
          return absl::OkStatus();
        }},
+      {"--max-attempts",
+       [&](const std::string& v) {
+         max_attempts_given = true;
+         return integer("--max-attempts", &out.max_attempts, 1, 100)(v);
+       }},
   };
 
   for (size_t i = 0; i < args.size(); ++i) {
@@ -258,6 +269,8 @@ absl::StatusOr<SimplifyArgs> ParseSimplifyArgs(const std::vector<std::string>& a
   if (!out.threads_given) o.threads = DefaultThreads();
   if ((out.deadline_seconds > 0 || !out.label.empty()) && out.server.empty())
     return absl::InvalidArgumentError("--deadline and --label need --server");
+  if (max_attempts_given && out.server.empty())
+    return absl::InvalidArgumentError("--max-attempts needs --server");
   // Ranges the engine defines (message names the parameter and its range).
   if (absl::Status s = ValidateOptions(o); !s.ok()) return s;
   return out;
