@@ -23,6 +23,7 @@ constexpr char kExitCodes[] = R"(Exit codes:
   5   output mesh or --stats-json file could not be written
   6   the simplification failed
   7   interrupted (local mode)
+  8   health: the server answered but is not SERVING
   20+N  remote mode: the server answered with gRPC status code N, e.g.
         21 CANCELLED, 23 INVALID_ARGUMENT, 24 DEADLINE_EXCEEDED, 28 RESOURCE_EXHAUSTED
         (queue full or a server limit), 32 UNIMPLEMENTED, 33 INTERNAL, 34 UNAVAILABLE
@@ -42,6 +43,7 @@ std::string MainUsage() {
 Usage:
   femsimp simplify IN OUT [options]      simplify locally, or on a server with --server
   femsimp simplify --help                every option of simplify
+  femsimp health --server HOST:PORT      ask a server's gRPC health service (health --help)
   femsimp --help                         this text
 
 Mesh formats (by extension): .off .obj .stl .ply

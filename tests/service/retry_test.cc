@@ -1,11 +1,12 @@
 // Client-side retries (client/retry.h): the backoff and pushback policy, and whole jobs retried
-// against real in-process servers that are full, late or gone; the output check of
-// femsimp-load --verify.
+// against real in-process servers that are full, late or gone; the `femsimp health` probe;
+// the output check of femsimp-load --verify.
 #include <chrono>
 #include <optional>
 #include <thread>
 
 #include "absl/strings/str_cat.h"
+#include "client/health.h"
 #include "client/output_check.h"
 #include "client/retry.h"
 #include "gtest/gtest.h"
@@ -227,6 +228,67 @@ TEST(Retry, CancelEndsTheWaitBetweenAttempts) {
   cancel.join();
   EXPECT_EQ(out.status.error_code(), grpc::StatusCode::CANCELLED);
   EXPECT_LT(SecondsSince(t0), 3.0);
+}
+
+TEST(Health, ServingForTheServerAndTheSimplifier) {
+  InProcessServer s;
+  cli::HealthArgs args;
+  args.server = s.address();
+  cli::HealthOutcome whole = cli::CheckHealth(args);
+  EXPECT_TRUE(whole.serving()) << whole.status.error_message() << whole.serving_status;
+  args.service = "femsimp.v1.Simplifier";
+  EXPECT_TRUE(cli::CheckHealth(args).serving());
+  args.service = "no.such.Service";
+  EXPECT_EQ(cli::CheckHealth(args).status.error_code(), grpc::StatusCode::NOT_FOUND);
+}
+
+// From shutdown on (SIGTERM), health says NOT_SERVING while a running job drains.
+TEST(Health, NotServingWhileShuttingDown) {
+  server::ServerConfig config = testing::TestConfig();
+  config.grace_period_seconds = 30;
+  InProcessServer s(config);
+  cli::HealthArgs args;
+  args.server = s.address();
+  grpc::ClientContext ctx;
+  std::string job_id;
+  std::atomic<bool> accepted{false};
+  cli::RemoteCallbacks cb;
+  cb.on_progress = [&](const v1::Progress&) { accepted.store(true); };
+  cli::RemoteOutcome out;
+  std::thread job([&] {
+    out = cli::RemoteSimplify(s.stub(), ctx, RatioSpec(0.01, 1), testing::MakeTorus(700, 700), cb,
+                              false);
+  });
+  for (int i = 0; i < 600 && !accepted.load(); ++i) std::this_thread::sleep_for(milliseconds(10));
+  ASSERT_TRUE(accepted.load());
+  std::thread stopper([&] { s.server().Shutdown(); });
+  std::string seen;
+  for (int i = 0; i < 200; ++i) {
+    cli::HealthOutcome h = cli::CheckHealth(args);
+    if (h.status.ok() && h.serving_status == "NOT_SERVING") {
+      seen = h.serving_status;
+      break;
+    }
+    std::this_thread::sleep_for(milliseconds(10));
+  }
+  stopper.join();
+  job.join();
+  EXPECT_EQ(seen, "NOT_SERVING");
+  EXPECT_TRUE(out.status.ok()) << out.status.error_message();  // drained within the grace period
+}
+
+TEST(HealthArgs, ParsesAndRejects) {
+  absl::StatusOr<cli::HealthArgs> h =
+      cli::ParseHealthArgs({"--server", "127.0.0.1:5", "--service=x.Y", "--timeout", "2.5"});
+  ASSERT_TRUE(h.ok()) << h.status();
+  EXPECT_EQ(h->server, "127.0.0.1:5");
+  EXPECT_EQ(h->service, "x.Y");
+  EXPECT_EQ(h->timeout_seconds, 2.5);
+  EXPECT_FALSE(cli::ParseHealthArgs({}).ok());
+  EXPECT_FALSE(cli::ParseHealthArgs({"--server", "nohostport"}).ok());
+  EXPECT_FALSE(cli::ParseHealthArgs({"--server", "a:1", "--timeout", "0"}).ok());
+  EXPECT_FALSE(cli::ParseHealthArgs({"--server", "a:1", "--bogus"}).ok());
+  EXPECT_FALSE(cli::ParseHealthArgs({"--server"}).ok());
 }
 
 TEST(OutputCheck, TopologyOfATorusAndWhatBreaksIt) {
