@@ -17,6 +17,9 @@ std::shared_ptr<grpc::Channel> MakeChannel(const std::string& target, int channe
   // growing to 120 s: a restarted replica is used again within seconds.
   args.SetInt(GRPC_ARG_INITIAL_RECONNECT_BACKOFF_MS, 250);
   args.SetInt(GRPC_ARG_MAX_RECONNECT_BACKOFF_MS, 8000);
+  // A target that resolves to several replicas (a headless Service via dns:///, or
+  // ipv4:a:p,b:p) gets calls spread over all of them; a single address works as before.
+  args.SetLoadBalancingPolicyName("round_robin");
   return grpc::CreateCustomChannel(target, grpc::InsecureChannelCredentials(), args);
 }
 

@@ -1,6 +1,7 @@
-// Client-side retries (client/retry.h): the backoff and pushback policy, and whole jobs retried
-// against real in-process servers that are full, late or gone; the `femsimp health` probe;
-// the output check of femsimp-load --verify.
+// The client side of scale-out: retries (client/retry.h) with their backoff and pushback
+// policy, whole jobs retried against real in-process servers that are full, late or gone; calls
+// balanced over several addresses; the `femsimp health` probe; the output check of
+// femsimp-load --verify.
 #include <chrono>
 #include <optional>
 #include <thread>
@@ -275,6 +276,31 @@ TEST(Health, NotServingWhileShuttingDown) {
   job.join();
   EXPECT_EQ(seen, "NOT_SERVING");
   EXPECT_TRUE(out.status.ok()) << out.status.error_message();  // drained within the grace period
+}
+
+// A target with several addresses gets its calls spread over all of them (round_robin in
+// MakeChannel), and connections closed by --max_connection_age_seconds neither fail a running
+// job nor stop later ones.
+TEST(Balancing, CallsSpreadOverEveryAddressAcrossConnectionAging) {
+  server::ServerConfig config = testing::TestConfig();
+  config.max_connection_age_seconds = 0.3;
+  InProcessServer a(config), b(config);
+  auto stub = v1::Simplifier::NewStub(
+      cli::MakeChannel(absl::StrCat("ipv4:", a.address(), ",", b.address())));
+  const RawMesh mesh = testing::LoadTestMesh("femur.off");
+  for (int i = 0; i < 20; ++i) {
+    cli::RetryCounters counters;
+    cli::RemoteOutcome out =
+        cli::SimplifyWithRetry(*stub, RatioSpec(0.5), mesh, cli::RetryOptions{}, &counters);
+    ASSERT_TRUE(out.status.ok()) << out.status.error_message();
+    if (i % 5 == 4) std::this_thread::sleep_for(milliseconds(150));  // let connections age out
+  }
+  const std::string ok = "femsimp_jobs_total{status=\"OK\"}";
+  double on_a = testing::ParseMetrics(testing::HttpGet(a.server().metrics_port(), "/metrics"))[ok];
+  double on_b = testing::ParseMetrics(testing::HttpGet(b.server().metrics_port(), "/metrics"))[ok];
+  EXPECT_EQ(on_a + on_b, 20);
+  EXPECT_GE(on_a, 5);
+  EXPECT_GE(on_b, 5);
 }
 
 TEST(HealthArgs, ParsesAndRejects) {
