@@ -138,6 +138,7 @@ http {
   uwsgi_temp_path $work/nginx/uwsgi;
   scgi_temp_path $work/nginx/scgi;
   upstream femsimp {
+    least_conn;  # as in deploy/nginx/nginx.conf
 $upstream  }
   server {
     listen 127.0.0.1:$lb_port http2;
