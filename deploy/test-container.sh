@@ -4,7 +4,8 @@
 # the image with host networking on free loopback ports, and checks it: non-root, the server is
 # PID 1, health SERVING (femsimp health from the host and Docker's own HEALTHCHECK), fandisk
 # simplified through it with the host's client, verified jobs, /metrics, and a SIGTERM stop that
-# exits 0 well before Docker would SIGKILL. Reports the build time and image size. Stops and
+# exits 0 well before Docker would SIGKILL; then builds the compose stack's nginx and Prometheus
+# images and checks their configs inside them. Reports the build time and image size. Stops and
 # removes everything it started (containers, images, daemon, mounts) on any exit.
 #
 #   deploy/test-container.sh
@@ -22,6 +23,8 @@ mode=${FEMSIMP_CONTAINER_TEST:-auto}
 cache=${FEMSIMP_IMAGE_CACHE:-/var/tmp/femsimp-image-cache}
 mirror=${DEBIAN_MIRROR:-http://deb.debian.org/debian}
 image=femsimp:test
+lb_image=femsimp-lb:test
+prom_image=femsimp-prometheus:test
 base_tag=femsimp-test/debian:bookworm-minbase
 
 skip() {
@@ -75,7 +78,7 @@ cleanup() {
     local ids
     ids=$(D ps -aq 2>/dev/null)
     [ -n "$ids" ] && D rm -f $ids >/dev/null 2>&1
-    D rmi -f "$image" "$base_tag" >/dev/null 2>&1
+    D rmi -f "$image" "$lb_image" "$prom_image" "$base_tag" >/dev/null 2>&1
     daemon_children=$(pgrep -P "$dockerd_pid" | tr '\n' ' ')
   fi
   stop_pid "$dockerd_pid" 30
@@ -218,6 +221,18 @@ check "SIGTERM stop exits 0 (after $stop_seconds s, not Docker's SIGKILL at 30 s
 check "the server logged the SIGTERM and a clean stop" \
   sh -c "DOCKER_HOST=unix://$sock $docker_cli logs $container 2>&1 | grep -q 'SIGTERM received' &&
          DOCKER_HOST=unix://$sock $docker_cli logs $container 2>&1 | grep -q 'stopped'"
+
+# The compose stack's other two images build from the same base, and their configs pass their
+# own checks inside them (the stack itself needs a bridge network, which these machines keep out).
+D build --network host --build-arg "DEBIAN_IMAGE=$base" -t "$lb_image" deploy/nginx \
+  >>"$work/build.log" 2>&1 || { echo "docker build deploy/nginx failed" >&2; exit 1; }
+check "the compose stack's nginx image accepts its config" D run --rm --network none \
+  --add-host femsimp:127.0.0.1 "$lb_image" -t -c /etc/nginx/nginx.conf
+D build --network host --build-arg "DEBIAN_IMAGE=$base" -t "$prom_image" deploy/prometheus \
+  >>"$work/build.log" 2>&1 || { echo "docker build deploy/prometheus failed" >&2; exit 1; }
+check "the compose stack's Prometheus image accepts its config and rules" D run --rm \
+  --network none --entrypoint /usr/bin/promtool "$prom_image" check config \
+  /etc/prometheus/prometheus.yml
 
 awk -v i="$image" -v ib="$image_bytes" -v b="$base" -v bb="$base_bytes" -v s="$build_seconds" \
   'BEGIN { printf "image %s: %.1f MB (base %s %.1f MB, femsimp layers %.1f MB), build %.0f s\n",
