@@ -12,6 +12,9 @@
 //   void BeginCandidate();     // a new candidate starts (the cell port logs what it reads)
 //   bool Refresh();            // drop cached mesh data after a stale read; false: cannot help
 //   void ChargeCompute(uint32_t cycles);  // cycle model of the arithmetic (no-op natively)
+//   FaceAttrQ ReadFaceAttr(uint32_t f);   // side quadwords, read current (the kernel holds the
+//   void WriteFaceAttr(uint32_t f, const FaceAttrQ&);  // locks that guard them)
+//   QuadricQ ReadQuadric(uint32_t v);     // and WriteQuadric
 #pragma once
 
 #include <atomic>
@@ -24,7 +27,12 @@ namespace femsimp {
 // reader holds the locks that guard the data (see kernel.h for which locks guard what).
 class NativePort {
  public:
-  explicit NativePort(Mesh& mesh) : v_(mesh.vertices()), h_(mesh.halfedges()), s_(mesh.status()) {}
+  explicit NativePort(Mesh& mesh)
+      : v_(mesh.vertices()),
+        h_(mesh.halfedges()),
+        s_(mesh.status()),
+        a_(mesh.face_attrs()),
+        q_(mesh.quadrics()) {}
 
   VertexQ ReadVertex(uint32_t v) const { return v_[v]; }
   HalfEdgeQ ReadHalfEdge(uint32_t h) const { return h_[h]; }
@@ -43,11 +51,17 @@ class NativePort {
   void BeginCandidate() {}
   bool Refresh() { return false; }
   void ChargeCompute(uint32_t) {}
+  FaceAttrQ ReadFaceAttr(uint32_t f) const { return a_[f]; }
+  void WriteFaceAttr(uint32_t f, const FaceAttrQ& q) { a_[f] = q; }
+  QuadricQ ReadQuadric(uint32_t v) const { return q_[v]; }
+  void WriteQuadric(uint32_t v, const QuadricQ& q) { q_[v] = q; }
 
  private:
   VertexQ* v_;
   HalfEdgeQ* h_;
   std::atomic<uint32_t>* s_;
+  FaceAttrQ* a_;
+  QuadricQ* q_;
 };
 
 }  // namespace femsimp
