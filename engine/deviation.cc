@@ -142,14 +142,28 @@ bool BoundDeviation(const Ring& ring, int target, int line_other, const float* o
   // On each cell (old face f) x (new face g) of the overlay the displacement is affine, so its
   // length peaks at a cell corner: V', a link vertex (0) or a spoke crossing; the cell's points
   // moved at most e_f before. The new bound of g is the worst cell over the f it overlaps.
+  struct Box {
+    double lo_x, lo_y, hi_x, hi_y;
+  };
+  const auto box = [](P2 a, P2 b, P2 c) {
+    return Box{std::min({a.x, b.x, c.x}), std::min({a.y, b.y, c.y}), std::max({a.x, b.x, c.x}),
+               std::max({a.y, b.y, c.y})};
+  };
+  Box old_box[kMaxRing];
+  for (int f = 0; f < nf; ++f) old_box[f] = box(v2, q[f], q[(f + 1) % n]);
   int tests = nf;
   for (int g = 0; g < nf; ++g) {
     if (!survives[g]) continue;
     const int g2 = (g + 1) % n;
     const P2 tg[3] = {qd, q[g], q[g2]};
+    const Box gb = box(qd, q[g], q[g2]);
     double bound = 0.0;
     for (int f = 0; f < nf; ++f) {
       const int f2 = (f + 1) % n;
+      const Box& fb = old_box[f];
+      if (fb.lo_x > gb.hi_x + eps_len || gb.lo_x > fb.hi_x + eps_len ||
+          fb.lo_y > gb.hi_y + eps_len || gb.lo_y > fb.hi_y + eps_len)
+        continue;  // cannot overlap
       const P2 tf[3] = {v2, q[f], q[f2]};
       ++tests;
       if (!Overlap(tf, tg, eps_len)) continue;
