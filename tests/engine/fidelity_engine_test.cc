@@ -88,7 +88,7 @@ FidelityRun Simplified(const RawMesh& input, const SimplifyOptions& options) {
   return run;
 }
 
-TEST(Fidelity, DeviationStaysWithinTheToleranceBothWays) {
+TEST(EngineFidelity, DeviationStaysWithinTheToleranceBothWays) {
   const RawMesh fandisk = LoadTestMesh("fandisk.off");
   for (Backend backend : {Backend::kNative, Backend::kCell})
     for (CostKind cost : {CostKind::kGaussianCurvature, CostKind::kQuadric}) {
@@ -113,7 +113,7 @@ TEST(Fidelity, DeviationStaysWithinTheToleranceBothWays) {
     }
 }
 
-TEST(Fidelity, AbsoluteAndRelativeToleranceTakeTheSmaller) {
+TEST(EngineFidelity, AbsoluteAndRelativeToleranceTakeTheSmaller) {
   SimplifyOptions options;
   options.tolerance = 1e-3;
   options.tolerance_relative = 0.5;
@@ -122,7 +122,7 @@ TEST(Fidelity, AbsoluteAndRelativeToleranceTakeTheSmaller) {
   EXPECT_LE(run.result.deviation_bound, 1e-3);
 }
 
-TEST(Fidelity, CornersStayAndFeatureEdgesAreCounted) {
+TEST(EngineFidelity, CornersStayAndFeatureEdgesAreCounted) {
   const RawMesh fandisk = LoadTestMesh("fandisk.off");
   SimplifyOptions options;
   options.tolerance_relative = 0.01;
@@ -167,7 +167,7 @@ TEST(Fidelity, CornersStayAndFeatureEdgesAreCounted) {
 
 // A flat grid split into two groups along a staircase border: the groups keep their areas
 // exactly (the border only slides along itself) and every face keeps a group of its own side.
-TEST(Fidelity, GroupBordersAreKept) {
+TEST(EngineFidelity, GroupBordersAreKept) {
   RawMesh grid = testing::FlatGrid(16);
   for (size_t f = 0; f < grid.num_faces(); ++f) {
     const DVec3 a = Pos(grid, grid.triangles[3 * f]), b = Pos(grid, grid.triangles[3 * f + 1]),
@@ -196,7 +196,7 @@ TEST(Fidelity, GroupBordersAreKept) {
 
 // A pressure on a curved surface: the resultant per group stays within the allowed change, and
 // the field comes back with the output faces.
-TEST(Fidelity, FieldResultantPerGroupIsKept) {
+TEST(EngineFidelity, FieldResultantPerGroupIsKept) {
   RawMesh femur = LoadTestMesh("femur.off");
   FaceField pressure{"pressure", {}};
   for (size_t f = 0; f < femur.num_faces(); ++f) {
@@ -239,7 +239,7 @@ TEST(Fidelity, FieldResultantPerGroupIsKept) {
   }
 }
 
-TEST(Fidelity, VolumeAndCentroidBudgets) {
+TEST(EngineFidelity, VolumeAndCentroidBudgets) {
   const RawMesh femur = LoadTestMesh("femur.off");
   SimplifyOptions options;
   options.threads = 2;
@@ -258,7 +258,7 @@ TEST(Fidelity, VolumeAndCentroidBudgets) {
   EXPECT_GT(std::fabs(free_run.result.volume_change), 0.001);
 }
 
-TEST(Fidelity, VolumeBudgetOnAnOpenMeshIsAnError) {
+TEST(EngineFidelity, VolumeBudgetOnAnOpenMeshIsAnError) {
   absl::StatusOr<Mesh> mesh = Mesh::Build(testing::FlatGrid(4));
   ASSERT_TRUE(mesh.ok());
   SimplifyOptions options;
