@@ -68,16 +68,67 @@ TEST(Args, SimplifyWithEveryOption) {
   EXPECT_TRUE(a.server.empty());
 }
 
+TEST(Args, FidelityOptions) {
+  auto cmd =
+      Parse({"simplify", "in.ply", "out.ply", "--cost", "quadric", "--tolerance", "0.02",
+             "--tolerance-relative", "0.1%", "--feature-angle=45", "--max-volume-change", "0.5%",
+             "--max-centroid-shift", "0.001", "--max-field-change", "2%", "--drop-face-data"});
+  ASSERT_TRUE(cmd.ok()) << cmd.status();
+  const SimplifyOptions& o = cmd->simplify.options;
+  EXPECT_EQ(o.cost, CostKind::kQuadric);
+  EXPECT_DOUBLE_EQ(o.tolerance, 0.02);
+  EXPECT_DOUBLE_EQ(o.tolerance_relative, 0.001);
+  EXPECT_DOUBLE_EQ(o.feature_angle_deg, 45);
+  EXPECT_DOUBLE_EQ(o.max_volume_change, 0.005);
+  EXPECT_DOUBLE_EQ(o.max_centroid_shift, 0.001);
+  EXPECT_DOUBLE_EQ(o.max_field_change, 0.02);
+  EXPECT_TRUE(cmd->simplify.drop_face_data);
+  // Unset: the engine's defaults.
+  auto plain = Parse({"simplify", "in.ply", "out.ply"});
+  ASSERT_TRUE(plain.ok()) << plain.status();
+  const SimplifyOptions engine;
+  EXPECT_EQ(plain->simplify.options.cost, engine.cost);
+  EXPECT_EQ(plain->simplify.options.tolerance, engine.tolerance);
+  EXPECT_EQ(plain->simplify.options.feature_angle_deg, engine.feature_angle_deg);
+  EXPECT_EQ(plain->simplify.options.max_field_change, engine.max_field_change);
+  EXPECT_FALSE(plain->simplify.drop_face_data);
+  auto gaussian = Parse({"simplify", "a", "b", "--cost", "gaussian_curvature"});
+  ASSERT_TRUE(gaussian.ok()) << gaussian.status();
+  EXPECT_EQ(gaussian->simplify.options.cost, CostKind::kGaussianCurvature);
+}
+
 TEST(Args, Help) {
   auto top = Parse({"--help"});
   ASSERT_TRUE(top.ok());
   EXPECT_EQ(top->kind, cli::Command::kHelp);
   auto sub = Parse({"simplify", "--help"});
   ASSERT_TRUE(sub.ok());
-  for (const char* flag :
-       {"--ratio", "--target-vertices", "--threads", "--max-normal-deviation", "--min-angle",
-        "--candidate-fraction", "--max-passes", "--topology-only", "--backend", "--spes",
-        "--ls-cache-kib", "--spe-threads", "--stats-json", "--server", "--deadline", "Exit codes"})
+  for (const char* flag : {"--ratio",
+                           "--target-vertices",
+                           "--threads",
+                           "--max-normal-deviation",
+                           "--min-angle",
+                           "--candidate-fraction",
+                           "--max-passes",
+                           "--topology-only",
+                           "--backend",
+                           "--spes",
+                           "--ls-cache-kib",
+                           "--spe-threads",
+                           "--stats-json",
+                           "--server",
+                           "--deadline",
+                           "Exit codes",
+                           "--cost gaussian|quadric",
+                           "--tolerance D",
+                           "--tolerance-relative F",
+                           "--feature-angle D",
+                           "--max-volume-change F",
+                           "--max-centroid-shift F",
+                           "--max-field-change F",
+                           "(default 0.01)",
+                           "(default 30;",
+                           "--drop-face-data"})
     EXPECT_NE(sub->help_text.find(flag), std::string::npos) << flag;
 }
 
@@ -95,6 +146,20 @@ TEST(Args, Errors) {
       {{"simplify", "a", "b", "--ratio", "0.5", "--target-vertices", "10"}, "not both"},
       {{"simplify", "a", "b", "--spes", "2"}, "needs --backend cell"},
       {{"simplify", "a", "b", "--backend", "gpu"}, "not one of native, cell"},
+      {{"simplify", "a", "b", "--cost", "cheap"},
+       "--cost: 'cheap' is not one of gaussian, quadric"},
+      {{"simplify", "a", "b", "--tolerance", "-1"}, "tolerance = -1 is out of range"},
+      {{"simplify", "a", "b", "--tolerance", "fine"}, "--tolerance: 'fine' is not a finite number"},
+      {{"simplify", "a", "b", "--tolerance-relative", "x%"},
+       "--tolerance-relative: 'x%' is not a finite number or percentage"},
+      {{"simplify", "a", "b", "--tolerance-relative", "150%"},
+       "tolerance_relative = 1.5 is out of range"},
+      {{"simplify", "a", "b", "--feature-angle", "0"}, "feature_angle = 0 is out of range"},
+      {{"simplify", "a", "b", "--max-volume-change", "2"}, "max_volume_change = 2 is out of range"},
+      {{"simplify", "a", "b", "--max-centroid-shift", "-1%"},
+       "max_centroid_shift = -0.01 is out of range"},
+      {{"simplify", "a", "b", "--max-field-change", "0"}, "max_field_change = 0 is out of range"},
+      {{"simplify", "a", "b", "--drop-face-data=yes"}, "--drop-face-data takes no value"},
       {{"simplify", "a"}, "exactly two files"},
       {{"simplify", "a", "b", "--deadline", "3"}, "need --server"},
       {{"simplify", "a", "b", "--server", "nohost"}, "HOST:PORT"},
@@ -404,14 +469,35 @@ TEST(Report, JsonHasEveryField) {
   cli::RunReport r;
   r.input_vertices = 10;
   r.stop_reason = "target_reached";
+  r.face_fields = {"pressure"};
   PassStats p;
   p.pass = 1;
   r.passes.push_back(p);
   std::string json = cli::ReportJson(r);
-  for (const char* key :
-       {"\"input\"", "\"output\"", "\"engine_seconds\"", "\"load_seconds\"", "\"write_seconds\"",
-        "\"stop_reason\"", "\"options\"", "\"passes\"", "\"rejections\"", "\"link_condition\"",
-        "\"normal_deviation\"", "\"lock_conflicts\"", "\"busy_seconds\"", "\"candidates\""})
+  for (const char* key : {"\"input\"",
+                          "\"output\"",
+                          "\"engine_seconds\"",
+                          "\"load_seconds\"",
+                          "\"write_seconds\"",
+                          "\"stop_reason\"",
+                          "\"options\"",
+                          "\"passes\"",
+                          "\"rejections\"",
+                          "\"link_condition\"",
+                          "\"normal_deviation\"",
+                          "\"lock_conflicts\"",
+                          "\"busy_seconds\"",
+                          "\"candidates\"",
+                          "\"field_resultant\"",
+                          "\"cost\": \"gaussian_curvature\"",
+                          "\"tolerance_relative\"",
+                          "\"feature_angle_deg\"",
+                          "\"max_field_change\"",
+                          "\"fidelity\"",
+                          "\"deviation_bound\"",
+                          "\"feature_edges\"",
+                          "\"face_data\"",
+                          "\"fields\": [\"pressure\"]"})
     EXPECT_NE(json.find(key), std::string::npos) << key;
 }
 
