@@ -96,7 +96,7 @@ std::vector<uint32_t> ObjGroupIds(const std::vector<std::string>& distinct_names
 }
 
 bool IsPlyFieldName(absl::string_view name) {
-  static constexpr absl::string_view kNotFields[] = {
+  static const absl::string_view kNotFields[] = {
       kPlyGroupProperty, "vertex_indices", "vertex_index", "nx", "ny", "nz", "red",
       "green",           "blue",           "alpha"};
   return std::find(std::begin(kNotFields), std::end(kNotFields), name) == std::end(kNotFields);
