@@ -159,15 +159,30 @@ void TransferFields(const Ring& ring, int target, int fields, const FaceAttrQ* f
         for (int i = 0; i < 3; ++i)
           for (int j = 0; j < 3; ++j) m[i][j] += a[i] * a[j] / len;
       }
-      // Regularised: a direction the new faces barely span gets a small correction and the
-      // rest is charged to the budget, rather than wild values.
+      // A value uniform over the group's fan (the usual pressure boundary condition) stays
+      // exactly as given; only the geometry's change of its resultant is charged. A varying
+      // field is adjusted, regularised: a direction the new faces barely span gets a small
+      // correction and the rest is charged to the budget, rather than wild values.
+      bool uniform = true;
+      float first = 0.0f;
+      bool have_first = false;
+      for (int f = 0; f < ring.faces && uniform; ++f) {
+        if (group_slot[f] != group) continue;
+        if (!have_first) {
+          first = fan_attr[f].field[k];
+          have_first = true;
+        }
+        uniform = fan_attr[f].field[k] == first;
+      }
       const double mu = 1e-4 * (m[0][0] + m[1][1] + m[2][2]);
       for (int i = 0; i < 3; ++i) m[i][i] += mu;
-      const DVec3 lambda = Solve3(m, before - unchanged);
+      const DVec3 lambda = uniform ? DVec3{0, 0, 0} : Solve3(m, before - unchanged);
       DVec3 after{0, 0, 0};
       for (int f = 0; f < ring.faces; ++f) {
         if (group_slot[f] != group || !survives[f]) continue;
-        const double p = fan_attr[f].field[k] + Dot(new_area[f], lambda) / Norm(new_area[f]);
+        const double p = uniform
+                             ? fan_attr[f].field[k]
+                             : fan_attr[f].field[k] + Dot(new_area[f], lambda) / Norm(new_area[f]);
         new_attr[f].field[k] = static_cast<float>(p);
         after += static_cast<double>(new_attr[f].field[k]) * new_area[f];
       }

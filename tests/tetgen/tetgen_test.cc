@@ -106,7 +106,11 @@ Triangle Sorted(uint32_t a, uint32_t b, uint32_t c) {
 void ExpectTetrahedralises(const RawMesh& surface, const std::string& name) {
   const fs::path dir = WorkDir(name);
   WriteSmesh(dir / "surface.smesh", surface);
-  ASSERT_TRUE(WriteMeshFile((dir / "surface.off").string(), surface).ok());
+  RawMesh plain = surface;  // OFF holds no groups or fields (the .smesh carries the groups)
+  plain.face_groups.clear();
+  plain.face_fields.clear();
+  const absl::Status written = WriteMeshFile((dir / "surface.off").string(), plain);
+  ASSERT_TRUE(written.ok()) << written;
   const double volume = judge::SolidProperties(surface).volume;
   ASSERT_GT(volume, 0.0) << "surface not closed and oriented outwards";
   std::ostringstream flags;
