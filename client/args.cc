@@ -25,6 +25,7 @@ constexpr char kExitCodes[] = R"(Exit codes:
       input's face groups or fields (checked before the run; see --drop-face-data)
   6   the simplification failed
   7   interrupted (local mode)
+  8   health: the server answered but is not SERVING
   20+N  remote mode: the server answered with gRPC status code N, e.g.
         21 CANCELLED, 23 INVALID_ARGUMENT, 24 DEADLINE_EXCEEDED, 28 RESOURCE_EXHAUSTED
         (queue full or a server limit), 32 UNIMPLEMENTED, 33 INTERNAL, 34 UNAVAILABLE
@@ -66,6 +67,7 @@ std::string MainUsage() {
 Usage:
   femsimp simplify IN OUT [options]      simplify locally, or on a server with --server
   femsimp simplify --help                every option of simplify
+  femsimp health --server HOST:PORT      ask a server's gRPC health service (health --help)
   femsimp --help                         this text
 
 Mesh formats (by extension): .off .obj .stl .ply
@@ -115,6 +117,11 @@ Remote mode:
   --server HOST:PORT        run the job on a femsimp-server instead of locally
   --deadline SECONDS        give up (and cancel the job) after SECONDS (default: none)
   --label TEXT              a label for the job in the server's list and logs
+  --max-attempts N          calls per job, in [1, 100] (default 5): a job that fails with
+                            UNAVAILABLE (server or replica gone) or RESOURCE_EXHAUSTED with a
+                            retry pushback (queue full) is sent again after a backoff (0.25 s
+                            doubling up to 8 s, +-20 %) or the server's pushback; --deadline
+                            bounds all attempts together
   --help                    this text
 
 )",
@@ -153,6 +160,7 @@ absl::StatusOr<SimplifyArgs> ParseSimplifyArgs(const std::vector<std::string>& a
   SimplifyOptions& o = out.options;
   std::vector<std::string> positional;
   bool cell_flag_given = false;
+  bool max_attempts_given = false;
   std::string cell_flag;
 
   // Flags taking a value; each setter parses and stores it.
@@ -269,6 +277,11 @@ absl::StatusOr<SimplifyArgs> ParseSimplifyArgs(const std::vector<std::string>& a
          out.label = v;
          return absl::OkStatus();
        }},
+      {"--max-attempts",
+       [&](const std::string& v) {
+         max_attempts_given = true;
+         return integer("--max-attempts", &out.max_attempts, 1, 100)(v);
+       }},
   };
 
   for (size_t i = 0; i < args.size(); ++i) {
@@ -329,6 +342,8 @@ absl::StatusOr<SimplifyArgs> ParseSimplifyArgs(const std::vector<std::string>& a
   if (!out.threads_given) o.threads = DefaultThreads();
   if ((out.deadline_seconds > 0 || !out.label.empty()) && out.server.empty())
     return absl::InvalidArgumentError("--deadline and --label need --server");
+  if (max_attempts_given && out.server.empty())
+    return absl::InvalidArgumentError("--max-attempts needs --server");
   // Ranges the engine defines (message names the parameter and its range).
   if (absl::Status s = ValidateOptions(o); !s.ok()) return s;
   return out;

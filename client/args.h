@@ -17,6 +17,7 @@ struct SimplifyArgs {
   std::string server;             // empty: run locally
   double deadline_seconds = 0.0;  // remote only; 0 = no deadline
   std::string label;              // remote only; shown in the server's job list and logs
+  int max_attempts = 5;           // remote only; calls per job, retries included (retry.h)
   bool quiet = false;             // no per-pass rows
   bool drop_face_data = false;    // write OUT without the face groups/fields its format lacks
 };

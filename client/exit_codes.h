@@ -12,6 +12,7 @@ enum ExitCode : int {
   kExitOutputFailed = 5,     // output mesh or --stats-json could not be written
   kExitEngineFailed = 6,     // the simplification itself failed
   kExitCancelled = 7,        // interrupted (SIGINT) in local mode
+  kExitNotServing = 8,       // health: the server answered but is not SERVING
   // Remote mode: a gRPC status other than OK exits with kExitGrpcBase + its code
   // (CANCELLED 21, UNKNOWN 22, INVALID_ARGUMENT 23, DEADLINE_EXCEEDED 24, ..., UNAVAILABLE 34).
   kExitGrpcBase = 20,

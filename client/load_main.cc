@@ -1,9 +1,11 @@
 // femsimp-load: C concurrent clients sending Simplify jobs to a server; reports throughput,
-// latency percentiles and errors by status code.
+// latency percentiles, errors by status code, and retries (a job that fails with UNAVAILABLE or
+// a pushed-back RESOURCE_EXHAUSTED is sent again, client/retry.h).
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <fstream>
 #include <map>
 #include <mutex>
 #include <string>
@@ -14,7 +16,9 @@
 #include "absl/strings/str_format.h"
 #include "client/args.h"
 #include "client/exit_codes.h"
+#include "client/output_check.h"
 #include "client/remote_call.h"
+#include "client/retry.h"
 #include "engine/io/mesh_io.h"
 #include "proto/wire.h"
 
@@ -25,11 +29,18 @@ using namespace femsimp::cli;
 
 constexpr char kUsage[] =
     R"(Usage: femsimp-load --server HOST:PORT --clients C (--jobs N | --duration S)
-                    [--ratio R] [--threads N] [--deadline S] [--json] MESH...
+                    [--ratio R] [--threads N] [--deadline S] [--max-attempts A] [--verify]
+                    [--jobs-report FILE] [--json] MESH...
 
 Runs C concurrent clients, each sending one Simplify job after the other (meshes taken in turn),
 until N jobs were sent in all (--jobs) or S seconds passed (--duration). Prints jobs/s, latency
-p50/p95/p99 of successful jobs and the errors by gRPC status code; --json prints the same as JSON.
+p50/p95/p99 of successful jobs, the errors by gRPC status code, the attempts and retries, and
+the jobs lost (sent but without a whole result); --json prints the same as JSON.
+
+A job that fails with UNAVAILABLE (server or replica gone) or RESOURCE_EXHAUSTED with a retry
+pushback (queue full) is sent again as a new call, after the pushback or a backoff (0.25 s
+doubling up to 8 s, +-20 %). A job counts as done only once its result and every mesh chunk
+arrived and add up.
 
   --server HOST:PORT   femsimp-server to load
   --clients C          concurrent clients (each its own channel), in [1, 1024]
@@ -37,10 +48,17 @@ p50/p95/p99 of successful jobs and the errors by gRPC status code; --json prints
   --duration S         seconds to keep sending (jobs in flight at the end are awaited)
   --ratio R            target ratio of every job (default 0.5)
   --threads N          engine threads per job (default: the server's)
-  --deadline S         per-job deadline in seconds (default: none)
+  --deadline S         per-job deadline in seconds, all attempts together (default: none)
+  --max-attempts A     calls per job, retries included, in [1, 100] (default 5)
+  --verify             assemble every result and check it: a valid mesh (manifold, oriented,
+                       no degenerate face) with the input's Euler characteristic, components
+                       and closedness; a failed check counts as error INVALID_OUTPUT
+  --jobs-report FILE   one line per job: index, mesh, status, attempts, job id, output
+                       vertices and faces, seconds (tab-separated, with a header)
   --json               JSON report on stdout instead of text
 
-Exit codes: 0 every job succeeded, 1 some jobs failed, 2 usage error, 3 a mesh file unreadable.
+Exit codes: 0 every job succeeded, 1 some jobs failed or were lost, 2 usage error,
+3 a mesh file unreadable, 5 --jobs-report could not be written.
 )";
 
 struct Config {
@@ -51,6 +69,9 @@ struct Config {
   double ratio = 0.5;
   int threads = 0;
   double deadline = 0;
+  int max_attempts = 5;
+  bool verify = false;
+  std::string jobs_report;
   bool json = false;
   std::vector<std::string> meshes;
 };
@@ -59,8 +80,8 @@ absl::StatusOr<Config> Parse(const std::vector<std::string>& args) {
   Config c;
   for (size_t i = 1; i < args.size(); ++i) {
     std::string a = args[i], value;
-    if (a == "--json") {
-      c.json = true;
+    if (a == "--json" || a == "--verify") {
+      (a == "--json" ? c.json : c.verify) = true;
       continue;
     }
     if (a.rfind("--", 0) != 0) {
@@ -77,6 +98,12 @@ absl::StatusOr<Config> Parse(const std::vector<std::string>& args) {
     }
     if (a == "--server") {
       c.server = value;
+    } else if (a == "--jobs-report") {
+      c.jobs_report = value;
+    } else if (a == "--max-attempts") {
+      absl::StatusOr<long long> v = ParseInt(a, value, 1, 100);
+      if (!v.ok()) return v.status();
+      c.max_attempts = static_cast<int>(*v);
     } else if (a == "--clients") {
       absl::StatusOr<long long> v = ParseInt(a, value, 1, 1024);
       if (!v.ok()) return v.status();
@@ -119,6 +146,34 @@ double Percentile(std::vector<double> v, double q) {
   return v[std::min(i, v.size() - 1)];
 }
 
+// What became of one job, for the totals and --jobs-report.
+struct JobRecord {
+  long long index = 0;
+  size_t mesh = 0;
+  std::string status;  // "OK", a gRPC code name, or INVALID_OUTPUT
+  std::string message;
+  int attempts = 0;
+  std::string job_id;
+  uint64_t output_vertices = 0, output_faces = 0;
+  double seconds = 0;
+};
+
+absl::Status WriteJobsReport(const std::string& path, std::vector<JobRecord> records,
+                             const std::vector<std::string>& meshes) {
+  std::sort(records.begin(), records.end(),
+            [](const JobRecord& a, const JobRecord& b) { return a.index < b.index; });
+  std::ofstream f(path, std::ios::trunc);
+  if (!f) return absl::PermissionDeniedError(absl::StrCat(path, ": cannot open for writing"));
+  f << "index\tmesh\tstatus\tattempts\tjob_id\toutput_vertices\toutput_faces\tseconds\n";
+  for (const JobRecord& r : records)
+    f << absl::StrFormat("%d\t%s\t%s\t%d\t%s\t%u\t%u\t%.6f\n", r.index, meshes[r.mesh], r.status,
+                         r.attempts, r.job_id.empty() ? "-" : r.job_id, r.output_vertices,
+                         r.output_faces, r.seconds);
+  f.close();
+  if (!f) return absl::DataLossError(absl::StrCat(path, ": write failed"));
+  return absl::OkStatus();
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -135,6 +190,7 @@ int main(int argc, char** argv) {
     return kExitUsage;
   }
   std::vector<RawMesh> meshes;
+  std::vector<SoupTopology> topologies;
   for (const std::string& path : cfg->meshes) {
     absl::StatusOr<RawMesh> m = ReadMeshFile(path);
     if (!m.ok()) {
@@ -142,6 +198,7 @@ int main(int argc, char** argv) {
                    std::string(m.status().message()).c_str());
       return kExitInputUnreadable;
     }
+    topologies.push_back(TopologyOf(*m));
     meshes.push_back(std::move(*m));
   }
 
@@ -156,6 +213,9 @@ int main(int argc, char** argv) {
   std::vector<double> ok_latency;
   std::map<std::string, long long> errors;
   std::map<std::string, std::string> error_examples;
+  std::vector<JobRecord> records;
+  RetryCounters retry_totals;
+  long long retried_jobs = 0;
   const auto start = std::chrono::steady_clock::now();
   const auto stop_at = start + std::chrono::duration<double>(cfg->duration);
   auto more = [&](long long* index) {
@@ -173,23 +233,46 @@ int main(int argc, char** argv) {
       auto stub = v1::Simplifier::NewStub(MakeChannel(cfg->server, c));
       long long index;
       while (more(&index)) {
-        const RawMesh& mesh = meshes[static_cast<size_t>(index) % meshes.size()];
-        grpc::ClientContext ctx;
+        JobRecord rec;
+        rec.index = index;
+        rec.mesh = static_cast<size_t>(index) % meshes.size();
+        RetryOptions retry;
+        retry.policy.max_attempts = cfg->max_attempts;
+        retry.keep_output = cfg->verify;
         if (cfg->deadline > 0)
-          ctx.set_deadline(std::chrono::system_clock::now() +
-                           std::chrono::microseconds(static_cast<int64_t>(cfg->deadline * 1e6)));
+          retry.deadline = std::chrono::system_clock::now() +
+                           std::chrono::microseconds(static_cast<int64_t>(cfg->deadline * 1e6));
+        RetryCounters counters;
         auto t0 = std::chrono::steady_clock::now();
-        RemoteOutcome out = RemoteSimplify(*stub, ctx, spec, mesh, {}, /*keep_output=*/false);
-        double seconds =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        std::lock_guard<std::mutex> lock(mu);
+        RemoteOutcome out = SimplifyWithRetry(*stub, spec, meshes[rec.mesh], retry, &counters);
+        rec.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        rec.attempts = counters.attempts;
+        rec.status = GrpcCodeName(out.status.error_code());
+        rec.message = out.status.error_message();
         if (out.status.ok()) {
-          ok_latency.push_back(seconds);
-        } else {
-          std::string name = GrpcCodeName(out.status.error_code());
-          ++errors[name];
-          error_examples.emplace(name, out.status.error_message());
+          rec.job_id = out.result.job_id();
+          rec.output_vertices = out.result.output_vertices();
+          rec.output_faces = out.result.output_faces();
+          if (cfg->verify) {
+            if (absl::Status v = CheckOutput(topologies[rec.mesh], out.output); !v.ok()) {
+              rec.status = "INVALID_OUTPUT";
+              rec.message = absl::StrCat("job ", rec.job_id, ": ", v.message());
+            }
+          }
         }
+        std::lock_guard<std::mutex> lock(mu);
+        retry_totals.attempts += counters.attempts;
+        retry_totals.unavailable += counters.unavailable;
+        retry_totals.resource_exhausted += counters.resource_exhausted;
+        retry_totals.waited_seconds += counters.waited_seconds;
+        if (counters.attempts > 1) ++retried_jobs;
+        if (rec.status == "OK") {
+          ok_latency.push_back(rec.seconds);
+        } else {
+          ++errors[rec.status];
+          error_examples.emplace(rec.status, rec.message);
+        }
+        records.push_back(std::move(rec));
       }
     });
   }
@@ -197,9 +280,20 @@ int main(int argc, char** argv) {
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
+  // Every job sent has exactly one record; count it again from the records so that a job lost
+  // or reported twice would show.
+  const long long sent = cfg->jobs > 0 ? cfg->jobs : static_cast<long long>(records.size());
+  std::map<long long, int> done_per_index;
+  for (const JobRecord& r : records)
+    if (r.status == "OK") ++done_per_index[r.index];
+  long long duplicates = 0;
+  for (const auto& [index, n] : done_per_index) duplicates += n - 1;
+  const long long lost = sent - static_cast<long long>(done_per_index.size());
+
   long long failed = 0;
   for (const auto& [name, n] : errors) failed += n;
   const long long total = static_cast<long long>(ok_latency.size()) + failed;
+  const long long retries = retry_totals.attempts - total;
   const double rate = wall > 0 ? static_cast<double>(ok_latency.size()) / wall : 0;
   const double p50 = Percentile(ok_latency, 0.50), p95 = Percentile(ok_latency, 0.95),
                p99 = Percentile(ok_latency, 0.99);
@@ -213,18 +307,35 @@ int main(int argc, char** argv) {
     e += "}";
     std::printf(
         "{\"server\": \"%s\", \"clients\": %d, \"jobs\": %lld, \"succeeded\": %zu, \"failed\": "
-        "%lld, \"wall_seconds\": %.6f, \"jobs_per_second\": %.6f, \"latency_seconds\": "
-        "{\"p50\": %.6f, \"p95\": %.6f, \"p99\": %.6f}, \"errors\": %s}\n",
-        cfg->server.c_str(), cfg->clients, total, ok_latency.size(), failed, wall, rate, p50, p95,
-        p99, e.c_str());
+        "%lld, \"lost\": %lld, \"duplicates\": %lld, \"verified\": %s, \"wall_seconds\": %.6f, "
+        "\"jobs_per_second\": %.6f, \"latency_seconds\": {\"p50\": %.6f, \"p95\": %.6f, "
+        "\"p99\": %.6f}, \"attempts\": %d, \"retries\": %lld, \"retried_jobs\": %lld, "
+        "\"failed_attempts\": {\"UNAVAILABLE\": %d, \"RESOURCE_EXHAUSTED\": %d}, "
+        "\"retry_wait_seconds\": %.3f, \"errors\": %s}\n",
+        cfg->server.c_str(), cfg->clients, total, ok_latency.size(), failed, lost, duplicates,
+        cfg->verify ? "true" : "false", wall, rate, p50, p95, p99, retry_totals.attempts, retries,
+        retried_jobs, retry_totals.unavailable, retry_totals.resource_exhausted,
+        retry_totals.waited_seconds, e.c_str());
   } else {
     std::printf("server %s, %d clients, %lld jobs in %.2f s\n", cfg->server.c_str(), cfg->clients,
                 total, wall);
-    std::printf("succeeded %zu, failed %lld, throughput %.2f jobs/s\n", ok_latency.size(), failed,
-                rate);
+    std::printf(
+        "succeeded %zu%s, failed %lld, lost %lld, duplicates %lld, throughput %.2f jobs/s\n",
+        ok_latency.size(), cfg->verify ? " (verified)" : "", failed, lost, duplicates, rate);
     std::printf("latency p50 %.3f s, p95 %.3f s, p99 %.3f s\n", p50, p95, p99);
+    std::printf(
+        "attempts %d, retries %lld (%lld jobs retried; failed attempts: UNAVAILABLE %d, "
+        "RESOURCE_EXHAUSTED %d; %.1f s waited)\n",
+        retry_totals.attempts, retries, retried_jobs, retry_totals.unavailable,
+        retry_totals.resource_exhausted, retry_totals.waited_seconds);
     for (const auto& [name, n] : errors)
       std::printf("errors %s: %lld (e.g. \"%s\")\n", name.c_str(), n, error_examples[name].c_str());
   }
-  return failed == 0 ? kExitOk : kExitInternal;
+  if (!cfg->jobs_report.empty()) {
+    if (absl::Status w = WriteJobsReport(cfg->jobs_report, records, cfg->meshes); !w.ok()) {
+      std::fprintf(stderr, "femsimp-load: --jobs-report: %s\n", std::string(w.message()).c_str());
+      return kExitOutputFailed;
+    }
+  }
+  return failed == 0 && lost == 0 && duplicates == 0 ? kExitOk : kExitInternal;
 }

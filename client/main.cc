@@ -7,12 +7,21 @@
 #include "client/exit_codes.h"
 #include "client/local_run.h"
 #ifdef FEMSIMP_HAVE_REMOTE
+#include "client/health.h"
 #include "client/remote_run.h"
 #endif
 
 int main(int argc, char** argv) {
   using namespace femsimp::cli;
   std::vector<std::string> args(argv, argv + argc);
+  if (args.size() >= 2 && args[1] == "health") {
+#ifdef FEMSIMP_HAVE_REMOTE
+    return RunHealth(std::vector<std::string>(args.begin() + 2, args.end()));
+#else
+    std::fprintf(stderr, "femsimp: this build has no gRPC client (FEMSIMP_BUILD_SERVICE=OFF)\n");
+    return kExitUsage;
+#endif
+  }
   absl::StatusOr<Command> cmd = ParseCommandLine(args);
   if (!cmd.ok()) {
     std::fprintf(stderr, "femsimp: %s\n", std::string(cmd.status().message()).c_str());

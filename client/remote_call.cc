@@ -1,5 +1,6 @@
 #include "client/remote_call.h"
 
+#include "absl/strings/match.h"
 #include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
 #include "grpcpp/create_channel.h"
@@ -12,6 +13,13 @@ std::shared_ptr<grpc::Channel> MakeChannel(const std::string& target, int channe
   grpc::ChannelArguments args;
   if (channel_index) args.SetInt("femsimp.channel_index", channel_index);
   args.SetMaxReceiveMessageSize(64 << 20);
+  // Reconnect about as soon as a retry (retry.h) would come back, not after gRPC's default 1 s
+  // growing to 120 s: a restarted replica is used again within seconds.
+  args.SetInt(GRPC_ARG_INITIAL_RECONNECT_BACKOFF_MS, 250);
+  args.SetInt(GRPC_ARG_MAX_RECONNECT_BACKOFF_MS, 8000);
+  // A target that resolves to several replicas (a headless Service via dns:///, or
+  // ipv4:a:p,b:p) gets calls spread over all of them; a single address works as before.
+  args.SetLoadBalancingPolicyName("round_robin");
   return grpc::CreateCustomChannel(target, grpc::InsecureChannelCredentials(), args);
 }
 
@@ -41,6 +49,7 @@ RemoteOutcome RemoteSimplify(v1::Simplifier::Stub& stub, grpc::ClientContext& ct
 
   std::optional<wire::MeshAssembler> assembler;
   absl::Status malformed;
+  uint64_t vertices_received = 0, faces_received = 0;
   v1::SimplifyResponse resp;
   while (stream->Read(&resp)) {
     switch (resp.payload_case()) {
@@ -68,6 +77,8 @@ RemoteOutcome RemoteSimplify(v1::Simplifier::Stub& stub, grpc::ClientContext& ct
         break;
       case v1::SimplifyResponse::kChunk:
         ++out.chunks_received;
+        vertices_received += static_cast<uint64_t>(resp.chunk().positions_size()) / 3;
+        faces_received += static_cast<uint64_t>(resp.chunk().indices_size()) / 3;
         if (assembler && malformed.ok()) malformed = assembler->Add(resp.chunk());
         break;
       default:
@@ -75,15 +86,35 @@ RemoteOutcome RemoteSimplify(v1::Simplifier::Stub& stub, grpc::ClientContext& ct
     }
   }
   out.status = stream->Finish();
+  // A stream reset before the server's status means the call was cut, not answered: nginx
+  // resets the client's stream with NO_ERROR when the replica behind it dies, which gRPC reports
+  // as INTERNAL. For the client that is a server gone away, UNAVAILABLE (and retryable).
+  if (out.status.error_code() == grpc::StatusCode::INTERNAL &&
+      absl::StartsWith(out.status.error_message(), "Received RST_STREAM"))
+    out.status = grpc::Status(
+        grpc::StatusCode::UNAVAILABLE,
+        absl::StrCat("the call was cut before the server answered (", out.status.error_message(),
+                     "); a replica behind a proxy went away?"));
   const auto& trailers = ctx.GetServerTrailingMetadata();
   if (auto it = trailers.find("grpc-retry-pushback-ms"); it != trailers.end()) {
     int ms;
-    if (absl::SimpleAtoi(std::string(it->second.data(), it->second.size()), &ms))
-      out.retry_pushback_ms = ms;
+    out.retry_pushback_ms =
+        absl::SimpleAtoi(std::string(it->second.data(), it->second.size()), &ms) && ms >= 0 ? ms
+                                                                                            : -1;
   }
   if (!out.status.ok()) return out;
   if (out.result.job_id().empty()) {
     out.status = grpc::Status(grpc::StatusCode::INTERNAL, "server ended the call without a result");
+    return out;
+  }
+  // Done means the whole result arrived: without assembly, at least the counts must add up.
+  if (!keep_output && (vertices_received != out.result.output_vertices() ||
+                       faces_received != out.result.output_faces())) {
+    out.status =
+        grpc::Status(grpc::StatusCode::DATA_LOSS,
+                     absl::StrCat("result mesh incomplete: received ", vertices_received, " of ",
+                                  out.result.output_vertices(), " vertices and ", faces_received,
+                                  " of ", out.result.output_faces(), " faces"));
     return out;
   }
   if (keep_output) {

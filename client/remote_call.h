@@ -3,6 +3,7 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <string>
 
 #include "engine/raw_mesh.h"
@@ -22,14 +23,18 @@ struct RemoteOutcome {
   grpc::Status status;
   v1::Result result;
   std::string job_id;
-  RawMesh output;              // when keep_output
-  int retry_pushback_ms = -1;  // from trailing metadata, when the server sent one
+  RawMesh output;  // when keep_output
+  // grpc-retry-pushback-ms from the trailers when the server sent one; -1 when it was negative
+  // or unparseable (the server asks not to retry).
+  std::optional<int> retry_pushback_ms;
   int progress_messages = 0;
   int chunks_received = 0;
 };
 
 // Sets vertex/face counts in the spec from the mesh, sends it and the chunks, reads to the end.
-// The status is the call's, or INTERNAL/DATA_LOSS when the response stream was malformed.
+// The status is the call's, or INTERNAL/DATA_LOSS when the response stream was malformed or
+// incomplete (without keep_output the chunks are not assembled, but their vertex and face counts
+// must still add up to the Result's).
 RemoteOutcome RemoteSimplify(v1::Simplifier::Stub& stub, grpc::ClientContext& ctx, v1::JobSpec spec,
                              const RawMesh& mesh, const RemoteCallbacks& callbacks = {},
                              bool keep_output = true);

@@ -12,6 +12,7 @@
 #include "client/exit_codes.h"
 #include "client/remote_call.h"
 #include "client/report.h"
+#include "client/retry.h"
 #include "client/run_input.h"
 #include "engine/io/mesh_io.h"
 #include "proto/wire.h"
@@ -64,18 +65,22 @@ int RunRemote(const SimplifyArgs& args) {
   spec.set_client_label(args.label.empty() ? args.input : args.label);
 
   auto stub = v1::Simplifier::NewStub(MakeChannel(args.server));
-  grpc::ClientContext ctx;
+  RetryOptions retry;
+  retry.policy.max_attempts = args.max_attempts;
   if (args.deadline_seconds > 0)
-    ctx.set_deadline(std::chrono::system_clock::now() +
-                     std::chrono::microseconds(static_cast<int64_t>(args.deadline_seconds * 1e6)));
+    retry.deadline = std::chrono::system_clock::now() +
+                     std::chrono::microseconds(static_cast<int64_t>(args.deadline_seconds * 1e6));
 
-  // Ctrl-C cancels the call; the server stops the job within a pass.
+  // Ctrl-C cancels the job (the running attempt or the wait for the next); the server stops it
+  // within a pass.
+  JobCanceller job_canceller;
+  retry.canceller = &job_canceller;
   std::signal(SIGINT, OnSigint);
   std::atomic<bool> call_done{false};
   std::thread canceller([&] {
     while (!call_done.load()) {
       if (g_interrupted.load()) {
-        ctx.TryCancel();
+        job_canceller.Cancel();
         break;
       }
       std::this_thread::sleep_for(std::chrono::milliseconds(50));
@@ -116,8 +121,21 @@ int RunRemote(const SimplifyArgs& args) {
     }
     report.passes.push_back(std::move(p));
   };
+  // A failed attempt's passes are not this job's: the next attempt starts from the input again.
+  retry.on_retry = [&](int attempt, const RemoteOutcome& failed, std::chrono::milliseconds wait) {
+    if (bar_drawn) std::printf("\n");
+    bar_drawn = false;
+    std::fflush(stdout);
+    std::fprintf(stderr, "femsimp: attempt %d of %d failed (%s: %s); retrying in %.1f s\n", attempt,
+                 args.max_attempts, GrpcCodeName(failed.status.error_code()),
+                 failed.status.error_message().c_str(), static_cast<double>(wait.count()) / 1e3);
+    report.passes.clear();
+  };
+  retry.callbacks = cb;
+  RetryCounters counters;
   auto t_rpc = std::chrono::steady_clock::now();
-  RemoteOutcome out = RemoteSimplify(*stub, ctx, std::move(spec), *raw, cb);
+  RemoteOutcome out = SimplifyWithRetry(*stub, spec, *raw, retry, &counters);
+  report.attempts = counters.attempts;
   report.transfer_seconds = SecondsSince(t_rpc);
   call_done.store(true);
   canceller.join();
@@ -129,9 +147,9 @@ int RunRemote(const SimplifyArgs& args) {
     grpc::StatusCode code = out.status.error_code();
     std::fprintf(stderr, "femsimp: %s: %s (%s: %s)\n", args.server.c_str(), GrpcCodeHint(code),
                  GrpcCodeName(code), out.status.error_message().c_str());
-    if (out.retry_pushback_ms >= 0)
+    if (out.retry_pushback_ms && *out.retry_pushback_ms >= 0)
       std::fprintf(stderr, "femsimp: the server suggests retrying after %d ms\n",
-                   out.retry_pushback_ms);
+                   *out.retry_pushback_ms);
     return kExitGrpcBase + static_cast<int>(code);
   }
   const v1::Result& r = out.result;

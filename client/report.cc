@@ -192,8 +192,10 @@ std::string Summary(const RunReport& r) {
                                       "%.2f), write %.3f s\n",
                                       r.load_seconds, r.engine_seconds, speedup, r.write_seconds));
   if (!r.server.empty())
-    absl::StrAppend(&s, absl::StrFormat("server:   %s, job %s, queued %.3f s, rpc %.3f s\n",
-                                        r.server, r.job_id, r.queue_seconds, r.transfer_seconds));
+    absl::StrAppend(&s,
+                    absl::StrFormat("server:   %s, job %s, queued %.3f s, rpc %.3f s%s\n", r.server,
+                                    r.job_id, r.queue_seconds, r.transfer_seconds,
+                                    r.attempts > 1 ? absl::StrCat(", attempts ", r.attempts) : ""));
   absl::StrAppend(&s, "output:   ", r.output_path, "\n");
   return s;
 }
@@ -215,7 +217,8 @@ std::string ReportJson(const RunReport& r) {
     absl::StrAppend(&s, ",\n  \"remote\": {\"server\": ", JsonString(r.server),
                     ", \"job_id\": ", JsonString(r.job_id),
                     ", \"queue_seconds\": ", JsonNumber(r.queue_seconds),
-                    ", \"rpc_seconds\": ", JsonNumber(r.transfer_seconds), "}");
+                    ", \"rpc_seconds\": ", JsonNumber(r.transfer_seconds),
+                    ", \"attempts\": ", r.attempts, "}");
   absl::StrAppend(&s, ",\n  \"passes\": [");
   for (size_t i = 0; i < r.passes.size(); ++i)
     absl::StrAppend(&s, i ? ",\n    " : "\n    ", PassJson(r.passes[i]));

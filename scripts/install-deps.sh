@@ -8,15 +8,30 @@ packages=(
   libmeshoptimizer-dev libcgal-dev libgmp-dev libmpfr-dev libeigen3-dev
   python3-grpcio grpc-proto curl tetgen gnuplot-nox nginx-light
 )
-missing=()
-for p in "${packages[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
-if ((${#missing[@]})); then
-  echo "installing: ${missing[*]}"
+# The deployment checks (tests/deploy) only read and render configs: no daemons, so without
+# the packages these recommend (docker.io, prometheus-node-exporter). Debian's kubectl
+# (kubernetes-client) conflicts with other kubectl packages, so only when there is none.
+deploy_packages=(python3-kubernetes python3-yaml prometheus docker-compose)
+command -v kubectl >/dev/null || deploy_packages+=(kubernetes-client)
+
+missing_of() {
+  for p in "$@"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || echo "$p"
+  done
+}
+mapfile -t missing < <(missing_of "${packages[@]}")
+mapfile -t missing_deploy < <(missing_of "${deploy_packages[@]}")
+if ((${#missing[@]} + ${#missing_deploy[@]})); then
+  echo "installing: ${missing[*]} ${missing_deploy[*]}"
   sudo_cmd=""
   [ "$(id -u)" -eq 0 ] || sudo_cmd="sudo"
   export DEBIAN_FRONTEND=noninteractive
   $sudo_cmd apt-get update -qq
-  $sudo_cmd apt-get install -y -qq -o DPkg::Lock::Timeout=600 "${missing[@]}"
+  if ((${#missing[@]})); then
+    $sudo_cmd apt-get install -y -qq -o DPkg::Lock::Timeout=600 "${missing[@]}"
+  fi
+  if ((${#missing_deploy[@]})); then
+    $sudo_cmd apt-get install -y -qq -o DPkg::Lock::Timeout=600 --no-install-recommends \
+      "${missing_deploy[@]}"
+  fi
 fi

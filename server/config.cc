@@ -15,6 +15,7 @@ std::string NormalizeConfig(ServerConfig* c) {
   if (c->max_request_bytes < (64u << 10))
     return absl::StrCat("--max_request_bytes = ", c->max_request_bytes, " must be >= 65536");
   if (c->grace_period_seconds < 0) return "--grace_period_seconds must be >= 0";
+  if (c->max_connection_age_seconds < 0) return "--max_connection_age_seconds must be >= 0";
   int cores = std::max(1u, std::thread::hardware_concurrency());
   if (c->threads_per_job < 0)
     return absl::StrCat("--threads_per_job = ", c->threads_per_job, " must be >= 0");

@@ -16,6 +16,9 @@ struct ServerConfig {
   uint64_t max_faces = 40'000'000;
   uint64_t max_request_bytes = 8 << 20;  // per received message
   double grace_period_seconds = 30.0;
+  // 0: off. Otherwise connections are closed (GOAWAY, running calls finish) after this long, so
+  // that clients balancing over a headless Service re-resolve and find new replicas.
+  double max_connection_age_seconds = 0.0;
   int retry_pushback_ms = 1000;     // suggested to clients when the queue is full
   size_t finished_jobs_kept = 256;  // for GetJob/ListJobs
 };

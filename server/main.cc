@@ -24,6 +24,9 @@ ABSL_FLAG(uint64_t, max_faces, 40'000'000, "largest accepted mesh, in faces");
 ABSL_FLAG(uint64_t, max_request_bytes, 8 << 20, "largest accepted request message, in bytes");
 ABSL_FLAG(double, grace_period_seconds, 30.0,
           "on SIGTERM/SIGINT, time running jobs get to finish before they are cancelled");
+ABSL_FLAG(double, max_connection_age_seconds, 0.0,
+          "close client connections after this long (running calls finish first), so clients "
+          "balancing over DNS re-resolve and find new replicas (0: never)");
 
 int main(int argc, char** argv) {
   absl::SetProgramUsageMessage(
@@ -41,6 +44,7 @@ int main(int argc, char** argv) {
   config.max_faces = absl::GetFlag(FLAGS_max_faces);
   config.max_request_bytes = absl::GetFlag(FLAGS_max_request_bytes);
   config.grace_period_seconds = absl::GetFlag(FLAGS_grace_period_seconds);
+  config.max_connection_age_seconds = absl::GetFlag(FLAGS_max_connection_age_seconds);
   if (std::string err = femsimp::server::NormalizeConfig(&config); !err.empty()) {
     std::fprintf(stderr, "femsimp-server: %s\n", err.c_str());
     return 2;

@@ -39,6 +39,10 @@ absl::Status FemsimpServer::Start() {
   builder.SetMaxReceiveMessageSize(static_cast<int>(
       std::min<uint64_t>(config_.max_request_bytes, std::numeric_limits<int>::max())));
   builder.RegisterService(service_.get());
+  if (config_.max_connection_age_seconds > 0)
+    builder.AddChannelArgument(
+        GRPC_ARG_MAX_CONNECTION_AGE_MS,
+        static_cast<int>(std::min(config_.max_connection_age_seconds * 1e3, 2e9)));
   server_ = builder.BuildAndStart();
   if (!server_ || port_ == 0) {
     workers_.reset();

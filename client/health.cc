@@ -1,0 +1,113 @@
+#include "client/health.h"
+
+#include <chrono>
+#include <cstdio>
+
+#include "absl/strings/str_cat.h"
+#include "client/args.h"
+#include "client/exit_codes.h"
+#include "client/remote_call.h"
+#include "grpc/health/v1/health.grpc.pb.h"
+
+namespace femsimp::cli {
+
+std::string HealthUsage() {
+  return R"(Usage: femsimp health --server HOST:PORT [--service NAME] [--timeout SECONDS]
+
+Asks the server's gRPC health service (grpc.health.v1.Health/Check) whether it is serving and
+prints the answer. femsimp-server answers SERVING while it accepts jobs and NOT_SERVING from
+SIGTERM on (while it drains). The container image uses this as its HEALTHCHECK.
+
+  --server HOST:PORT   the server (or a load balancer in front of replicas)
+  --service NAME       a single service, e.g. femsimp.v1.Simplifier (default: the whole server)
+  --timeout SECONDS    give up after SECONDS, > 0 (default 5)
+
+Exit codes: 0 SERVING, 2 usage error, 8 the server answered but is not SERVING,
+20+N the call failed with gRPC status N (24 DEADLINE_EXCEEDED, 25 NOT_FOUND: unknown service,
+34 UNAVAILABLE: not reachable).
+)";
+}
+
+absl::StatusOr<HealthArgs> ParseHealthArgs(const std::vector<std::string>& args) {
+  HealthArgs h;
+  for (size_t i = 0; i < args.size(); ++i) {
+    std::string name = args[i], value;
+    if (name == "--help" || name == "-h") {
+      h.help = true;
+      return h;
+    }
+    if (size_t eq = name.find('='); eq != std::string::npos) {
+      value = name.substr(eq + 1);
+      name = name.substr(0, eq);
+    } else if (name == "--server" || name == "--service" || name == "--timeout") {
+      if (i + 1 >= args.size())
+        return absl::InvalidArgumentError(absl::StrCat(name, " needs a value"));
+      value = args[++i];
+    } else {
+      return absl::InvalidArgumentError(
+          absl::StrCat("unknown argument '", name, "' (see femsimp health --help)"));
+    }
+    if (name == "--server") {
+      if (value.find(':') == std::string::npos)
+        return absl::InvalidArgumentError(
+            absl::StrCat("--server: '", value, "' is not of the form HOST:PORT"));
+      h.server = value;
+    } else if (name == "--service") {
+      h.service = value;
+    } else if (name == "--timeout") {
+      absl::StatusOr<double> t = ParseDouble(name, value);
+      if (!t.ok()) return t.status();
+      if (*t <= 0)
+        return absl::InvalidArgumentError(
+            absl::StrCat("--timeout = ", value, " is out of range: must be > 0 seconds"));
+      h.timeout_seconds = *t;
+    } else {
+      return absl::InvalidArgumentError(
+          absl::StrCat("unknown option '", name, "' (see femsimp health --help)"));
+    }
+  }
+  if (h.server.empty()) return absl::InvalidArgumentError("health needs --server HOST:PORT");
+  return h;
+}
+
+HealthOutcome CheckHealth(const HealthArgs& args) {
+  auto stub = grpc::health::v1::Health::NewStub(MakeChannel(args.server));
+  grpc::ClientContext ctx;
+  ctx.set_deadline(std::chrono::system_clock::now() +
+                   std::chrono::microseconds(static_cast<int64_t>(args.timeout_seconds * 1e6)));
+  grpc::health::v1::HealthCheckRequest req;
+  req.set_service(args.service);
+  grpc::health::v1::HealthCheckResponse resp;
+  HealthOutcome out;
+  out.status = stub->Check(&ctx, req, &resp);
+  if (out.status.ok())
+    out.serving_status = grpc::health::v1::HealthCheckResponse::ServingStatus_Name(resp.status());
+  return out;
+}
+
+int RunHealth(const std::vector<std::string>& args) {
+  absl::StatusOr<HealthArgs> h = ParseHealthArgs(args);
+  if (!h.ok()) {
+    std::fprintf(stderr, "femsimp: %s\n", std::string(h.status().message()).c_str());
+    return kExitUsage;
+  }
+  if (h->help) {
+    std::fputs(HealthUsage().c_str(), stdout);
+    return kExitOk;
+  }
+  HealthOutcome out = CheckHealth(*h);
+  const std::string what =
+      h->service.empty() ? h->server : absl::StrCat(h->server, " ", h->service);
+  if (!out.status.ok()) {
+    grpc::StatusCode code = out.status.error_code();
+    std::fprintf(stderr, "femsimp: health of %s: %s (%s: %s)\n", what.c_str(),
+                 code == grpc::StatusCode::NOT_FOUND ? "the server knows no such service"
+                                                     : GrpcCodeHint(code),
+                 GrpcCodeName(code), out.status.error_message().c_str());
+    return kExitGrpcBase + static_cast<int>(code);
+  }
+  std::printf("%s: %s\n", what.c_str(), out.serving_status.c_str());
+  return out.serving() ? kExitOk : kExitNotServing;
+}
+
+}  // namespace femsimp::cli
