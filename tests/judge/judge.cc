@@ -372,10 +372,12 @@ FeatureEdges ExtractFeatureEdges(const RawMesh& m, double angle_deg) {
 }
 
 FeatureCoverage CheckFeatureCoverage(const RawMesh& original, const RawMesh& simplified,
-                                     double angle_deg, double spacing) {
+                                     double angle_deg, double spacing,
+                                     double simplified_angle_deg) {
   FeatureCoverage c;
   const FeatureEdges from = ExtractFeatureEdges(original, angle_deg);
-  const FeatureEdges to = ExtractFeatureEdges(simplified, angle_deg);
+  const FeatureEdges to = ExtractFeatureEdges(
+      simplified, simplified_angle_deg < 0.0 ? angle_deg : simplified_angle_deg);
   c.original_edges = from.segments.size();
   c.simplified_edges = to.segments.size();
   c.error = spacing / 2.0;

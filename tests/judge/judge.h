@@ -143,8 +143,12 @@ struct FeatureCoverage {
   double reverse_max_distance = 0.0;
   double error = 0.0;
 };
+// The simplified mesh's feature edges are detected at simplified_angle_deg (negative: the same
+// angle): a soft crease just above the angle may come out of the simplification, still in
+// place, a little softer.
 FeatureCoverage CheckFeatureCoverage(const RawMesh& original, const RawMesh& simplified,
-                                     double angle_deg, double spacing);
+                                     double angle_deg, double spacing,
+                                     double simplified_angle_deg = -1.0);
 
 // ---- face groups -------------------------------------------------------------------------------
 
