@@ -29,8 +29,8 @@ using namespace femsimp::cli;
 
 constexpr char kUsage[] =
     R"(Usage: femsimp-load --server HOST:PORT --clients C (--jobs N | --duration S)
-                    [--ratio R] [--threads N] [--deadline S] [--max-attempts A] [--verify]
-                    [--jobs-report FILE] [--json] MESH...
+                    [--ratio R] [--threads N] [--deadline S] [--rate J] [--max-attempts A]
+                    [--verify] [--jobs-report FILE] [--json] MESH...
 
 Runs C concurrent clients, each sending one Simplify job after the other (meshes taken in turn),
 until N jobs were sent in all (--jobs) or S seconds passed (--duration). Prints jobs/s, latency
@@ -46,6 +46,9 @@ arrived and add up.
   --clients C          concurrent clients (each its own channel), in [1, 1024]
   --jobs N             total jobs, in [1, 10000000]
   --duration S         seconds to keep sending (jobs in flight at the end are awaited)
+  --rate J             start at most J jobs per second in all (job i not before i / J s), so a
+                       run lasts as long on any machine that keeps up (default: as fast as the
+                       clients go)
   --ratio R            target ratio of every job (default 0.5)
   --threads N          engine threads per job (default: the server's)
   --deadline S         per-job deadline in seconds, all attempts together (default: none)
@@ -66,6 +69,7 @@ struct Config {
   int clients = 0;
   long long jobs = 0;
   double duration = 0;
+  double rate = 0;  // jobs started per second at most; 0: no limit
   double ratio = 0.5;
   int threads = 0;
   double deadline = 0;
@@ -112,7 +116,7 @@ absl::StatusOr<Config> Parse(const std::vector<std::string>& args) {
       absl::StatusOr<long long> v = ParseInt(a, value, 1, 10'000'000);
       if (!v.ok()) return v.status();
       c.jobs = *v;
-    } else if (a == "--duration" || a == "--ratio" || a == "--deadline") {
+    } else if (a == "--duration" || a == "--ratio" || a == "--deadline" || a == "--rate") {
       absl::StatusOr<double> v = ParseDouble(a, value);
       if (!v.ok()) return v.status();
       if (a == "--ratio") {
@@ -121,7 +125,7 @@ absl::StatusOr<Config> Parse(const std::vector<std::string>& args) {
         c.ratio = *v;
       } else {
         if (*v <= 0) return absl::InvalidArgumentError(absl::StrCat(a, " must be > 0"));
-        (a == "--duration" ? c.duration : c.deadline) = *v;
+        (a == "--duration" ? c.duration : a == "--rate" ? c.rate : c.deadline) = *v;
       }
     } else if (a == "--threads") {
       absl::StatusOr<long long> v = ParseInt(a, value, 1, 1024);
@@ -219,24 +223,26 @@ int main(int argc, char** argv) {
   const auto start = std::chrono::steady_clock::now();
   const auto stop_at = start + std::chrono::duration<double>(cfg->duration);
   auto more = [&](long long* index) {
-    if (cfg->jobs > 0) {
-      *index = next.fetch_add(1);
-      return *index < cfg->jobs;
-    }
     *index = next.fetch_add(1);
-    return std::chrono::steady_clock::now() < stop_at;
+    if (cfg->jobs > 0 && *index >= cfg->jobs) return false;
+    if (cfg->rate > 0)
+      std::this_thread::sleep_until(start + std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                                std::chrono::duration<double>(*index / cfg->rate)));
+    return cfg->jobs > 0 || std::chrono::steady_clock::now() < stop_at;
   };
   std::vector<std::thread> clients;
   for (int c = 0; c < cfg->clients; ++c) {
     clients.emplace_back([&, c] {
       // One channel (connection) per client, like separate client processes.
-      auto stub = v1::Simplifier::NewStub(MakeChannel(cfg->server, c));
+      std::shared_ptr<grpc::Channel> channel = MakeChannel(cfg->server, c);
+      auto stub = v1::Simplifier::NewStub(channel);
       long long index;
       while (more(&index)) {
         JobRecord rec;
         rec.index = index;
         rec.mesh = static_cast<size_t>(index) % meshes.size();
         RetryOptions retry;
+        retry.channel = channel;
         retry.policy.max_attempts = cfg->max_attempts;
         retry.keep_output = cfg->verify;
         if (cfg->deadline > 0)

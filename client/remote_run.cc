@@ -64,8 +64,9 @@ int RunRemote(const SimplifyArgs& args) {
   wire::ToProto(args.options, args.threads_given, spec.mutable_options());
   spec.set_client_label(args.label.empty() ? args.input : args.label);
 
-  auto stub = v1::Simplifier::NewStub(MakeChannel(args.server));
   RetryOptions retry;
+  retry.channel = MakeChannel(args.server);
+  auto stub = v1::Simplifier::NewStub(retry.channel);
   retry.policy.max_attempts = args.max_attempts;
   if (args.deadline_seconds > 0)
     retry.deadline = std::chrono::system_clock::now() +

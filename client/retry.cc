@@ -117,6 +117,19 @@ RemoteOutcome SimplifyWithRetry(v1::Simplifier::Stub& stub, const v1::JobSpec& s
     } else {
       std::this_thread::sleep_for(delay);
     }
+    // A call fails at once while its channel is down, and gRPC only reconnects an idle channel
+    // when asked: ask now (dropping its own backoff), and give the connection up to one more
+    // backoff to come up, so the next attempt finds a replica that is back.
+    if (options.channel && code == grpc::StatusCode::UNAVAILABLE &&
+        options.channel->GetState(true) != GRPC_CHANNEL_READY) {
+      grpc::experimental::ChannelResetConnectionBackoff(options.channel.get());
+      auto until = std::chrono::system_clock::now() + delay;
+      if (options.deadline) until = std::min(until, *options.deadline);
+      auto t0 = std::chrono::steady_clock::now();
+      options.channel->WaitForConnected(until);
+      c.waited_seconds +=
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    }
   }
 }
 

@@ -63,6 +63,11 @@ struct RetryOptions {
   RemoteCallbacks callbacks;  // passed to every attempt
   bool keep_output = true;
   JobCanceller* canceller = nullptr;
+  // The stub's channel. When given, after an UNAVAILABLE attempt and its wait, a channel that
+  // is not connected is asked to reconnect at once and given up to one more wait to do so:
+  // otherwise the next attempt fails at once on the stale connection state (here a restarted
+  // replica went unused for over 8 s, every attempt failing).
+  std::shared_ptr<grpc::Channel> channel;
   // Before each wait: the attempt that failed (from 1), its outcome, the wait.
   std::function<void(int, const RemoteOutcome&, std::chrono::milliseconds)> on_retry;
 };

@@ -1,27 +1,33 @@
 #!/usr/bin/env bash
 # Scale-out test, no container engine needed: REPLICAS femsimp-server processes on loopback ports,
 # nginx (grpc_pass, deploy/nginx/grpc-proxy.conf) in front of them, and femsimp-load sending JOBS
-# fandisk and femur jobs (alternating) through nginx. When half of the jobs are done one replica
-# is killed with SIGKILL; at RESTART_AT of the jobs it is started again. Passes when every job
+# fandisk and femur jobs (alternating) through nginx at RATE jobs/s, so that the run lasts about
+# as long on a fast machine as here. When half of the jobs are done, `femsimp simplify` sends a
+# long job (blade, subdivided twice) straight to one replica, which is then killed with SIGKILL
+# while running it, and RESTART_AFTER seconds later started again. Passes when every job
 # completed with a verified output (femsimp-load --verify), none was lost or reported twice, and
-# the restarted replica took jobs again. Prints the load spread over the replicas from /metrics.
+# the restarted replica took jobs again; the long job must succeed on the restarted replica after
+# retries, and every call nginx saw cut must have been retried. Prints the load spread over the
+# replicas from /metrics.
 #
 #   deploy/test-scaleout.sh [--bench]
 #
-# --bench first measures throughput without a kill: one replica behind nginx, then all REPLICAS.
-# Environment: FEMSIMP_BUILD (default build), JOBS (600), CLIENTS (6), REPLICAS (3),
-# REPLICA_FLAGS (per-replica server flags), RESTART_AT (0.6), LOAD_TIMEOUT (300 s).
+# --bench first measures throughput without a kill: one replica behind nginx, then all REPLICAS,
+# with the CPU each part used per job and how busy the machine was (needs GNU time).
+# Environment: FEMSIMP_BUILD (default build), JOBS (900), RATE (100), CLIENTS (6), REPLICAS (3),
+# REPLICA_FLAGS (per-replica server flags), RESTART_AFTER (0.5 s), LOAD_TIMEOUT (300 s).
 # Exit codes: 0 passed, 1 failed, 77 skipped (no nginx). Everything started is stopped by PID,
 # also on failure or interruption.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 build=${FEMSIMP_BUILD:-build}
-jobs=${JOBS:-600}
+jobs=${JOBS:-900}
+rate=${RATE:-100}
 clients=${CLIENTS:-6}
 replicas=${REPLICAS:-3}
 replica_flags=${REPLICA_FLAGS:---workers=1 --threads_per_job=1 --queue_capacity=16}
-restart_at=${RESTART_AT:-0.6}
+restart_after=${RESTART_AFTER:-0.5}
 load_timeout=${LOAD_TIMEOUT:-300}
 bench=0
 [ "${1:-}" = "--bench" ] && bench=1
@@ -60,10 +66,11 @@ stop_pid() {  # stop_pid PID: SIGTERM, up to 15 s for a graceful exit, then SIGK
 cleanup() {
   local rc=$?
   stop_pid "$load_pid"
+  stop_pid "${big_pid:-}"
   stop_pid "$nginx_pid"
   for pid in "${replica_pid[@]}"; do stop_pid "$pid"; done
   if [ "$rc" -ne 0 ] && [ "$rc" -ne 77 ]; then
-    for f in "$work"/*.log "$work"/load.out; do
+    for f in "$work"/*.log; do
       [ -f "$f" ] && { echo "--- $f (last 15 lines)"; tail -n 15 "$f"; }
     done
   fi
@@ -162,10 +169,6 @@ jobs_seen() {  # jobs_seen I: jobs the replica finished, any status
     awk '$1 ~ /^femsimp_jobs_total\{/ { s += $2 } END { print s + 0 }'
 }
 
-json_field() {  # json_field FILE KEY
-  /usr/bin/python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))[sys.argv[2]])' "$1" "$2"
-}
-
 run_load() {  # run_load OUT.json [extra femsimp-load flags]: in the background, pid in load_pid
   local out=$1
   shift
@@ -177,32 +180,57 @@ run_load() {  # run_load OUT.json [extra femsimp-load flags]: in the background,
 
 ok_metric='femsimp_jobs_total{status="OK"}'
 
+# CPU seconds (user + system, all threads) of processes still running.
+cpu_of() {
+  local hz
+  hz=$(getconf CLK_TCK)
+  for p in "$@"; do awk '{ print $14 + $15 }' "/proc/$p/stat" 2>/dev/null || true; done |
+    awk -v hz="$hz" '{ s += $1 } END { printf "%.2f", s / hz }'
+}
+machine_ticks() { awk '/^cpu / { print $2 + $3 + $4 + $7 + $8, $5 + $6 }' /proc/stat; }
+
+bench_run() {  # bench_run N: nginx over the first N replicas (running), one load; one line
+  local n=$1 busy0 idle0 busy1 idle1 servers0 nginx0 pids=()
+  start_nginx "$n"
+  for ((i = 0; i < n; i++)); do pids+=("${replica_pid[i]}"); done
+  read -r busy0 idle0 < <(machine_ticks)
+  servers0=$(cpu_of "${pids[@]}")
+  # shellcheck disable=SC2046  # one PID a word
+  nginx0=$(cpu_of "$nginx_pid" $(pgrep -P "$nginx_pid"))
+  local time_file=$work/bench$n.time
+  timeout --signal=KILL "$load_timeout" /usr/bin/time -f "%U %S" -o "$time_file" "$load_bin" \
+    --server "127.0.0.1:$lb_port" --clients "$clients" --jobs "$jobs" --ratio 0.5 --json \
+    "${meshes[@]}" >"$work/bench$n.json" 2>>"$work/load.log" || fail "bench with $n replicas"
+  read -r busy1 idle1 < <(machine_ticks)
+  local servers nginx_cpu
+  servers=$(awk -v a="$servers0" -v b="$(cpu_of "${pids[@]}")" 'BEGIN { printf "%.2f", b - a }')
+  # shellcheck disable=SC2046
+  nginx_cpu=$(awk -v a="$nginx0" -v b="$(cpu_of "$nginx_pid" $(pgrep -P "$nginx_pid"))" \
+    'BEGIN { printf "%.2f", b - a }')
+  stop_pid "$nginx_pid"
+  nginx_pid=""
+  /usr/bin/python3 - "$work/bench$n.json" "$time_file" "$n" "$servers" "$nginx_cpu" \
+    "$((busy1 - busy0))" "$((idle1 - idle0))" <<'EOF'
+import json, sys
+r = json.load(open(sys.argv[1]))
+client = sum(float(x) for x in open(sys.argv[2]).read().split()[-2:])
+n, servers, nginx = sys.argv[3], float(sys.argv[4]), float(sys.argv[5])
+busy, idle = int(sys.argv[6]), int(sys.argv[7])
+jobs = r["succeeded"]
+print(f"{n} replica(s): {r['jobs_per_second']:.1f} jobs/s ({jobs} jobs, {r['wall_seconds']:.2f} s, "
+      f"p50 {r['latency_seconds']['p50'] * 1e3:.0f} ms); CPU per job: servers "
+      f"{servers / jobs * 1e3:.2f} ms, nginx {nginx / jobs * 1e3:.2f} ms, client "
+      f"{client / jobs * 1e3:.2f} ms; machine busy {100 * busy / max(1, busy + idle):.0f} %")
+EOF
+}
+
 if ((bench)); then
   echo "== bench: $jobs jobs, $clients clients, replica flags: $replica_flags, $(nproc) cores"
-  start_replica 0
-  start_nginx 1
-  run_load "$work/bench1.json"
-  wait "$load_pid" || fail "bench with 1 replica: femsimp-load failed"
-  load_pid=""
-  one=$(json_field "$work/bench1.json" jobs_per_second)
-  stop_pid "$nginx_pid"
-  nginx_pid=""
-  for ((i = 1; i < replicas; i++)); do start_replica "$i"; done
-  start_nginx "$replicas"
-  run_load "$work/bench$replicas.json"
-  wait "$load_pid" || fail "bench with $replicas replicas: femsimp-load failed"
-  load_pid=""
-  many=$(json_field "$work/bench$replicas.json" jobs_per_second)
-  /usr/bin/python3 - "$one" "$many" "$replicas" <<'EOF'
-import sys
-one, many, n = float(sys.argv[1]), float(sys.argv[2]), sys.argv[3]
-print(f"throughput through nginx: 1 replica {one:.1f} jobs/s, {n} replicas {many:.1f} jobs/s, "
-      f"ratio {many / one:.2f}")
-EOF
+  for ((i = 0; i < replicas; i++)); do start_replica "$i"; done
+  bench_run 1
+  bench_run "$replicas"
   for ((i = 0; i < replicas; i++)); do stop_pid "${replica_pid[i]}"; done
-  stop_pid "$nginx_pid"
   replica_pid=()
-  nginx_pid=""
   # The kill test below starts everything afresh (new logs, counters from zero).
   rm -f "$work"/replica-*.log "$work/nginx.log"
 fi
@@ -213,7 +241,15 @@ for ((i = 0; i < replicas; i++)); do start_replica "$i"; done
 start_nginx "$replicas"
 
 victim=$((replicas > 1 ? 1 : 0))
-run_load "$work/load.json" --verify --max-attempts 8 --jobs-report "$work/jobs.tsv"
+big_pid=""
+big_mesh=""
+if [ -x "$build/bench/make_meshes" ]; then
+  # blade.off Loop-subdivided twice: 130,256 vertices, 259,552 faces.
+  "$build/bench/make_meshes" tests/data/blade.off "$work/blade" 2 >/dev/null && big_mesh=$work/blade2.ply
+fi
+# Paced: the restarted replica must have time to rejoin (nginx retries it after 1 s) however
+# fast the machine.
+run_load "$work/load.json" --rate "$rate" --verify --max-attempts 8 --jobs-report "$work/jobs.tsv"
 t0=$SECONDS
 killed=0
 restarted=0
@@ -226,23 +262,48 @@ while kill -0 "$load_pid" 2>/dev/null; do
     fi
   done
   if ((killed == 0 && 2 * done_jobs >= jobs)); then
+    # Half done: a long job straight to the victim (femsimp, as a client balancing by itself
+    # would), so that the kill surely cuts a running job; nginx's jobs queue up behind it.
+    if [ -n "$big_mesh" ]; then
+      "$client_bin" simplify "$big_mesh" "$work/big-out.ply" --server "127.0.0.1:${grpc_port[victim]}" \
+        --ratio 0.2 --max-attempts 8 --deadline 240 --quiet --stats-json "$work/big.json" \
+        >"$work/big.log" 2>&1 &
+      big_pid=$!
+      for _ in $(seq 1 100); do
+        (($(metric "$victim" femsimp_running_jobs) > 0)) && break
+        sleep 0.05
+      done
+    fi
     victim_before=$(metric "$victim" "$ok_metric")
     kill -KILL "${replica_pid[victim]}"
     wait "${replica_pid[victim]}" 2>/dev/null || true
     killed=1
     echo "killed replica $victim (SIGKILL, pid ${replica_pid[victim]}) at $done_jobs jobs done," \
       "$((SECONDS - t0)) s in; it had finished $victim_before jobs"
-  elif ((killed == 1 && restarted == 0)) &&
-    awk -v d="$done_jobs" -v j="$jobs" -v r="$restart_at" 'BEGIN { exit !(d >= r * j) }'; then
+    sleep "$restart_after"
     start_replica "$victim"
     restarted=1
-    echo "restarted replica $victim (pid ${replica_pid[victim]}) at $done_jobs jobs done"
+    echo "restarted replica $victim (pid ${replica_pid[victim]}) $restart_after s later"
   fi
   sleep 0.1
 done
 load_rc=0
 wait "$load_pid" || load_rc=$?
 load_pid=""
+if [ -n "$big_pid" ]; then
+  big_rc=0
+  wait "$big_pid" || big_rc=$?
+  big_pid=""
+  big_attempts=$(/usr/bin/python3 -c \
+    'import json,sys; print(json.load(open(sys.argv[1]))["remote"]["attempts"])' "$work/big.json" \
+    2>/dev/null || echo 0)
+  echo "the long job sent straight to the killed replica: exit $big_rc after $big_attempts" \
+    "attempts (femsimp retried until the replica was back)"
+  grep 'femsimp: attempt' "$work/big.log" || true
+  ((big_rc == 0)) || fail "the long job on the killed replica failed (exit $big_rc)"
+  ((big_attempts >= 2)) || fail "the long job was not cut by the kill (attempts $big_attempts)"
+  [ -s "$work/big-out.ply" ] || fail "the long job wrote no output"
+fi
 
 # What the client reports, and its per-job lines: every index once, every job OK.
 cat "$work/load.json"
@@ -270,6 +331,14 @@ for p in problems:
     print("test-scaleout: FAILED:", p, file=sys.stderr)
 sys.exit(1 if problems else 0)
 EOF
+
+# Calls the kill cut (nginx had started relaying them) must each have been retried.
+cut=$(grep -cE 'upstream prematurely closed|Connection reset by peer\) while reading' \
+  "$work/nginx.log" || true)
+retries=$(/usr/bin/python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["retries"])' \
+  "$work/load.json")
+echo "calls cut by the kill (nginx's log): $cut; client retries: $retries"
+((retries >= cut)) || fail "$cut calls were cut but only $retries retried"
 
 # The spread over the replicas, from their own /metrics (the killed one: before + after restart).
 echo "load spread (femsimp_jobs_total{status=\"OK\"} per replica):"

@@ -2,9 +2,16 @@
 // policy, whole jobs retried against real in-process servers that are full, late or gone; calls
 // balanced over several addresses; the `femsimp health` probe; the output check of
 // femsimp-load --verify.
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+
+#include <atomic>
 #include <chrono>
 #include <optional>
+#include <string>
 #include <thread>
+#include <vector>
 
 #include "absl/strings/str_cat.h"
 #include "client/health.h"
@@ -12,6 +19,8 @@
 #include "client/retry.h"
 #include "gtest/gtest.h"
 #include "tests/service/test_util.h"
+
+extern char** environ;
 
 namespace femsimp {
 namespace {
@@ -135,15 +144,16 @@ TEST(Retry, JobGetsInOnceTheQueueHasRoom) {
   EXPECT_TRUE(cli::CheckOutput(cli::TopologyOf(mesh), out.output).ok());
 }
 
-// Nothing listens yet (a replica restarting): UNAVAILABLE attempts, then the server is up and
-// the job succeeds on the same channel.
+// Nothing listens yet (a replica starting): UNAVAILABLE attempts, then the server is up and the
+// job succeeds on the same channel, soon.
 TEST(Retry, ServerThatComesUpLaterGetsTheJob) {
   const int port = testing::FreePort();
   server::ServerConfig config = testing::TestConfig();
   config.listen = absl::StrCat("127.0.0.1:", port);
-  auto stub = v1::Simplifier::NewStub(cli::MakeChannel(config.listen));
-  const RawMesh mesh = testing::LoadTestMesh("fandisk.off");
   cli::RetryOptions options;
+  options.channel = cli::MakeChannel(config.listen);
+  auto stub = v1::Simplifier::NewStub(options.channel);
+  const RawMesh mesh = testing::LoadTestMesh("fandisk.off");
   options.policy.max_attempts = 10;
   options.deadline = std::chrono::system_clock::now() + std::chrono::seconds(60);
   cli::RetryCounters counters;
@@ -151,18 +161,69 @@ TEST(Retry, ServerThatComesUpLaterGetsTheJob) {
   std::thread client(
       [&] { out = cli::SimplifyWithRetry(*stub, RatioSpec(0.5), mesh, options, &counters); });
   std::this_thread::sleep_for(milliseconds(700));
+  auto up = std::chrono::steady_clock::now();
   InProcessServer s(config);
   client.join();
   ASSERT_TRUE(out.status.ok()) << out.status.error_message();
   EXPECT_GE(counters.unavailable, 1);
   EXPECT_EQ(counters.attempts, counters.unavailable + 1);
   EXPECT_EQ(out.output.num_faces(), out.result.output_faces());
+  // Used within about one backoff once up, not after gRPC's own reconnect backoff.
+  EXPECT_LT(SecondsSince(up), 3.0);
+}
+
+pid_t SpawnServer(const std::string& address) {
+  std::vector<std::string> args = {FEMSIMP_SERVER_BIN, "--listen=" + address,
+                                   "--metrics_listen=", "--workers=1", "--threads_per_job=1"};
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  pid_t pid = -1;
+  if (posix_spawn(&pid, argv[0], nullptr, nullptr, argv.data(), environ) != 0) return -1;
+  return pid;
+}
+
+// A replica SIGKILLed while it runs the job (no GOAWAY: the channel sees a dead connection) and
+// started again on the same port: the job is retried and lands on the new process soon after
+// it is up. Without the reconnect request between attempts every attempt failed at once on the
+// stale connection state for over 8 s.
+TEST(Retry, KilledAndRestartedServerGetsTheJobSoon) {
+  const std::string address = absl::StrCat("127.0.0.1:", testing::FreePort());
+  pid_t pid = SpawnServer(address);
+  ASSERT_GT(pid, 0);
+  cli::RetryOptions options;
+  options.channel = cli::MakeChannel(address);
+  auto stub = v1::Simplifier::NewStub(options.channel);
+  options.policy.max_attempts = 10;
+  options.deadline = std::chrono::system_clock::now() + std::chrono::seconds(60);
+  cli::RetryCounters counters;
+  cli::RemoteOutcome out;
+  std::atomic<bool> running{false};
+  options.callbacks.on_accepted = [&](const v1::Accepted&) { running.store(true); };
+  std::thread client([&] {
+    out = cli::SimplifyWithRetry(*stub, RatioSpec(0.01, 1), testing::MakeTorus(600, 600), options,
+                                 &counters);
+  });
+  for (int i = 0; i < 3000 && !running.load(); ++i) std::this_thread::sleep_for(milliseconds(5));
+  std::this_thread::sleep_for(milliseconds(100));  // uploading or running
+  kill(pid, SIGKILL);
+  waitpid(pid, nullptr, 0);
+  std::this_thread::sleep_for(milliseconds(500));
+  auto up = std::chrono::steady_clock::now();
+  pid = SpawnServer(address);
+  ASSERT_GT(pid, 0);
+  client.join();
+  kill(pid, SIGTERM);
+  waitpid(pid, nullptr, 0);
+  ASSERT_TRUE(out.status.ok()) << out.status.error_message();
+  EXPECT_GE(counters.unavailable, 1);
+  EXPECT_LT(SecondsSince(up), 8.0) << counters.attempts << " attempts";
 }
 
 TEST(Retry, UnreachableServerGivesUpAfterMaxAttempts) {
-  auto stub =
-      v1::Simplifier::NewStub(cli::MakeChannel(absl::StrCat("127.0.0.1:", testing::FreePort())));
   cli::RetryOptions options;
+  options.channel = cli::MakeChannel(absl::StrCat("127.0.0.1:", testing::FreePort()));
+  auto stub = v1::Simplifier::NewStub(options.channel);
   options.policy.max_attempts = 3;
   options.policy.initial_backoff = milliseconds(50);
   cli::RetryCounters counters;
