@@ -14,15 +14,16 @@
 #
 # --bench first measures throughput without a kill: one replica behind nginx, then all REPLICAS,
 # with the CPU each part used per job and how busy the machine was (needs GNU time).
-# Environment: FEMSIMP_BUILD (default build), JOBS (900), RATE (100), CLIENTS (6), REPLICAS (3),
-# REPLICA_FLAGS (per-replica server flags), RESTART_AFTER (0.5 s), LOAD_TIMEOUT (300 s).
+# Environment: FEMSIMP_BUILD (default build), JOBS (1200), RATE (100), CLIENTS (6), REPLICAS (3),
+# REPLICA_FLAGS (per-replica server flags), RESTART_AFTER (0.5 s), LOAD_TIMEOUT (300 s),
+# MESHES (the load's meshes, default tests/data/fandisk.off tests/data/femur.off).
 # Exit codes: 0 passed, 1 failed, 77 skipped (no nginx). Everything started is stopped by PID,
 # also on failure or interruption.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 build=${FEMSIMP_BUILD:-build}
-jobs=${JOBS:-900}
+jobs=${JOBS:-1200}
 rate=${RATE:-100}
 clients=${CLIENTS:-6}
 replicas=${REPLICAS:-3}
@@ -35,7 +36,7 @@ bench=0
 server_bin=$build/server/femsimp-server
 client_bin=$build/client/femsimp
 load_bin=$build/client/femsimp-load
-meshes=(tests/data/fandisk.off tests/data/femur.off)
+read -r -a meshes <<<"${MESHES:-tests/data/fandisk.off tests/data/femur.off}"
 for b in "$server_bin" "$client_bin" "$load_bin"; do
   [ -x "$b" ] || { echo "test-scaleout: $b not built (cmake --build $build)" >&2; exit 1; }
 done
@@ -266,13 +267,16 @@ while kill -0 "$load_pid" 2>/dev/null; do
     # would), so that the kill surely cuts a running job; nginx's jobs queue up behind it.
     if [ -n "$big_mesh" ]; then
       "$client_bin" simplify "$big_mesh" "$work/big-out.ply" --server "127.0.0.1:${grpc_port[victim]}" \
-        --ratio 0.2 --max-attempts 8 --deadline 240 --quiet --stats-json "$work/big.json" \
-        >"$work/big.log" 2>&1 &
+        --ratio 0.2 --max-attempts 8 --deadline 240 --quiet --label long-job \
+        --stats-json "$work/big.json" >"$work/big.log" 2>&1 &
       big_pid=$!
-      for _ in $(seq 1 100); do
-        (($(metric "$victim" femsimp_running_jobs) > 0)) && break
+      # Until the victim's worker has started it (its log), however slow the machine is.
+      for _ in $(seq 1 1200); do
+        grep -q 'start: label="long-job"' "$work/replica-$victim.log" && break
         sleep 0.05
       done
+      grep -q 'start: label="long-job"' "$work/replica-$victim.log" ||
+        fail "the long job did not start on replica $victim within 60 s"
     fi
     victim_before=$(metric "$victim" "$ok_metric")
     kill -KILL "${replica_pid[victim]}"
