@@ -27,11 +27,11 @@
 
 #include <meshoptimizer.h>
 
-#include "bench/self_intersect.h"
 #include "engine/io/mesh_io.h"
 #include "engine/io/openmesh.h"
 #include "engine/mesh.h"
 #include "engine/simplify.h"
+#include "tests/judge/judge.h"
 
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
@@ -143,7 +143,7 @@ void CheckSelfIntersections(const RawMesh& m, double limit_s, Quality& q) {
   const pid_t pid = fork();
   if (pid == 0) {
     close(fds[0]);
-    const char r = femsimp::bench::DoesSelfIntersect(m) ? 'y' : 'n';
+    const char r = femsimp::judge::SelfIntersects(m) ? 'y' : 'n';
     if (write(fds[1], &r, 1) != 1) _exit(1);
     _exit(0);
   }

@@ -9,6 +9,7 @@
 #include "absl/strings/match.h"
 #include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
 
 namespace femsimp::cli {
@@ -20,7 +21,8 @@ constexpr char kExitCodes[] = R"(Exit codes:
   2   usage error: unknown option, missing or non-numeric value, value out of range
   3   input file missing, unreadable or not a supported mesh file
   4   input mesh invalid (non-manifold, degenerate faces, ...)
-  5   output mesh or --stats-json file could not be written
+  5   output mesh or --stats-json file could not be written, or OUT's format cannot hold the
+      input's face groups or fields (checked before the run; see --drop-face-data)
   6   the simplification failed
   7   interrupted (local mode)
   8   health: the server answered but is not SERVING
@@ -29,6 +31,28 @@ constexpr char kExitCodes[] = R"(Exit codes:
         (queue full or a server limit), 32 UNIMPLEMENTED, 33 INTERNAL, 34 UNAVAILABLE
         (server not reachable or shutting down)
 )";
+
+// The cost and fidelity options, with the engine's defaults.
+std::string FidelityUsage() {
+  const SimplifyOptions d;
+  return absl::StrFormat(
+      R"(Cost and fidelity (a bound of 0 is off; fractions also as percentages, e.g. 0.5%%):
+  --cost gaussian|quadric   what orders the candidates: discrete Gaussian curvature or the
+                            quadric error of the collapse (default %s)
+  --tolerance D             guaranteed (Hausdorff) deviation from the input in model units,
+                            >= 0 (default %g)
+  --tolerance-relative F    the same as a fraction of the bounding-box diagonal, in [0, 1]
+                            (default %g); with --tolerance the smaller one applies
+  --feature-angle D         dihedral angle in degrees above which an edge is a feature edge,
+                            in (0, 180] (default %g; 180: boundaries and group borders only)
+  --max-volume-change F     relative change of the enclosed volume, in [0, 1] (default %g)
+  --max-centroid-shift F    centroid shift as a fraction of the diagonal, in [0, 1] (default %g)
+  --max-field-change F      relative change of each face field's resultant per face group,
+                            in (0, 1] (default %g)
+)",
+      d.cost == CostKind::kQuadric ? "quadric" : "gaussian", d.tolerance, d.tolerance_relative,
+      d.feature_angle_deg, d.max_volume_change, d.max_centroid_shift, d.max_field_change);
+}
 
 int DefaultThreads() {
   unsigned n = std::thread::hardware_concurrency();
@@ -47,6 +71,7 @@ Usage:
   femsimp --help                         this text
 
 Mesh formats (by extension): .off .obj .stl .ply
+Face groups are kept through .obj and .ply files, face fields through .ply files.
 
 )",
                       kExitCodes);
@@ -57,6 +82,9 @@ std::string SimplifyUsage() {
 
 Reads the mesh IN, removes vertices by parallel half-edge collapses and writes OUT. Prints one
 row per pass and a summary. Options take their value as `--flag VALUE` or `--flag=VALUE`.
+Face groups (.obj `g` names, .ply "group") and face fields (.ply float face properties, at
+most 3) of IN are carried to OUT; a format of OUT that cannot hold them stops the run before it
+starts (exit code 5) unless --drop-face-data is given.
 
 Target (at most one; neither: run until no vertex can be removed or --max-passes):
   --ratio R                 keep R * input vertices, R in [0, 1)
@@ -73,14 +101,18 @@ Engine:
   --max-passes N            stop after N passes, in [1, 100000] (default 100)
   --reconsider-every N      retry vertices that failed a criterion every Nth pass (default 3)
   --topology-only           check topology only, no geometric criteria
-Back end:
+)",
+                      FidelityUsage(), R"(Back end:
   --backend native|cell     shared-memory threads (default) or the emulated Cell BE
   --spes N                  cell: SPE contexts, in [1, 256] (default 1)
   --ls-cache-kib K          cell: software cache size per local store in KiB (default 64, a power of two)
   --spe-threads K           cell: software threads per SPE, in [1, 16] (default 1)
 Output:
-  --stats-json FILE         write input/output sizes, timings, options and every pass as JSON
+  --stats-json FILE         write input/output sizes, timings, options, fidelity figures and
+                            every pass as JSON
   --quiet                   no per-pass rows, summary only
+  --drop-face-data          write OUT without the face groups and fields its format cannot hold
+                            (OFF, STL: neither; OBJ: groups only) instead of refusing to run
 Remote mode:
   --server HOST:PORT        run the job on a femsimp-server instead of locally
   --deadline SECONDS        give up (and cancel the job) after SECONDS (default: none)
@@ -101,6 +133,15 @@ absl::StatusOr<double> ParseDouble(const std::string& flag, const std::string& v
   if (!absl::SimpleAtod(value, &d) || !std::isfinite(d))
     return absl::InvalidArgumentError(absl::StrCat(flag, ": '", value, "' is not a finite number"));
   return d;
+}
+
+absl::StatusOr<double> ParseFraction(const std::string& flag, const std::string& value) {
+  if (!absl::EndsWith(value, "%")) return ParseDouble(flag, value);
+  absl::StatusOr<double> percent = ParseDouble(flag, value.substr(0, value.size() - 1));
+  if (!percent.ok())
+    return absl::InvalidArgumentError(
+        absl::StrCat(flag, ": '", value, "' is not a finite number or percentage"));
+  return *percent / 100.0;
 }
 
 absl::StatusOr<long long> ParseInt(const std::string& flag, const std::string& value,
@@ -127,6 +168,14 @@ absl::StatusOr<SimplifyArgs> ParseSimplifyArgs(const std::vector<std::string>& a
   auto dbl = [](const char* flag, double* dst) -> Setter {
     return [flag, dst](const std::string& v) -> absl::Status {
       absl::StatusOr<double> d = ParseDouble(flag, v);
+      if (!d.ok()) return d.status();
+      *dst = *d;
+      return absl::OkStatus();
+    };
+  };
+  auto fraction = [](const char* flag, double* dst) -> Setter {
+    return [flag, dst](const std::string& v) -> absl::Status {
+      absl::StatusOr<double> d = ParseFraction(flag, v);
       if (!d.ok()) return d.status();
       *dst = *d;
       return absl::OkStatus();
@@ -167,6 +216,24 @@ absl::StatusOr<SimplifyArgs> ParseSimplifyArgs(const std::vector<std::string>& a
       {"--candidate-fraction", dbl("--candidate-fraction", &o.candidate_fraction)},
       {"--max-passes", integer("--max-passes", &o.max_passes, 1, 100000)},
       {"--reconsider-every", integer("--reconsider-every", &o.reconsider_every, 1, 1000000)},
+      {"--cost",
+       [&](const std::string& v) -> absl::Status {
+         if (v == "gaussian" || v == CostKindName(CostKind::kGaussianCurvature)) {
+           o.cost = CostKind::kGaussianCurvature;
+         } else if (v == "quadric") {
+           o.cost = CostKind::kQuadric;
+         } else {
+           return absl::InvalidArgumentError(
+               absl::StrCat("--cost: '", v, "' is not one of gaussian, quadric"));
+         }
+         return absl::OkStatus();
+       }},
+      {"--tolerance", dbl("--tolerance", &o.tolerance)},
+      {"--tolerance-relative", fraction("--tolerance-relative", &o.tolerance_relative)},
+      {"--feature-angle", dbl("--feature-angle", &o.feature_angle_deg)},
+      {"--max-volume-change", fraction("--max-volume-change", &o.max_volume_change)},
+      {"--max-centroid-shift", fraction("--max-centroid-shift", &o.max_centroid_shift)},
+      {"--max-field-change", fraction("--max-field-change", &o.max_field_change)},
       {"--backend",
        [&](const std::string& v) -> absl::Status {
          if (v == "native") {
@@ -227,6 +294,10 @@ absl::StatusOr<SimplifyArgs> ParseSimplifyArgs(const std::vector<std::string>& a
       out.quiet = true;
       continue;
     }
+    if (a == "--drop-face-data") {
+      out.drop_face_data = true;
+      continue;
+    }
     if (a == "--") {
       for (++i; i < args.size(); ++i) positional.push_back(args[i]);
       break;
@@ -241,7 +312,7 @@ absl::StatusOr<SimplifyArgs> ParseSimplifyArgs(const std::vector<std::string>& a
       }
       auto it = with_value.find(name);
       if (it == with_value.end()) {
-        if (name == "--topology-only" || name == "--quiet")
+        if (name == "--topology-only" || name == "--quiet" || name == "--drop-face-data")
           return absl::InvalidArgumentError(absl::StrCat(name, " takes no value"));
         return absl::InvalidArgumentError(
             absl::StrCat("unknown option '", name, "' (see femsimp simplify --help)"));

@@ -19,6 +19,7 @@ struct SimplifyArgs {
   std::string label;              // remote only; shown in the server's job list and logs
   int max_attempts = 5;           // remote only; calls per job, retries included (retry.h)
   bool quiet = false;             // no per-pass rows
+  bool drop_face_data = false;    // write OUT without the face groups/fields its format lacks
 };
 
 struct Command {
@@ -40,6 +41,8 @@ absl::StatusOr<SimplifyArgs> ParseSimplifyArgs(const std::vector<std::string>& a
 
 // Strict number parsing: the whole string must be a finite number / a non-negative integer.
 absl::StatusOr<double> ParseDouble(const std::string& flag, const std::string& value);
+// A finite number, or a percentage of one ("0.5%" = 0.005).
+absl::StatusOr<double> ParseFraction(const std::string& flag, const std::string& value);
 absl::StatusOr<long long> ParseInt(const std::string& flag, const std::string& value,
                                    long long min_value, long long max_value);
 

@@ -22,8 +22,10 @@ void OnSigint(int) { g_interrupted.store(true); }
 int RunLocal(const SimplifyArgs& args) {
   RunReport report = StartReport(args);
   auto t0 = std::chrono::steady_clock::now();
-  std::optional<RawMesh> raw = ReadInput(args, report);
+  GroupNames group_names;
+  std::optional<RawMesh> raw = ReadInput(args, report, &group_names);
   if (!raw) return kExitInputUnreadable;
+  if (!CheckOutputFormat(args, *raw, report)) return kExitOutputFailed;
   absl::StatusOr<Mesh> mesh = Mesh::Build(*raw);
   if (!mesh.ok()) {
     std::fprintf(stderr, "femsimp: %s is not a valid mesh: %s\n", args.input.c_str(),
@@ -60,16 +62,13 @@ int RunLocal(const SimplifyArgs& args) {
   report.stop_reason = StopReasonName(result->stop_reason);
   report.modeled_cycles = result->modeled_cycles;
   report.passes = std::move(result->passes);
+  report.fidelity = FidelityFigures::Of(*result);
 
   auto t1 = std::chrono::steady_clock::now();
   RawMesh out = mesh->ToRaw();
   report.output_vertices = out.num_vertices();
   report.output_faces = out.num_faces();
-  if (absl::Status s = WriteMeshFile(args.output, out); !s.ok()) {
-    std::fprintf(stderr, "femsimp: cannot write %s: %s\n", args.output.c_str(),
-                 std::string(s.message()).c_str());
-    return kExitOutputFailed;
-  }
+  if (!WriteOutput(args, out, group_names)) return kExitOutputFailed;
   report.write_seconds = SecondsSince(t1);
 
   std::printf("%s", Summary(report).c_str());

@@ -30,6 +30,8 @@ RemoteOutcome RemoteSimplify(v1::Simplifier::Stub& stub, grpc::ClientContext& ct
   spec.set_vertex_count(mesh.num_vertices());
   spec.set_face_count(mesh.num_faces());
   spec.set_has_face_groups(!mesh.face_groups.empty());
+  spec.clear_face_field_names();
+  for (const FaceField& field : mesh.face_fields) spec.add_face_field_names(field.name);
   std::unique_ptr<grpc::ClientReaderWriter<v1::SimplifyRequest, v1::SimplifyResponse>> stream =
       stub.Simplify(&ctx);
 
@@ -64,9 +66,14 @@ RemoteOutcome RemoteSimplify(v1::Simplifier::Stub& stub, grpc::ClientContext& ct
         break;
       case v1::SimplifyResponse::kResult:
         out.result = resp.result();
-        if (keep_output)
+        if (keep_output) {
+          malformed =
+              wire::CheckFieldNames(out.result.face_field_names(), "result: face_field_names");
           assembler.emplace(out.result.output_vertices(), out.result.output_faces(),
-                            out.result.has_face_groups());
+                            out.result.has_face_groups(),
+                            std::vector<std::string>(out.result.face_field_names().begin(),
+                                                     out.result.face_field_names().end()));
+        }
         break;
       case v1::SimplifyResponse::kChunk:
         ++out.chunks_received;

@@ -54,8 +54,10 @@ std::string ProgressBar(const PassStats& p, uint64_t input_vertices, const Simpl
 int RunRemote(const SimplifyArgs& args) {
   RunReport report = StartReport(args);
   auto t0 = std::chrono::steady_clock::now();
-  std::optional<RawMesh> raw = ReadInput(args, report);
+  GroupNames group_names;  // the server knows group ids only; names stay here for OUT
+  std::optional<RawMesh> raw = ReadInput(args, report, &group_names);
   if (!raw) return kExitInputUnreadable;
+  if (!CheckOutputFormat(args, *raw, report)) return kExitOutputFailed;
   report.load_seconds = SecondsSince(t0);
 
   v1::JobSpec spec;
@@ -159,15 +161,14 @@ int RunRemote(const SimplifyArgs& args) {
   report.queue_seconds = r.queue_seconds();
   report.stop_reason = r.stop_reason();
   report.modeled_cycles = r.modeled_cycles();
+  SimplifyResult figures;
+  wire::FidelityFromProto(r, &figures);
+  report.fidelity = FidelityFigures::Of(figures);
   if (args.options.backend == Backend::kNative && r.contexts() > 0)
     report.options.threads = r.contexts();  // what the server actually ran with
 
   auto t1 = std::chrono::steady_clock::now();
-  if (absl::Status s = WriteMeshFile(args.output, out.output); !s.ok()) {
-    std::fprintf(stderr, "femsimp: cannot write %s: %s\n", args.output.c_str(),
-                 std::string(s.message()).c_str());
-    return kExitOutputFailed;
-  }
+  if (!WriteOutput(args, out.output, group_names)) return kExitOutputFailed;
   report.write_seconds = SecondsSince(t1);
   std::printf("%s", Summary(report).c_str());
   if (!args.stats_json.empty()) {

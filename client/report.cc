@@ -6,6 +6,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
+#include "absl/strings/str_join.h"
 
 namespace femsimp::cli {
 namespace {
@@ -65,6 +66,13 @@ std::string OptionsJson(const SimplifyOptions& o) {
       ", \"candidate_fraction\": ", JsonNumber(o.candidate_fraction),
       ", \"max_passes\": ", o.max_passes, ", \"reconsider_every\": ", o.reconsider_every,
       ", \"topology_only\": ", o.topology_only ? "true" : "false",
+      ", \"cost\": ", JsonString(CostKindName(o.cost)),
+      ", \"tolerance\": ", JsonNumber(o.tolerance),
+      ", \"tolerance_relative\": ", JsonNumber(o.tolerance_relative),
+      ", \"feature_angle_deg\": ", JsonNumber(o.feature_angle_deg),
+      ", \"max_volume_change\": ", JsonNumber(o.max_volume_change),
+      ", \"max_centroid_shift\": ", JsonNumber(o.max_centroid_shift),
+      ", \"max_field_change\": ", JsonNumber(o.max_field_change),
       ", \"backend\": ", o.backend == Backend::kCell ? "\"cell\"" : "\"native\"");
   if (o.backend == Backend::kCell)
     absl::StrAppend(&s, ", \"cell\": {\"spes\": ", o.cell.spes,
@@ -97,7 +105,38 @@ std::string PassJson(const PassStats& p) {
   return s + "}";
 }
 
+std::string FidelityJson(const FidelityFigures& f) {
+  return absl::StrCat("{\"feature_edges\": ", f.feature_edges,
+                      ", \"corner_vertices\": ", f.corner_vertices,
+                      ", \"tolerance_abs\": ", JsonNumber(f.tolerance_abs),
+                      ", \"deviation_bound\": ", JsonNumber(f.deviation_bound),
+                      ", \"volume_change\": ", JsonNumber(f.volume_change),
+                      ", \"centroid_shift\": ", JsonNumber(f.centroid_shift),
+                      ", \"max_field_change\": ", JsonNumber(f.max_field_change), "}");
+}
+
+std::string FaceDataJson(const RunReport& r) {
+  std::string s = absl::StrCat("{\"groups\": ", r.face_groups, ", \"fields\": [");
+  for (size_t i = 0; i < r.face_fields.size(); ++i)
+    absl::StrAppend(&s, i ? ", " : "", JsonString(r.face_fields[i]));
+  absl::StrAppend(&s, "], \"dropped\": ",
+                  r.dropped_face_data.empty() ? "null" : JsonString(r.dropped_face_data), "}");
+  return s;
+}
+
 }  // namespace
+
+FidelityFigures FidelityFigures::Of(const SimplifyResult& r) {
+  FidelityFigures f;
+  f.feature_edges = r.feature_edges;
+  f.corner_vertices = r.corner_vertices;
+  f.tolerance_abs = r.tolerance_abs;
+  f.deviation_bound = r.deviation_bound;
+  f.volume_change = r.volume_change;
+  f.centroid_shift = r.centroid_shift;
+  f.max_field_change = r.max_field_change;
+  return f;
+}
 
 std::string PassTableHeader(Backend backend) {
   std::string h = absl::StrFormat("%5s %12s %10s %10s %10s %10s %9s", "pass", "vertices", "removed",
@@ -128,6 +167,26 @@ std::string Summary(const RunReport& r) {
       "vertices: %u -> %u (%.1f%%)\nfaces:    %u -> %u (%.1f%%)\npasses:   %u, stop reason: %s\n",
       r.input_vertices, r.output_vertices, pct(r.output_vertices, r.input_vertices), r.input_faces,
       r.output_faces, pct(r.output_faces, r.input_faces), r.passes.size(), r.stop_reason);
+  const FidelityFigures& f = r.fidelity;
+  absl::StrAppend(&s, "fidelity: ",
+                  f.tolerance_abs > 0 ? absl::StrFormat("deviation bound %g (tolerance %g)",
+                                                        f.deviation_bound, f.tolerance_abs)
+                                      : std::string("no tolerance"),
+                  absl::StrFormat(", volume %+.4f%%, centroid shift %.4f%% of the diagonal\n",
+                                  100 * f.volume_change, 100 * f.centroid_shift));
+  absl::StrAppend(&s,
+                  absl::StrFormat("features: %u edges, %u corners (feature angle %g deg)\n",
+                                  f.feature_edges, f.corner_vertices, r.options.feature_angle_deg));
+  if (r.face_groups > 0 || !r.face_fields.empty()) {
+    absl::StrAppend(&s, "face data: ", r.face_groups, " groups");
+    if (!r.face_fields.empty())
+      absl::StrAppend(&s, "; fields ", absl::StrJoin(r.face_fields, ", "),
+                      absl::StrFormat(" (worst resultant change %.3f%%, limit %.3f%%)",
+                                      100 * f.max_field_change, 100 * r.options.max_field_change));
+    if (!r.dropped_face_data.empty())
+      absl::StrAppend(&s, "; not in the output: ", r.dropped_face_data);
+    s += "\n";
+  }
   double speedup = r.engine_seconds > 0 ? r.busy_seconds / r.engine_seconds : 0.0;
   absl::StrAppend(&s, absl::StrFormat("time:     load %.3f s, engine %.3f s (parallel speedup "
                                       "%.2f), write %.3f s\n",
@@ -152,7 +211,8 @@ std::string ReportJson(const RunReport& r) {
       ",\n  \"load_seconds\": ", JsonNumber(r.load_seconds),
       ",\n  \"write_seconds\": ", JsonNumber(r.write_seconds),
       ",\n  \"stop_reason\": ", JsonString(r.stop_reason),
-      ",\n  \"modeled_cycles\": ", r.modeled_cycles, ",\n  \"options\": ", OptionsJson(r.options));
+      ",\n  \"modeled_cycles\": ", r.modeled_cycles, ",\n  \"options\": ", OptionsJson(r.options),
+      ",\n  \"fidelity\": ", FidelityJson(r.fidelity), ",\n  \"face_data\": ", FaceDataJson(r));
   if (!r.server.empty())
     absl::StrAppend(&s, ",\n  \"remote\": {\"server\": ", JsonString(r.server),
                     ", \"job_id\": ", JsonString(r.job_id),

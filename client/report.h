@@ -11,6 +11,14 @@
 
 namespace femsimp::cli {
 
+// The fidelity figures of SimplifyResult (docs/FIDELITY.md), local or from the server's Result.
+struct FidelityFigures {
+  uint64_t feature_edges = 0, corner_vertices = 0;
+  double tolerance_abs = 0.0, deviation_bound = 0.0;
+  double volume_change = 0.0, centroid_shift = 0.0, max_field_change = 0.0;
+  static FidelityFigures Of(const SimplifyResult& r);
+};
+
 struct RunReport {
   std::string input_path, output_path;
   SimplifyOptions options;
@@ -27,6 +35,12 @@ struct RunReport {
   int attempts = 0;            // remote only: calls made, retries included
   uint64_t modeled_cycles = 0;
   std::vector<PassStats> passes;
+  FidelityFigures fidelity;
+  // Face data of the input: distinct group ids (0: no groups) and field names; what
+  // --drop-face-data left out of OUT (empty: nothing).
+  uint64_t face_groups = 0;
+  std::vector<std::string> face_fields;
+  std::string dropped_face_data;
 };
 
 // Column header and one row per pass of the progress table (cache column for the cell back end).

@@ -2,7 +2,9 @@
 
 #include <cstdio>
 #include <string>
+#include <unordered_set>
 
+#include "absl/strings/str_cat.h"
 #include "engine/io/mesh_io.h"
 
 namespace femsimp::cli {
@@ -16,8 +18,9 @@ RunReport StartReport(const SimplifyArgs& args) {
   return report;
 }
 
-std::optional<RawMesh> ReadInput(const SimplifyArgs& args, RunReport& report) {
-  absl::StatusOr<RawMesh> raw = ReadMeshFile(args.input);
+std::optional<RawMesh> ReadInput(const SimplifyArgs& args, RunReport& report,
+                                 GroupNames* group_names) {
+  absl::StatusOr<RawMesh> raw = ReadMeshFile(args.input, group_names);
   if (!raw.ok()) {
     std::fprintf(stderr, "femsimp: cannot read %s: %s\n", args.input.c_str(),
                  std::string(raw.status().message()).c_str());
@@ -25,7 +28,45 @@ std::optional<RawMesh> ReadInput(const SimplifyArgs& args, RunReport& report) {
   }
   report.input_vertices = raw->num_vertices();
   report.input_faces = raw->num_faces();
+  if (HasFaceGroups(*raw))
+    report.face_groups =
+        std::unordered_set<uint32_t>(raw->face_groups.begin(), raw->face_groups.end()).size();
+  for (const FaceField& field : raw->face_fields) report.face_fields.push_back(field.name);
   return *std::move(raw);
+}
+
+bool CheckOutputFormat(const SimplifyArgs& args, const RawMesh& input, RunReport& report) {
+  const std::string ext = MeshFileExtension(args.output);
+  absl::Status holds = CheckFormatHolds(ext, input);
+  if (holds.ok()) return true;
+  if (!args.drop_face_data) {
+    std::fprintf(stderr, "femsimp: cannot write %s: %s, or pass --drop-face-data\n",
+                 args.output.c_str(), std::string(holds.message()).c_str());
+    return false;
+  }
+  // What the output will lack: what the format drops of a stand-in for the input's face data.
+  RawMesh probe;
+  if (HasFaceGroups(input)) probe.face_groups = {1};
+  for (const FaceField& field : input.face_fields) probe.face_fields.push_back({field.name, {}});
+  DropUnheldFaceData(ext, &probe);
+  const bool groups_lost = HasFaceGroups(input) && probe.face_groups.empty();
+  const bool fields_lost = !input.face_fields.empty() && probe.face_fields.empty();
+  report.dropped_face_data = groups_lost ? "face groups" : "";
+  if (fields_lost)
+    absl::StrAppend(&report.dropped_face_data, groups_lost ? " and " : "", "face fields");
+  std::fprintf(stderr, "femsimp: note: %s will not hold the input's %s (--drop-face-data)\n",
+               args.output.c_str(), report.dropped_face_data.c_str());
+  return true;
+}
+
+bool WriteOutput(const SimplifyArgs& args, RawMesh& output, const GroupNames& group_names) {
+  if (args.drop_face_data) DropUnheldFaceData(MeshFileExtension(args.output), &output);
+  if (absl::Status s = WriteMeshFile(args.output, output, group_names); !s.ok()) {
+    std::fprintf(stderr, "femsimp: cannot write %s: %s\n", args.output.c_str(),
+                 std::string(s.message()).c_str());
+    return false;
+  }
+  return true;
 }
 
 double SecondsSince(std::chrono::steady_clock::time_point t0) {

@@ -7,15 +7,27 @@
 
 #include "client/args.h"
 #include "client/report.h"
+#include "engine/io/face_data.h"
 #include "engine/raw_mesh.h"
 
 namespace femsimp::cli {
 
 RunReport StartReport(const SimplifyArgs& args);
 
-// Reads args.input and records its vertex and face counts; on failure prints the reason on
-// stderr and returns nullopt (the caller exits with kExitInputUnreadable).
-std::optional<RawMesh> ReadInput(const SimplifyArgs& args, RunReport& report);
+// Reads args.input and records its vertex and face counts and face data; on failure prints the
+// reason on stderr and returns nullopt (the caller exits with kExitInputUnreadable). OBJ group
+// names go to group_names, for writing OUT.
+std::optional<RawMesh> ReadInput(const SimplifyArgs& args, RunReport& report,
+                                 GroupNames* group_names);
+
+// Before the run: can OUT's format hold the input's face groups and fields? If not, prints why
+// and returns false (the caller exits with kExitOutputFailed), unless --drop-face-data, which
+// records what OUT will lack in the report.
+bool CheckOutputFormat(const SimplifyArgs& args, const RawMesh& input, RunReport& report);
+
+// Writes OUT (dropping what its format cannot hold under --drop-face-data); prints why on
+// failure (the caller exits with kExitOutputFailed).
+bool WriteOutput(const SimplifyArgs& args, RawMesh& output, const GroupNames& group_names);
 
 double SecondsSince(std::chrono::steady_clock::time_point t0);
 

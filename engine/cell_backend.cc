@@ -35,9 +35,13 @@ CellPassCounters ToPassCounters(const cellsim::SpeCounters& c) {
 
 class CellBackend final : public RemovalBackend {
  public:
-  CellBackend(Mesh& mesh, const CriteriaSet& criteria, const CellOptions& options,
-              std::unique_ptr<cellsim::Runtime> runtime)
-      : mesh_(mesh), criteria_(criteria), options_(options), runtime_(std::move(runtime)) {}
+  CellBackend(Mesh& mesh, const CriteriaSet& criteria, const FidelityConfig& fidelity,
+              const CellOptions& options, std::unique_ptr<cellsim::Runtime> runtime)
+      : mesh_(mesh),
+        criteria_(criteria),
+        fidelity_(fidelity),
+        options_(options),
+        runtime_(std::move(runtime)) {}
 
   int contexts() const override { return runtime_->num_spes(); }
 
@@ -64,7 +68,7 @@ class CellBackend final : public RemovalBackend {
             // thread's stack, i.e. in the local store.
             CellPort port(ctx, mesh_);
             port.set_reread_on_stale(options_.reread_on_stale);
-            RemovalKernel<CellPort> kernel(port, criteria_, *phase.budget, kstats);
+            RemovalKernel<CellPort> kernel(port, criteria_, fidelity_, *phase.budget, kstats);
             while (std::optional<uint64_t> v = ctx.NextWorkItem()) {
               if (phase.stop->load(std::memory_order_relaxed) ||
                   phase.budget->stop.load(std::memory_order_relaxed))
@@ -99,6 +103,7 @@ class CellBackend final : public RemovalBackend {
  private:
   Mesh& mesh_;
   const CriteriaSet& criteria_;
+  const FidelityConfig& fidelity_;
   CellOptions options_;
   std::unique_ptr<cellsim::Runtime> runtime_;
 };
@@ -107,6 +112,7 @@ class CellBackend final : public RemovalBackend {
 
 absl::StatusOr<std::unique_ptr<RemovalBackend>> MakeCellBackend(Mesh& mesh,
                                                                 const CriteriaSet& criteria,
+                                                                const FidelityConfig& fidelity,
                                                                 const CellOptions& options) {
   cellsim::RuntimeConfig config;
   config.num_spes = options.spes;
@@ -124,6 +130,16 @@ absl::StatusOr<std::unique_ptr<RemovalBackend>> MakeCellBackend(Mesh& mesh,
                                           "status words"),
        })
     if (!s.ok()) return s;
+  if (mesh.face_attrs() != nullptr)
+    if (absl::Status s = (*runtime)->RegisterMainMemory(
+            mesh.face_attrs(), mesh.face_capacity() * sizeof(FaceAttrQ), "face attributes");
+        !s.ok())
+      return s;
+  if (mesh.quadrics() != nullptr)
+    if (absl::Status s = (*runtime)->RegisterMainMemory(
+            mesh.quadrics(), mesh.vertex_capacity() * sizeof(QuadricQ), "quadrics");
+        !s.ok())
+      return s;
   // The software threads' stacks must fit next to the cache: fail now with a clear message
   // rather than on the first pass.
   const size_t ls = config.spe.local_store_bytes, cache = config.spe.cache.size_bytes;
@@ -134,7 +150,7 @@ absl::StatusOr<std::unique_ptr<RemovalBackend>> MakeCellBackend(Mesh& mesh,
                      " KiB cache and ", options.spe_threads, " software thread stacks of ",
                      kSoftwareThreadStack / 1024, " KiB: lower --ls-cache-kib or --spe-threads"));
   return std::unique_ptr<RemovalBackend>(
-      new CellBackend(mesh, criteria, options, *std::move(runtime)));
+      new CellBackend(mesh, criteria, fidelity, options, *std::move(runtime)));
 }
 
 }  // namespace femsimp

@@ -17,7 +17,9 @@ class CellPort {
       : spe_(spe),
         v_(mesh.vertices()),
         h_(mesh.halfedges()),
-        s_(reinterpret_cast<uint32_t*>(mesh.status())) {
+        s_(reinterpret_cast<uint32_t*>(mesh.status())),
+        a_(mesh.face_attrs()),
+        q_(mesh.quadrics()) {
     static_assert(sizeof(std::atomic<uint32_t>) == sizeof(uint32_t));
   }
 
@@ -88,8 +90,16 @@ class CellPort {
 
   void ChargeCompute(uint32_t cycles) { spe_.AddComputeCycles(cycles); }
 
+  // Side quadwords bypass the software cache: they are read only under the locks that guard
+  // them, so a DMA get straight from main memory is current.
+  FaceAttrQ ReadFaceAttr(uint32_t f) { return Get(&a_[f], FaceAttrQ{1e30f, {0, 0, 0}}); }
+  void WriteFaceAttr(uint32_t f, const FaceAttrQ& q) { Put(&a_[f], q); }
+  QuadricQ ReadQuadric(uint32_t v) { return Get(&q_[v], QuadricQ{}); }
+  void WriteQuadric(uint32_t v, const QuadricQ& q) { Put(&q_[v], q); }
+
  private:
   static constexpr unsigned kPutTag = 1;
+  static constexpr unsigned kGetTag = 2;
   static constexpr int kLogSize = 256;
   static constexpr int kPutBuffers = 32;
 
@@ -107,7 +117,27 @@ class CellPort {
   }
 
   template <class Q>
+  Q Get(const Q* p, Q poison) {
+    static_assert(sizeof(Q) <= sizeof(get_buffer_));
+    absl::StatusOr<uint64_t> issued =
+        spe_.dma().Get(get_buffer_, cellsim::Ea(p), sizeof(Q), kGetTag);
+    if (issued.ok()) {
+      if (absl::Status s = spe_.dma().WaitTagMask(1u << kGetTag); s.ok()) {
+        Q q;
+        std::memcpy(&q, get_buffer_, sizeof q);
+        return q;
+      } else {
+        spe_.ReportError(s);
+      }
+    } else {
+      spe_.ReportError(issued.status());
+    }
+    return poison;
+  }
+
+  template <class Q>
   void Put(Q* p, const Q& q) {
+    static_assert(sizeof(Q) <= sizeof(put_buffers_[0]));
     // DMA sources must live in the local store: the buffers are members of this port, which
     // sits on the software thread's stack, itself allocated from the local store.
     if (puts_in_flight_ == kPutBuffers) {
@@ -138,7 +168,13 @@ class CellPort {
   int logged_ = 0;
   uint64_t log_[kLogSize];
   int puts_in_flight_ = 0;
-  alignas(16) HalfEdgeQ put_buffers_[kPutBuffers];
+  FaceAttrQ* a_;
+  QuadricQ* q_;
+  struct alignas(16) PutBuffer {
+    std::byte bytes[sizeof(QuadricQ)];
+  };
+  PutBuffer put_buffers_[kPutBuffers];
+  alignas(16) std::byte get_buffer_[sizeof(QuadricQ)];
 };
 
 }  // namespace femsimp

@@ -6,12 +6,7 @@
 namespace femsimp {
 namespace {
 
-DVec3 Sub(const DVec3& a, const DVec3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-DVec3 Cross(const DVec3& a, const DVec3& b) {
-  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
-double Dot(const DVec3& a, const DVec3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-DVec3 ToD(const Vec3& v) { return {v.x, v.y, v.z}; }
+DVec3 Sub(const DVec3& a, const DVec3& b) { return a - b; }
 double CosDeg(double degrees) { return std::cos(degrees * std::numbers::pi / 180.0); }
 
 }  // namespace

@@ -7,12 +7,9 @@
 
 #include "engine/ring.h"
 #include "engine/simplify.h"
+#include "engine/vec.h"
 
 namespace femsimp {
-
-struct DVec3 {
-  double x, y, z;
-};
 
 // The fan faces of V that survive the collapse, as (V, b, c) before and (Vd, b, c) after.
 struct CollapseGeometry {

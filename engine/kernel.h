@@ -22,6 +22,10 @@
 #include <cstdint>
 
 #include "engine/criteria.h"
+#include "engine/deviation.h"
+#include "engine/features.h"
+#include "engine/fidelity.h"
+#include "engine/quadric.h"
 #include "engine/ring.h"
 #include "engine/simplify.h"
 
@@ -48,6 +52,9 @@ struct RemovalBudget {
     }
     return true;
   }
+  void Unreserve() {  // a reserved removal did not happen after all
+    if (target > 0) alive.fetch_add(1, std::memory_order_relaxed);
+  }
   void Removed() {
     if (target <= 0) alive.fetch_sub(1, std::memory_order_relaxed);
   }
@@ -60,8 +67,9 @@ enum class Outcome { kRemoved, kRejected, kConflict, kInconsistent, kSkipped, kB
 template <class Port>
 class RemovalKernel {
  public:
-  RemovalKernel(Port& port, const CriteriaSet& criteria, RemovalBudget& budget, KernelStats& stats)
-      : port_(port), criteria_(criteria), budget_(budget), stats_(stats) {}
+  RemovalKernel(Port& port, const CriteriaSet& criteria, const FidelityConfig& fidelity,
+                RemovalBudget& budget, KernelStats& stats)
+      : port_(port), criteria_(criteria), fidelity_(fidelity), budget_(budget), stats_(stats) {}
 
   Outcome TryRemove(uint32_t v) {
     ++stats_.tried;
@@ -138,17 +146,33 @@ class RemovalKernel {
     return Outcome::kRejected;
   }
 
-  // Directions a vertex may collapse along: any neighbour, or on a boundary only the two
-  // boundary neighbours.
+  // Directions a vertex may collapse along: any neighbour of a free vertex; only the two line
+  // neighbours of a vertex on a feature line (a boundary is one); none for a corner.
   Outcome Collapse(uint32_t v) {
+    const int n = ring_.neighbours();
+    int line[2] = {-1, -1}, features = 0;
+    for (int i = 0; i < n; ++i)
+      if (ring_.feature[i]) {
+        if (features < 2) line[features] = i;
+        ++features;
+      }
+    if ((features != 0 && features != 2) || (features == 0 && ring_.boundary) ||
+        (features == 2 && TurnsSharply(ring_.pos[line[0]], ring_.center_pos, ring_.pos[line[1]],
+                                       fidelity_.cos_feature))) {
+      ++stats_.rejections[static_cast<int>(Reject::kFeature)];
+      UnlockNeighbours();
+      port_.StoreStatus(v, kFixed);
+      return Outcome::kRejected;
+    }
+    if (fidelity_.quadric) own_quadric_ = port_.ReadQuadric(v);
+    attrs_loaded_ = false;
     int order[kMaxRing + 1];
     double score[kMaxRing + 1];
     int passing = 0;
     Reject furthest = Reject::kDegenerate;
     bool any_geometric_pass = false;
-    const int n = ring_.neighbours();
     for (int i = 0; i < n; ++i) {
-      if (ring_.boundary && i != 0 && i != n - 1) continue;
+      if (features == 2 && i != line[0] && i != line[1]) continue;
       geometry_.Build(ring_, i);
       // Two cross products per triangle, then the criteria (the topology-only mode runs fewer).
       port_.ChargeCompute((kGeometryCyclesPerFace + criteria_.CyclesPerFace()) * geometry_.faces);
@@ -158,8 +182,10 @@ class RemovalKernel {
         continue;
       }
       any_geometric_pass = true;
-      // Insertion by score: the direction that bends the surface least is tried first.
-      const double s = geometry_.MinNormalCosine();
+      // Insertion by score: the direction that bends the surface least (or, with the quadric
+      // cost, adds the least quadric error) is tried first.
+      const double s = fidelity_.quadric ? -QuadricError(own_quadric_, ToD(ring_.pos[i]))
+                                         : geometry_.MinNormalCosine();
       int k = passing++;
       while (k > 0 && score[k - 1] < s) {
         score[k] = score[k - 1];
@@ -170,8 +196,10 @@ class RemovalKernel {
       order[k] = i;
     }
     Reject topo_reason = Reject::kLink;
+    Reject late_reason = Reject::kCount;  // a direction passed topology but not fidelity
     for (int k = 0; k < passing; ++k) {
-      const TopologyResult t = CheckTopology(order[k]);
+      const int i = order[k];
+      const TopologyResult t = CheckTopology(i);
       if (t == TopologyResult::kStale) {
         UnlockNeighbours();
         port_.StoreStatus(v, kRemovable);
@@ -179,19 +207,96 @@ class RemovalKernel {
       }
       if (t == TopologyResult::kValence) topo_reason = Reject::kValence;
       if (t != TopologyResult::kOk) continue;
+      const int line_other = features == 2 ? (i == line[0] ? line[1] : line[0]) : -1;
+      if (line_other >= 0 && VdHasFeatureEdgeTo(ring_.nbr[line_other])) {
+        late_reason = Reject::kFeature;  // the line would fold onto an existing feature edge
+        continue;
+      }
+      if (Reject r = PrepareFidelity(i, line_other); r != Reject::kCount) {
+        late_reason = r;
+        continue;
+      }
       if (!budget_.Reserve()) {
         UnlockNeighbours();
         port_.StoreStatus(v, kRemovable);
         return Outcome::kBudgetSpent;
       }
-      Apply(order[k]);
+      if (fidelity_.ledger != nullptr && (delta_.entries > 0 || fidelity_.ledger->tracks_mass())) {
+        if (Reject r = fidelity_.ledger->TryCommit(delta_); r != Reject::kCount) {
+          budget_.Unreserve();
+          late_reason = r;
+          continue;
+        }
+      }
+      Apply(i);
+      WriteFidelity(i);
       budget_.Removed();
       port_.StoreStatus(v, kRemoved);
       UnlockNeighbours();
       ++stats_.removed;
       return Outcome::kRemoved;
     }
+    if (late_reason != Reject::kCount) return MarkNotRemovable(v, late_reason);
     return MarkNotRemovable(v, any_geometric_pass ? topo_reason : furthest);
+  }
+
+  // True when Vd's fan (gathered by CheckTopology) has a feature edge to w.
+  bool VdHasFeatureEdgeTo(uint32_t w) const {
+    for (int a = 0; a < other_.neighbours(); ++a)
+      if (other_.nbr[a] == w && other_.feature[a]) return true;
+    return false;
+  }
+
+  // The deviation bound, new field values and budget delta of collapsing onto nbr[i]; returns
+  // the criterion that refuses it, or kCount.
+  Reject PrepareFidelity(int i, int line_other) {
+    const int nf = ring_.faces;
+    if (fidelity_.reads_attrs() && !attrs_loaded_) {
+      for (int f = 0; f < nf; ++f) fan_attr_[f] = port_.ReadFaceAttr(FaceOf(ring_.out[f]));
+      attrs_loaded_ = true;
+    }
+    for (int f = 0; f < nf; ++f) new_attr_[f] = fan_attr_[f];
+    delta_ = CollapseDelta{};
+    if (fidelity_.tracks_error()) {
+      float old_error[kMaxRing], new_error[kMaxRing];
+      for (int f = 0; f < nf; ++f) old_error[f] = fan_attr_[f].error;
+      int work = 0;
+      const bool bounded = BoundDeviation(ring_, i, line_other, old_error, new_error, &work);
+      port_.ChargeCompute(static_cast<uint32_t>(24 * work));
+      if (!bounded) return Reject::kTolerance;
+      const int n = ring_.neighbours();
+      for (int f = 0; f < nf; ++f) {
+        if (f == i || (f + 1) % n == i) continue;  // deleted
+        if (new_error[f] > fidelity_.tolerance) return Reject::kTolerance;
+        new_attr_[f].error = new_error[f];
+      }
+    }
+    if (fidelity_.ledger != nullptr && fidelity_.ledger->tracks_mass()) {
+      CollapseMassDelta(ring_, i, fidelity_.closed, &delta_);
+      port_.ChargeCompute(40 * nf);
+    }
+    if (fidelity_.fields > 0) {
+      int slot[kMaxRing];
+      for (int f = 0; f < nf; ++f) slot[f] = fidelity_.groups->Of(ring_.group[f]);
+      FaceAttrQ transferred[kMaxRing];
+      TransferFields(ring_, i, fidelity_.fields, new_attr_, slot, transferred, &delta_);
+      for (int f = 0; f < nf; ++f) new_attr_[f] = transferred[f];
+      port_.ChargeCompute(60 * nf * fidelity_.fields);
+    }
+    return Reject::kCount;
+  }
+
+  // After Apply: the surviving fan faces' side quadwords, and Vd absorbs V's quadric.
+  void WriteFidelity(int i) {
+    const int n = ring_.neighbours();
+    if (fidelity_.reads_attrs())
+      for (int f = 0; f < ring_.faces; ++f)
+        if (f != i && (f + 1) % n != i) port_.WriteFaceAttr(FaceOf(ring_.out[f]), new_attr_[f]);
+    if (fidelity_.quadric) {
+      QuadricQ q = port_.ReadQuadric(ring_.nbr[i]);
+      AddQuadric(q, own_quadric_);
+      port_.WriteQuadric(ring_.nbr[i], q);
+    }
   }
 
   enum class TopologyResult { kOk, kLink, kValence, kStale };
@@ -304,6 +409,7 @@ class RemovalKernel {
     for (int k = 0; k < del.count; ++k) {
       if (pair_v[k] != kNone) port_.WriteTwin(pair_v[k], pair_vd[k]);
       if (pair_vd[k] != kNone) port_.WriteTwin(pair_vd[k], pair_v[k]);
+      JoinFeatureBits(pair_v[k], pair_vd[k]);
     }
     // Outgoing half-edges. For each deleted face the pair member that leaves a vertex is known
     // from the face's orientation; if it does not exist, the next of the other member does.
@@ -324,6 +430,15 @@ class RemovalKernel {
       port_.WriteTarget(Prev(ring_.out[f]), vd);
     }
     port_.ChargeCompute(40 * nf);
+  }
+
+  // The two edges joined across a deleted face become one: a feature if either was.
+  void JoinFeatureBits(uint32_t a, uint32_t b) {
+    if (a == kNone || b == kNone) return;
+    const uint32_t fa = port_.ReadHalfEdgeFresh(a).flags, fb = port_.ReadHalfEdgeFresh(b).flags;
+    if (((fa ^ fb) & kFeatureEdge) == 0) return;
+    port_.WriteFlags(a, fa | kFeatureEdge);
+    port_.WriteFlags(b, fb | kFeatureEdge);
   }
 
   // Twin of out[f] (V -> nbr[f]) and of prev(out[f]) (nbr[f+1] -> V), known from the fan walk.
@@ -359,10 +474,16 @@ class RemovalKernel {
 
   Port& port_;
   const CriteriaSet& criteria_;
+  const FidelityConfig& fidelity_;
   RemovalBudget& budget_;
   KernelStats& stats_;
   Ring ring_, other_;
   CollapseGeometry geometry_;
+  QuadricQ own_quadric_{};
+  bool attrs_loaded_ = false;
+  FaceAttrQ fan_attr_[kMaxRing];  // the fan faces' side quadwords, read once per candidate
+  FaceAttrQ new_attr_[kMaxRing];  // their values after the collapse being prepared
+  CollapseDelta delta_;
   uint32_t locked_[kMaxRing + 1];
   uint32_t locked_state_[kMaxRing + 1];
   int nlocked_ = 0;

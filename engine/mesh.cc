@@ -38,8 +38,8 @@ absl::Status CheckSoup(const RawMesh& raw) {
     return absl::InvalidArgumentError(
         absl::StrCat("face groups: ", raw.face_groups.size(), " ids for ", nf, " faces"));
   if (raw.face_fields.size() > kMaxFaceFields)
-    return absl::InvalidArgumentError(absl::StrCat("face fields: ", raw.face_fields.size(),
-                                                   " given, at most ", kMaxFaceFields));
+    return absl::InvalidArgumentError(
+        absl::StrCat("face fields: ", raw.face_fields.size(), " given, at most ", kMaxFaceFields));
   for (size_t i = 0; i < raw.face_fields.size(); ++i) {
     const FaceField& field = raw.face_fields[i];
     if (field.name.empty())
@@ -49,13 +49,12 @@ absl::Status CheckSoup(const RawMesh& raw) {
         return absl::InvalidArgumentError(
             absl::StrCat("face field '", field.name, "' is given twice"));
     if (field.values.size() != nf)
-      return absl::InvalidArgumentError(absl::StrCat("face field '", field.name, "': ",
-                                                     field.values.size(), " values for ", nf,
-                                                     " faces"));
+      return absl::InvalidArgumentError(absl::StrCat(
+          "face field '", field.name, "': ", field.values.size(), " values for ", nf, " faces"));
     for (size_t f = 0; f < nf; ++f)
       if (!std::isfinite(field.values[f]))
-        return absl::InvalidArgumentError(absl::StrCat("face field '", field.name, "': face ", f,
-                                                       " has a non-finite value"));
+        return absl::InvalidArgumentError(
+            absl::StrCat("face field '", field.name, "': face ", f, " has a non-finite value"));
   }
   // Indices are 32-bit and kNone is reserved.
   if (nv >= kNone || 3 * nf >= kNone)

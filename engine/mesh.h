@@ -30,9 +30,7 @@ class Mesh {
   // fields, or on demand when a tolerance is tracked (errors start at 0: the input itself).
   void EnsureFaceAttrs();
   FaceAttrQ* face_attrs() { return face_attrs_.empty() ? nullptr : face_attrs_.data(); }
-  const FaceAttrQ* face_attrs() const {
-    return face_attrs_.empty() ? nullptr : face_attrs_.data();
-  }
+  const FaceAttrQ* face_attrs() const { return face_attrs_.empty() ? nullptr : face_attrs_.data(); }
   const std::vector<std::string>& field_names() const { return field_names_; }
 
   // Per-vertex quadrics (quadric cost); allocated zeroed on demand.

@@ -18,8 +18,9 @@ namespace {
 
 class NativeBackend final : public RemovalBackend {
  public:
-  NativeBackend(Mesh& mesh, const CriteriaSet& criteria, WorkerPool& pool)
-      : mesh_(mesh), criteria_(criteria), pool_(pool) {}
+  NativeBackend(Mesh& mesh, const CriteriaSet& criteria, const FidelityConfig& fidelity,
+                WorkerPool& pool)
+      : mesh_(mesh), criteria_(criteria), fidelity_(fidelity), pool_(pool) {}
 
   int contexts() const override { return pool_.size(); }
 
@@ -30,7 +31,7 @@ class NativeBackend final : public RemovalBackend {
     pool_.Run([&](int c) {
       const auto start = std::chrono::steady_clock::now();
       NativePort port(mesh_);
-      RemovalKernel<NativePort> kernel(port, criteria_, *phase.budget, per_context[c]);
+      RemovalKernel<NativePort> kernel(port, criteria_, fidelity_, *phase.budget, per_context[c]);
       size_t visited = 0;
       for (size_t i = c; i < phase.count; i += n, ++visited) {
         if (phase.stop->load(std::memory_order_relaxed) ||
@@ -55,14 +56,16 @@ class NativeBackend final : public RemovalBackend {
  private:
   Mesh& mesh_;
   const CriteriaSet& criteria_;
+  const FidelityConfig& fidelity_;
   WorkerPool& pool_;
 };
 
 }  // namespace
 
 std::unique_ptr<RemovalBackend> MakeNativeBackend(Mesh& mesh, const CriteriaSet& criteria,
+                                                  const FidelityConfig& fidelity,
                                                   WorkerPool& pool) {
-  return std::make_unique<NativeBackend>(mesh, criteria, pool);
+  return std::make_unique<NativeBackend>(mesh, criteria, fidelity, pool);
 }
 
 }  // namespace femsimp

@@ -19,10 +19,10 @@ struct FaceField {
 inline constexpr size_t kMaxFaceFields = 3;  // they share one 16-byte quadword with the error bound
 
 struct RawMesh {
-  std::vector<float> positions;       // x, y, z per vertex
-  std::vector<uint32_t> triangles;    // three vertex indices per face, counter-clockwise
-  std::vector<uint32_t> face_groups;  // empty, or one group id per face
-  std::vector<FaceField> face_fields; // at most kMaxFaceFields
+  std::vector<float> positions;        // x, y, z per vertex
+  std::vector<uint32_t> triangles;     // three vertex indices per face, counter-clockwise
+  std::vector<uint32_t> face_groups;   // empty, or one group id per face
+  std::vector<FaceField> face_fields;  // at most kMaxFaceFields
 
   size_t num_vertices() const { return positions.size() / 3; }
   size_t num_faces() const { return triangles.size() / 3; }

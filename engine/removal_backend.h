@@ -9,6 +9,7 @@
 #include <memory>
 
 #include "engine/criteria.h"
+#include "engine/fidelity.h"
 #include "engine/kernel.h"
 #include "engine/mesh.h"
 #include "engine/simplify.h"
@@ -34,11 +35,12 @@ class RemovalBackend {
 };
 
 std::unique_ptr<RemovalBackend> MakeNativeBackend(Mesh& mesh, const CriteriaSet& criteria,
-                                                  WorkerPool& pool);
+                                                  const FidelityConfig& fidelity, WorkerPool& pool);
 
 // Emulated Cell BE: fails when the local store cannot hold the cache and thread stacks.
 absl::StatusOr<std::unique_ptr<RemovalBackend>> MakeCellBackend(Mesh& mesh,
                                                                 const CriteriaSet& criteria,
+                                                                const FidelityConfig& fidelity,
                                                                 const CellOptions& options);
 
 // Adds one context's kernel counters into the pass statistics.

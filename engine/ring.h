@@ -23,6 +23,8 @@ struct Ring {
   uint32_t out[kMaxRing];      // out[i]: centre -> nbr[i], first half-edge of fan face i
   uint32_t nbr[kMaxRing + 1];  // faces + 1 entries on a boundary (the last closes the fan)
   Vec3 pos[kMaxRing + 1];
+  bool feature[kMaxRing + 1];  // the edge centre - nbr[i] is a feature edge
+  uint32_t group[kMaxRing];    // face group of fan face i
   int neighbours() const { return boundary ? faces + 1 : faces; }
   // Fan face i is (centre, nbr[i], nbr[i + 1]) (indices mod neighbours() when closed).
   uint32_t face_second(int i) const { return nbr[i]; }
@@ -55,6 +57,8 @@ RingResult GatherRing(Port& port, uint32_t center, Ring& ring) {
     first = false;
     ring.out[ring.faces] = h;
     ring.nbr[ring.faces] = e0.target;
+    ring.feature[ring.faces] = e0.flags & kFeatureEdge;
+    ring.group[ring.faces] = e0.group;
     ++ring.faces;
     const uint32_t next_out = e2.twin;
     if (next_out == kNone) {
@@ -62,6 +66,7 @@ RingResult GatherRing(Port& port, uint32_t center, Ring& ring) {
       if (port.ReadHalfEdge(start).twin != kNone) return RingResult::kInconsistent;
       ring.boundary = true;
       ring.nbr[ring.faces] = e1.target;
+      ring.feature[ring.faces] = e2.flags & kFeatureEdge;
       break;
     }
     if (next_out == start) {

@@ -5,11 +5,18 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <numbers>
+#include <optional>
 #include <vector>
 
+#include "absl/strings/str_cat.h"
 #include "engine/cost.h"
 #include "engine/criteria.h"
+#include "engine/features.h"
+#include "engine/fidelity.h"
+#include "engine/mechanics.h"
 #include "engine/port.h"
+#include "engine/quadric.h"
 #include "engine/removal_backend.h"
 #include "engine/worker_pool.h"
 
@@ -82,6 +89,38 @@ std::vector<uint32_t> SortedCandidates(Mesh& mesh, WorkerPool& pool, const Verte
   return ids;
 }
 
+double BoundingBoxDiagonal(const Mesh& mesh) {
+  DVec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+  for (uint32_t v = 0; v < mesh.vertex_capacity(); ++v) {
+    if (mesh.IsRemoved(v)) continue;
+    const VertexQ& q = mesh.vertices()[v];
+    lo = {std::min(lo.x, double(q.x)), std::min(lo.y, double(q.y)), std::min(lo.z, double(q.z))};
+    hi = {std::max(hi.x, double(q.x)), std::max(hi.y, double(q.y)), std::max(hi.z, double(q.z))};
+  }
+  return Norm(hi - lo);
+}
+
+// The tolerance that applies, as a float no larger than it (the bounds are stored as floats).
+float EffectiveTolerance(const SimplifyOptions& o, double diagonal, double* tolerance) {
+  double t = o.tolerance;
+  if (o.tolerance_relative > 0.0) {
+    const double relative = o.tolerance_relative * diagonal;
+    t = t > 0.0 ? std::min(t, relative) : relative;
+  }
+  *tolerance = t;
+  float f = static_cast<float>(t);
+  if (double(f) > t) f = std::nextafter(f, 0.0f);
+  return f;
+}
+
+double MaxDeviationBound(const Mesh& mesh) {
+  const FaceAttrQ* attr = mesh.face_attrs();
+  double worst = 0.0;
+  for (uint32_t f = 0; attr != nullptr && f < mesh.face_capacity(); ++f)
+    if (!mesh.IsFaceRemoved(f)) worst = std::max(worst, double(attr[f].error));
+  return worst;
+}
+
 }  // namespace
 
 absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& options,
@@ -100,17 +139,54 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
     budget.target = std::max<int64_t>(
         1, static_cast<int64_t>(std::ceil(options.ratio * double(result.input_vertices))));
 
+  // Fidelity set-up (docs/FIDELITY.md): features, tolerance, mechanical reference values.
+  const bool closed = IsClosed(mesh);
+  if (options.max_volume_change > 0.0 && !closed)
+    return absl::InvalidArgumentError(
+        "max_volume_change needs a closed mesh (this one has boundary edges, so it encloses no "
+        "volume); leave it at 0 or close the surface");
+  const FeatureSummary features = MarkFeatures(mesh, options.feature_angle_deg);
+  result.feature_edges = features.feature_edges;
+  result.corner_vertices = features.corner_vertices;
+  const double diagonal = BoundingBoxDiagonal(mesh);
+  FidelityConfig fidelity;
+  fidelity.cos_feature = std::cos(options.feature_angle_deg * std::numbers::pi / 180.0);
+  fidelity.tolerance = EffectiveTolerance(options, diagonal, &result.tolerance_abs);
+  fidelity.fields = static_cast<int>(mesh.field_names().size());
+  fidelity.quadric = options.cost == CostKind::kQuadric;
+  fidelity.closed = closed;
+  if (fidelity.tracks_error()) mesh.EnsureFaceAttrs();
+  if (fidelity.quadric) InitQuadrics(mesh);
+  const GroupIndex groups(mesh);
+  const MassProperties mass_before = MeasureMass(mesh, closed);
+  const FieldResultants fields_before = MeasureFields(mesh, groups);
+  std::optional<MechanicsLedger> ledger;
+  if (options.max_volume_change > 0.0 || options.max_centroid_shift > 0.0 || fidelity.fields > 0) {
+    MechanicsLedger::Limits limits;
+    limits.max_volume_change = options.max_volume_change;
+    limits.max_centroid_shift = options.max_centroid_shift;
+    limits.max_field_change = options.max_field_change;
+    limits.diagonal = diagonal;
+    ledger.emplace(limits, mass_before, fields_before);
+    fidelity.ledger = &*ledger;
+    fidelity.groups = &groups;
+  }
+
   WorkerPool pool(options.threads);
   const CriteriaSet criteria = CriteriaSet::FromOptions(options);
-  const GaussianCurvatureCost cost;
+  std::unique_ptr<VertexCost> cost;
+  if (fidelity.quadric)
+    cost = std::make_unique<QuadricCost>(mesh.quadrics());
+  else
+    cost = std::make_unique<GaussianCurvatureCost>();
   std::unique_ptr<RemovalBackend> backend;
   if (options.backend == Backend::kCell) {
     absl::StatusOr<std::unique_ptr<RemovalBackend>> cell =
-        MakeCellBackend(mesh, criteria, options.cell);
+        MakeCellBackend(mesh, criteria, fidelity, options.cell);
     if (!cell.ok()) return cell.status();
     backend = *std::move(cell);
   } else {
-    backend = MakeNativeBackend(mesh, criteria, pool);
+    backend = MakeNativeBackend(mesh, criteria, fidelity, pool);
   }
 
   result.stop_reason = StopReason::kMaxPasses;
@@ -132,7 +208,7 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
         reconsider_next || (pass > 1 && (pass - 1) % options.reconsider_every == 0);
     reconsider_next = false;
     const std::vector<uint32_t> sorted =
-        SortedCandidates(mesh, pool, cost, reconsider, &stats.busy_seconds);
+        SortedCandidates(mesh, pool, *cost, reconsider, &stats.busy_seconds);
     stats.candidates = static_cast<uint64_t>(
         std::ceil(options.candidate_fraction * static_cast<double>(sorted.size())));
     std::atomic<bool> stop{false};
@@ -186,6 +262,13 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
   }
   result.output_vertices = mesh.CountLiveVertices();
   result.output_faces = mesh.CountLiveFaces();
+  result.deviation_bound = MaxDeviationBound(mesh);
+  const MassProperties mass_after = MeasureMass(mesh, closed);
+  if (closed && mass_before.measure != 0.0)
+    result.volume_change = (mass_after.measure - mass_before.measure) / mass_before.measure;
+  if (mass_before.measure != 0.0 && mass_after.measure != 0.0 && diagonal > 0.0)
+    result.centroid_shift = Norm(mass_after.centroid() - mass_before.centroid()) / diagonal;
+  result.max_field_change = WorstFieldChange(fields_before, MeasureFields(mesh, groups));
   result.engine_seconds = Since(run_start);
   return result;
 }

@@ -138,10 +138,11 @@ struct SimplifyResult {
   uint64_t modeled_cycles = 0;
 
   // Fidelity figures of the output (docs/FIDELITY.md).
-  uint64_t feature_edges = 0;     // in the input
-  uint64_t corner_vertices = 0;   // fixed feature corners in the input
-  double tolerance_abs = 0.0;     // the tolerance that applied (0: none)
-  double deviation_bound = 0.0;   // guaranteed Hausdorff bound reached (tracked when a tolerance is set)
+  uint64_t feature_edges = 0;    // in the input
+  uint64_t corner_vertices = 0;  // fixed feature corners in the input
+  double tolerance_abs = 0.0;    // the tolerance that applied (0: none)
+  double deviation_bound =
+      0.0;  // guaranteed Hausdorff bound reached (tracked when a tolerance is set)
   double volume_change = 0.0;     // relative, signed (closed meshes)
   double centroid_shift = 0.0;    // relative to the bounding-box diagonal
   double max_field_change = 0.0;  // worst relative resultant change over fields and groups

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "absl/strings/str_cat.h"
+#include "absl/strings/str_join.h"
 
 namespace femsimp::wire {
 
@@ -22,6 +23,14 @@ void ToProto(const SimplifyOptions& o, bool threads_given, v1::EngineOptions* ou
   out->set_max_passes(o.max_passes);
   out->set_reconsider_every(o.reconsider_every);
   out->set_topology_only(o.topology_only);
+  out->set_cost(o.cost == CostKind::kQuadric ? v1::COST_KIND_QUADRIC
+                                             : v1::COST_KIND_GAUSSIAN_CURVATURE);
+  out->set_tolerance(o.tolerance);
+  out->set_tolerance_relative(o.tolerance_relative);
+  out->set_feature_angle_deg(o.feature_angle_deg);
+  out->set_max_volume_change(o.max_volume_change);
+  out->set_max_centroid_shift(o.max_centroid_shift);
+  out->set_max_field_change(o.max_field_change);
   out->set_backend(o.backend == Backend::kCell ? v1::BACKEND_CELL : v1::BACKEND_NATIVE);
   if (o.backend == Backend::kCell) {
     v1::CellOptions* c = out->mutable_cell();
@@ -52,6 +61,24 @@ absl::StatusOr<SimplifyOptions> FromProto(const v1::EngineOptions& in, int defau
   if (in.has_max_passes()) o.max_passes = in.max_passes();
   if (in.has_reconsider_every()) o.reconsider_every = in.reconsider_every();
   o.topology_only = in.topology_only();
+  switch (in.cost()) {
+    case v1::COST_KIND_UNSPECIFIED:
+    case v1::COST_KIND_GAUSSIAN_CURVATURE:
+      o.cost = CostKind::kGaussianCurvature;
+      break;
+    case v1::COST_KIND_QUADRIC:
+      o.cost = CostKind::kQuadric;
+      break;
+    default:
+      return absl::InvalidArgumentError(
+          absl::StrCat("cost = ", in.cost(), " is not a known cost kind"));
+  }
+  if (in.has_tolerance()) o.tolerance = in.tolerance();
+  if (in.has_tolerance_relative()) o.tolerance_relative = in.tolerance_relative();
+  if (in.has_feature_angle_deg()) o.feature_angle_deg = in.feature_angle_deg();
+  if (in.has_max_volume_change()) o.max_volume_change = in.max_volume_change();
+  if (in.has_max_centroid_shift()) o.max_centroid_shift = in.max_centroid_shift();
+  if (in.has_max_field_change()) o.max_field_change = in.max_field_change();
   switch (in.backend()) {
     case v1::BACKEND_UNSPECIFIED:
     case v1::BACKEND_NATIVE:
@@ -144,6 +171,48 @@ PassStats FromProto(const v1::Progress& in) {
   return p;
 }
 
+void FidelityToProto(const SimplifyResult& r, v1::Result* out) {
+  out->set_feature_edges(r.feature_edges);
+  out->set_corner_vertices(r.corner_vertices);
+  out->set_tolerance_abs(r.tolerance_abs);
+  out->set_deviation_bound(r.deviation_bound);
+  out->set_volume_change(r.volume_change);
+  out->set_centroid_shift(r.centroid_shift);
+  out->set_max_field_change(r.max_field_change);
+}
+
+void FidelityFromProto(const v1::Result& in, SimplifyResult* out) {
+  out->feature_edges = in.feature_edges();
+  out->corner_vertices = in.corner_vertices();
+  out->tolerance_abs = in.tolerance_abs();
+  out->deviation_bound = in.deviation_bound();
+  out->volume_change = in.volume_change();
+  out->centroid_shift = in.centroid_shift();
+  out->max_field_change = in.max_field_change();
+}
+
+absl::Status CheckFieldNames(const google::protobuf::RepeatedPtrField<std::string>& names,
+                             const std::string& where) {
+  if (static_cast<size_t>(names.size()) > kMaxFaceFields)
+    return absl::InvalidArgumentError(
+        absl::StrCat(where, ": ", names.size(), " face fields, at most ", kMaxFaceFields));
+  for (int i = 0; i < names.size(); ++i) {
+    if (names[i].empty() || names[i].size() > kMaxFieldNameBytes)
+      return absl::InvalidArgumentError(absl::StrCat(where, "[", i, "] is ", names[i].size(),
+                                                     " bytes (1 to ", kMaxFieldNameBytes, ")"));
+    for (int j = 0; j < i; ++j)
+      if (names[j] == names[i])
+        return absl::InvalidArgumentError(absl::StrCat(where, ": '", names[i], "' is given twice"));
+  }
+  return absl::OkStatus();
+}
+
+std::vector<std::string> FieldNames(const RawMesh& mesh) {
+  std::vector<std::string> names;
+  for (const FaceField& f : mesh.face_fields) names.push_back(f.name);
+  return names;
+}
+
 size_t ForEachChunk(const RawMesh& mesh, const std::function<bool(v1::MeshChunk&)>& emit,
                     size_t chunk_vertices, size_t chunk_faces) {
   const size_t nv = mesh.num_vertices(), nf = mesh.num_faces();
@@ -163,6 +232,9 @@ size_t ForEachChunk(const RawMesh& mesh, const std::function<bool(v1::MeshChunk&
       if (groups)
         chunk.mutable_face_groups()->Add(mesh.face_groups.begin() + f,
                                          mesh.face_groups.begin() + end);
+      for (const FaceField& field : mesh.face_fields)
+        chunk.add_face_fields()->mutable_values()->Add(field.values.begin() + f,
+                                                       field.values.begin() + end);
     }
     ++n;
     if (!emit(chunk)) break;
@@ -170,12 +242,17 @@ size_t ForEachChunk(const RawMesh& mesh, const std::function<bool(v1::MeshChunk&
   return n;
 }
 
-MeshAssembler::MeshAssembler(uint64_t vertices, uint64_t faces, bool face_groups)
+MeshAssembler::MeshAssembler(uint64_t vertices, uint64_t faces, bool face_groups,
+                             std::vector<std::string> field_names)
     : vertices_(vertices), faces_(faces), face_groups_(face_groups) {
   // Reserve is bounded by the caller's limits, checked before construction.
   mesh_.positions.reserve(3 * vertices);
   mesh_.triangles.reserve(3 * faces);
   if (face_groups) mesh_.face_groups.reserve(faces);
+  for (std::string& name : field_names) {
+    mesh_.face_fields.push_back({std::move(name), {}});
+    mesh_.face_fields.back().values.reserve(faces);
+  }
 }
 
 absl::Status MeshAssembler::Add(const v1::MeshChunk& chunk) {
@@ -204,6 +281,27 @@ absl::Status MeshAssembler::Add(const v1::MeshChunk& chunk) {
   if (face_groups_ && mesh_.face_groups.size() + grp.size() > faces_)
     return absl::InvalidArgumentError(
         absl::StrCat("chunk ", chunks_, ": face groups past the declared face_count ", faces_));
+  const auto& fields = chunk.face_fields();
+  if (!fields.empty() && static_cast<size_t>(fields.size()) != mesh_.face_fields.size())
+    return absl::InvalidArgumentError(absl::StrCat(
+        "chunk ", chunks_, ": ", fields.size(), " face field arrays but the spec declares ",
+        mesh_.face_fields.size(), " face fields (",
+        absl::StrJoin(mesh_.face_fields, ", ",
+                      [](std::string* out, const FaceField& f) { out->append(f.name); }),
+        ")"));
+  for (int k = 0; k < fields.size(); ++k) {
+    const FaceField& field = mesh_.face_fields[k];
+    const auto& values = fields[k].values();
+    if (field.values.size() + values.size() > faces_)
+      return absl::InvalidArgumentError(absl::StrCat("chunk ", chunks_, ": values of face field '",
+                                                     field.name, "' past the declared face_count ",
+                                                     faces_));
+    for (int i = 0; i < values.size(); ++i)
+      if (!std::isfinite(values[i]))
+        return absl::InvalidArgumentError(
+            absl::StrCat("chunk ", chunks_, ": face field '", field.name, "': face ",
+                         field.values.size() + i, " has a non-finite value (", values[i], ")"));
+  }
   for (int i = 0; i < pos.size(); ++i)
     if (!std::isfinite(pos[i]))
       return absl::InvalidArgumentError(absl::StrCat("chunk ", chunks_, ": vertex ", have_v + i / 3,
@@ -217,6 +315,9 @@ absl::Status MeshAssembler::Add(const v1::MeshChunk& chunk) {
   mesh_.positions.insert(mesh_.positions.end(), pos.begin(), pos.end());
   mesh_.triangles.insert(mesh_.triangles.end(), idx.begin(), idx.end());
   mesh_.face_groups.insert(mesh_.face_groups.end(), grp.begin(), grp.end());
+  for (int k = 0; k < fields.size(); ++k)
+    mesh_.face_fields[k].values.insert(mesh_.face_fields[k].values.end(),
+                                       fields[k].values().begin(), fields[k].values().end());
   return absl::OkStatus();
 }
 
@@ -229,6 +330,11 @@ absl::StatusOr<RawMesh> MeshAssembler::Finish() {
   if (face_groups_ && mesh_.face_groups.size() != faces_)
     return absl::InvalidArgumentError(absl::StrCat(
         "stream ended early: received ", mesh_.face_groups.size(), " of ", faces_, " face groups"));
+  for (const FaceField& field : mesh_.face_fields)
+    if (field.values.size() != faces_)
+      return absl::InvalidArgumentError(absl::StrCat("stream ended early: received ",
+                                                     field.values.size(), " of ", faces_,
+                                                     " values of face field '", field.name, "'"));
   return std::move(mesh_);
 }
 

@@ -5,6 +5,8 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <string>
+#include <vector>
 
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
@@ -14,8 +16,8 @@
 
 namespace femsimp::wire {
 
-// Per-chunk sizes: 64 Ki vertices (768 KiB) + 64 Ki faces (768 KiB + 256 KiB groups) keeps a
-// message near 1.8 MiB, well under gRPC's default 4 MiB limit.
+// Per-chunk sizes: 64 Ki vertices (768 KiB) + 64 Ki faces (768 KiB + 256 KiB groups + 256 KiB
+// per field) keeps a message under 2.6 MiB, well under gRPC's default 4 MiB limit.
 inline constexpr size_t kChunkVertices = 64 * 1024;
 inline constexpr size_t kChunkFaces = 64 * 1024;
 
@@ -29,6 +31,18 @@ absl::StatusOr<SimplifyOptions> FromProto(const v1::EngineOptions& in, int defau
 void ToProto(const PassStats& p, v1::Progress* out);
 PassStats FromProto(const v1::Progress& in);
 
+// The fidelity figures of a result (feature_edges .. max_field_change); the other members of
+// v1::Result come from the server's job, not from SimplifyResult alone.
+void FidelityToProto(const SimplifyResult& r, v1::Result* out);
+void FidelityFromProto(const v1::Result& in, SimplifyResult* out);
+
+// Face field names of a spec or result: at most kMaxFaceFields, distinct, 1 to 64 bytes each.
+// `where` prefixes the message, e.g. "spec: face_field_names".
+inline constexpr size_t kMaxFieldNameBytes = 64;
+absl::Status CheckFieldNames(const google::protobuf::RepeatedPtrField<std::string>& names,
+                             const std::string& where);
+std::vector<std::string> FieldNames(const RawMesh& mesh);
+
 const char* BackendName(Backend b);
 
 // Calls emit for each chunk of the mesh, in order; stops early when emit returns false.
@@ -37,11 +51,14 @@ size_t ForEachChunk(const RawMesh& mesh, const std::function<bool(v1::MeshChunk&
                     size_t chunk_vertices = kChunkVertices, size_t chunk_faces = kChunkFaces);
 
 // Collects chunks up to declared counts, checking each chunk as it arrives: whole vertices
-// and faces, nothing past the declared counts, finite coordinates, indices below the declared
-// vertex count. Messages name the problem and where (chunk number, vertex or face index).
+// and faces, nothing past the declared counts, finite coordinates and field values, indices
+// below the declared vertex count, one value array per declared field. Messages name the
+// problem and where (chunk number, vertex or face index, field name). The field names are
+// checked by the caller (CheckFieldNames).
 class MeshAssembler {
  public:
-  MeshAssembler(uint64_t vertices, uint64_t faces, bool face_groups);
+  MeshAssembler(uint64_t vertices, uint64_t faces, bool face_groups,
+                std::vector<std::string> field_names = {});
   absl::Status Add(const v1::MeshChunk& chunk);
   // Fails when arrays are short of the declared counts.
   absl::StatusOr<RawMesh> Finish();

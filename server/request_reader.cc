@@ -1,5 +1,8 @@
 #include "server/request_reader.h"
 
+#include <string>
+#include <vector>
+
 #include "absl/strings/str_cat.h"
 #include "proto/wire.h"
 
@@ -22,7 +25,7 @@ absl::Status CheckSpec(const v1::JobSpec& spec, const ServerConfig& config) {
   if (spec.client_label().size() > 128)
     return absl::InvalidArgumentError(
         absl::StrCat("spec: client_label is ", spec.client_label().size(), " bytes (at most 128)"));
-  return absl::OkStatus();
+  return wire::CheckFieldNames(spec.face_field_names(), "spec: face_field_names");
 }
 
 absl::StatusOr<v1::JobSpec> RequestReader::ReadSpec() {
@@ -39,7 +42,9 @@ absl::StatusOr<v1::JobSpec> RequestReader::ReadSpec() {
 }
 
 absl::StatusOr<RawMesh> RequestReader::ReadMesh(const v1::JobSpec& spec) {
-  wire::MeshAssembler assembler(spec.vertex_count(), spec.face_count(), spec.has_face_groups());
+  wire::MeshAssembler assembler(
+      spec.vertex_count(), spec.face_count(), spec.has_face_groups(),
+      std::vector<std::string>(spec.face_field_names().begin(), spec.face_field_names().end()));
   v1::SimplifyRequest req;
   while (read_(&req)) {
     switch (req.payload_case()) {

@@ -30,7 +30,7 @@ class RequestReader {
   const ServerConfig& config_;
 };
 
-// Spec checks alone (sizes, limits, label); used by ReadSpec.
+// Spec checks alone (sizes, limits, label, face field names); used by ReadSpec.
 absl::Status CheckSpec(const v1::JobSpec& spec, const ServerConfig& config);
 
 }  // namespace femsimp::server

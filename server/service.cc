@@ -216,6 +216,8 @@ grpc::Status SimplifierService::Follow(grpc::ServerContext* ctx, Stream* stream,
     m->set_modeled_cycles(r.modeled_cycles);
     m->set_has_face_groups(!job->output.face_groups.empty());
     m->set_contexts(job->contexts());
+    for (const FaceField& field : job->output.face_fields) m->add_face_field_names(field.name);
+    wire::FidelityToProto(r, m);
     output = std::move(job->output);
     job->output = RawMesh();
   }

@@ -66,10 +66,11 @@ void WorkerPool::Run(const std::shared_ptr<Job>& job) {
   metrics_.SetRunning(++running_);
   const SimplifyOptions& o = job->options;
   LogLine(absl::StrFormat(
-      "job %s start: label=\"%s\" vertices=%u faces=%u backend=%s contexts=%d ratio=%g "
-      "target_vertices=%u queued=%.3fs",
-      job->id, job->label, job->input_vertices, job->input_faces, wire::BackendName(o.backend),
-      job->contexts(), o.ratio, o.target_vertices, queued));
+      "job %s start: label=\"%s\" vertices=%u faces=%u fields=%u backend=%s contexts=%d "
+      "ratio=%g target_vertices=%u cost=%s tolerance=%g tolerance_relative=%g queued=%.3fs",
+      job->id, job->label, job->input_vertices, job->input_faces, mesh->field_names().size(),
+      wire::BackendName(o.backend), job->contexts(), o.ratio, o.target_vertices,
+      CostKindName(o.cost), o.tolerance, o.tolerance_relative, queued));
 
   SimplifyControl control;
   control.cancelled = [&job] { return job->cancelled(); };

@@ -22,13 +22,7 @@ namespace {
 namespace fs = std::filesystem;
 
 // A float needs 9 significant digits to survive a text round trip exactly (max_digits10).
-// OpenMesh's OBJ writer uses fixed notation, where precision counts decimals: 17 keeps every
-// float of magnitude above about 1e-10 exact (smaller ones are rounded to 1e-17).
 constexpr std::streamsize kTextPrecision = 9;
-constexpr std::streamsize kObjPrecision = 17;
-
-// The face property that carries face groups in PLY files.
-constexpr char kGroupProperty[] = "group";
 
 std::string LowerExtension(const std::string& path) {
   return absl::AsciiStrToLower(fs::path(path).extension().string());
@@ -67,7 +61,14 @@ absl::Status Prefixed(const std::string& path, const absl::Status& s) {
   return absl::Status(s.code(), absl::StrCat(path, ": ", s.message()));
 }
 
-absl::Status WriteMesh(const std::string& path, const RawMesh& mesh, bool binary) {
+absl::Status OpenFailure(const std::string& path) {
+  const int err = errno;
+  const std::string why = absl::StrCat(path, ": cannot open for writing: ", std::strerror(err));
+  return err == EACCES ? absl::PermissionDeniedError(why) : absl::FailedPreconditionError(why);
+}
+
+absl::Status WriteMesh(const std::string& path, const RawMesh& mesh, bool binary,
+                       const GroupNames& group_names) {
   const std::string ext = LowerExtension(path);
   if (absl::Status s = CheckExtension(path, ext); !s.ok()) return s;
   const size_t nv = mesh.num_vertices(), nf = mesh.num_faces();
@@ -76,23 +77,22 @@ absl::Status WriteMesh(const std::string& path, const RawMesh& mesh, bool binary
     return absl::InvalidArgumentError(
         absl::StrCat(path, ": malformed soup: ", mesh.positions.size(), " coordinates, ",
                      mesh.triangles.size(), " indices, ", mesh.face_groups.size(), " face groups"));
+  for (const FaceField& field : mesh.face_fields)
+    if (field.values.size() != nf)
+      return absl::InvalidArgumentError(absl::StrCat(path, ": malformed soup: face field '",
+                                                     field.name, "' has ", field.values.size(),
+                                                     " values for ", nf, " faces"));
+  if (absl::Status s = CheckFormatHolds(ext, mesh); !s.ok()) return Prefixed(path, s);
+  if (absl::Status s = CheckFaceData(ext, mesh, group_names); !s.ok()) return Prefixed(path, s);
 
   const fs::path parent = fs::path(path).parent_path();
   std::error_code ec;
   if (!parent.empty() && !fs::is_directory(parent, ec))
     return absl::NotFoundError(
         absl::StrCat(path, ": directory '", parent.string(), "' does not exist"));
-  // OpenMesh's writers only return false; open the file first to report why it fails.
-  {
-    std::ofstream probe(path, std::ios::binary | std::ios::trunc);
-    if (!probe) {
-      const int err = errno;
-      const std::string why = absl::StrCat(path, ": cannot open for writing: ", std::strerror(err));
-      return err == EACCES ? absl::PermissionDeniedError(why) : absl::FailedPreconditionError(why);
-    }
-  }
 
-  // The output soup is manifold, so OpenMesh's mesh builder keeps it whole and in order.
+  // Only a valid mesh is written, in every format: OpenMesh's mesh builder refuses what is
+  // non-manifold or degenerate (and its writers would drop such faces).
   OpenMesh::TriMesh_ArrayKernelT<> om;
   om.reserve(nv, 3 * nf / 2, nf);
   for (size_t v = 0; v < nv; ++v)
@@ -110,19 +110,26 @@ absl::Status WriteMesh(const std::string& path, const RawMesh& mesh, bool binary
                        ") is non-manifold or degenerate; only a valid mesh can be written"));
   }
 
-  OpenMesh::IO::Options options;
-  if (binary && (ext == ".stl" || ext == ".ply")) options += OpenMesh::IO::Options::Binary;
-  // Face groups travel as a PLY face property. OFF and STL have no place for them, and
-  // OpenMesh's OBJ writer writes no groups: they are dropped for those formats.
-  OpenMesh::FPropHandleT<int> group;
-  if (ext == ".ply" && !mesh.face_groups.empty()) {
-    om.add_property(group, kGroupProperty);
-    om.property(group).set_persistent(true);
-    for (size_t f = 0; f < nf; ++f)
-      om.property(group, om.face_handle(int(f))) = int(mesh.face_groups[f]);
-    options += OpenMesh::IO::Options::Custom;
+  if (ext == ".obj" || ext == ".ply") {
+    const std::string bytes = ext == ".obj" ? ObjText(mesh, group_names) : PlyBytes(mesh, binary);
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    if (!out) return OpenFailure(path);
+    out.write(bytes.data(), std::streamsize(bytes.size()));
+    out.close();
+    if (!out)
+      return absl::DataLossError(
+          absl::StrCat(path, ": write failed after opening (", bytes.size(), " bytes)"));
+    return absl::OkStatus();
   }
-  if (!OpenMesh::IO::write_mesh(om, path, options, ext == ".obj" ? kObjPrecision : kTextPrecision))
+
+  // OpenMesh's writers only return false; open the file first to report why it fails.
+  {
+    std::ofstream probe(path, std::ios::binary | std::ios::trunc);
+    if (!probe) return OpenFailure(path);
+  }
+  OpenMesh::IO::Options options;
+  if (binary && ext == ".stl") options += OpenMesh::IO::Options::Binary;
+  if (!OpenMesh::IO::write_mesh(om, path, options, kTextPrecision))
     return absl::InternalError(absl::StrCat(path, ": OpenMesh's ", ext, " writer failed"));
   return absl::OkStatus();
 }
@@ -134,7 +141,7 @@ const std::vector<std::string>& SupportedMeshExtensions() {
   return kExt;
 }
 
-absl::StatusOr<RawMesh> ReadMeshFile(const std::string& path) {
+absl::StatusOr<RawMesh> ReadMeshFile(const std::string& path, GroupNames* group_names) {
   const std::string ext = LowerExtension(path);
   if (absl::Status s = CheckExtension(path, ext); !s.ok()) return s;
   absl::StatusOr<std::string> data = ReadWholeFile(path);
@@ -164,17 +171,24 @@ absl::StatusOr<RawMesh> ReadMeshFile(const std::string& path) {
   if (importer.first_bad_index_face() != RawImporter::kNoFace)
     return absl::InvalidArgumentError(absl::StrCat(path, ": face ", importer.first_bad_index_face(),
                                                    " has a negative vertex index"));
-  // Face groups are not read back: OpenMesh's PLY reader stores custom properties only into a
-  // mesh kernel, which this importer deliberately does not have.
-  return std::move(importer.mesh());
+  // The survey read the groups and fields in file order, which is the importer's face order.
+  RawMesh mesh = std::move(importer.mesh());
+  mesh.face_groups = std::move(survey->face_groups);
+  mesh.face_fields = std::move(survey->face_fields);
+  if (group_names) *group_names = std::move(survey->group_names);
+  return mesh;
 }
 
-absl::Status WriteMeshFile(const std::string& path, const RawMesh& mesh) {
-  return WriteMesh(path, mesh, /*binary=*/true);
+absl::Status WriteMeshFile(const std::string& path, const RawMesh& mesh,
+                           const GroupNames& group_names) {
+  return WriteMesh(path, mesh, /*binary=*/true, group_names);
 }
 
-absl::Status WriteMeshFileAscii(const std::string& path, const RawMesh& mesh) {
-  return WriteMesh(path, mesh, /*binary=*/false);
+absl::Status WriteMeshFileAscii(const std::string& path, const RawMesh& mesh,
+                                const GroupNames& group_names) {
+  return WriteMesh(path, mesh, /*binary=*/false, group_names);
 }
+
+std::string MeshFileExtension(const std::string& path) { return LowerExtension(path); }
 
 }  // namespace femsimp

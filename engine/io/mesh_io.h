@@ -1,10 +1,13 @@
-// Mesh files in and out through OpenMesh's readers and writers, chosen by file extension.
+// Mesh files in and out, chosen by file extension: geometry through OpenMesh's readers and its
+// OFF and STL writers; face groups and fields, and the OBJ and PLY files that carry them, by
+// femsimp's own code (face_data.h says which format holds what).
 #pragma once
 
 #include <string>
 #include <vector>
 
 #include "absl/status/statusor.h"
+#include "engine/io/face_data.h"
 #include "engine/raw_mesh.h"
 
 namespace femsimp {
@@ -15,13 +18,22 @@ const std::vector<std::string>& SupportedMeshExtensions();
 // Reads OFF, OBJ, STL (ascii or binary) or PLY into an indexed triangle soup. File-level
 // problems (missing, unreadable, truncated, unknown extension, non-triangle faces, ...) come
 // back as errors naming the file and the problem. Topology is checked later by Mesh::Build.
-absl::StatusOr<RawMesh> ReadMeshFile(const std::string& path);
+// Face groups come from OBJ and PLY files, face fields from PLY files; group_names, when given,
+// receives the OBJ group names that are not derived from the id.
+absl::StatusOr<RawMesh> ReadMeshFile(const std::string& path, GroupNames* group_names = nullptr);
 
 // Writes the soup in the format of the path's extension (binary where the format has one,
-// except OFF and OBJ which are written as text).
-absl::Status WriteMeshFile(const std::string& path, const RawMesh& mesh);
+// except OFF and OBJ which are written as text). OBJ groups are named from group_names. A mesh
+// with groups or fields the format cannot hold is refused (CheckFormatHolds): drop them first
+// (DropUnheldFaceData) to write it anyway.
+absl::Status WriteMeshFile(const std::string& path, const RawMesh& mesh,
+                           const GroupNames& group_names = {});
 
 // Writes the soup as text in every format (ASCII STL and PLY), for inspection and tests.
-absl::Status WriteMeshFileAscii(const std::string& path, const RawMesh& mesh);
+absl::Status WriteMeshFileAscii(const std::string& path, const RawMesh& mesh,
+                                const GroupNames& group_names = {});
+
+// Lower-case extension of the path, with the dot (what picks the format).
+std::string MeshFileExtension(const std::string& path);
 
 }  // namespace femsimp

@@ -7,12 +7,15 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
+#include <unordered_map>
 #include <vector>
 
 #include "absl/status/status.h"
 #include "absl/strings/ascii.h"
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
+#include "absl/strings/str_join.h"
 #include "absl/strings/str_split.h"
 
 namespace femsimp {
@@ -165,12 +168,23 @@ absl::StatusOr<MeshFileSurvey> SurveyOff(absl::string_view data) {
 
 absl::StatusOr<MeshFileSurvey> SurveyObj(absl::string_view data) {
   static constexpr absl::string_view kIgnored[] = {
-      "vt",     "vn",         "vp",        "g",      "o",     "s",        "mtllib",
-      "usemtl", "l",          "p",         "cstype", "deg",   "bmat",     "step",
-      "curv",   "curv2",      "surf",      "parm",   "trim",  "hole",     "scrv",
-      "sp",     "end",        "con",       "mg",     "bevel", "c_interp", "d_interp",
-      "lod",    "shadow_obj", "trace_obj", "ctech",  "stech"};
+      "vt",    "vn",       "vp",       "o",    "s",          "mtllib",    "usemtl", "l",
+      "p",     "cstype",   "deg",      "bmat", "step",       "curv",      "curv2",  "surf",
+      "parm",  "trim",     "hole",     "scrv", "sp",         "end",       "con",    "mg",
+      "bevel", "c_interp", "d_interp", "lod",  "shadow_obj", "trace_obj", "ctech",  "stech"};
   MeshFileSurvey s;
+  // Group names in order of first appearance, and each face's index into them. Faces before
+  // the first `g` are in OBJ's "default" group.
+  std::vector<std::string> group_names;
+  std::unordered_map<std::string, uint32_t> group_index;
+  const auto intern = [&](std::string name) {
+    auto [it, fresh] = group_index.try_emplace(name, uint32_t(group_names.size()));
+    if (fresh) group_names.push_back(std::move(name));
+    return it->second;
+  };
+  uint32_t group = intern(kObjDefaultGroup);
+  bool any_group_statement = false;
+  std::vector<uint32_t> face_group_index;
   Lines lines(data);
   absl::string_view line;
   while (lines.NextContent(&line)) {
@@ -180,8 +194,13 @@ absl::StatusOr<MeshFileSurvey> SurveyObj(absl::string_view data) {
           tok, 1, absl::StrCat("vertex ", s.vertices, " (line ", lines.number(), ")"));
       if (!st.ok()) return st;
       ++s.vertices;
+    } else if (tok[0] == "g") {
+      any_group_statement = true;
+      group = intern(tok.size() == 1 ? std::string(kObjDefaultGroup)
+                                     : absl::StrJoin(tok.begin() + 1, tok.end(), " "));
     } else if (tok[0] == "f") {
       const size_t f = s.faces++;
+      face_group_index.push_back(group);
       const std::string where = absl::StrCat(" (line ", lines.number(), ")");
       if (tok.size() != 4) return Polygon(f, tok.size() - 1, where);
       int64_t idx[3];
@@ -201,13 +220,26 @@ absl::StatusOr<MeshFileSurvey> SurveyObj(absl::string_view data) {
       return Bad("line ", lines.number(), ": unknown OBJ statement '", tok[0], "'");
     }
   }
+  if (any_group_statement) {
+    const std::vector<uint32_t> ids = ObjGroupIds(group_names, &s.group_names);
+    s.face_groups.reserve(face_group_index.size());
+    for (uint32_t i : face_group_index) s.face_groups.push_back(ids[i]);
+    if (std::all_of(s.face_groups.begin(), s.face_groups.end(),
+                    [](uint32_t g) { return g == 0; })) {
+      s.face_groups.clear();
+      s.group_names.clear();
+    }
+  }
   return s;
 }
 
 // ---------------------------------------------------------------------------------- STL
 
 absl::StatusOr<MeshFileSurvey> SurveyStlBinary(absl::string_view data, uint32_t n) {
-  MeshFileSurvey s{3 * size_t(n), n, true};
+  MeshFileSurvey s;
+  s.vertices = 3 * size_t(n);
+  s.faces = n;
+  s.binary = true;
   for (uint32_t t = 0; t < n; ++t) {
     float c[9];  // the three corners, after the facet normal
     std::memcpy(c, data.data() + 84 + 50 * size_t(t) + 12, sizeof(c));
@@ -441,8 +473,46 @@ absl::StatusOr<MeshFileSurvey> SurveyPly(absl::string_view data) {
   PlyValues values(data.substr(lines.offset()), ascii, swap);
   for (const PlyElement& e : elements) {
     const bool is_vertex = e.name == "vertex", is_face = e.name == "face";
+    // What each face property carries (face_data.h): kGroup, a field index, or kOther.
+    constexpr int kOther = -2, kGroup = -1;
+    std::vector<int> role(e.props.size(), kOther);
+    bool groups = false;
+    if (is_face) {
+      s.face_fields.clear();
+      for (size_t k = 0; k < e.props.size(); ++k) {
+        const PlyProperty& p = e.props[k];
+        for (size_t j = 0; j < k; ++j)
+          if (e.props[j].name == p.name)
+            return Bad("PLY header: face property '", p.name, "' is declared twice");
+        const bool scalar = p.count_type == PlyType::kNone;
+        const bool floating = p.type == PlyType::kF32 || p.type == PlyType::kF64;
+        if (p.name == kPlyGroupProperty) {
+          if (!scalar || floating)
+            return Bad("PLY header: face property '", kPlyGroupProperty,
+                       "' must be a scalar of an integer type (one group id per face)");
+          role[k] = kGroup;
+          groups = true;
+        } else if (scalar && floating && IsPlyFieldName(p.name)) {
+          role[k] = int(s.face_fields.size());
+          s.face_fields.push_back({p.name, {}});
+        }
+      }
+      if (s.face_fields.size() > kMaxFaceFields) {
+        std::vector<std::string> names;
+        for (const FaceField& f : s.face_fields) names.push_back(f.name);
+        return Bad("PLY header: ", names.size(), " float face properties (",
+                   absl::StrJoin(names, ", "), ") but femsimp carries at most ", kMaxFaceFields,
+                   " face fields");
+      }
+      // The header's count is not trusted for memory: every face takes at least a byte.
+      const size_t expected = std::min(e.count, data.size());
+      s.face_groups.clear();
+      if (groups) s.face_groups.reserve(expected);
+      for (FaceField& f : s.face_fields) f.values.reserve(expected);
+    }
     for (size_t i = 0; i < e.count; ++i) {
-      for (const PlyProperty& p : e.props) {
+      for (size_t k = 0; k < e.props.size(); ++k) {
+        const PlyProperty& p = e.props[k];
         const auto fail = [&]() {
           if (values.error())
             return Bad(e.name, " ", i, values.Where(header_lines), ": cannot parse '",
@@ -456,6 +526,19 @@ absl::StatusOr<MeshFileSurvey> SurveyPly(absl::string_view data) {
           if (is_vertex && (p.name == "x" || p.name == "y" || p.name == "z") && !FiniteAsFloat(v))
             return Bad("vertex ", i, values.Where(header_lines), ": coordinate ", p.name, " = ", v,
                        " is not a finite float");
+          if (role[k] == kGroup) {
+            // ASCII values are not bound by the declared type.
+            if (!(v >= 0 && v <= double(std::numeric_limits<uint32_t>::max()) &&
+                  v == std::floor(v)))
+              return Bad("face ", i, values.Where(header_lines), ": group ", v,
+                         " is not an integer in [0, 2^32)");
+            s.face_groups.push_back(uint32_t(v));
+          } else if (role[k] >= 0) {
+            if (!FiniteAsFloat(v))
+              return Bad("face ", i, values.Where(header_lines), ": field '", p.name, "' = ", v,
+                         " is not a finite float");
+            s.face_fields[size_t(role[k])].values.push_back(float(v));
+          }
           continue;
         }
         double n;
@@ -472,6 +555,8 @@ absl::StatusOr<MeshFileSurvey> SurveyPly(absl::string_view data) {
       }
     }
   }
+  if (std::all_of(s.face_groups.begin(), s.face_groups.end(), [](uint32_t g) { return g == 0; }))
+    s.face_groups.clear();
   return s;
 }
 

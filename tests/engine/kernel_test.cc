@@ -19,14 +19,17 @@ struct Harness {
   explicit Harness(const RawMesh& raw, SimplifyOptions options = {})
       : mesh(*Mesh::Build(raw)), port(mesh), criteria(CriteriaSet::FromOptions(options)) {
     budget.alive = static_cast<int64_t>(mesh.CountLiveVertices());
+    MarkFeatures(mesh, options.feature_angle_deg);
+    fidelity.cos_feature = std::cos(options.feature_angle_deg * std::numbers::pi / 180.0);
   }
   Outcome Remove(uint32_t v) {
-    RemovalKernel<NativePort> kernel(port, criteria, budget, stats);
+    RemovalKernel<NativePort> kernel(port, criteria, fidelity, budget, stats);
     return kernel.TryRemove(v);
   }
   Mesh mesh;
   NativePort port;
   CriteriaSet criteria;
+  FidelityConfig fidelity;
   RemovalBudget budget;
   KernelStats stats;
 };
@@ -72,6 +75,7 @@ TEST(Kernel, BoundaryVertexCollapsesAlongItsBoundary) {
 TEST(Kernel, EveryVertexOfAGridOnceInTopologyOnlyMode) {
   SimplifyOptions topology;
   topology.topology_only = true;
+  topology.feature_angle_deg = 180;  // every edge of these solids is sharp: no corners here
   const RawMesh raw = testing::FlatGrid(6);
   Harness h(raw, topology);
   int removed = 0;
@@ -86,6 +90,7 @@ TEST(Kernel, EveryVertexOfAGridOnceInTopologyOnlyMode) {
 TEST(Kernel, TetrahedronAndSingleTriangleAreNeverCollapsed) {
   SimplifyOptions topology;
   topology.topology_only = true;
+  topology.feature_angle_deg = 180;  // every edge of these solids is sharp: no corners here
   for (const RawMesh& raw : {testing::Tetrahedron(), testing::SingleTriangle()}) {
     Harness h(raw, topology);
     for (uint32_t v = 0; v < h.mesh.vertex_capacity(); ++v)
@@ -98,6 +103,7 @@ TEST(Kernel, TetrahedronAndSingleTriangleAreNeverCollapsed) {
 TEST(Kernel, OctahedronShrinksToATetrahedronAndStops) {
   SimplifyOptions topology;
   topology.topology_only = true;
+  topology.feature_angle_deg = 180;  // every edge of these solids is sharp: no corners here
   const RawMesh raw = testing::Octahedron();
   Harness h(raw, topology);
   for (int round = 0; round < 3; ++round)

@@ -90,17 +90,6 @@ TEST_F(WriteTest, UpperCaseExtensionPicksTheFormat) {
   }
 }
 
-TEST_F(WriteTest, PlyWithFaceGroupsReadsBackWithoutThem) {
-  RawMesh in = testing::Tetrahedron();
-  in.face_groups = {1, 2, 3, 4};
-  const std::string path = Path("groups.ply");
-  ASSERT_TRUE(WriteMeshFile(path, in).ok());
-  absl::StatusOr<RawMesh> out = ReadMeshFile(path);
-  ASSERT_TRUE(out.ok()) << out.status();
-  EXPECT_EQ(out->triangles, in.triangles);
-  EXPECT_TRUE(out->face_groups.empty());
-}
-
 TEST_F(WriteTest, MissingDirectory) {
   absl::Status s = WriteMeshFile(Path("no/such/dir/mesh.off"), testing::Tetrahedron());
   EXPECT_EQ(s.code(), absl::StatusCode::kNotFound);

@@ -1,6 +1,7 @@
 // The service end to end, in process on loopback ports.
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <thread>
 
 #include "engine/mesh.h"
@@ -73,6 +74,26 @@ TEST(Service, FandiskRoundTrip) {
   ASSERT_EQ(list.jobs_size(), 1);
   EXPECT_EQ(list.jobs(0).job_id(), out.job_id);
   EXPECT_EQ(list.jobs(0).state(), v1::JOB_STATE_SUCCEEDED);
+}
+
+TEST(Service, FaceGroupsAndFieldsComeBack) {
+  InProcessServer s;
+  const RawMesh in = testing::WithGroupsAndFields(testing::MakeTorus(60, 40));
+  v1::JobSpec spec = RatioSpec(0.5);
+  // Fidelity options travel and pass validation (what the engine makes of them is its tests').
+  spec.mutable_options()->set_cost(v1::COST_KIND_QUADRIC);
+  spec.mutable_options()->set_feature_angle_deg(40);
+  spec.mutable_options()->set_max_field_change(0.5);
+  grpc::ClientContext ctx;
+  cli::RemoteOutcome out = cli::RemoteSimplify(s.stub(), ctx, spec, in);
+  ASSERT_TRUE(out.status.ok()) << out.status.error_message();
+  EXPECT_LT(out.output.num_faces(), in.num_faces());
+  EXPECT_TRUE(out.result.has_face_groups());
+  ASSERT_EQ(out.result.face_field_names_size(), 2);
+  EXPECT_EQ(out.result.face_field_names(0), "pressure");
+  EXPECT_EQ(out.result.face_field_names(1), "heat_flux");
+  EXPECT_EQ(testing::ExpectGroupsAndFields(out.output), 4u);
+  EXPECT_TRUE(Mesh::Build(out.output).ok());
 }
 
 TEST(Service, LargeMeshNeedsChunking) {
@@ -218,6 +239,14 @@ TEST(Service, MalformedStreamsAreInvalidArgument) {
   v1::JobSpec bad_angle = RatioSpec(0.5);
   bad_angle.mutable_options()->set_min_angle_deg(80);
   v1::JobSpec bad_ratio = RatioSpec(1.5);
+  v1::JobSpec bad_tolerance = RatioSpec(0.5);
+  bad_tolerance.mutable_options()->set_tolerance_relative(3);
+  v1::JobSpec five_fields = RatioSpec(0.5);
+  for (const char* n : {"a", "b", "c", "d", "e"}) five_fields.add_face_field_names(n);
+  v1::JobSpec field_p = RatioSpec(0.5);
+  field_p.add_face_field_names("p");
+  v1::SimplifyRequest tri_nan_p = tri;
+  tri_nan_p.mutable_chunk()->add_face_fields()->add_values(std::nanf(""));
 
   struct Case {
     const char* name;
@@ -249,6 +278,22 @@ TEST(Service, MalformedStreamsAreInvalidArgument) {
        {SpecRequest(3, 1, bad_ratio), tri},
        grpc::StatusCode::INVALID_ARGUMENT,
        "ratio"},
+      {"tolerance out of range",
+       {SpecRequest(3, 1, bad_tolerance), tri},
+       grpc::StatusCode::INVALID_ARGUMENT,
+       "tolerance_relative = 3 is out of range"},
+      {"too many fields",
+       {SpecRequest(3, 1, five_fields), tri},
+       grpc::StatusCode::INVALID_ARGUMENT,
+       "spec: face_field_names: 5 face fields, at most 3"},
+      {"field values missing",
+       {SpecRequest(3, 1, field_p), tri},
+       grpc::StatusCode::INVALID_ARGUMENT,
+       "received 0 of 1 values of face field 'p'"},
+      {"field value NaN",
+       {SpecRequest(3, 1, field_p), tri_nan_p},
+       grpc::StatusCode::INVALID_ARGUMENT,
+       "face field 'p': face 0 has a non-finite value"},
       {"Mesh::Build message",
        {SpecRequest(3, 1), degenerate},
        grpc::StatusCode::INVALID_ARGUMENT,

@@ -1,5 +1,7 @@
 // Service pieces without a server: argument parsing, wire conversions, chunking, stream
 // validation, the job queue, the stats JSON.
+#include <cmath>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -66,16 +68,67 @@ TEST(Args, SimplifyWithEveryOption) {
   EXPECT_TRUE(a.server.empty());
 }
 
+TEST(Args, FidelityOptions) {
+  auto cmd =
+      Parse({"simplify", "in.ply", "out.ply", "--cost", "quadric", "--tolerance", "0.02",
+             "--tolerance-relative", "0.1%", "--feature-angle=45", "--max-volume-change", "0.5%",
+             "--max-centroid-shift", "0.001", "--max-field-change", "2%", "--drop-face-data"});
+  ASSERT_TRUE(cmd.ok()) << cmd.status();
+  const SimplifyOptions& o = cmd->simplify.options;
+  EXPECT_EQ(o.cost, CostKind::kQuadric);
+  EXPECT_DOUBLE_EQ(o.tolerance, 0.02);
+  EXPECT_DOUBLE_EQ(o.tolerance_relative, 0.001);
+  EXPECT_DOUBLE_EQ(o.feature_angle_deg, 45);
+  EXPECT_DOUBLE_EQ(o.max_volume_change, 0.005);
+  EXPECT_DOUBLE_EQ(o.max_centroid_shift, 0.001);
+  EXPECT_DOUBLE_EQ(o.max_field_change, 0.02);
+  EXPECT_TRUE(cmd->simplify.drop_face_data);
+  // Unset: the engine's defaults.
+  auto plain = Parse({"simplify", "in.ply", "out.ply"});
+  ASSERT_TRUE(plain.ok()) << plain.status();
+  const SimplifyOptions engine;
+  EXPECT_EQ(plain->simplify.options.cost, engine.cost);
+  EXPECT_EQ(plain->simplify.options.tolerance, engine.tolerance);
+  EXPECT_EQ(plain->simplify.options.feature_angle_deg, engine.feature_angle_deg);
+  EXPECT_EQ(plain->simplify.options.max_field_change, engine.max_field_change);
+  EXPECT_FALSE(plain->simplify.drop_face_data);
+  auto gaussian = Parse({"simplify", "a", "b", "--cost", "gaussian_curvature"});
+  ASSERT_TRUE(gaussian.ok()) << gaussian.status();
+  EXPECT_EQ(gaussian->simplify.options.cost, CostKind::kGaussianCurvature);
+}
+
 TEST(Args, Help) {
   auto top = Parse({"--help"});
   ASSERT_TRUE(top.ok());
   EXPECT_EQ(top->kind, cli::Command::kHelp);
   auto sub = Parse({"simplify", "--help"});
   ASSERT_TRUE(sub.ok());
-  for (const char* flag :
-       {"--ratio", "--target-vertices", "--threads", "--max-normal-deviation", "--min-angle",
-        "--candidate-fraction", "--max-passes", "--topology-only", "--backend", "--spes",
-        "--ls-cache-kib", "--spe-threads", "--stats-json", "--server", "--deadline", "Exit codes"})
+  for (const char* flag : {"--ratio",
+                           "--target-vertices",
+                           "--threads",
+                           "--max-normal-deviation",
+                           "--min-angle",
+                           "--candidate-fraction",
+                           "--max-passes",
+                           "--topology-only",
+                           "--backend",
+                           "--spes",
+                           "--ls-cache-kib",
+                           "--spe-threads",
+                           "--stats-json",
+                           "--server",
+                           "--deadline",
+                           "Exit codes",
+                           "--cost gaussian|quadric",
+                           "--tolerance D",
+                           "--tolerance-relative F",
+                           "--feature-angle D",
+                           "--max-volume-change F",
+                           "--max-centroid-shift F",
+                           "--max-field-change F",
+                           "(default 0.01)",
+                           "(default 30;",
+                           "--drop-face-data"})
     EXPECT_NE(sub->help_text.find(flag), std::string::npos) << flag;
 }
 
@@ -93,6 +146,20 @@ TEST(Args, Errors) {
       {{"simplify", "a", "b", "--ratio", "0.5", "--target-vertices", "10"}, "not both"},
       {{"simplify", "a", "b", "--spes", "2"}, "needs --backend cell"},
       {{"simplify", "a", "b", "--backend", "gpu"}, "not one of native, cell"},
+      {{"simplify", "a", "b", "--cost", "cheap"},
+       "--cost: 'cheap' is not one of gaussian, quadric"},
+      {{"simplify", "a", "b", "--tolerance", "-1"}, "tolerance = -1 is out of range"},
+      {{"simplify", "a", "b", "--tolerance", "fine"}, "--tolerance: 'fine' is not a finite number"},
+      {{"simplify", "a", "b", "--tolerance-relative", "x%"},
+       "--tolerance-relative: 'x%' is not a finite number or percentage"},
+      {{"simplify", "a", "b", "--tolerance-relative", "150%"},
+       "tolerance_relative = 1.5 is out of range"},
+      {{"simplify", "a", "b", "--feature-angle", "0"}, "feature_angle = 0 is out of range"},
+      {{"simplify", "a", "b", "--max-volume-change", "2"}, "max_volume_change = 2 is out of range"},
+      {{"simplify", "a", "b", "--max-centroid-shift", "-1%"},
+       "max_centroid_shift = -0.01 is out of range"},
+      {{"simplify", "a", "b", "--max-field-change", "0"}, "max_field_change = 0 is out of range"},
+      {{"simplify", "a", "b", "--drop-face-data=yes"}, "--drop-face-data takes no value"},
       {{"simplify", "a"}, "exactly two files"},
       {{"simplify", "a", "b", "--deadline", "3"}, "need --server"},
       {{"simplify", "a", "b", "--server", "nohost"}, "HOST:PORT"},
@@ -131,6 +198,85 @@ TEST(Wire, OptionsRoundTrip) {
   EXPECT_FALSE(wire::FromProto(m, 2, 8).ok());
 }
 
+TEST(Wire, FidelityOptionsRoundTripAndDefaults) {
+  // Unset fields take the engine's defaults.
+  auto defaults = wire::FromProto(v1::EngineOptions(), 1, 8);
+  ASSERT_TRUE(defaults.ok()) << defaults.status();
+  const SimplifyOptions engine;
+  EXPECT_EQ(defaults->cost, engine.cost);
+  EXPECT_EQ(defaults->tolerance, engine.tolerance);
+  EXPECT_EQ(defaults->tolerance_relative, engine.tolerance_relative);
+  EXPECT_EQ(defaults->feature_angle_deg, engine.feature_angle_deg);
+  EXPECT_EQ(defaults->max_volume_change, engine.max_volume_change);
+  EXPECT_EQ(defaults->max_centroid_shift, engine.max_centroid_shift);
+  EXPECT_EQ(defaults->max_field_change, engine.max_field_change);
+
+  SimplifyOptions o;
+  o.cost = CostKind::kQuadric;
+  o.tolerance = 0.25;
+  o.tolerance_relative = 0.001;
+  o.feature_angle_deg = 45;
+  o.max_volume_change = 0.02;
+  o.max_centroid_shift = 0.003;
+  o.max_field_change = 0.05;
+  v1::EngineOptions m;
+  wire::ToProto(o, false, &m);
+  EXPECT_EQ(m.cost(), v1::COST_KIND_QUADRIC);
+  auto back = wire::FromProto(m, 1, 8);
+  ASSERT_TRUE(back.ok()) << back.status();
+  EXPECT_EQ(back->cost, CostKind::kQuadric);
+  EXPECT_EQ(back->tolerance, 0.25);
+  EXPECT_EQ(back->tolerance_relative, 0.001);
+  EXPECT_EQ(back->feature_angle_deg, 45);
+  EXPECT_EQ(back->max_volume_change, 0.02);
+  EXPECT_EQ(back->max_centroid_shift, 0.003);
+  EXPECT_EQ(back->max_field_change, 0.05);
+
+  // Out of range, and values an older or newer peer might send.
+  struct Case {
+    std::function<void(v1::EngineOptions*)> set;
+    std::string message;
+  } cases[] = {
+      {[](auto* e) { e->set_cost(static_cast<v1::CostKind>(7)); }, "cost = 7 is not a known"},
+      {[](auto* e) { e->set_tolerance(-1); }, "tolerance = -1 is out of range"},
+      {[](auto* e) { e->set_tolerance_relative(2); }, "tolerance_relative = 2 is out of range"},
+      {[](auto* e) { e->set_feature_angle_deg(0); }, "feature_angle = 0 is out of range"},
+      {[](auto* e) { e->set_max_volume_change(1.5); }, "max_volume_change = 1.5"},
+      {[](auto* e) { e->set_max_centroid_shift(-0.1); }, "max_centroid_shift = -0.1"},
+      // Presence matters: an explicit 0 is not "the default 0.01".
+      {[](auto* e) { e->set_max_field_change(0); }, "max_field_change = 0 is out of range"},
+  };
+  for (const Case& c : cases) {
+    v1::EngineOptions e;
+    c.set(&e);
+    auto r = wire::FromProto(e, 1, 8);
+    ASSERT_FALSE(r.ok()) << c.message;
+    EXPECT_NE(r.status().message().find(c.message), std::string::npos) << r.status();
+  }
+}
+
+TEST(Wire, FidelityFiguresRoundTrip) {
+  SimplifyResult r;
+  r.feature_edges = 321;
+  r.corner_vertices = 12;
+  r.tolerance_abs = 0.5;
+  r.deviation_bound = 0.375;
+  r.volume_change = -0.0125;
+  r.centroid_shift = 1e-4;
+  r.max_field_change = 0.008;
+  v1::Result m;
+  wire::FidelityToProto(r, &m);
+  SimplifyResult back;
+  wire::FidelityFromProto(m, &back);
+  EXPECT_EQ(back.feature_edges, 321u);
+  EXPECT_EQ(back.corner_vertices, 12u);
+  EXPECT_EQ(back.tolerance_abs, 0.5);
+  EXPECT_EQ(back.deviation_bound, 0.375);
+  EXPECT_EQ(back.volume_change, -0.0125);
+  EXPECT_EQ(back.centroid_shift, 1e-4);
+  EXPECT_EQ(back.max_field_change, 0.008);
+}
+
 TEST(Wire, ProgressRoundTrip) {
   PassStats p;
   p.pass = 3;
@@ -167,6 +313,100 @@ TEST(Wire, ChunkingKeepsMessagesSmallAndReassembles) {
   EXPECT_EQ(back->positions, mesh.positions);
   EXPECT_EQ(back->triangles, mesh.triangles);
   EXPECT_EQ(back->face_groups, mesh.face_groups);
+}
+
+TEST(Wire, ChunkingCarriesFaceFields) {
+  RawMesh mesh = testing::MakeTorus(300, 300);  // 180k faces: three chunks of faces
+  const size_t nf = mesh.num_faces();
+  mesh.face_groups.resize(nf);
+  mesh.face_fields = {{"pressure", {}}, {"tau_x", {}}, {"tau_y", {}}};
+  for (size_t f = 0; f < nf; ++f) {
+    mesh.face_groups[f] = uint32_t(f % 11);
+    for (int k = 0; k < 3; ++k) mesh.face_fields[k].values.push_back(float(f) * (k + 1) - 0.5f);
+  }
+  wire::MeshAssembler assembler(mesh.num_vertices(), nf, true, wire::FieldNames(mesh));
+  size_t chunks = wire::ForEachChunk(mesh, [&](v1::MeshChunk& c) {
+    EXPECT_LT(c.ByteSizeLong(), 3u << 20);  // with groups and three fields
+    absl::Status s = assembler.Add(c);
+    EXPECT_TRUE(s.ok()) << s;
+    return true;
+  });
+  EXPECT_GT(chunks, 2u);
+  auto back = assembler.Finish();
+  ASSERT_TRUE(back.ok()) << back.status();
+  EXPECT_EQ(back->face_groups, mesh.face_groups);
+  ASSERT_EQ(back->face_fields.size(), 3u);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_EQ(back->face_fields[k].name, mesh.face_fields[k].name);
+    EXPECT_EQ(back->face_fields[k].values, mesh.face_fields[k].values);
+  }
+}
+
+TEST(Wire, AssemblerFaceFieldProblems) {
+  v1::MeshChunk tri;
+  for (float x : {0, 0, 0, 1, 0, 0, 0, 1, 0}) tri.add_positions(x);
+  for (uint32_t i : {0u, 1u, 2u}) tri.add_indices(i);
+  auto run = [&](std::vector<std::string> names, std::vector<v1::MeshChunk> chunks) {
+    wire::MeshAssembler a(3, 1, false, std::move(names));
+    for (const v1::MeshChunk& c : chunks)
+      if (absl::Status s = a.Add(c); !s.ok()) return s;
+    return a.Finish().status();
+  };
+  v1::MeshChunk with_p = tri;
+  with_p.add_face_fields()->add_values(2.5f);
+  EXPECT_TRUE(run({"p"}, {with_p}).ok());
+  // Values may come in a chunk of their own.
+  v1::MeshChunk only_p;
+  only_p.add_face_fields()->add_values(2.5f);
+  EXPECT_TRUE(run({"p"}, {tri, only_p}).ok());
+
+  struct Case {
+    std::vector<std::string> names;
+    std::vector<v1::MeshChunk> chunks;
+    std::string message;
+  } cases[] = {
+      {{"p"}, {tri}, "stream ended early: received 0 of 1 values of face field 'p'"},
+      {{}, {with_p}, "chunk 1: 1 face field arrays but the spec declares 0 face fields ()"},
+      {{"p", "q"}, {with_p}, "1 face field arrays but the spec declares 2 face fields (p, q)"},
+      {{"p"}, {with_p, only_p}, "chunk 2: values of face field 'p' past the declared face_count 1"},
+  };
+  for (const Case& c : cases) {
+    absl::Status s = run(c.names, c.chunks);
+    EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument) << c.message;
+    EXPECT_NE(s.message().find(c.message), std::string::npos) << s;
+  }
+  v1::MeshChunk nan = tri;
+  nan.add_face_fields()->add_values(std::nanf(""));
+  absl::Status s = run({"p"}, {nan});
+  EXPECT_NE(s.message().find("chunk 1: face field 'p': face 0 has a non-finite value"),
+            std::string::npos)
+      << s;
+}
+
+TEST(RequestReader, FaceFieldNames) {
+  server::ServerConfig config;
+  v1::JobSpec spec;
+  spec.set_vertex_count(3);
+  spec.set_face_count(1);
+  EXPECT_TRUE(server::CheckSpec(spec, config).ok());
+  for (const char* name : {"pressure", "tau_x", "tau_y"}) spec.add_face_field_names(name);
+  EXPECT_TRUE(server::CheckSpec(spec, config).ok());
+  struct Case {
+    std::vector<std::string> names;
+    std::string message;
+  } cases[] = {
+      {{"a", "b", "c", "d"}, "spec: face_field_names: 4 face fields, at most 3"},
+      {{"a", ""}, "spec: face_field_names[1] is 0 bytes (1 to 64)"},
+      {{std::string(65, 'x')}, "spec: face_field_names[0] is 65 bytes (1 to 64)"},
+      {{"p", "q", "p"}, "spec: face_field_names: 'p' is given twice"},
+  };
+  for (const Case& c : cases) {
+    spec.clear_face_field_names();
+    for (const std::string& n : c.names) spec.add_face_field_names(n);
+    absl::Status s = server::CheckSpec(spec, config);
+    EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument) << c.message;
+    EXPECT_NE(s.message().find(c.message), std::string::npos) << s;
+  }
 }
 
 TEST(RequestReader, Problems) {
@@ -229,14 +469,35 @@ TEST(Report, JsonHasEveryField) {
   cli::RunReport r;
   r.input_vertices = 10;
   r.stop_reason = "target_reached";
+  r.face_fields = {"pressure"};
   PassStats p;
   p.pass = 1;
   r.passes.push_back(p);
   std::string json = cli::ReportJson(r);
-  for (const char* key :
-       {"\"input\"", "\"output\"", "\"engine_seconds\"", "\"load_seconds\"", "\"write_seconds\"",
-        "\"stop_reason\"", "\"options\"", "\"passes\"", "\"rejections\"", "\"link_condition\"",
-        "\"normal_deviation\"", "\"lock_conflicts\"", "\"busy_seconds\"", "\"candidates\""})
+  for (const char* key : {"\"input\"",
+                          "\"output\"",
+                          "\"engine_seconds\"",
+                          "\"load_seconds\"",
+                          "\"write_seconds\"",
+                          "\"stop_reason\"",
+                          "\"options\"",
+                          "\"passes\"",
+                          "\"rejections\"",
+                          "\"link_condition\"",
+                          "\"normal_deviation\"",
+                          "\"lock_conflicts\"",
+                          "\"busy_seconds\"",
+                          "\"candidates\"",
+                          "\"field_resultant\"",
+                          "\"cost\": \"gaussian_curvature\"",
+                          "\"tolerance_relative\"",
+                          "\"feature_angle_deg\"",
+                          "\"max_field_change\"",
+                          "\"fidelity\"",
+                          "\"deviation_bound\"",
+                          "\"feature_edges\"",
+                          "\"face_data\"",
+                          "\"fields\": [\"pressure\"]"})
     EXPECT_NE(json.find(key), std::string::npos) << key;
 }
 

@@ -1,0 +1,231 @@
+#include "engine/io/face_data.h"
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <charconv>
+#include <cmath>
+#include <limits>
+#include <set>
+#include <system_error>
+
+#include "absl/strings/ascii.h"
+#include "absl/strings/match.h"
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_join.h"
+#include "absl/strings/strip.h"
+
+namespace femsimp {
+namespace {
+
+// "group_<n>" with n in canonical decimal, so that id -> name -> id is exact both ways.
+bool CanonicalGroupId(absl::string_view name, uint32_t* id) {
+  if (!absl::ConsumePrefix(&name, "group_") || name.empty() || name.size() > 10) return false;
+  if (name.size() > 1 && name[0] == '0') return false;
+  uint64_t v = 0;
+  for (char c : name) {
+    if (!absl::ascii_isdigit(c)) return false;
+    v = 10 * v + uint64_t(c - '0');
+  }
+  if (v > std::numeric_limits<uint32_t>::max()) return false;
+  *id = uint32_t(v);
+  return true;
+}
+
+const char* FormatName(absl::string_view ext) {
+  if (ext == ".obj") return "OBJ";
+  if (ext == ".ply") return "PLY";
+  if (ext == ".off") return "OFF";
+  if (ext == ".stl") return "STL";
+  return "these";
+}
+
+bool HoldsGroups(absl::string_view ext) { return ext == ".obj" || ext == ".ply"; }
+bool HoldsFields(absl::string_view ext) { return ext == ".ply"; }
+
+std::vector<std::string> FieldNames(const RawMesh& mesh) {
+  std::vector<std::string> names;
+  for (const FaceField& f : mesh.face_fields) names.push_back(f.name);
+  return names;
+}
+
+// Shortest decimal that reads back as the same float.
+void AppendFloat(std::string* s, float v) {
+  char buf[32];
+  auto [end, ec] = std::to_chars(buf, buf + sizeof(buf), v);
+  s->append(buf, ec == std::errc() ? end : buf);
+}
+
+template <typename T>
+void AppendLittleEndian(std::string* s, T v) {
+  auto bytes = std::bit_cast<std::array<char, sizeof(T)>>(v);
+  if constexpr (std::endian::native == std::endian::big) std::reverse(bytes.begin(), bytes.end());
+  s->append(bytes.data(), bytes.size());
+}
+
+}  // namespace
+
+std::string ObjGroupName(uint32_t id, const GroupNames& names) {
+  if (auto it = names.find(id); it != names.end()) return it->second;
+  return id == 0 ? kObjDefaultGroup : absl::StrCat("group_", id);
+}
+
+std::vector<uint32_t> ObjGroupIds(const std::vector<std::string>& distinct_names,
+                                  GroupNames* names) {
+  std::vector<uint32_t> ids(distinct_names.size());
+  std::vector<bool> fixed(distinct_names.size(), false);
+  std::set<uint32_t> taken;
+  for (size_t i = 0; i < distinct_names.size(); ++i) {
+    if (distinct_names[i] == kObjDefaultGroup) {
+      ids[i] = 0;
+      fixed[i] = true;
+    } else {
+      fixed[i] = CanonicalGroupId(distinct_names[i], &ids[i]);
+    }
+    if (fixed[i]) taken.insert(ids[i]);
+  }
+  uint32_t next = 1;
+  for (size_t i = 0; i < distinct_names.size(); ++i) {
+    if (fixed[i]) continue;
+    while (taken.count(next)) ++next;
+    ids[i] = next;
+    taken.insert(next);
+    (*names)[next] = distinct_names[i];
+  }
+  return ids;
+}
+
+bool IsPlyFieldName(absl::string_view name) {
+  static const absl::string_view kNotFields[] = {
+      kPlyGroupProperty, "vertex_indices", "vertex_index", "nx", "ny", "nz", "red",
+      "green",           "blue",           "alpha"};
+  return std::find(std::begin(kNotFields), std::end(kNotFields), name) == std::end(kNotFields);
+}
+
+bool HasFaceGroups(const RawMesh& mesh) {
+  return std::any_of(mesh.face_groups.begin(), mesh.face_groups.end(),
+                     [](uint32_t g) { return g != 0; });
+}
+
+absl::Status CheckFormatHolds(absl::string_view ext, const RawMesh& mesh) {
+  const bool lost_groups = HasFaceGroups(mesh) && !HoldsGroups(ext);
+  const bool lost_fields = !mesh.face_fields.empty() && !HoldsFields(ext);
+  if (!lost_groups && !lost_fields) return absl::OkStatus();
+  std::string what;
+  if (lost_groups) what = "face groups";
+  if (lost_fields)
+    absl::StrAppend(&what, lost_groups ? " and " : "", "face fields (",
+                    absl::StrJoin(FieldNames(mesh), ", "), ")");
+  return absl::InvalidArgumentError(
+      absl::StrCat(FormatName(ext), " files cannot hold ", what, "; write ",
+                   lost_fields ? ".ply to keep them" : ".obj or .ply to keep them"));
+}
+
+void DropUnheldFaceData(absl::string_view ext, RawMesh* mesh) {
+  if (!HoldsGroups(ext)) mesh->face_groups.clear();
+  if (!HoldsFields(ext)) mesh->face_fields.clear();
+}
+
+absl::Status CheckFaceData(absl::string_view ext, const RawMesh& mesh, const GroupNames& names) {
+  if (ext == ".obj" && !mesh.face_groups.empty()) {
+    for (const auto& [id, name] : names)
+      if (name.empty() || name.find_first_of("\r\n") != std::string::npos)
+        return absl::InvalidArgumentError(absl::StrCat(
+            "group ", id, ": name '", name, "' cannot be an OBJ group name (empty or multi-line)"));
+  }
+  if (ext != ".ply") return absl::OkStatus();
+  if (mesh.face_fields.size() > kMaxFaceFields)
+    return absl::InvalidArgumentError(
+        absl::StrCat("face fields: ", mesh.face_fields.size(), " given, at most ", kMaxFaceFields));
+  for (size_t i = 0; i < mesh.face_fields.size(); ++i) {
+    const FaceField& field = mesh.face_fields[i];
+    const bool blank = std::any_of(field.name.begin(), field.name.end(), [](char c) {
+      return absl::ascii_isspace(c) || absl::ascii_iscntrl(c);
+    });
+    if (field.name.empty() || blank || !IsPlyFieldName(field.name))
+      return absl::InvalidArgumentError(absl::StrCat(
+          "face field '", field.name,
+          "': not usable as a PLY property name (empty, contains blanks, or one of group, "
+          "vertex_indices, vertex_index, nx, ny, nz, red, green, blue, alpha)"));
+    for (size_t j = 0; j < i; ++j)
+      if (mesh.face_fields[j].name == field.name)
+        return absl::InvalidArgumentError(
+            absl::StrCat("face field '", field.name, "' is given twice"));
+    for (size_t f = 0; f < field.values.size(); ++f)
+      if (!std::isfinite(field.values[f]))
+        return absl::InvalidArgumentError(
+            absl::StrCat("face field '", field.name, "': face ", f, " has a non-finite value"));
+  }
+  return absl::OkStatus();
+}
+
+std::string ObjText(const RawMesh& mesh, const GroupNames& names) {
+  const size_t nv = mesh.num_vertices(), nf = mesh.num_faces();
+  std::string s;
+  s.reserve(40 * nv + 24 * nf);
+  absl::StrAppend(&s, "# femsimp: ", nv, " vertices, ", nf, " faces\n");
+  for (size_t v = 0; v < nv; ++v) {
+    s += "v";
+    for (int i = 0; i < 3; ++i) {
+      s += ' ';
+      AppendFloat(&s, mesh.positions[3 * v + i]);
+    }
+    s += '\n';
+  }
+  const bool groups = !mesh.face_groups.empty();
+  for (size_t f = 0; f < nf; ++f) {
+    if (groups && (f == 0 || mesh.face_groups[f] != mesh.face_groups[f - 1]))
+      absl::StrAppend(&s, "g ", ObjGroupName(mesh.face_groups[f], names), "\n");
+    const uint32_t* t = &mesh.triangles[3 * f];
+    absl::StrAppend(&s, "f ", uint64_t(t[0]) + 1, " ", uint64_t(t[1]) + 1, " ", uint64_t(t[2]) + 1,
+                    "\n");
+  }
+  return s;
+}
+
+std::string PlyBytes(const RawMesh& mesh, bool binary) {
+  const size_t nv = mesh.num_vertices(), nf = mesh.num_faces();
+  const bool groups = !mesh.face_groups.empty();
+  std::string s = absl::StrCat("ply\nformat ", binary ? "binary_little_endian" : "ascii",
+                               " 1.0\ncomment femsimp\nelement vertex ", nv,
+                               "\nproperty float x\nproperty float y\nproperty float z\n"
+                               "element face ",
+                               nf, "\nproperty list uchar int vertex_indices\n");
+  if (groups) absl::StrAppend(&s, "property uint ", kPlyGroupProperty, "\n");
+  for (const FaceField& field : mesh.face_fields)
+    absl::StrAppend(&s, "property float ", field.name, "\n");
+  s += "end_header\n";
+  const size_t face_bytes = 13 + 4 * (groups + mesh.face_fields.size());
+  s.reserve(s.size() + (binary ? 12 * nv + face_bytes * nf : 40 * nv + 3 * face_bytes * nf));
+  for (size_t v = 0; v < nv; ++v) {
+    for (int i = 0; i < 3; ++i) {
+      if (binary) {
+        AppendLittleEndian(&s, mesh.positions[3 * v + i]);
+      } else {
+        if (i) s += ' ';
+        AppendFloat(&s, mesh.positions[3 * v + i]);
+      }
+    }
+    if (!binary) s += '\n';
+  }
+  for (size_t f = 0; f < nf; ++f) {
+    const uint32_t* t = &mesh.triangles[3 * f];
+    if (binary) {
+      AppendLittleEndian(&s, uint8_t{3});
+      for (int i = 0; i < 3; ++i) AppendLittleEndian(&s, int32_t(t[i]));
+      if (groups) AppendLittleEndian(&s, mesh.face_groups[f]);
+      for (const FaceField& field : mesh.face_fields) AppendLittleEndian(&s, field.values[f]);
+      continue;
+    }
+    absl::StrAppend(&s, "3 ", t[0], " ", t[1], " ", t[2]);
+    if (groups) absl::StrAppend(&s, " ", mesh.face_groups[f]);
+    for (const FaceField& field : mesh.face_fields) {
+      s += ' ';
+      AppendFloat(&s, field.values[f]);
+    }
+    s += '\n';
+  }
+  return s;
+}
+
+}  // namespace femsimp

@@ -1,0 +1,227 @@
+#include "engine/mechanics.h"
+
+#include <cmath>
+
+namespace femsimp {
+namespace {
+
+DVec3 Pos(const VertexQ& q) { return {q.x, q.y, q.z}; }
+
+// Solves (m + mu I) x = r for a symmetric positive semi-definite m (Cramer's rule).
+DVec3 Solve3(const double m[3][3], const DVec3& r) {
+  const double det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
+                     m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+                     m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+  if (!(std::fabs(det) > 0.0)) return {0, 0, 0};
+  const double b[3] = {r.x, r.y, r.z};
+  double x[3];
+  for (int c = 0; c < 3; ++c) {
+    double a[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) a[i][j] = j == c ? b[i] : m[i][j];
+    x[c] = (a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) -
+            a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
+            a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0])) /
+           det;
+  }
+  return {x[0], x[1], x[2]};
+}
+
+}  // namespace
+
+GroupIndex::GroupIndex(const Mesh& mesh) {
+  const HalfEdgeQ* h = mesh.halfedges();
+  for (uint32_t f = 0; f < mesh.face_capacity(); ++f) {
+    if (h[3 * f].flags & kFaceRemoved) continue;
+    if (index_.try_emplace(h[3 * f].group, static_cast<int>(ids_.size())).second)
+      ids_.push_back(h[3 * f].group);
+  }
+}
+
+bool IsClosed(const Mesh& mesh) {
+  const HalfEdgeQ* h = mesh.halfedges();
+  for (uint32_t e = 0; e < mesh.halfedge_capacity(); ++e)
+    if (!(h[e].flags & kFaceRemoved) && h[e].twin == kNone) return false;
+  return true;
+}
+
+MassProperties MeasureMass(const Mesh& mesh, bool closed) {
+  MassProperties m;
+  const VertexQ* v = mesh.vertices();
+  const HalfEdgeQ* h = mesh.halfedges();
+  for (uint32_t f = 0; f < mesh.face_capacity(); ++f) {
+    if (h[3 * f].flags & kFaceRemoved) continue;
+    const DVec3 a = Pos(v[h[3 * f + 2].target]), b = Pos(v[h[3 * f].target]),
+                c = Pos(v[h[3 * f + 1].target]);
+    if (closed) {  // signed tetrahedron with the origin
+      const double vol = Dot(a, Cross(b, c)) / 6.0;
+      m.measure += vol;
+      m.moment += (vol / 4.0) * (a + b + c);
+    } else {
+      const double area = 0.5 * Norm(Cross(b - a, c - a));
+      m.measure += area;
+      m.moment += (area / 3.0) * (a + b + c);
+    }
+  }
+  return m;
+}
+
+FieldResultants MeasureFields(const Mesh& mesh, const GroupIndex& groups) {
+  FieldResultants r;
+  const size_t fields = mesh.field_names().size();
+  if (fields == 0) return r;
+  r.force.assign(groups.size() * kMaxFaceFields, DVec3{0, 0, 0});
+  r.load.assign(groups.size() * kMaxFaceFields, 0.0);
+  const VertexQ* v = mesh.vertices();
+  const HalfEdgeQ* h = mesh.halfedges();
+  const FaceAttrQ* attr = mesh.face_attrs();
+  for (uint32_t f = 0; f < mesh.face_capacity(); ++f) {
+    if (h[3 * f].flags & kFaceRemoved) continue;
+    const DVec3 a = Pos(v[h[3 * f + 2].target]), b = Pos(v[h[3 * f].target]),
+                c = Pos(v[h[3 * f + 1].target]);
+    const DVec3 area = 0.5 * Cross(b - a, c - a);
+    const int g = groups.Of(h[3 * f].group);
+    for (size_t k = 0; k < fields; ++k) {
+      const double p = attr[f].field[k];
+      r.force[g * kMaxFaceFields + k] += p * area;
+      r.load[g * kMaxFaceFields + k] += std::fabs(p) * Norm(area);
+    }
+  }
+  return r;
+}
+
+double WorstFieldChange(const FieldResultants& before, const FieldResultants& after) {
+  double worst = 0.0;
+  for (size_t i = 0; i < before.force.size() && i < after.force.size(); ++i) {
+    const double change = Norm(after.force[i] - before.force[i]);
+    if (before.load[i] > 0.0) worst = std::max(worst, change / before.load[i]);
+  }
+  return worst;
+}
+
+void CollapseMassDelta(const Ring& ring, int target, bool closed, CollapseDelta* delta) {
+  const int n = ring.neighbours();
+  const DVec3 v = ToD(ring.center_pos), vd = ToD(ring.pos[target]);
+  MassProperties d;
+  for (int f = 0; f < ring.faces; ++f) {
+    const DVec3 b = ToD(ring.pos[f]), c = ToD(ring.pos[(f + 1) % n]);
+    if (closed) {  // tetrahedra from Vd: the new faces contain Vd and contribute nothing
+      const double vol = Dot(v - vd, Cross(b - vd, c - vd)) / 6.0;
+      d.measure -= vol;
+      d.moment -= (vol / 4.0) * (vd + v + b + c);
+    } else {
+      const double old_area = 0.5 * Norm(Cross(b - v, c - v));
+      d.measure -= old_area;
+      d.moment -= (old_area / 3.0) * (v + b + c);
+      if (f != target && (f + 1) % n != target) {
+        const double new_area = 0.5 * Norm(Cross(b - vd, c - vd));
+        d.measure += new_area;
+        d.moment += (new_area / 3.0) * (vd + b + c);
+      }
+    }
+  }
+  delta->mass = d;
+}
+
+void TransferFields(const Ring& ring, int target, int fields, const FaceAttrQ* fan_attr,
+                    const int* group_slot, FaceAttrQ* new_attr, CollapseDelta* delta) {
+  const int n = ring.neighbours();
+  const DVec3 v = ToD(ring.center_pos), vd = ToD(ring.pos[target]);
+  DVec3 old_area[kMaxRing], new_area[kMaxRing];
+  bool survives[kMaxRing];
+  for (int f = 0; f < ring.faces; ++f) {
+    const DVec3 b = ToD(ring.pos[f]), c = ToD(ring.pos[(f + 1) % n]);
+    old_area[f] = 0.5 * Cross(b - v, c - v);
+    survives[f] = f != target && (f + 1) % n != target;
+    new_area[f] = survives[f] ? 0.5 * Cross(b - vd, c - vd) : DVec3{0, 0, 0};
+    new_attr[f] = fan_attr[f];
+  }
+  delta->entries = 0;
+  int seen[kMaxRing];
+  int groups = 0;
+  for (int f = 0; f < ring.faces; ++f) {
+    bool known = false;
+    for (int i = 0; i < groups; ++i) known |= seen[i] == group_slot[f];
+    if (!known) seen[groups++] = group_slot[f];
+  }
+  for (int gi = 0; gi < groups && gi < 2; ++gi) {  // a movable vertex borders at most two groups
+    const int group = seen[gi];
+    for (int k = 0; k < fields; ++k) {
+      DVec3 before{0, 0, 0}, unchanged{0, 0, 0};
+      double m[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+      for (int f = 0; f < ring.faces; ++f) {
+        if (group_slot[f] != group) continue;
+        before += static_cast<double>(fan_attr[f].field[k]) * old_area[f];
+        if (!survives[f]) continue;
+        unchanged += static_cast<double>(fan_attr[f].field[k]) * new_area[f];
+        const double len = Norm(new_area[f]);
+        const double a[3] = {new_area[f].x, new_area[f].y, new_area[f].z};
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) m[i][j] += a[i] * a[j] / len;
+      }
+      // A value uniform over the group's fan (the usual pressure boundary condition) stays
+      // exactly as given; only the geometry's change of its resultant is charged. A varying
+      // field is adjusted, regularised: a direction the new faces barely span gets a small
+      // correction and the rest is charged to the budget, rather than wild values.
+      bool uniform = true;
+      float first = 0.0f;
+      bool have_first = false;
+      for (int f = 0; f < ring.faces && uniform; ++f) {
+        if (group_slot[f] != group) continue;
+        if (!have_first) {
+          first = fan_attr[f].field[k];
+          have_first = true;
+        }
+        uniform = fan_attr[f].field[k] == first;
+      }
+      const double mu = 1e-4 * (m[0][0] + m[1][1] + m[2][2]);
+      for (int i = 0; i < 3; ++i) m[i][i] += mu;
+      const DVec3 lambda = uniform ? DVec3{0, 0, 0} : Solve3(m, before - unchanged);
+      DVec3 after{0, 0, 0};
+      for (int f = 0; f < ring.faces; ++f) {
+        if (group_slot[f] != group || !survives[f]) continue;
+        const double p = uniform
+                             ? fan_attr[f].field[k]
+                             : fan_attr[f].field[k] + Dot(new_area[f], lambda) / Norm(new_area[f]);
+        new_attr[f].field[k] = static_cast<float>(p);
+        after += static_cast<double>(new_attr[f].field[k]) * new_area[f];
+      }
+      delta->slot[delta->entries] = group * static_cast<int>(kMaxFaceFields) + k;
+      delta->force[delta->entries++] = after - before;
+    }
+  }
+}
+
+MechanicsLedger::MechanicsLedger(const Limits& limits, const MassProperties& input,
+                                 const FieldResultants& fields)
+    : limits_(limits), input_(input), fields_(fields), force_spent_(fields.force.size()) {
+  for (DVec3& f : force_spent_) f = {0, 0, 0};
+}
+
+Reject MechanicsLedger::TryCommit(const CollapseDelta& delta) {
+  std::lock_guard<std::mutex> lock(mu_);
+  MassProperties spent = spent_;
+  if (tracks_mass()) {
+    spent.measure += delta.mass.measure;
+    spent.moment += delta.mass.moment;
+    if (limits_.max_volume_change > 0 &&
+        std::fabs(spent.measure) > limits_.max_volume_change * std::fabs(input_.measure))
+      return Reject::kVolume;
+    if (limits_.max_centroid_shift > 0) {
+      MassProperties now{input_.measure + spent.measure, input_.moment + spent.moment};
+      if (!(now.measure != 0.0) ||
+          Norm(now.centroid() - input_.centroid()) > limits_.max_centroid_shift * limits_.diagonal)
+        return Reject::kCentroid;
+    }
+  }
+  for (int i = 0; i < delta.entries; ++i) {
+    const int s = delta.slot[i];
+    if (Norm(force_spent_[s] + delta.force[i]) > limits_.max_field_change * fields_.load[s])
+      return Reject::kFieldResultant;
+  }
+  spent_ = spent;
+  for (int i = 0; i < delta.entries; ++i) force_spent_[delta.slot[i]] += delta.force[i];
+  return Reject::kCount;
+}
+
+}  // namespace femsimp

@@ -1,0 +1,98 @@
+// Mechanical criteria (docs/FIDELITY.md): enclosed volume, centre of mass and the resultant of
+// each face field per face group, measured on a mesh and enforced as global budgets that every
+// context of a run spends from under one lock.
+#pragma once
+
+#include <cstdint>
+#include <mutex>
+#include <vector>
+
+#include "absl/container/flat_hash_map.h"
+#include "engine/mesh.h"
+#include "engine/ring.h"
+#include "engine/simplify.h"
+#include "engine/vec.h"
+
+namespace femsimp {
+
+// Volume and first moment of the enclosed solid (closed meshes), or area and first moment of
+// the surface (open ones): the centre of mass is moment / measure.
+struct MassProperties {
+  double measure = 0.0;
+  DVec3 moment{0, 0, 0};
+  DVec3 centroid() const { return (1.0 / measure) * moment; }
+};
+
+// Dense indices of the face group ids a mesh uses (the ledger keeps one entry per group).
+class GroupIndex {
+ public:
+  explicit GroupIndex(const Mesh& mesh);
+  int size() const { return static_cast<int>(ids_.size()); }
+  int Of(uint32_t group) const { return index_.at(group); }
+
+ private:
+  absl::flat_hash_map<uint32_t, int> index_;
+  std::vector<uint32_t> ids_;
+};
+
+// Sum of value * area vector, and of |value| * area (the reference for relative changes), per
+// group and field: index group * kMaxFaceFields + field.
+struct FieldResultants {
+  std::vector<DVec3> force;
+  std::vector<double> load;
+};
+
+bool IsClosed(const Mesh& mesh);
+MassProperties MeasureMass(const Mesh& mesh, bool closed);
+FieldResultants MeasureFields(const Mesh& mesh, const GroupIndex& groups);
+// Worst |F_after - F_before| / load_before over groups and fields (0 without fields).
+double WorstFieldChange(const FieldResultants& before, const FieldResultants& after);
+
+// What one collapse changes: the mass properties, and the resultant of the groups it touches.
+struct CollapseDelta {
+  MassProperties mass;
+  int entries = 0;
+  int slot[2 * kMaxFaceFields];  // group * kMaxFaceFields + field
+  DVec3 force[2 * kMaxFaceFields];
+};
+
+// Mass change of collapsing V onto ring.nbr[target] (origin-independent: the two patches share
+// their border, so only the enclosed difference counts).
+void CollapseMassDelta(const Ring& ring, int target, bool closed, CollapseDelta* delta);
+
+// New field values for the fan faces that survive the collapse: per group, the smallest
+// area-weighted change that keeps the group's resultant over the fan; what cannot be kept
+// (a group losing its last fan face, or a fan too flat to carry a sideways force) goes into
+// delta->force. fan_attr / new_attr are indexed by fan face; group_slot[f] is the dense group.
+void TransferFields(const Ring& ring, int target, int fields, const FaceAttrQ* fan_attr,
+                    const int* group_slot, FaceAttrQ* new_attr, CollapseDelta* delta);
+
+class MechanicsLedger {
+ public:
+  struct Limits {
+    double max_volume_change = 0.0;  // 0: off
+    double max_centroid_shift = 0.0;
+    double max_field_change = 0.0;
+    double diagonal = 1.0;
+  };
+  MechanicsLedger(const Limits& limits, const MassProperties& input, const FieldResultants& fields);
+
+  bool tracks_mass() const {
+    return limits_.max_volume_change > 0 || limits_.max_centroid_shift > 0;
+  }
+  bool tracks_fields() const { return !fields_.force.empty(); }
+
+  // Spends the delta if every budget still holds afterwards; otherwise changes nothing and
+  // returns the budget that would break. Reject::kCount means committed.
+  Reject TryCommit(const CollapseDelta& delta);
+
+ private:
+  Limits limits_;
+  MassProperties input_;
+  FieldResultants fields_;
+  std::mutex mu_;
+  MassProperties spent_;            // guarded by mu_
+  std::vector<DVec3> force_spent_;  // guarded by mu_
+};
+
+}  // namespace femsimp

@@ -1,0 +1,125 @@
+// `femsimp simplify` (local mode, in process) with face groups and fields: they reach OUT, OBJ
+// group names survive, and an OUT format that cannot hold them stops the run before it starts
+// unless --drop-face-data.
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "client/args.h"
+#include "client/exit_codes.h"
+#include "client/local_run.h"
+#include "engine/io/mesh_io.h"
+#include "gtest/gtest.h"
+#include "tests/service/test_util.h"
+
+namespace femsimp {
+namespace {
+
+namespace fs = std::filesystem;
+
+class CliFaceDataTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = (fs::temp_directory_path() /
+            ("femsimp_cli_" + std::to_string(getpid()) + "_" +
+             ::testing::UnitTest::GetInstance()->current_test_info()->name()))
+               .string();
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    input_ = Path("in.ply");
+    ASSERT_TRUE(
+        WriteMeshFileAscii(input_, testing::WithGroupsAndFields(testing::MakeTorus(40, 24))).ok());
+  }
+  void TearDown() override {
+    if (!HasFailure()) fs::remove_all(dir_);
+  }
+  std::string Path(const std::string& name) const { return dir_ + "/" + name; }
+
+  int Run(std::vector<std::string> args) {
+    args.insert(args.begin(), {"femsimp", "simplify"});
+    args.insert(args.end(), {"--ratio", "0.5", "--quiet", "--threads", "2"});
+    absl::StatusOr<cli::Command> cmd = cli::ParseCommandLine(args);
+    EXPECT_TRUE(cmd.ok()) << cmd.status();
+    return cmd.ok() ? cli::RunLocal(cmd->simplify) : -1;
+  }
+  static std::string ReadText(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  }
+
+  std::string dir_, input_;
+};
+
+TEST_F(CliFaceDataTest, GroupsAndFieldsReachThePly) {
+  for (const char* name : {"out.ply", "OUT.PLY"}) {
+    ASSERT_EQ(Run({input_, Path(name), "--stats-json", Path("stats.json")}), cli::kExitOk);
+    absl::StatusOr<RawMesh> out = ReadMeshFile(Path(name));
+    ASSERT_TRUE(out.ok()) << out.status();
+    EXPECT_EQ(out->num_faces(), 960u);
+    EXPECT_EQ(testing::ExpectGroupsAndFields(*out), 4u);
+    const std::string json = ReadText(Path("stats.json"));
+    EXPECT_NE(json.find("\"face_data\": {\"groups\": 4, \"fields\": [\"pressure\", \"heat_flux\"], "
+                        "\"dropped\": null}"),
+              std::string::npos)
+        << json;
+  }
+}
+
+TEST_F(CliFaceDataTest, ObjGroupNamesSurvive) {
+  RawMesh mesh = testing::WithGroupsAndFields(testing::MakeTorus(40, 24));
+  mesh.face_fields.clear();
+  const GroupNames names = {{10, "inlet"}, {11, "wall"}, {13, "outlet"}};  // 12: group_12
+  ASSERT_TRUE(WriteMeshFile(Path("in.obj"), mesh, names).ok());
+  ASSERT_EQ(Run({Path("in.obj"), Path("out.obj")}), cli::kExitOk);
+  const std::string text = ReadText(Path("out.obj"));
+  for (const char* line : {"\ng inlet\n", "\ng wall\n", "\ng group_12\n", "\ng outlet\n"})
+    EXPECT_NE(text.find(line), std::string::npos) << line;
+  GroupNames read_names;
+  absl::StatusOr<RawMesh> out = ReadMeshFile(Path("out.obj"), &read_names);
+  ASSERT_TRUE(out.ok()) << out.status();
+  // Ids are assigned anew on reading, but faces keep their groups: compare by name.
+  ASSERT_EQ(out->face_groups.size(), out->num_faces());
+  size_t per_name[4] = {0, 0, 0, 0};
+  for (uint32_t g : out->face_groups) {
+    const std::string name = ObjGroupName(g, read_names);
+    for (int k = 0; k < 4; ++k)
+      per_name[k] += name == std::vector<std::string>{"inlet", "wall", "group_12", "outlet"}[k];
+  }
+  EXPECT_EQ(per_name[0] + per_name[1] + per_name[2] + per_name[3], out->num_faces());
+  for (size_t n : per_name) EXPECT_GT(n, 0u);
+}
+
+TEST_F(CliFaceDataTest, UnheldFaceDataStopsBeforeTheRun) {
+  for (const char* name : {"out.stl", "out.off", "out.obj"}) {
+    EXPECT_EQ(Run({input_, Path(name)}), cli::kExitOutputFailed) << name;
+    EXPECT_FALSE(fs::exists(Path(name))) << name;
+  }
+}
+
+TEST_F(CliFaceDataTest, DropFaceDataWritesWhatTheFormatHolds) {
+  ASSERT_EQ(Run({input_, Path("out.stl"), "--drop-face-data", "--stats-json", Path("s.json")}),
+            cli::kExitOk);
+  EXPECT_TRUE(ReadMeshFile(Path("out.stl")).ok());
+  EXPECT_NE(ReadText(Path("s.json")).find("\"dropped\": \"face groups and face fields\""),
+            std::string::npos);
+
+  ASSERT_EQ(Run({input_, Path("out.obj"), "--drop-face-data", "--stats-json", Path("s.json")}),
+            cli::kExitOk);
+  absl::StatusOr<RawMesh> obj = ReadMeshFile(Path("out.obj"));
+  ASSERT_TRUE(obj.ok()) << obj.status();
+  EXPECT_EQ(obj->face_groups.size(), obj->num_faces());  // OBJ keeps the groups
+  EXPECT_TRUE(obj->face_fields.empty());
+  EXPECT_NE(ReadText(Path("s.json")).find("\"dropped\": \"face fields\""), std::string::npos);
+
+  // Nothing to drop: the flag changes nothing.
+  ASSERT_EQ(Run({input_, Path("out.ply"), "--drop-face-data"}), cli::kExitOk);
+  absl::StatusOr<RawMesh> ply = ReadMeshFile(Path("out.ply"));
+  ASSERT_TRUE(ply.ok()) << ply.status();
+  EXPECT_EQ(testing::ExpectGroupsAndFields(*ply), 4u);
+}
+
+}  // namespace
+}  // namespace femsimp
