@@ -255,7 +255,8 @@ class RemovalKernel {
       for (int f = 0; f < nf; ++f) fan_attr_[f] = port_.ReadFaceAttr(FaceOf(ring_.out[f]));
       attrs_loaded_ = true;
     }
-    for (int f = 0; f < nf; ++f) new_attr_[f] = fan_attr_[f];
+    if (fidelity_.reads_attrs())
+      for (int f = 0; f < nf; ++f) new_attr_[f] = fan_attr_[f];
     delta_ = CollapseDelta{};
     if (fidelity_.tracks_error()) {
       float old_error[kMaxRing], new_error[kMaxRing];
