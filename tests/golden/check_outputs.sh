@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# Behaviour lock for refactors: simplifies every mesh in DATA under a fixed set of option sets
+# at one thread (one SPE), where the engine is deterministic, and compares the sha256 of each
+# output with the recorded one. Any change to what the engine decides shows up here.
+#   check_outputs.sh FEMSIMP DATA HASHES            compare (exit 1 on any difference)
+#   check_outputs.sh FEMSIMP DATA HASHES --update   record the current outputs
+# A deliberate change of behaviour records new hashes in the same commit and says why.
+set -euo pipefail
+femsimp=$1 data=$2 hashes=$3 mode=${4:-check}
+declare -A option_sets=(
+  [defaults]=""
+  [topology_only]="--topology-only --ratio 0.1"
+  [quadric_tolerance]="--cost quadric --tolerance-relative 0.01"
+  [fidelity_budgets]="--tolerance 0.002 --max-centroid-shift 0.002 --feature-angle 45 --min-angle 5 --max-normal-deviation 40 --max-field-change 0.02"
+  [no_min_angle]="--min-angle 0 --max-normal-deviation 40 --ratio 0.2"
+  [cell_1spe]="--backend cell --spes 1"
+  [cell_1spe_fidelity]="--backend cell --spes 1 --min-angle 0 --cost quadric --tolerance-relative 0.005"
+)
+meshes=(blade.off fandisk.off femur.off rotor_small.off fandisk_groups_fields.ply)
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+actual=$work/hashes.txt
+for name in $(printf '%s\n' "${!option_sets[@]}" | sort); do
+  for mesh in "${meshes[@]}"; do
+    out=$work/${name}_${mesh%.*}.ply
+    # shellcheck disable=SC2086
+    if ! "$femsimp" simplify "$data/$mesh" "$out" --threads 1 --quiet ${option_sets[$name]} \
+      >"$work/log" 2>&1; then
+      echo "FAILED: femsimp simplify $mesh --threads 1 ${option_sets[$name]}" >&2
+      cat "$work/log" >&2
+      exit 1
+    fi
+    echo "$name $mesh $(sha256sum "$out" | cut -d' ' -f1)" >>"$actual"
+  done
+done
+if [ "$mode" = --update ]; then
+  cp "$actual" "$hashes"
+  echo "recorded $(wc -l <"$actual") outputs in $hashes"
+  exit 0
+fi
+if ! diff -u "$hashes" "$actual"; then
+  echo "outputs differ from the recorded ones (lines marked + are this build's)" >&2
+  exit 1
+fi
+echo "all $(wc -l <"$actual") outputs identical to the recorded ones"
