@@ -35,13 +35,9 @@ CellPassCounters ToPassCounters(const cellsim::SpeCounters& c) {
 
 class CellBackend final : public RemovalBackend {
  public:
-  CellBackend(Mesh& mesh, const CriteriaSet& criteria, const FidelityConfig& fidelity,
-              const CellOptions& options, std::unique_ptr<cellsim::Runtime> runtime)
-      : mesh_(mesh),
-        criteria_(criteria),
-        fidelity_(fidelity),
-        options_(options),
-        runtime_(std::move(runtime)) {}
+  CellBackend(Mesh& mesh, const KernelConfig& kernel, const CellOptions& options,
+              std::unique_ptr<cellsim::Runtime> runtime)
+      : mesh_(mesh), kernel_(kernel), options_(options), runtime_(std::move(runtime)) {}
 
   int contexts() const override { return runtime_->num_spes(); }
 
@@ -68,13 +64,13 @@ class CellBackend final : public RemovalBackend {
             // thread's stack, i.e. in the local store.
             CellPort port(ctx, mesh_);
             port.set_reread_on_stale(options_.reread_on_stale);
-            RemovalKernel<CellPort> kernel(port, criteria_, fidelity_, *phase.budget, kstats);
-            while (std::optional<uint64_t> v = ctx.NextWorkItem()) {
-              if (phase.stop->load(std::memory_order_relaxed) ||
-                  phase.budget->stop.load(std::memory_order_relaxed))
-                break;
-              kernel.TryRemove(static_cast<uint32_t>(*v));
-            }
+            RemovalKernel<CellPort> kernel(port, *kernel_.rules, kernel_.quadric, *phase.budget,
+                                           kstats);
+            RunCandidates(kernel, phase, [&ctx]() -> std::optional<uint32_t> {
+              const std::optional<uint64_t> v = ctx.NextWorkItem();
+              if (!v) return std::nullopt;
+              return static_cast<uint32_t>(*v);
+            });
           });
           if (!s.ok()) spe.ReportError(s);
         },
@@ -102,8 +98,7 @@ class CellBackend final : public RemovalBackend {
 
  private:
   Mesh& mesh_;
-  const CriteriaSet& criteria_;
-  const FidelityConfig& fidelity_;
+  const KernelConfig kernel_;
   CellOptions options_;
   std::unique_ptr<cellsim::Runtime> runtime_;
 };
@@ -111,8 +106,7 @@ class CellBackend final : public RemovalBackend {
 }  // namespace
 
 absl::StatusOr<std::unique_ptr<RemovalBackend>> MakeCellBackend(Mesh& mesh,
-                                                                const CriteriaSet& criteria,
-                                                                const FidelityConfig& fidelity,
+                                                                const KernelConfig& kernel,
                                                                 const CellOptions& options) {
   cellsim::RuntimeConfig config;
   config.num_spes = options.spes;
@@ -150,7 +144,7 @@ absl::StatusOr<std::unique_ptr<RemovalBackend>> MakeCellBackend(Mesh& mesh,
                      " KiB cache and ", options.spe_threads, " software thread stacks of ",
                      kSoftwareThreadStack / 1024, " KiB: lower --ls-cache-kib or --spe-threads"));
   return std::unique_ptr<RemovalBackend>(
-      new CellBackend(mesh, criteria, fidelity, options, *std::move(runtime)));
+      new CellBackend(mesh, kernel, options, *std::move(runtime)));
 }
 
 }  // namespace femsimp

@@ -21,12 +21,11 @@
 #include <atomic>
 #include <cstdint>
 
-#include "engine/criteria.h"
-#include "engine/deviation.h"
-#include "engine/features.h"
-#include "engine/fidelity.h"
+#include <optional>
+
 #include "engine/quadric.h"
 #include "engine/ring.h"
+#include "engine/rule.h"
 #include "engine/simplify.h"
 
 namespace femsimp {
@@ -64,12 +63,17 @@ inline constexpr uint32_t kGeometryCyclesPerFace = 30;
 
 enum class Outcome { kRemoved, kRejected, kConflict, kInconsistent, kSkipped, kBudgetSpent };
 
+// One candidate, in named steps: lock V → read and lock its fan → the directions it may take →
+// rank them by the shape rules → for each in rank order: topology rules, fidelity rules →
+// reserve a removal → spend the budgets → commit → unlock. The rules are units (engine/rule.h);
+// the kernel owns the locking, the reads through the port and the update of the mesh.
 template <class Port>
-class RemovalKernel {
+class RemovalKernel final : private NeighbourhoodReader {
  public:
-  RemovalKernel(Port& port, const CriteriaSet& criteria, const FidelityConfig& fidelity,
-                RemovalBudget& budget, KernelStats& stats)
-      : port_(port), criteria_(criteria), fidelity_(fidelity), budget_(budget), stats_(stats) {}
+  // quadric: the quadric cost is on (directions ranked by it, Vd absorbs V's quadric).
+  RemovalKernel(Port& port, const RuleSet& rules, bool quadric, RemovalBudget& budget,
+                KernelStats& stats)
+      : port_(port), rules_(rules), quadric_(quadric), budget_(budget), stats_(stats) {}
 
   Outcome TryRemove(uint32_t v) {
     ++stats_.tried;
@@ -79,6 +83,45 @@ class RemovalKernel {
       if (s & kLockedBit) return Count(Outcome::kConflict);
       return Outcome::kSkipped;  // no longer removable (changed since the sort)
     }
+    if (std::optional<Outcome> failed = ReadAndLockFan(v)) return *failed;
+    Directions directions;
+    for (const CollapseRule* rule : rules_.stage(RuleStage::kDirections))
+      rule->Restrict(ring_, &directions);
+    if (directions.fixed) return Fix(v);
+    refusal_ = Refusal{};
+    const int ranked = RankDirections(directions);
+    for (int k = 0; k < ranked; ++k) {
+      const int i = order_[k];
+      proposal_.target = i;
+      proposal_.line_other = directions.LineOther(i);
+      const Verdict topology = CheckTopology(i);
+      if (topology == Verdict::kStale) return GiveUp(v, Outcome::kInconsistent);
+      if (topology == Verdict::kReject || !CheckFidelity()) continue;
+      if (!budget_.Reserve()) return GiveUp(v, Outcome::kBudgetSpent);
+      Reject refused = Reject::kCount;
+      if (!rules_.SpendBudgets(proposal_.delta, &refused)) {
+        budget_.Unreserve();
+        Note(RuleStage::kBudget, refused);
+        continue;
+      }
+      Commit(v, i);
+      return Outcome::kRemoved;
+    }
+    return MarkNotRemovable(v, refusal_.reason);
+  }
+
+ private:
+  Outcome Count(Outcome o) {
+    if (o == Outcome::kConflict) ++stats_.lock_conflicts;
+    if (o == Outcome::kInconsistent) ++stats_.inconsistent;
+    return o;
+  }
+
+  enum class LockResult { kHeld, kConflict, kStale };
+
+  // Gathers V's fan and locks every neighbour; on a stale view asks the port to refresh and
+  // tries once more. On failure V is unlocked again and the outcome returned.
+  std::optional<Outcome> ReadAndLockFan(uint32_t v) {
     nlocked_ = 0;
     for (int attempt = 0;; ++attempt) {
       const RingResult r = GatherRing(port_, v, ring_);
@@ -97,17 +140,10 @@ class RemovalKernel {
       port_.StoreStatus(v, kRemovable);
       return Count(Outcome::kInconsistent);
     }
-    return Collapse(v);
+    proposal_.fan = &ring_;
+    proposal_.reader = this;
+    return std::nullopt;
   }
-
- private:
-  Outcome Count(Outcome o) {
-    if (o == Outcome::kConflict) ++stats_.lock_conflicts;
-    if (o == Outcome::kInconsistent) ++stats_.inconsistent;
-    return o;
-  }
-
-  enum class LockResult { kHeld, kConflict, kStale };
 
   // Locks every neighbour of V: kConflict if another context holds one, kStale if one is
   // already removed (the ring came from stale data). On failure nothing stays locked but V.
@@ -139,6 +175,18 @@ class RemovalKernel {
     nlocked_ = 0;
   }
 
+  // The refusal that came furthest (a later stage, or a later rule of the same stage) names
+  // why V stays; it is counted once per candidate.
+  struct Refusal {
+    int rank = -1;
+    Reject reason = Reject::kLink;
+  };
+  void Note(RuleStage stage, Reject reason) {
+    const int rank =
+        static_cast<int>(stage) * static_cast<int>(Reject::kCount) + static_cast<int>(reason);
+    if (rank >= refusal_.rank) refusal_ = {rank, reason};
+  }
+
   Outcome MarkNotRemovable(uint32_t v, Reject why) {
     ++stats_.rejections[static_cast<int>(why)];
     UnlockNeighbours();
@@ -146,161 +194,160 @@ class RemovalKernel {
     return Outcome::kRejected;
   }
 
-  // Directions a vertex may collapse along: any neighbour of a free vertex; only the two line
-  // neighbours of a vertex on a feature line (a boundary is one); none for a corner.
-  Outcome Collapse(uint32_t v) {
-    const int n = ring_.neighbours();
-    int line[2] = {-1, -1}, features = 0;
-    for (int i = 0; i < n; ++i)
-      if (ring_.feature[i]) {
-        if (features < 2) line[features] = i;
-        ++features;
-      }
-    if ((features != 0 && features != 2) || (features == 0 && ring_.boundary) ||
-        (features == 2 && TurnsSharply(ring_.pos[line[0]], ring_.center_pos, ring_.pos[line[1]],
-                                       fidelity_.cos_feature))) {
-      ++stats_.rejections[static_cast<int>(Reject::kFeature)];
-      UnlockNeighbours();
-      port_.StoreStatus(v, kFixed);
-      return Outcome::kRejected;
-    }
-    if (fidelity_.quadric) own_quadric_ = port_.ReadQuadric(v);
+  // A corner (or a vertex no rule lets move at all) is never tried again.
+  Outcome Fix(uint32_t v) {
+    ++stats_.rejections[static_cast<int>(Reject::kFeature)];
+    UnlockNeighbours();
+    port_.StoreStatus(v, kFixed);
+    return Outcome::kRejected;
+  }
+
+  // Leaves V removable for a later pass (a stale view, or the vertex target reached).
+  Outcome GiveUp(uint32_t v, Outcome o) {
+    UnlockNeighbours();
+    port_.StoreStatus(v, kRemovable);
+    return Count(o);
+  }
+
+  // Runs the shape rules on every allowed direction and ranks those that pass: the direction
+  // that bends the surface least (or, with the quadric cost, adds the least quadric error)
+  // first. Returns how many passed; order_ holds them.
+  int RankDirections(const Directions& directions) {
+    if (quadric_) own_quadric_ = port_.ReadQuadric(ring_.center);
     attrs_loaded_ = false;
-    int order[kMaxRing + 1];
     double score[kMaxRing + 1];
     int passing = 0;
-    Reject furthest = Reject::kDegenerate;
-    bool any_geometric_pass = false;
-    for (int i = 0; i < n; ++i) {
-      if (features == 2 && i != line[0] && i != line[1]) continue;
-      geometry_.Build(ring_, i);
-      // Two cross products per triangle, then the criteria (the topology-only mode runs fewer).
-      port_.ChargeCompute((kGeometryCyclesPerFace + criteria_.CyclesPerFace()) * geometry_.faces);
-      Reject failed;
-      if (!criteria_.Accept(geometry_, &failed)) {
-        if (static_cast<int>(failed) > static_cast<int>(furthest)) furthest = failed;
+    for (int i = 0; i < ring_.neighbours(); ++i) {
+      if (!directions.Allows(i)) continue;
+      proposal_.target = i;
+      proposal_.geometry.Build(ring_, i);
+      // Two cross products per triangle, then the rules (the topology-only mode runs fewer).
+      port_.ChargeCompute((kGeometryCyclesPerFace + rules_.shape_cycles_per_face()) *
+                          proposal_.geometry.faces);
+      Reject refused = Reject::kCount;
+      if (rules_.Check(RuleStage::kShape, proposal_, &refused) != Verdict::kPass) {
+        Note(RuleStage::kShape, refused);
         continue;
       }
-      any_geometric_pass = true;
-      // Insertion by score: the direction that bends the surface least (or, with the quadric
-      // cost, adds the least quadric error) is tried first.
-      const double s = fidelity_.quadric ? -QuadricError(own_quadric_, ToD(ring_.pos[i]))
-                                         : geometry_.MinNormalCosine();
+      const double s = quadric_ ? -QuadricError(own_quadric_, ToD(ring_.pos[i]))
+                                : proposal_.geometry.MinNormalCosine();
       int k = passing++;
       while (k > 0 && score[k - 1] < s) {
         score[k] = score[k - 1];
-        order[k] = order[k - 1];
+        order_[k] = order_[k - 1];
         --k;
       }
       score[k] = s;
-      order[k] = i;
+      order_[k] = i;
     }
-    Reject topo_reason = Reject::kLink;
-    Reject late_reason = Reject::kCount;  // a direction passed topology but not fidelity
-    for (int k = 0; k < passing; ++k) {
-      const int i = order[k];
-      const TopologyResult t = CheckTopology(i);
-      if (t == TopologyResult::kStale) {
-        UnlockNeighbours();
-        port_.StoreStatus(v, kRemovable);
-        return Count(Outcome::kInconsistent);
-      }
-      if (t == TopologyResult::kValence) topo_reason = Reject::kValence;
-      if (t != TopologyResult::kOk) continue;
-      const int line_other = features == 2 ? (i == line[0] ? line[1] : line[0]) : -1;
-      if (line_other >= 0 && VdHasFeatureEdgeTo(ring_.nbr[line_other])) {
-        late_reason = Reject::kFeature;  // the line would fold onto an existing feature edge
-        continue;
-      }
-      if (Reject r = PrepareFidelity(i, line_other); r != Reject::kCount) {
-        late_reason = r;
-        continue;
-      }
-      if (!budget_.Reserve()) {
-        UnlockNeighbours();
-        port_.StoreStatus(v, kRemovable);
-        return Outcome::kBudgetSpent;
-      }
-      if (fidelity_.ledger != nullptr && (delta_.entries > 0 || fidelity_.ledger->tracks_mass())) {
-        if (Reject r = fidelity_.ledger->TryCommit(delta_); r != Reject::kCount) {
-          budget_.Unreserve();
-          late_reason = r;
-          continue;
-        }
-      }
-      Apply(i);
-      WriteFidelity(i);
-      budget_.Removed();
-      port_.StoreStatus(v, kRemoved);
-      UnlockNeighbours();
-      ++stats_.removed;
-      return Outcome::kRemoved;
-    }
-    if (late_reason != Reject::kCount) return MarkNotRemovable(v, late_reason);
-    return MarkNotRemovable(v, any_geometric_pass ? topo_reason : furthest);
+    return passing;
   }
 
-  // True when Vd's fan (gathered by CheckTopology) has a feature edge to w.
-  bool VdHasFeatureEdgeTo(uint32_t w) const {
-    for (int a = 0; a < other_.neighbours(); ++a)
-      if (other_.nbr[a] == w && other_.feature[a]) return true;
+  // Reads Vd's fan (which the locks keep stable) and runs the topology rules on it.
+  Verdict CheckTopology(int i) {
+    const Deleted del = DeletedFaces(i);
+    proposal_.deleted = del.count;
+    proposal_.opposite[0] = del.opposite[0];
+    proposal_.opposite[1] = del.count == 2 ? del.opposite[1] : kNone;
+    const RingResult ring = GatherRing(port_, ring_.nbr[i], other_);
+    if (ring == RingResult::kTooWide) {
+      Note(RuleStage::kTopology, Reject::kValence);
+      return Verdict::kReject;
+    }
+    if (ring != RingResult::kOk) return Stale();
+    bool sees_v = false;
+    for (int a = 0; a < other_.neighbours(); ++a) {
+      const uint32_t w = other_.nbr[a];
+      if (w == ring_.center) {
+        sees_v = true;
+      } else if ((port_.LoadStatus(w) & kStateMask) == kRemoved) {
+        return Stale();
+      }
+    }
+    if (!sees_v) return Stale();
+    proposal_.target_fan = &other_;
+    Reject refused = Reject::kCount;
+    const Verdict v = rules_.Check(RuleStage::kTopology, proposal_, &refused);
+    if (v == Verdict::kReject) Note(RuleStage::kTopology, refused);
+    if (v == Verdict::kStale) return Stale();
+    return v;
+  }
+
+  Verdict Stale() {
+    port_.Refresh();  // so the next candidate does not trip over the same stale lines
+    return Verdict::kStale;
+  }
+
+  // NeighbourhoodReader: counts the fan of u up to `limit` faces, with the same consistency
+  // checks as GatherRing.
+  bool CountFan(uint32_t u, int limit, int* faces, bool* boundary) override {
+    const uint32_t start = port_.ReadVertex(u).out;
+    if (start == kNone) return false;
+    uint32_t h = start;
+    *faces = 0;
+    *boundary = false;
+    while (*faces < limit) {
+      const HalfEdgeQ e0 = port_.ReadHalfEdge(h);
+      const HalfEdgeQ e2 = port_.ReadHalfEdge(Prev(h));
+      if (((e0.flags | e2.flags) & kFaceRemoved) || e2.target != u) return false;
+      if ((port_.LoadStatus(e0.target) & kStateMask) == kRemoved) return false;
+      ++*faces;
+      if (e2.twin == kNone) {
+        *boundary = true;
+        return port_.ReadHalfEdge(start).twin == kNone;
+      }
+      h = e2.twin;
+      if (h == start) return true;
+    }
+    return true;
+  }
+
+  // Runs the fidelity rules: the side quadwords of the fan are read once per candidate, and
+  // the rules propose their new values and the collapse's budget delta.
+  bool CheckFidelity() {
+    const int nf = ring_.faces;
+    if (rules_.reads_face_attrs()) {
+      if (!attrs_loaded_) {
+        for (int f = 0; f < nf; ++f) fan_attr_[f] = port_.ReadFaceAttr(FaceOf(ring_.out[f]));
+        attrs_loaded_ = true;
+      }
+      for (int f = 0; f < nf; ++f) proposal_.new_attr[f] = fan_attr_[f];
+    }
+    proposal_.fan_attr = fan_attr_;
+    proposal_.delta = CollapseDelta{};
+    proposal_.mass_measured = false;
+    proposal_.cycles = 0;
+    Reject refused = Reject::kCount;
+    const Verdict v = rules_.Check(RuleStage::kFidelity, proposal_, &refused);
+    port_.ChargeCompute(proposal_.cycles);
+    if (v == Verdict::kPass) return true;
+    Note(RuleStage::kFidelity, refused);
     return false;
   }
 
-  // The deviation bound, new field values and budget delta of collapsing onto nbr[i]; returns
-  // the criterion that refuses it, or kCount.
-  Reject PrepareFidelity(int i, int line_other) {
-    const int nf = ring_.faces;
-    if (fidelity_.reads_attrs() && !attrs_loaded_) {
-      for (int f = 0; f < nf; ++f) fan_attr_[f] = port_.ReadFaceAttr(FaceOf(ring_.out[f]));
-      attrs_loaded_ = true;
-    }
-    if (fidelity_.reads_attrs())
-      for (int f = 0; f < nf; ++f) new_attr_[f] = fan_attr_[f];
-    delta_ = CollapseDelta{};
-    if (fidelity_.tracks_error()) {
-      float old_error[kMaxRing], new_error[kMaxRing];
-      for (int f = 0; f < nf; ++f) old_error[f] = fan_attr_[f].error;
-      int work = 0;
-      const bool bounded = BoundDeviation(ring_, i, line_other, old_error, new_error, &work);
-      port_.ChargeCompute(static_cast<uint32_t>(24 * work));
-      if (!bounded) return Reject::kTolerance;
-      const int n = ring_.neighbours();
-      for (int f = 0; f < nf; ++f) {
-        if (f == i || (f + 1) % n == i) continue;  // deleted
-        if (new_error[f] > fidelity_.tolerance) return Reject::kTolerance;
-        new_attr_[f].error = new_error[f];
-      }
-    }
-    if (fidelity_.ledger != nullptr && fidelity_.ledger->tracks_mass()) {
-      CollapseMassDelta(ring_, i, fidelity_.closed, &delta_);
-      port_.ChargeCompute(40 * nf);
-    }
-    if (fidelity_.fields > 0) {
-      int slot[kMaxRing];
-      for (int f = 0; f < nf; ++f) slot[f] = fidelity_.groups->Of(ring_.group[f]);
-      FaceAttrQ transferred[kMaxRing];
-      TransferFields(ring_, i, fidelity_.fields, new_attr_, slot, transferred, &delta_);
-      for (int f = 0; f < nf; ++f) new_attr_[f] = transferred[f];
-      port_.ChargeCompute(60 * nf * fidelity_.fields);
-    }
-    return Reject::kCount;
+  // Applies the collapse onto ring_.nbr[i], writes the side data the rules proposed, and
+  // releases the locks with V removed.
+  void Commit(uint32_t v, int i) {
+    Apply(i);
+    WriteSideData(i);
+    budget_.Removed();
+    port_.StoreStatus(v, kRemoved);
+    UnlockNeighbours();
+    ++stats_.removed;
   }
 
-  // After Apply: the surviving fan faces' side quadwords, and Vd absorbs V's quadric.
-  void WriteFidelity(int i) {
-    const int n = ring_.neighbours();
-    if (fidelity_.reads_attrs())
+  // The surviving fan faces' side quadwords, and Vd absorbs V's quadric.
+  void WriteSideData(int i) {
+    if (rules_.reads_face_attrs())
       for (int f = 0; f < ring_.faces; ++f)
-        if (f != i && (f + 1) % n != i) port_.WriteFaceAttr(FaceOf(ring_.out[f]), new_attr_[f]);
-    if (fidelity_.quadric) {
+        if (!proposal_.IsDeleted(f))
+          port_.WriteFaceAttr(FaceOf(ring_.out[f]), proposal_.new_attr[f]);
+    if (quadric_) {
       QuadricQ q = port_.ReadQuadric(ring_.nbr[i]);
       AddQuadric(q, own_quadric_);
       port_.WriteQuadric(ring_.nbr[i], q);
     }
   }
-
-  enum class TopologyResult { kOk, kLink, kValence, kStale };
 
   // Faces of V's fan that contain the edge V-Vd, and the vertex opposite that edge in each.
   struct Deleted {
@@ -325,66 +372,6 @@ class RemovalKernel {
       d.opposite[d.count++] = ring_.nbr[j];
     }
     return d;
-  }
-
-  // Link condition (no edge between vertices that are already connected, so no duplicate
-  // face, no pinched vertex, no change of genus) and the valence of the opposite vertices
-  // (a closed component never shrinks below a tetrahedron, an open one never loses its last
-  // face). Reads Vd's fan, which the locks keep stable; on a stale view returns kStale.
-  TopologyResult CheckTopology(int i) {
-    const uint32_t vd = ring_.nbr[i];
-    const Deleted del = DeletedFaces(i);
-    const RingResult ring = GatherRing(port_, vd, other_);
-    if (ring == RingResult::kTooWide) return TopologyResult::kValence;
-    if (ring != RingResult::kOk) return Stale();
-    bool sees_v = false;
-    for (int a = 0; a < other_.neighbours(); ++a) {
-      const uint32_t w = other_.nbr[a];
-      if (w == ring_.center) {
-        sees_v = true;
-        continue;
-      }
-      if ((port_.LoadStatus(w) & kStateMask) == kRemoved) return Stale();
-      if (w == del.opposite[0] || (del.count == 2 && w == del.opposite[1])) continue;
-      for (int b = 0; b < ring_.neighbours(); ++b)
-        if (ring_.nbr[b] == w) return TopologyResult::kLink;
-    }
-    if (!sees_v) return Stale();
-    for (int k = 0; k < del.count; ++k) {
-      int faces = 0;
-      bool boundary = false;
-      if (!CountFan(del.opposite[k], 4, &faces, &boundary)) return Stale();
-      if (faces < (boundary ? 2 : 4)) return TopologyResult::kValence;
-    }
-    return TopologyResult::kOk;
-  }
-
-  TopologyResult Stale() {
-    port_.Refresh();  // so the next candidate does not trip over the same stale lines
-    return TopologyResult::kStale;
-  }
-
-  // Counts the fan of u up to `limit` faces, with the same consistency checks as GatherRing.
-  bool CountFan(uint32_t u, int limit, int* faces, bool* boundary) {
-    const uint32_t start = port_.ReadVertex(u).out;
-    if (start == kNone) return false;
-    uint32_t h = start;
-    *faces = 0;
-    *boundary = false;
-    while (*faces < limit) {
-      const HalfEdgeQ e0 = port_.ReadHalfEdge(h);
-      const HalfEdgeQ e2 = port_.ReadHalfEdge(Prev(h));
-      if (((e0.flags | e2.flags) & kFaceRemoved) || e2.target != u) return false;
-      if ((port_.LoadStatus(e0.target) & kStateMask) == kRemoved) return false;
-      ++*faces;
-      if (e2.twin == kNone) {
-        *boundary = true;
-        return port_.ReadHalfEdge(start).twin == kNone;
-      }
-      h = e2.twin;
-      if (h == start) return true;
-    }
-    return true;
   }
 
   // Collapses V onto ring_.nbr[i]. Order as in the paper: faces marked removed, twins across
@@ -474,17 +461,17 @@ class RemovalKernel {
   }
 
   Port& port_;
-  const CriteriaSet& criteria_;
-  const FidelityConfig& fidelity_;
+  const RuleSet& rules_;
+  const bool quadric_;
   RemovalBudget& budget_;
   KernelStats& stats_;
   Ring ring_, other_;
-  CollapseGeometry geometry_;
+  CollapseProposal proposal_;
+  Refusal refusal_;
+  int order_[kMaxRing + 1];  // ranked directions
   QuadricQ own_quadric_{};
   bool attrs_loaded_ = false;
   FaceAttrQ fan_attr_[kMaxRing];  // the fan faces' side quadwords, read once per candidate
-  FaceAttrQ new_attr_[kMaxRing];  // their values after the collapse being prepared
-  CollapseDelta delta_;
   uint32_t locked_[kMaxRing + 1];
   uint32_t locked_state_[kMaxRing + 1];
   int nlocked_ = 0;

@@ -192,36 +192,22 @@ void TransferFields(const Ring& ring, int target, int fields, const FaceAttrQ* f
   }
 }
 
-MechanicsLedger::MechanicsLedger(const Limits& limits, const MassProperties& input,
-                                 const FieldResultants& fields)
-    : limits_(limits), input_(input), fields_(fields), force_spent_(fields.force.size()) {
+MechanicsLedger::MechanicsLedger(const MassProperties& input, const FieldResultants& fields)
+    : input_(input), fields_(fields), force_spent_(fields.force.size()) {
   for (DVec3& f : force_spent_) f = {0, 0, 0};
 }
 
-Reject MechanicsLedger::TryCommit(const CollapseDelta& delta) {
+bool MechanicsLedger::TryCommit(const CollapseDelta& delta,
+                                absl::FunctionRef<bool(const LedgerView&)> within) {
   std::lock_guard<std::mutex> lock(mu_);
+  // A delta without a measured mass change adds zeros.
   MassProperties spent = spent_;
-  if (tracks_mass()) {
-    spent.measure += delta.mass.measure;
-    spent.moment += delta.mass.moment;
-    if (limits_.max_volume_change > 0 &&
-        std::fabs(spent.measure) > limits_.max_volume_change * std::fabs(input_.measure))
-      return Reject::kVolume;
-    if (limits_.max_centroid_shift > 0) {
-      MassProperties now{input_.measure + spent.measure, input_.moment + spent.moment};
-      if (!(now.measure != 0.0) ||
-          Norm(now.centroid() - input_.centroid()) > limits_.max_centroid_shift * limits_.diagonal)
-        return Reject::kCentroid;
-    }
-  }
-  for (int i = 0; i < delta.entries; ++i) {
-    const int s = delta.slot[i];
-    if (Norm(force_spent_[s] + delta.force[i]) > limits_.max_field_change * fields_.load[s])
-      return Reject::kFieldResultant;
-  }
+  spent.measure += delta.mass.measure;
+  spent.moment += delta.mass.moment;
+  if (!within(LedgerView{input_, spent, fields_, force_spent_})) return false;
   spent_ = spent;
   for (int i = 0; i < delta.entries; ++i) force_spent_[delta.slot[i]] += delta.force[i];
-  return Reject::kCount;
+  return true;
 }
 
 }  // namespace femsimp

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "absl/container/flat_hash_map.h"
+#include "absl/functional/function_ref.h"
 #include "engine/mesh.h"
 #include "engine/ring.h"
 #include "engine/simplify.h"
@@ -67,29 +68,27 @@ void CollapseMassDelta(const Ring& ring, int target, bool closed, CollapseDelta*
 void TransferFields(const Ring& ring, int target, int fields, const FaceAttrQ* fan_attr,
                     const int* group_slot, FaceAttrQ* new_attr, CollapseDelta* delta);
 
+// The ledger's totals as a budget rule (engine/rule.h) sees them, under the ledger's lock.
+struct LedgerView {
+  const MassProperties& input;            // of the input mesh
+  const MassProperties& spent;            // change so far, this collapse included
+  const FieldResultants& reference;       // per group and field, of the input
+  const std::vector<DVec3>& force_spent;  // resultant change so far, without this collapse
+};
+
+// The run's running totals, spent from by every context under one lock; the budget rules
+// decide what may be spent.
 class MechanicsLedger {
  public:
-  struct Limits {
-    double max_volume_change = 0.0;  // 0: off
-    double max_centroid_shift = 0.0;
-    double max_field_change = 0.0;
-    double diagonal = 1.0;
-  };
-  MechanicsLedger(const Limits& limits, const MassProperties& input, const FieldResultants& fields);
+  MechanicsLedger(const MassProperties& input, const FieldResultants& fields);
 
-  bool tracks_mass() const {
-    return limits_.max_volume_change > 0 || limits_.max_centroid_shift > 0;
-  }
-  bool tracks_fields() const { return !fields_.force.empty(); }
-
-  // Spends the delta if every budget still holds afterwards; otherwise changes nothing and
-  // returns the budget that would break. Reject::kCount means committed.
-  Reject TryCommit(const CollapseDelta& delta);
+  // Spends the delta if `within` accepts the totals it would leave; otherwise changes nothing
+  // and returns false.
+  bool TryCommit(const CollapseDelta& delta, absl::FunctionRef<bool(const LedgerView&)> within);
 
  private:
-  Limits limits_;
-  MassProperties input_;
-  FieldResultants fields_;
+  const MassProperties input_;
+  const FieldResultants fields_;
   std::mutex mu_;
   MassProperties spent_;            // guarded by mu_
   std::vector<DVec3> force_spent_;  // guarded by mu_

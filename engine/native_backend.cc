@@ -18,9 +18,8 @@ namespace {
 
 class NativeBackend final : public RemovalBackend {
  public:
-  NativeBackend(Mesh& mesh, const CriteriaSet& criteria, const FidelityConfig& fidelity,
-                WorkerPool& pool)
-      : mesh_(mesh), criteria_(criteria), fidelity_(fidelity), pool_(pool) {}
+  NativeBackend(Mesh& mesh, const KernelConfig& kernel, WorkerPool& pool)
+      : mesh_(mesh), kernel_(kernel), pool_(pool) {}
 
   int contexts() const override { return pool_.size(); }
 
@@ -31,19 +30,15 @@ class NativeBackend final : public RemovalBackend {
     pool_.Run([&](int c) {
       const auto start = std::chrono::steady_clock::now();
       NativePort port(mesh_);
-      RemovalKernel<NativePort> kernel(port, criteria_, fidelity_, *phase.budget, per_context[c]);
-      size_t visited = 0;
-      for (size_t i = c; i < phase.count; i += n, ++visited) {
-        if (phase.stop->load(std::memory_order_relaxed) ||
-            phase.budget->stop.load(std::memory_order_relaxed))
-          break;
-        if (c == 0 && visited % kCancelPollInterval == 0 && *phase.cancelled &&
-            (*phase.cancelled)()) {
-          phase.stop->store(true, std::memory_order_relaxed);
-          break;
-        }
-        if (kernel.TryRemove(phase.candidates[i]) == Outcome::kBudgetSpent) break;
-      }
+      RemovalKernel<NativePort> kernel(port, *kernel_.rules, kernel_.quadric, *phase.budget,
+                                       per_context[c]);
+      size_t next = c;
+      RunCandidates(kernel, phase, [&]() -> std::optional<uint32_t> {
+        if (next >= phase.count) return std::nullopt;
+        const uint32_t v = phase.candidates[next];
+        next += n;
+        return v;
+      });
       busy[c] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     });
     for (int c = 0; c < n; ++c) {
@@ -55,17 +50,15 @@ class NativeBackend final : public RemovalBackend {
 
  private:
   Mesh& mesh_;
-  const CriteriaSet& criteria_;
-  const FidelityConfig& fidelity_;
+  const KernelConfig kernel_;
   WorkerPool& pool_;
 };
 
 }  // namespace
 
-std::unique_ptr<RemovalBackend> MakeNativeBackend(Mesh& mesh, const CriteriaSet& criteria,
-                                                  const FidelityConfig& fidelity,
+std::unique_ptr<RemovalBackend> MakeNativeBackend(Mesh& mesh, const KernelConfig& kernel,
                                                   WorkerPool& pool) {
-  return std::make_unique<NativeBackend>(mesh, criteria, fidelity, pool);
+  return std::make_unique<NativeBackend>(mesh, kernel, pool);
 }
 
 }  // namespace femsimp

@@ -16,28 +16,11 @@ absl::Status OutOfRange(const char* name, double value, const char* range) {
 
 const char* RejectName(Reject r) {
   switch (r) {
-    case Reject::kLink:
-      return "link_condition";
-    case Reject::kValence:
-      return "valence";
-    case Reject::kFoldOver:
-      return "fold_over";
-    case Reject::kDegenerate:
-      return "degenerate";
-    case Reject::kMinAngle:
-      return "min_angle";
-    case Reject::kNormalDeviation:
-      return "normal_deviation";
-    case Reject::kFeature:
-      return "feature";
-    case Reject::kTolerance:
-      return "tolerance";
-    case Reject::kVolume:
-      return "volume";
-    case Reject::kCentroid:
-      return "centroid";
-    case Reject::kFieldResultant:
-      return "field_resultant";
+#define FEMSIMP_RULE(reason, name, type) \
+  case Reject::reason:                   \
+    return name;
+#include "engine/rules/rule_list.inc"
+#undef FEMSIMP_RULE
     case Reject::kCount:
       break;
   }

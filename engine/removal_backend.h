@@ -1,21 +1,33 @@
 // A back end runs the removal phase of a pass: the sorted candidates, split uniformly over its
 // contexts (candidate i goes to context i mod N, so every context works in cost order), each
-// context running RemovalKernel through the back end's memory port.
+// context running the one candidate loop (RunCandidates) through the back end's memory port.
+// The back end supplies memory access (the port), locking (the port's status words) and
+// scheduling (threads, or SPEs and their software threads); the loop and the kernel are shared.
 #pragma once
 
 #include <atomic>
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 
-#include "engine/criteria.h"
-#include "engine/fidelity.h"
 #include "engine/kernel.h"
 #include "engine/mesh.h"
+#include "engine/rule.h"
 #include "engine/simplify.h"
 #include "engine/worker_pool.h"
 
 namespace femsimp {
+
+// What every context's kernel runs with.
+struct KernelConfig {
+  const RuleSet* rules = nullptr;
+  bool quadric = false;  // quadric cost: rank directions by it, Vd absorbs V's quadric
+};
+
+// Every context polls the caller's cancellation every this many candidates (a few
+// milliseconds of work at most, on either back end).
+inline constexpr size_t kCancelPollInterval = 32;
 
 struct RemovalPhase {
   const uint32_t* candidates;  // vertex ids in cost order
@@ -23,8 +35,31 @@ struct RemovalPhase {
   size_t sorted;  // removable vertices sorted this pass (candidates are the first `count`)
   RemovalBudget* budget;
   std::atomic<bool>* stop;                 // set on cancellation or a spent budget
-  const std::function<bool()>* cancelled;  // polled by context 0 only
+  const std::function<bool()>* cancelled;  // thread-safe: every context polls it
+
+  bool Stopped() const {
+    return stop->load(std::memory_order_relaxed) || budget->stop.load(std::memory_order_relaxed);
+  }
+  // True (and every context stops) once the caller has cancelled.
+  bool PollCancelled() const {
+    if (!*cancelled || !(*cancelled)()) return false;
+    stop->store(true, std::memory_order_relaxed);
+    return true;
+  }
 };
+
+// The candidate loop of one context, the same on every back end: `next` yields the context's
+// candidates in cost order, then nullopt. Ends early on cancellation or a spent budget.
+template <class Port, class Next>
+void RunCandidates(RemovalKernel<Port>& kernel, const RemovalPhase& phase, Next&& next) {
+  for (size_t visited = 0;; ++visited) {
+    if (phase.Stopped()) return;
+    if (visited % kCancelPollInterval == 0 && phase.PollCancelled()) return;
+    const std::optional<uint32_t> v = next();
+    if (!v) return;
+    if (kernel.TryRemove(*v) == Outcome::kBudgetSpent) return;
+  }
+}
 
 class RemovalBackend {
  public:
@@ -34,19 +69,15 @@ class RemovalBackend {
   virtual absl::Status RunRemoval(const RemovalPhase& phase, PassStats& stats) = 0;
 };
 
-std::unique_ptr<RemovalBackend> MakeNativeBackend(Mesh& mesh, const CriteriaSet& criteria,
-                                                  const FidelityConfig& fidelity, WorkerPool& pool);
+std::unique_ptr<RemovalBackend> MakeNativeBackend(Mesh& mesh, const KernelConfig& kernel,
+                                                  WorkerPool& pool);
 
 // Emulated Cell BE: fails when the local store cannot hold the cache and thread stacks.
 absl::StatusOr<std::unique_ptr<RemovalBackend>> MakeCellBackend(Mesh& mesh,
-                                                                const CriteriaSet& criteria,
-                                                                const FidelityConfig& fidelity,
+                                                                const KernelConfig& kernel,
                                                                 const CellOptions& options);
 
 // Adds one context's kernel counters into the pass statistics.
 void AddKernelStats(const KernelStats& k, PassStats& stats);
-
-// Context 0 polls the caller's cancellation every this many candidates.
-inline constexpr size_t kCancelPollInterval = 256;
 
 }  // namespace femsimp

@@ -11,13 +11,12 @@
 
 #include "absl/strings/str_cat.h"
 #include "engine/cost.h"
-#include "engine/criteria.h"
 #include "engine/features.h"
-#include "engine/fidelity.h"
 #include "engine/mechanics.h"
 #include "engine/port.h"
 #include "engine/quadric.h"
 #include "engine/removal_backend.h"
+#include "engine/rule.h"
 #include "engine/worker_pool.h"
 
 namespace femsimp {
@@ -149,44 +148,38 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
   result.feature_edges = features.feature_edges;
   result.corner_vertices = features.corner_vertices;
   const double diagonal = BoundingBoxDiagonal(mesh);
-  FidelityConfig fidelity;
-  fidelity.cos_feature = std::cos(options.feature_angle_deg * std::numbers::pi / 180.0);
-  fidelity.tolerance = EffectiveTolerance(options, diagonal, &result.tolerance_abs);
-  fidelity.fields = static_cast<int>(mesh.field_names().size());
-  fidelity.quadric = options.cost == CostKind::kQuadric;
-  fidelity.closed = closed;
-  if (fidelity.tracks_error()) mesh.EnsureFaceAttrs();
-  if (fidelity.quadric) InitQuadrics(mesh);
+  RuleSetup setup;
+  setup.cos_feature = std::cos(options.feature_angle_deg * std::numbers::pi / 180.0);
+  setup.tolerance = EffectiveTolerance(options, diagonal, &result.tolerance_abs);
+  setup.fields = static_cast<int>(mesh.field_names().size());
+  setup.closed = closed;
+  setup.diagonal = diagonal;
+  const bool quadric = options.cost == CostKind::kQuadric;
+  if (setup.tolerance > 0.0f) mesh.EnsureFaceAttrs();
+  if (quadric) InitQuadrics(mesh);
   const GroupIndex groups(mesh);
+  setup.groups = &groups;
   const MassProperties mass_before = MeasureMass(mesh, closed);
   const FieldResultants fields_before = MeasureFields(mesh, groups);
-  std::optional<MechanicsLedger> ledger;
-  if (options.max_volume_change > 0.0 || options.max_centroid_shift > 0.0 || fidelity.fields > 0) {
-    MechanicsLedger::Limits limits;
-    limits.max_volume_change = options.max_volume_change;
-    limits.max_centroid_shift = options.max_centroid_shift;
-    limits.max_field_change = options.max_field_change;
-    limits.diagonal = diagonal;
-    ledger.emplace(limits, mass_before, fields_before);
-    fidelity.ledger = &*ledger;
-    fidelity.groups = &groups;
-  }
+  setup.mass = &mass_before;
+  setup.resultants = &fields_before;
+  const RuleSet rules = RuleSet::Build(options, setup);
 
   WorkerPool pool(options.threads);
-  const CriteriaSet criteria = CriteriaSet::FromOptions(options);
   std::unique_ptr<VertexCost> cost;
-  if (fidelity.quadric)
+  if (quadric)
     cost = std::make_unique<QuadricCost>(mesh.quadrics());
   else
     cost = std::make_unique<GaussianCurvatureCost>();
+  const KernelConfig kernel{&rules, quadric};
   std::unique_ptr<RemovalBackend> backend;
   if (options.backend == Backend::kCell) {
     absl::StatusOr<std::unique_ptr<RemovalBackend>> cell =
-        MakeCellBackend(mesh, criteria, fidelity, options.cell);
+        MakeCellBackend(mesh, kernel, options.cell);
     if (!cell.ok()) return cell.status();
     backend = *std::move(cell);
   } else {
-    backend = MakeNativeBackend(mesh, criteria, fidelity, pool);
+    backend = MakeNativeBackend(mesh, kernel, pool);
   }
 
   result.stop_reason = StopReason::kMaxPasses;

@@ -19,19 +19,12 @@ enum class Backend { kNative, kCell };
 enum class CostKind { kGaussianCurvature, kQuadric };
 const char* CostKindName(CostKind c);  // "gaussian_curvature", "quadric"
 
-// Why a candidate was given up (each counted per pass).
+// Why a candidate was given up (each counted per pass): the rule that refused it
+// (engine/rules/rule_list.inc).
 enum class Reject : int {
-  kLink = 0,         // collapse would join already connected vertices / change topology
-  kValence,          // a neighbour would be left with too few edges (tetrahedron, ear)
-  kDegenerate,       // a new triangle has (almost) zero area
-  kFoldOver,         // a new triangle flips against the one it replaces
-  kMinAngle,         // a new triangle has an interior angle below the minimum
-  kNormalDeviation,  // a new triangle's normal deviates too much from the old one
-  kFeature,          // would move a feature corner, or leave its feature line
-  kTolerance,        // the guaranteed deviation bound would exceed the tolerance
-  kVolume,           // the enclosed volume would change more than allowed
-  kCentroid,         // the centre of mass would move more than allowed
-  kFieldResultant,   // a face field's resultant per group would change more than allowed
+#define FEMSIMP_RULE(reason, name, type) reason,
+#include "engine/rules/rule_list.inc"
+#undef FEMSIMP_RULE
   kCount
 };
 const char* RejectName(Reject r);  // snake_case, stable: used in JSON, proto and metrics

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "engine/features.h"
 #include "engine/kernel.h"
 #include "engine/port.h"
 #include "tests/engine/mesh_checks.h"
@@ -17,19 +18,22 @@ using testing::Topology;
 
 struct Harness {
   explicit Harness(const RawMesh& raw, SimplifyOptions options = {})
-      : mesh(*Mesh::Build(raw)), port(mesh), criteria(CriteriaSet::FromOptions(options)) {
+      : mesh(*Mesh::Build(raw)), port(mesh), rules(RulesFor(options)) {
     budget.alive = static_cast<int64_t>(mesh.CountLiveVertices());
     MarkFeatures(mesh, options.feature_angle_deg);
-    fidelity.cos_feature = std::cos(options.feature_angle_deg * std::numbers::pi / 180.0);
+  }
+  static RuleSet RulesFor(const SimplifyOptions& options) {
+    RuleSetup setup;
+    setup.cos_feature = std::cos(options.feature_angle_deg * std::numbers::pi / 180.0);
+    return RuleSet::Build(options, setup);
   }
   Outcome Remove(uint32_t v) {
-    RemovalKernel<NativePort> kernel(port, criteria, fidelity, budget, stats);
+    RemovalKernel<NativePort> kernel(port, rules, /*quadric=*/false, budget, stats);
     return kernel.TryRemove(v);
   }
   Mesh mesh;
   NativePort port;
-  CriteriaSet criteria;
-  FidelityConfig fidelity;
+  RuleSet rules;
   RemovalBudget budget;
   KernelStats stats;
 };

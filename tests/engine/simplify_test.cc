@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <set>
 #include <tuple>
 
@@ -149,7 +150,7 @@ TEST(Simplify, CancellationStopsWithAValidMesh) {
   ASSERT_TRUE(mesh.ok());
   SimplifyOptions options;
   options.threads = 2;
-  int polls = 0;
+  std::atomic<int> polls{0};  // every context polls
   SimplifyControl control;
   control.cancelled = [&] { return ++polls > 3; };  // inside the first pass
   absl::StatusOr<SimplifyResult> r = Simplify(*mesh, options, control);

@@ -1,0 +1,175 @@
+// A rule of the removal kernel: one condition a proposed half-edge collapse V -> Vd must meet.
+// Every rule is a type with the same small interface, judged on the collapse's local context
+// (CollapseProposal) while the kernel holds the locks of V and its one-ring; the rules of a run
+// are listed in engine/rules/rule_list.inc and built from the options (RuleSet::Build).
+//
+// A rule takes part in one or more stages, which the kernel runs in this order:
+//   kDirections  once per candidate: which neighbours V may move to (or none: V is fixed);
+//   kShape       per allowed direction, on the geometry of the new triangles; the directions
+//                that pass are ranked and the rest of the stages run in rank order;
+//   kTopology    on Vd's one-ring (and, through NeighbourhoodReader, a little beyond);
+//   kFidelity    on the side data (deviation bounds, fields): proposes the new side quadwords
+//                and the collapse's change of the global budgets (CollapseProposal::delta);
+//   kBudget      under the ledger's lock, on the run's totals after this collapse.
+// A rule's state changes are proposed in its check (new face side quadwords, the budget delta)
+// and written by the kernel's commit step under the same locks, or spent by the ledger.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "engine/mechanics.h"
+#include "engine/quadword.h"
+#include "engine/ring.h"
+#include "engine/simplify.h"
+#include "engine/vec.h"
+
+namespace femsimp {
+
+// The fan faces of V that survive the collapse, as (V, b, c) before and (Vd, b, c) after.
+struct CollapseGeometry {
+  int faces = 0;
+  DVec3 old_normal[kMaxRing];  // unnormalised (twice the area)
+  DVec3 new_normal[kMaxRing];
+  DVec3 b[kMaxRing], c[kMaxRing], vd;
+
+  void Build(const Ring& ring, int target_index);
+
+  // Smallest cosine between old and new normals, computed once per Build: the normal rule
+  // tests it and the kernel ranks directions by it (largest bends the surface least).
+  double MinNormalCosine() const;
+
+ private:
+  mutable double min_normal_cosine_ = 2.0;  // 2: not computed yet
+};
+
+// The directions V may collapse along: any neighbour, only the two neighbours on the line V
+// lies on (a feature line; a boundary is one), or none (V is a corner and becomes kFixed).
+struct Directions {
+  bool fixed = false;
+  int line[2] = {-1, -1};  // fan indices of the line neighbours, when on a line
+  bool on_line() const { return line[0] >= 0; }
+  bool Allows(int i) const { return !on_line() || i == line[0] || i == line[1]; }
+  // The line neighbour V leaves behind when it slides to line neighbour i; -1 off a line.
+  int LineOther(int i) const { return !on_line() ? -1 : i == line[0] ? line[1] : line[0]; }
+};
+
+// Reads beyond the two one-rings, through the kernel's memory port. A false return means the
+// view was stale (a concurrent or cached copy that no longer holds).
+class NeighbourhoodReader {
+ public:
+  virtual ~NeighbourhoodReader() = default;
+  // Faces around u, counted up to `limit`, and whether u lies on a boundary.
+  virtual bool CountFan(uint32_t u, int limit, int* faces, bool* boundary) = 0;
+};
+
+// One proposed collapse V -> Vd = fan->nbr[target]: what the rules judge, and what the
+// fidelity rules propose for the commit.
+struct CollapseProposal {
+  const Ring* fan = nullptr;  // V's one-ring
+  int target = -1;
+  int line_other = -1;  // Directions::LineOther(target)
+  CollapseGeometry geometry;
+
+  // kTopology: Vd's one-ring, and the vertices opposite V - Vd in the faces it deletes.
+  const Ring* target_fan = nullptr;
+  int deleted = 0;
+  uint32_t opposite[2] = {kNone, kNone};
+  NeighbourhoodReader* reader = nullptr;
+
+  // kFidelity: the fan faces' side quadwords as read, and as they will be written.
+  const FaceAttrQ* fan_attr = nullptr;
+  FaceAttrQ new_attr[kMaxRing];
+  CollapseDelta delta;
+  bool mass_measured = false;
+  uint32_t cycles = 0;  // modeled SPU cycles of the fidelity work (cell back end)
+
+  uint32_t vd() const { return fan->nbr[target]; }
+  // Fan face f is one of the two that contain V - Vd (and disappear).
+  bool IsDeleted(int f) const {
+    const int n = fan->neighbours();
+    return f == target || (f + 1) % n == target;
+  }
+};
+
+enum class RuleStage : uint32_t {
+  kDirections = 1,
+  kShape = 2,
+  kTopology = 4,
+  kFidelity = 8,
+  kBudget = 16,
+};
+
+enum class Verdict { kPass, kReject, kStale };
+
+// What the rules of a run may need to know about the mesh and the run (set up once).
+struct RuleSetup {
+  double cos_feature = 0.0;  // a feature line turning more than this at a vertex is a corner
+  float tolerance = 0.0f;    // > 0: track the deviation bound and keep it below this
+  int fields = 0;            // face fields carried (their values travel in FaceAttrQ)
+  bool closed = false;       // mass properties of the solid rather than of the surface
+  double diagonal = 1.0;     // of the input's bounding box
+  const GroupIndex* groups = nullptr;  // dense group slots, when fields are carried
+  // The input's measures the budget rules' ledger starts from.
+  const MassProperties* mass = nullptr;
+  const FieldResultants* resultants = nullptr;
+};
+
+class CollapseRule {
+ public:
+  virtual ~CollapseRule() = default;
+  virtual Reject reason() const = 0;    // its name in the statistics
+  virtual uint32_t stages() const = 0;  // RuleStage bits
+
+  // kDirections: narrows the directions V may take.
+  virtual void Restrict(const Ring& /*fan*/, Directions* /*directions*/) const {}
+  // kShape, kTopology, kFidelity: judges the proposal (and may fill what it proposes).
+  virtual Verdict Check(RuleStage /*stage*/, CollapseProposal& /*p*/) const {
+    return Verdict::kPass;
+  }
+  // kBudget: whether the run's totals after this collapse stay within the rule's budget.
+  virtual bool WithinBudget(const LedgerView& /*totals*/, const CollapseDelta& /*delta*/) const {
+    return true;
+  }
+  // Modeled SPU cycles per new triangle of a kShape check (the cell back end's cycle model).
+  virtual uint32_t cycles_per_face() const { return 0; }
+  // The side quadwords the rule's kFidelity check needs read (deviation bounds, fields).
+  virtual bool reads_face_attrs() const { return false; }
+  // Whether the rule spends from the mass (volume, centroid) totals of the ledger.
+  virtual bool tracks_mass() const { return false; }
+
+  bool in(RuleStage s) const { return (stages() & static_cast<uint32_t>(s)) != 0; }
+};
+
+// The rules of one run, by stage, in the order of rule_list.inc; and the ledger the budget rules
+// spend from, when one is on.
+class RuleSet {
+ public:
+  static RuleSet Build(const SimplifyOptions& options, const RuleSetup& setup);
+
+  const std::vector<const CollapseRule*>& stage(RuleStage s) const {
+    return by_stage_[StageIndex(s)];
+  }
+  bool reads_face_attrs() const { return reads_face_attrs_; }
+  bool tracks_mass() const { return tracks_mass_; }
+  uint32_t shape_cycles_per_face() const { return shape_cycles_; }
+
+  // Runs the stage's checks in order; on a refusal sets *refused to the rule's reason.
+  Verdict Check(RuleStage s, CollapseProposal& p, Reject* refused) const;
+  // Spends the collapse's delta from the ledger if every budget rule accepts; otherwise sets
+  // *refused to the first that does not and spends nothing.
+  bool SpendBudgets(const CollapseDelta& delta, Reject* refused) const;
+
+ private:
+  static int StageIndex(RuleStage s);
+
+  std::vector<std::unique_ptr<CollapseRule>> rules_;
+  std::vector<const CollapseRule*> by_stage_[5];
+  bool reads_face_attrs_ = false;
+  bool tracks_mass_ = false;
+  uint32_t shape_cycles_ = 0;
+  std::unique_ptr<MechanicsLedger> ledger_;
+};
+
+}  // namespace femsimp
