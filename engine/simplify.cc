@@ -120,6 +120,50 @@ double MaxDeviationBound(const Mesh& mesh) {
   return worst;
 }
 
+// Decides when passes stop paying off, and when rejected vertices get another chance.
+class ProgressWatch {
+ public:
+  explicit ProgressWatch(int reconsider_every) : every_(reconsider_every) {}
+
+  // Whether this pass makes not-removable vertices removable again: every reconsider_every-th
+  // pass, or at once after a pass that only rejected.
+  bool Reconsider(int pass) {
+    const bool r = reconsider_next_ || (pass > 1 && (pass - 1) % every_ == 0);
+    reconsider_next_ = false;
+    return r;
+  }
+
+  // Progress over the last reconsideration cycle: when a whole cycle removes (almost)
+  // nothing, every vertex has had its chance in the current neighbourhoods, and further
+  // passes would re-try the same candidates for a trickle of removals (or for vertices that
+  // only keep losing lock races to each other).
+  bool NoMoreProgress(const PassStats& stats, int pass, bool reconsidered, size_t sorted) {
+    recent_removed_.push_back(stats.removed);
+    if (recent_removed_.size() > static_cast<size_t>(every_))
+      recent_removed_.erase(recent_removed_.begin());
+    uint64_t cycle_removed = 0;
+    for (uint64_t r : recent_removed_) cycle_removed += r;
+    const bool full_cycle = recent_removed_.size() == static_cast<size_t>(every_);
+    const uint64_t trickle = static_cast<uint64_t>(kTrickleFraction * stats.vertices_left);
+    if (full_cycle && pass > every_ && cycle_removed <= trickle) return true;
+    if (stats.removed == 0) {
+      // Only vertices once rejected could still go, and only if they have not just been
+      // reconsidered: then reconsider them at once rather than waiting for the cycle.
+      const bool only_rejections = stats.lock_conflicts == 0 && stats.inconsistent == 0;
+      // Vertices beyond the candidate fraction were not tried yet: they go next pass.
+      const bool all_tried = stats.candidates == sorted;
+      if (only_rejections && all_tried && (reconsidered || pass == 1)) return true;
+      reconsider_next_ = only_rejections;
+    }
+    return false;
+  }
+
+ private:
+  const int every_;
+  bool reconsider_next_ = false;
+  std::vector<uint64_t> recent_removed_;  // per pass, the last reconsider_every passes
+};
+
 }  // namespace
 
 absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& options,
@@ -183,8 +227,7 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
   }
 
   result.stop_reason = StopReason::kMaxPasses;
-  bool reconsider_next = false;
-  std::vector<uint64_t> recent_removed;  // per pass, the last reconsider_every passes
+  ProgressWatch watch(options.reconsider_every);
   for (int pass = 1; pass <= options.max_passes; ++pass) {
     if (budget.target > 0 && budget.alive.load() <= budget.target) {
       result.stop_reason = StopReason::kTargetReached;
@@ -197,11 +240,11 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
     const auto pass_start = Clock::now();
     PassStats stats;
     stats.pass = pass;
-    const bool reconsider =
-        reconsider_next || (pass > 1 && (pass - 1) % options.reconsider_every == 0);
-    reconsider_next = false;
+    const bool reconsider = watch.Reconsider(pass);
+    // Select and order: every removable vertex with its cost, in cost order.
     const std::vector<uint32_t> sorted =
         SortedCandidates(mesh, pool, *cost, reconsider, &stats.busy_seconds);
+    // The lowest-cost share are this pass's candidates, split over the contexts.
     stats.candidates = static_cast<uint64_t>(
         std::ceil(options.candidate_fraction * static_cast<double>(sorted.size())));
     std::atomic<bool> stop{false};
@@ -210,6 +253,7 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
     RemovalPhase phase{sorted.data(), stats.candidates,
                        sorted.size(), &budget,
                        &stop,         control.cancelled ? &control.cancelled : &no_cancel};
+    // Remove: each context runs the kernel on its candidates.
     if (absl::Status s = backend->RunRemoval(phase, stats); !s.ok()) return s;
     result.modeled_cycles += stats.modeled_pass_cycles;
     stats.vertices_left = static_cast<uint64_t>(budget.alive.load());
@@ -225,32 +269,9 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
       result.stop_reason = StopReason::kTargetReached;
       break;
     }
-    // Progress over the last reconsideration cycle: when a whole cycle removes (almost)
-    // nothing, every vertex has had its chance in the current neighbourhoods, and further
-    // passes would re-try the same candidates for a trickle of removals (or for vertices that
-    // only keep losing lock races to each other).
-    recent_removed.push_back(stats.removed);
-    if (recent_removed.size() > static_cast<size_t>(options.reconsider_every))
-      recent_removed.erase(recent_removed.begin());
-    uint64_t cycle_removed = 0;
-    for (uint64_t r : recent_removed) cycle_removed += r;
-    const bool full_cycle = recent_removed.size() == static_cast<size_t>(options.reconsider_every);
-    const uint64_t trickle = static_cast<uint64_t>(kTrickleFraction * stats.vertices_left);
-    if (full_cycle && pass > options.reconsider_every && cycle_removed <= trickle) {
+    if (watch.NoMoreProgress(stats, pass, reconsider, sorted.size())) {
       result.stop_reason = StopReason::kNoProgress;
       break;
-    }
-    if (stats.removed == 0) {
-      // Only vertices once rejected could still go, and only if they have not just been
-      // reconsidered: then reconsider them at once rather than waiting for the cycle.
-      const bool only_rejections = stats.lock_conflicts == 0 && stats.inconsistent == 0;
-      // Vertices beyond the candidate fraction were not tried yet: they go next pass.
-      const bool all_tried = stats.candidates == sorted.size();
-      if (only_rejections && all_tried && (reconsider || pass == 1)) {
-        result.stop_reason = StopReason::kNoProgress;
-        break;
-      }
-      reconsider_next = only_rejections;
     }
   }
   result.output_vertices = mesh.CountLiveVertices();

@@ -1,6 +1,8 @@
 // The same kernel on the emulated Cell BE: outputs must pass the native back end's checks.
 #include <gtest/gtest.h>
 
+#include <atomic>
+
 #include "engine/simplify.h"
 #include "tests/engine/mesh_checks.h"
 
@@ -85,6 +87,30 @@ TEST(CellBackend, MoreSpesTakeFewerModeledCycles) {
   const CellRun one = RunCell(raw, 1, 64, 1), eight = RunCell(raw, 8, 64, 1);
   const PassStats &a = one.result.passes[0], &b = eight.result.passes[0];
   EXPECT_LT(b.modeled_pass_cycles * 2, a.modeled_pass_cycles);
+}
+
+// The cell back end runs the same candidate loop as the native one, so it notices a
+// cancellation inside a pass, not only between passes.
+TEST(CellBackend, CancellationStopsInsideAPassWithAValidMesh) {
+  for (int spe_threads : {1, 2}) {
+    absl::StatusOr<Mesh> mesh = Mesh::Build(testing::LoadTestMesh("fandisk.off"));
+    ASSERT_TRUE(mesh.ok());
+    SimplifyOptions options;
+    options.backend = Backend::kCell;
+    options.cell.spes = 4;
+    options.cell.spe_threads = spe_threads;
+    std::atomic<int> polls{0};
+    SimplifyControl control;
+    control.cancelled = [&] { return ++polls > 6; };  // one poll before the pass, then inside it
+    absl::StatusOr<SimplifyResult> r = Simplify(*mesh, options, control);
+    ASSERT_TRUE(r.ok()) << r.status();
+    EXPECT_EQ(r->stop_reason, StopReason::kCancelled);
+    ASSERT_EQ(r->passes.size(), 1u);
+    // Stopped early in the first pass: far fewer candidates tried than handed out.
+    EXPECT_LT(r->passes[0].tried * 4, r->passes[0].candidates) << spe_threads;
+    EXPECT_EQ(testing::HalfEdgeInvariantViolation(*mesh), "");
+    EXPECT_TRUE(Mesh::Build(mesh->ToRaw()).ok());
+  }
 }
 
 TEST(CellBackend, CacheThatIsNotAPowerOfTwoIsRejected) {

@@ -1,0 +1,223 @@
+// The kernel's rules one at a time, on hand-made proposals: each is a unit that can be judged
+// without a mesh, a port or the other rules.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "engine/rule.h"
+
+namespace femsimp {
+namespace {
+
+std::vector<std::string> Names(const RuleSet& set, RuleStage stage) {
+  std::vector<std::string> names;
+  for (const CollapseRule* r : set.stage(stage)) names.push_back(RejectName(r->reason()));
+  return names;
+}
+
+using Strings = std::vector<std::string>;
+
+TEST(RuleSet, RulesFollowTheOptions) {
+  SimplifyOptions o;
+  RuleSetup setup;
+  const RuleSet paper = RuleSet::Build(o, setup);
+  EXPECT_EQ(Names(paper, RuleStage::kDirections), Strings({"feature"}));
+  EXPECT_EQ(Names(paper, RuleStage::kShape),
+            Strings({"degenerate", "fold_over", "min_angle", "normal_deviation"}));
+  EXPECT_EQ(Names(paper, RuleStage::kTopology), Strings({"link_condition", "valence", "feature"}));
+  EXPECT_TRUE(paper.stage(RuleStage::kFidelity).empty());
+  EXPECT_TRUE(paper.stage(RuleStage::kBudget).empty());
+  EXPECT_FALSE(paper.reads_face_attrs());
+
+  o.topology_only = true;
+  EXPECT_EQ(Names(RuleSet::Build(o, setup), RuleStage::kShape),
+            Strings({"degenerate", "fold_over"}));
+
+  SimplifyOptions f;
+  f.max_volume_change = 0.01;
+  f.max_centroid_shift = 0.01;
+  setup.tolerance = 0.5f;
+  setup.fields = 1;
+  const MassProperties mass{1.0, {0, 0, 0}};
+  const FieldResultants resultants;
+  setup.mass = &mass;
+  setup.resultants = &resultants;
+  const RuleSet fidelity = RuleSet::Build(f, setup);
+  EXPECT_EQ(Names(fidelity, RuleStage::kFidelity),
+            Strings({"tolerance", "volume", "centroid", "field_resultant"}));
+  EXPECT_EQ(Names(fidelity, RuleStage::kBudget),
+            Strings({"volume", "centroid", "field_resultant"}));
+  EXPECT_TRUE(fidelity.reads_face_attrs());
+  EXPECT_TRUE(fidelity.tracks_mass());
+}
+
+// A closed fan around vertex 0 with neighbours 1..n on a regular polygon in the z = 0 plane.
+Ring RegularFan(int n) {
+  Ring r;
+  r.center = 0;
+  r.center_pos = {0, 0, 0};
+  r.faces = n;
+  for (int i = 0; i < n; ++i) {
+    const double a = 2 * std::numbers::pi * i / n;
+    r.nbr[i] = static_cast<uint32_t>(i + 1);
+    r.pos[i] = {static_cast<float>(std::cos(a)), static_cast<float>(std::sin(a)), 0.0f};
+    r.feature[i] = false;
+    r.group[i] = 0;
+    r.out[i] = static_cast<uint32_t>(3 * i);
+  }
+  return r;
+}
+
+const CollapseRule& Only(const RuleSet& set, RuleStage stage, Reject reason) {
+  for (const CollapseRule* r : set.stage(stage))
+    if (r->reason() == reason) return *r;
+  ADD_FAILURE() << "no rule " << RejectName(reason);
+  return *set.stage(stage).front();
+}
+
+TEST(Rules, MinAngleJudgesTheNewTriangles) {
+  // Collapsing the centre of a regular hexagon onto a corner fans the hexagon from that
+  // corner: its new triangles have angles of 30, 60 and 90 degrees.
+  const Ring fan = RegularFan(6);
+  CollapseProposal p;
+  p.fan = &fan;
+  p.target = 0;
+  p.geometry.Build(fan, 0);
+  ASSERT_EQ(p.geometry.faces, 4);
+  for (double min_angle : {25.0, 35.0}) {
+    SimplifyOptions o;
+    o.min_angle_deg = min_angle;
+    const RuleSet set = RuleSet::Build(o, RuleSetup{});
+    const Verdict v = Only(set, RuleStage::kShape, Reject::kMinAngle).Check(RuleStage::kShape, p);
+    EXPECT_EQ(v, min_angle < 30 ? Verdict::kPass : Verdict::kReject) << min_angle;
+  }
+}
+
+TEST(Rules, DegenerateAndFoldOverAcceptAFlatFanCollapse) {
+  const Ring fan = RegularFan(6);
+  CollapseProposal p;
+  p.fan = &fan;
+  p.target = 2;
+  p.geometry.Build(fan, 2);
+  Reject refused = Reject::kCount;
+  EXPECT_EQ(RuleSet::Build(SimplifyOptions{}, RuleSetup{}).Check(RuleStage::kShape, p, &refused),
+            Verdict::kPass);
+  // A link vertex pulled in next to V makes the link concave: collapsing V onto neighbour 0
+  // turns the new triangle over that vertex.
+  Ring bent = fan;
+  bent.pos[1] = {0.2f, 0.1f, 0.0f};
+  p.fan = &bent;
+  p.geometry.Build(bent, 0);
+  SimplifyOptions topology_only;
+  topology_only.topology_only = true;
+  EXPECT_EQ(RuleSet::Build(topology_only, RuleSetup{}).Check(RuleStage::kShape, p, &refused),
+            Verdict::kReject);
+  EXPECT_EQ(refused, Reject::kFoldOver);
+}
+
+TEST(Rules, LinkConditionRefusesJoiningConnectedVertices) {
+  const Ring fan = RegularFan(4);  // neighbours 1, 2, 3, 4
+  Ring vd_fan;                     // Vd = 1: neighbours 0 (V), 2 and 4 (opposite), 5, 6
+  vd_fan.faces = 5;
+  const uint32_t around[] = {0, 4, 5, 6, 2};
+  for (int i = 0; i < 5; ++i) vd_fan.nbr[i] = around[i];
+  CollapseProposal p;
+  p.fan = &fan;
+  p.target = 0;
+  p.target_fan = &vd_fan;
+  p.deleted = 2;
+  p.opposite[0] = 2;
+  p.opposite[1] = 4;
+  const RuleSet set = RuleSet::Build(SimplifyOptions{}, RuleSetup{});
+  const CollapseRule& link = Only(set, RuleStage::kTopology, Reject::kLink);
+  EXPECT_EQ(link.Check(RuleStage::kTopology, p), Verdict::kPass);
+  vd_fan.nbr[3] = 3;  // Vd already connected to V's neighbour 3: the collapse would pinch
+  EXPECT_EQ(link.Check(RuleStage::kTopology, p), Verdict::kReject);
+}
+
+class FakeReader final : public NeighbourhoodReader {
+ public:
+  FakeReader(int faces, bool boundary, bool stale)
+      : faces_(faces), boundary_(boundary), stale_(stale) {}
+  bool CountFan(uint32_t, int limit, int* faces, bool* boundary) override {
+    *faces = std::min(faces_, limit);
+    *boundary = boundary_;
+    return !stale_;
+  }
+
+ private:
+  int faces_;
+  bool boundary_, stale_;
+};
+
+TEST(Rules, ValenceKeepsATetrahedronAndTheLastFace) {
+  const RuleSet set = RuleSet::Build(SimplifyOptions{}, RuleSetup{});
+  const CollapseRule& valence = Only(set, RuleStage::kTopology, Reject::kValence);
+  CollapseProposal p;
+  p.deleted = 1;
+  p.opposite[0] = 7;
+  struct Case {
+    int faces;
+    bool boundary, stale;
+    Verdict expected;
+  };
+  for (const Case& c :
+       {Case{3, false, false, Verdict::kReject}, Case{4, false, false, Verdict::kPass},
+        Case{1, true, false, Verdict::kReject}, Case{2, true, false, Verdict::kPass},
+        Case{9, false, true, Verdict::kStale}}) {
+    FakeReader reader(c.faces, c.boundary, c.stale);
+    p.reader = &reader;
+    EXPECT_EQ(valence.Check(RuleStage::kTopology, p), c.expected) << c.faces << c.boundary;
+  }
+}
+
+TEST(Rules, FeatureLineFixesCornersAndKeepsVerticesOnTheirLine) {
+  RuleSetup setup;
+  setup.cos_feature = std::cos(30 * std::numbers::pi / 180);
+  const RuleSet set = RuleSet::Build(SimplifyOptions{}, setup);
+  const CollapseRule& feature = Only(set, RuleStage::kDirections, Reject::kFeature);
+  Ring fan = RegularFan(6);
+  Directions free;
+  feature.Restrict(fan, &free);
+  EXPECT_FALSE(free.fixed);
+  EXPECT_FALSE(free.on_line());
+
+  fan.feature[0] = fan.feature[3] = true;  // a straight line through neighbours 1 and 4
+  Directions line;
+  feature.Restrict(fan, &line);
+  EXPECT_FALSE(line.fixed);
+  EXPECT_TRUE(line.Allows(0) && line.Allows(3) && !line.Allows(1));
+  EXPECT_EQ(line.LineOther(0), 3);
+
+  fan.feature[3] = false;
+  fan.feature[2] = true;  // turns by 120 degrees: a corner
+  Directions corner;
+  feature.Restrict(fan, &corner);
+  EXPECT_TRUE(corner.fixed);
+}
+
+TEST(Rules, VolumeBudgetIsSpentAgainstTheInput) {
+  SimplifyOptions o;
+  o.max_volume_change = 0.01;
+  const MassProperties input{100.0, {0, 0, 0}};
+  const FieldResultants none;
+  RuleSetup setup;
+  setup.closed = true;
+  setup.mass = &input;
+  setup.resultants = &none;
+  const RuleSet set = RuleSet::Build(o, setup);
+  const CollapseRule& volume = Only(set, RuleStage::kBudget, Reject::kVolume);
+  const std::vector<DVec3> no_force;
+  for (double spent : {0.5, -0.99, 1.01, -2.0}) {
+    const MassProperties change{spent, {0, 0, 0}};
+    EXPECT_EQ(volume.WithinBudget(LedgerView{input, change, none, no_force}, CollapseDelta{}),
+              std::fabs(spent) <= 1.0)
+        << spent;
+  }
+}
+
+}  // namespace
+}  // namespace femsimp
