@@ -25,10 +25,8 @@ class CellPort {
 
   void BeginCandidate() { logged_ = 0; }
 
-  VertexQ ReadVertex(uint32_t v) { return Read<VertexQ>(&v_[v], VertexQ{0, 0, 0, kNone}); }
-  HalfEdgeQ ReadHalfEdge(uint32_t h) {
-    return Read<HalfEdgeQ>(&h_[h], HalfEdgeQ{kNone, kNone, 0, kFaceRemoved});
-  }
+  VertexQ ReadVertex(uint32_t v) { return Read<VertexQ>(&v_[v], Poison(&v_[v])); }
+  HalfEdgeQ ReadHalfEdge(uint32_t h) { return Read<HalfEdgeQ>(&h_[h], Poison(&h_[h])); }
   VertexQ ReadVertexFresh(uint32_t v) {
     spe_.cache().Dirty(cellsim::Ea(&v_[v]));
     return ReadVertex(v);
@@ -41,26 +39,10 @@ class CellPort {
   // A write puts the whole quadword. The other three words come from this SPE's copy, which
   // the kernel has validated (or re-read fresh) under the locks, so they are current; and no
   // other SPE writes the quadword meanwhile (kernel.h).
-  void WriteTarget(uint32_t h, uint32_t v) {
-    HalfEdgeQ q = ReadHalfEdge(h);
-    q.target = v;
-    Put(&h_[h], q);
-  }
-  void WriteTwin(uint32_t h, uint32_t t) {
-    HalfEdgeQ q = ReadHalfEdge(h);
-    q.twin = t;
-    Put(&h_[h], q);
-  }
-  void WriteFlags(uint32_t h, uint32_t f) {
-    HalfEdgeQ q = ReadHalfEdge(h);
-    q.flags = f;
-    Put(&h_[h], q);
-  }
-  void WriteOut(uint32_t v, uint32_t h) {
-    VertexQ q = ReadVertex(v);
-    q.out = h;
-    Put(&v_[v], q);
-  }
+  void WriteTarget(uint32_t h, uint32_t v) { WriteWord(&h_[h], &HalfEdgeQ::target, v); }
+  void WriteTwin(uint32_t h, uint32_t t) { WriteWord(&h_[h], &HalfEdgeQ::twin, t); }
+  void WriteFlags(uint32_t h, uint32_t f) { WriteWord(&h_[h], &HalfEdgeQ::flags, f); }
+  void WriteOut(uint32_t v, uint32_t h) { WriteWord(&v_[v], &VertexQ::out, h); }
 
   uint32_t LoadStatus(uint32_t v) { return Check(spe_.atomic().Load(&s_[v]), uint32_t{kRemoved}); }
   bool CasStatus(uint32_t v, uint32_t expected, uint32_t desired) {
@@ -115,6 +97,16 @@ class CellPort {
     }
     return *q;
   }
+
+  // Puts the quadword at p with one word changed.
+  template <class Q>
+  void WriteWord(Q* p, uint32_t Q::*word, uint32_t value) {
+    Q q = Read<Q>(p, Poison(p));
+    q.*word = value;
+    Put(p, q);
+  }
+  static VertexQ Poison(const VertexQ*) { return VertexQ{0, 0, 0, kNone}; }
+  static HalfEdgeQ Poison(const HalfEdgeQ*) { return HalfEdgeQ{kNone, kNone, 0, kFaceRemoved}; }
 
   template <class Q>
   Q Get(const Q* p, Q poison) {

@@ -101,6 +101,12 @@ enum class RuleStage : uint32_t {
   kBudget = 16,
 };
 
+// The stage bits of a rule that takes part in the given stages.
+template <class... S>
+constexpr uint32_t Stages(S... stages) {
+  return (static_cast<uint32_t>(stages) | ...);
+}
+
 enum class Verdict { kPass, kReject, kStale };
 
 // What the rules of a run may need to know about the mesh and the run (set up once).

@@ -5,29 +5,18 @@
 namespace femsimp {
 namespace {
 
-class CentroidBudgetRule final : public CollapseRule {
+class CentroidBudgetRule final : public MassBudgetRule {
  public:
   CentroidBudgetRule(double max_shift, bool closed, double diagonal)
-      : max_shift_(max_shift), closed_(closed), diagonal_(diagonal) {}
+      : MassBudgetRule(closed), max_distance_(max_shift * diagonal) {}
   Reject reason() const override { return Reject::kCentroid; }
-  uint32_t stages() const override {
-    return static_cast<uint32_t>(RuleStage::kFidelity) | static_cast<uint32_t>(RuleStage::kBudget);
-  }
-  bool tracks_mass() const override { return true; }
-  Verdict Check(RuleStage, CollapseProposal& p) const override {
-    MeasureMassChange(closed_, p);
-    return Verdict::kPass;
-  }
   bool WithinBudget(const LedgerView& t, const CollapseDelta&) const override {
     const MassProperties now{t.input.measure + t.spent.measure, t.input.moment + t.spent.moment};
-    return now.measure != 0.0 &&
-           !(Norm(now.centroid() - t.input.centroid()) > max_shift_ * diagonal_);
+    return now.measure != 0.0 && !(Norm(now.centroid() - t.input.centroid()) > max_distance_);
   }
 
  private:
-  double max_shift_;
-  bool closed_;
-  double diagonal_;
+  double max_distance_;
 };
 
 }  // namespace

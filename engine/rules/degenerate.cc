@@ -10,7 +10,7 @@ namespace {
 class DegenerateRule final : public CollapseRule {
  public:
   Reject reason() const override { return Reject::kDegenerate; }
-  uint32_t stages() const override { return static_cast<uint32_t>(RuleStage::kShape); }
+  uint32_t stages() const override { return Stages(RuleStage::kShape); }
   uint32_t cycles_per_face() const override { return 20; }
   Verdict Check(RuleStage, CollapseProposal& p) const override {
     const CollapseGeometry& g = p.geometry;

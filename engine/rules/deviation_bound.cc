@@ -10,7 +10,7 @@ class DeviationBoundRule final : public CollapseRule {
  public:
   explicit DeviationBoundRule(float tolerance) : tolerance_(tolerance) {}
   Reject reason() const override { return Reject::kTolerance; }
-  uint32_t stages() const override { return static_cast<uint32_t>(RuleStage::kFidelity); }
+  uint32_t stages() const override { return Stages(RuleStage::kFidelity); }
   bool reads_face_attrs() const override { return true; }
 
   Verdict Check(RuleStage, CollapseProposal& p) const override {

@@ -13,10 +13,7 @@ class FeatureLineRule final : public CollapseRule {
  public:
   explicit FeatureLineRule(double cos_feature) : cos_feature_(cos_feature) {}
   Reject reason() const override { return Reject::kFeature; }
-  uint32_t stages() const override {
-    return static_cast<uint32_t>(RuleStage::kDirections) |
-           static_cast<uint32_t>(RuleStage::kTopology);
-  }
+  uint32_t stages() const override { return Stages(RuleStage::kDirections, RuleStage::kTopology); }
 
   void Restrict(const Ring& fan, Directions* d) const override {
     int features = 0;

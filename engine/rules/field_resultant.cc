@@ -12,9 +12,7 @@ class FieldResultantRule final : public CollapseRule {
   FieldResultantRule(double max_change, int fields, const GroupIndex* groups)
       : max_change_(max_change), fields_(fields), groups_(groups) {}
   Reject reason() const override { return Reject::kFieldResultant; }
-  uint32_t stages() const override {
-    return static_cast<uint32_t>(RuleStage::kFidelity) | static_cast<uint32_t>(RuleStage::kBudget);
-  }
+  uint32_t stages() const override { return Stages(RuleStage::kFidelity, RuleStage::kBudget); }
   bool reads_face_attrs() const override { return true; }
 
   Verdict Check(RuleStage, CollapseProposal& p) const override {

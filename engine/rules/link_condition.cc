@@ -9,7 +9,7 @@ namespace {
 class LinkConditionRule final : public CollapseRule {
  public:
   Reject reason() const override { return Reject::kLink; }
-  uint32_t stages() const override { return static_cast<uint32_t>(RuleStage::kTopology); }
+  uint32_t stages() const override { return Stages(RuleStage::kTopology); }
   Verdict Check(RuleStage, CollapseProposal& p) const override {
     const Ring& fan = *p.fan;
     const Ring& other = *p.target_fan;

@@ -1,15 +1,27 @@
-// Shared by the volume and centroid budget rules: the collapse's mass change, measured once.
+// What the volume and centroid budget rules share: both spend from the ledger's mass totals,
+// and the collapse's mass change is measured once for both, in the fidelity stage.
 #pragma once
 
 #include "engine/rule.h"
 
 namespace femsimp {
 
-inline void MeasureMassChange(bool closed, CollapseProposal& p) {
-  if (p.mass_measured) return;
-  CollapseMassDelta(*p.fan, p.target, closed, &p.delta);
-  p.cycles += 40 * p.fan->faces;
-  p.mass_measured = true;
-}
+class MassBudgetRule : public CollapseRule {
+ public:
+  explicit MassBudgetRule(bool closed) : closed_(closed) {}
+  uint32_t stages() const override { return Stages(RuleStage::kFidelity, RuleStage::kBudget); }
+  bool tracks_mass() const override { return true; }
+  Verdict Check(RuleStage, CollapseProposal& p) const override {
+    if (!p.mass_measured) {
+      CollapseMassDelta(*p.fan, p.target, closed_, &p.delta);
+      p.cycles += 40 * p.fan->faces;
+      p.mass_measured = true;
+    }
+    return Verdict::kPass;
+  }
+
+ private:
+  bool closed_;  // the solid's mass properties rather than the surface's
+};
 
 }  // namespace femsimp

@@ -10,7 +10,7 @@ class MinAngleRule final : public CollapseRule {
  public:
   explicit MinAngleRule(double degrees) : cos_max_(CosDeg(degrees)) {}
   Reject reason() const override { return Reject::kMinAngle; }
-  uint32_t stages() const override { return static_cast<uint32_t>(RuleStage::kShape); }
+  uint32_t stages() const override { return Stages(RuleStage::kShape); }
   uint32_t cycles_per_face() const override { return 60; }
   Verdict Check(RuleStage, CollapseProposal& p) const override {
     const CollapseGeometry& g = p.geometry;

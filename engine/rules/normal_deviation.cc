@@ -10,7 +10,7 @@ class NormalDeviationRule final : public CollapseRule {
  public:
   explicit NormalDeviationRule(double degrees) : cos_min_(CosDeg(degrees)) {}
   Reject reason() const override { return Reject::kNormalDeviation; }
-  uint32_t stages() const override { return static_cast<uint32_t>(RuleStage::kShape); }
+  uint32_t stages() const override { return Stages(RuleStage::kShape); }
   uint32_t cycles_per_face() const override { return 50; }
   Verdict Check(RuleStage, CollapseProposal& p) const override {
     return p.geometry.MinNormalCosine() >= cos_min_ ? Verdict::kPass : Verdict::kReject;

@@ -8,7 +8,7 @@ namespace {
 class ValenceRule final : public CollapseRule {
  public:
   Reject reason() const override { return Reject::kValence; }
-  uint32_t stages() const override { return static_cast<uint32_t>(RuleStage::kTopology); }
+  uint32_t stages() const override { return Stages(RuleStage::kTopology); }
   Verdict Check(RuleStage, CollapseProposal& p) const override {
     for (int k = 0; k < p.deleted; ++k) {
       int faces = 0;

@@ -7,25 +7,16 @@
 namespace femsimp {
 namespace {
 
-class VolumeBudgetRule final : public CollapseRule {
+class VolumeBudgetRule final : public MassBudgetRule {
  public:
-  VolumeBudgetRule(double max_change, bool closed) : max_change_(max_change), closed_(closed) {}
+  VolumeBudgetRule(double max_change, bool closed) : MassBudgetRule(closed), max_(max_change) {}
   Reject reason() const override { return Reject::kVolume; }
-  uint32_t stages() const override {
-    return static_cast<uint32_t>(RuleStage::kFidelity) | static_cast<uint32_t>(RuleStage::kBudget);
-  }
-  bool tracks_mass() const override { return true; }
-  Verdict Check(RuleStage, CollapseProposal& p) const override {
-    MeasureMassChange(closed_, p);
-    return Verdict::kPass;
-  }
   bool WithinBudget(const LedgerView& t, const CollapseDelta&) const override {
-    return !(std::fabs(t.spent.measure) > max_change_ * std::fabs(t.input.measure));
+    return !(std::fabs(t.spent.measure) > max_ * std::fabs(t.input.measure));
   }
 
  private:
-  double max_change_;
-  bool closed_;
+  double max_;
 };
 
 }  // namespace
