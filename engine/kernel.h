@@ -96,7 +96,10 @@ class RemovalKernel final : private NeighbourhoodReader {
       proposal_.line_other = directions.LineOther(i);
       const Verdict topology = CheckTopology(i);
       if (topology == Verdict::kStale) return GiveUp(v, Outcome::kInconsistent);
-      if (topology == Verdict::kReject || !CheckFidelity()) continue;
+      if (topology == Verdict::kReject) continue;
+      const Verdict fidelity = CheckFidelity();
+      if (fidelity == Verdict::kConflict) return GiveUp(v, Outcome::kConflict);
+      if (fidelity != Verdict::kPass) continue;
       if (!budget_.Reserve()) return GiveUp(v, Outcome::kBudgetSpent);
       Reject refused = Reject::kCount;
       if (!rules_.SpendBudgets(proposal_.delta, &refused)) {
@@ -170,7 +173,9 @@ class RemovalKernel final : private NeighbourhoodReader {
     return LockResult::kHeld;
   }
 
+  // Also the end of every candidate that got its fan: the rules give back what they took.
   void UnlockNeighbours() {
+    rules_.Release(proposal_);
     for (int i = 0; i < nlocked_; ++i) port_.StoreStatus(locked_[i], locked_state_[i]);
     nlocked_ = 0;
   }
@@ -304,7 +309,7 @@ class RemovalKernel final : private NeighbourhoodReader {
 
   // Runs the fidelity rules: the side quadwords of the fan are read once per candidate, and
   // the rules propose their new values and the collapse's budget delta.
-  bool CheckFidelity() {
+  Verdict CheckFidelity() {
     const int nf = ring_.faces;
     if (rules_.reads_face_attrs()) {
       if (!attrs_loaded_) {
@@ -320,9 +325,8 @@ class RemovalKernel final : private NeighbourhoodReader {
     Reject refused = Reject::kCount;
     const Verdict v = rules_.Check(RuleStage::kFidelity, proposal_, &refused);
     port_.ChargeCompute(proposal_.cycles);
-    if (v == Verdict::kPass) return true;
-    Note(RuleStage::kFidelity, refused);
-    return false;
+    if (v == Verdict::kReject) Note(RuleStage::kFidelity, refused);
+    return v;
   }
 
   // Applies the collapse onto ring_.nbr[i], writes the side data the rules proposed, and
@@ -330,6 +334,7 @@ class RemovalKernel final : private NeighbourhoodReader {
   void Commit(uint32_t v, int i) {
     Apply(i);
     WriteSideData(i);
+    rules_.Commit(proposal_);
     budget_.Removed();
     port_.StoreStatus(v, kRemoved);
     UnlockNeighbours();

@@ -85,6 +85,11 @@ struct CollapseProposal {
   bool mass_measured = false;
   uint32_t cycles = 0;  // modeled SPU cycles of the fidelity work (cell back end)
 
+  // Cells of the face index (engine/face_grid.h) this candidate holds, from the first check
+  // that needs them until the candidate is done.
+  std::vector<uint32_t> held_cells;
+  bool cells_acquired = false;
+
   uint32_t vd() const { return fan->nbr[target]; }
   // Fan face f is one of the two that contain V - Vd (and disappear).
   bool IsDeleted(int f) const {
@@ -107,7 +112,8 @@ constexpr uint32_t Stages(S... stages) {
   return (static_cast<uint32_t>(stages) | ...);
 }
 
-enum class Verdict { kPass, kReject, kStale };
+// kConflict: another context holds what the check needs (a lock conflict: try again later).
+enum class Verdict { kPass, kReject, kStale, kConflict };
 
 // What the rules of a run may need to know about the mesh and the run (set up once).
 struct RuleSetup {
@@ -120,6 +126,8 @@ struct RuleSetup {
   // The input's measures the budget rules' ledger starts from.
   const MassProperties* mass = nullptr;
   const FieldResultants* resultants = nullptr;
+  // The face index of the self-intersection rule, when it is on.
+  class FaceGrid* face_grid = nullptr;
 };
 
 class CollapseRule {
@@ -138,6 +146,12 @@ class CollapseRule {
   virtual bool WithinBudget(const LedgerView& /*totals*/, const CollapseDelta& /*delta*/) const {
     return true;
   }
+  // After the kernel applied the collapse, still under the locks: the rule's own state.
+  virtual void Commit(CollapseProposal& /*p*/) const {}
+  // The candidate is done, whatever the outcome: what the rule's checks took is given back.
+  virtual void Release(CollapseProposal& /*p*/) const {}
+  // Whether Commit or Release do anything (the kernel calls only those that do).
+  virtual bool keeps_state() const { return false; }
   // Modeled SPU cycles per new triangle of a kShape check (the cell back end's cycle model).
   virtual uint32_t cycles_per_face() const { return 0; }
   // The side quadwords the rule's kFidelity check needs read (deviation bounds, fields).
@@ -163,6 +177,13 @@ class RuleSet {
 
   // Runs the stage's checks in order; on a refusal sets *refused to the rule's reason.
   Verdict Check(RuleStage s, CollapseProposal& p, Reject* refused) const;
+  // The rules' Commit and Release hooks (engine/rule.h).
+  void Commit(CollapseProposal& p) const {
+    for (const CollapseRule* r : stateful_) r->Commit(p);
+  }
+  void Release(CollapseProposal& p) const {
+    for (const CollapseRule* r : stateful_) r->Release(p);
+  }
   // Spends the collapse's delta from the ledger if every budget rule accepts; otherwise sets
   // *refused to the first that does not and spends nothing.
   bool SpendBudgets(const CollapseDelta& delta, Reject* refused) const;
@@ -172,6 +193,7 @@ class RuleSet {
 
   std::vector<std::unique_ptr<CollapseRule>> rules_;
   std::vector<const CollapseRule*> by_stage_[5];
+  std::vector<const CollapseRule*> stateful_;
   bool reads_face_attrs_ = false;
   bool tracks_mass_ = false;
   uint32_t shape_cycles_ = 0;

@@ -34,6 +34,7 @@ RuleSet RuleSet::Build(const SimplifyOptions& options, const RuleSetup& setup) {
     if (rule->in(RuleStage::kShape)) set.shape_cycles_ += rule->cycles_per_face();
     set.reads_face_attrs_ |= rule->reads_face_attrs();
     set.tracks_mass_ |= rule->tracks_mass();
+    if (rule->keeps_state()) set.stateful_.push_back(rule.get());
   }
   if (!set.stage(RuleStage::kBudget).empty())
     set.ledger_ = std::make_unique<MechanicsLedger>(*setup.mass, *setup.resultants);

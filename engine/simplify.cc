@@ -11,6 +11,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "engine/cost.h"
+#include "engine/face_grid.h"
 #include "engine/features.h"
 #include "engine/mechanics.h"
 #include "engine/port.h"
@@ -207,6 +208,8 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
   const FieldResultants fields_before = MeasureFields(mesh, groups);
   setup.mass = &mass_before;
   setup.resultants = &fields_before;
+  std::optional<FaceGrid> face_grid;
+  if (options.check_self_intersections) setup.face_grid = &face_grid.emplace(mesh);
   const RuleSet rules = RuleSet::Build(options, setup);
 
   WorkerPool pool(options.threads);

@@ -64,6 +64,9 @@ struct SimplifyOptions {
   // Relative change allowed of each face field's resultant per group, measured against the
   // group's total absolute load (sum of |value| * area). Applies when the mesh has fields.
   double max_field_change = 0.01;
+  // Refuse collapses whose new triangles would intersect the mesh (engine/rules/
+  // self_intersection.cc).
+  bool check_self_intersections = false;
 
   Backend backend = Backend::kNative;
   CellOptions cell;

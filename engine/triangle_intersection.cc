@@ -1,0 +1,141 @@
+#include "engine/triangle_intersection.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace femsimp {
+namespace {
+
+// Relative size below which an orientation counts as zero (coplanar or collinear): far above
+// double rounding of float inputs, far below any real feature of a mesh.
+constexpr double kRelativeZero = 1e-12;
+
+int Sign(double value, double scale) {
+  if (std::fabs(value) <= kRelativeZero * scale) return 0;
+  return value > 0 ? 1 : -1;
+}
+
+// Sign of the volume of (a, b, c, d).
+int Orient3d(const DVec3& a, const DVec3& b, const DVec3& c, const DVec3& d) {
+  const DVec3 u = b - a, v = c - a, w = d - a;
+  return Sign(Dot(Cross(u, v), w), Norm(u) * Norm(v) * Norm(w));
+}
+
+struct P2 {
+  double x, y;
+};
+
+int Orient2d(const P2& a, const P2& b, const P2& c) {
+  const double ux = b.x - a.x, uy = b.y - a.y, vx = c.x - a.x, vy = c.y - a.y;
+  return Sign(ux * vy - uy * vx, std::hypot(ux, uy) * std::hypot(vx, vy));
+}
+
+// Drops the coordinate along which the plane with normal n is steepest.
+struct Projection {
+  int drop;
+  explicit Projection(const DVec3& n) {
+    const double x = std::fabs(n.x), y = std::fabs(n.y), z = std::fabs(n.z);
+    drop = x >= y && x >= z ? 0 : (y >= z ? 1 : 2);
+  }
+  P2 operator()(const DVec3& p) const {
+    if (drop == 0) return {p.y, p.z};
+    if (drop == 1) return {p.z, p.x};
+    return {p.x, p.y};
+  }
+};
+
+bool OnSegment(const P2& p, const P2& a, const P2& b) {
+  return std::min(a.x, b.x) <= p.x && p.x <= std::max(a.x, b.x) && std::min(a.y, b.y) <= p.y &&
+         p.y <= std::max(a.y, b.y);
+}
+
+// Closed 2D segments.
+bool SegmentsMeet(const P2& p, const P2& q, const P2& a, const P2& b) {
+  const int o1 = Orient2d(p, q, a), o2 = Orient2d(p, q, b);
+  const int o3 = Orient2d(a, b, p), o4 = Orient2d(a, b, q);
+  if (o1 * o2 < 0 && o3 * o4 < 0) return true;
+  return (o1 == 0 && OnSegment(a, p, q)) || (o2 == 0 && OnSegment(b, p, q)) ||
+         (o3 == 0 && OnSegment(p, a, b)) || (o4 == 0 && OnSegment(q, a, b));
+}
+
+// Closed 2D triangle (either orientation).
+bool InTriangle(const P2& p, const P2& a, const P2& b, const P2& c) {
+  const int s1 = Orient2d(a, b, p), s2 = Orient2d(b, c, p), s3 = Orient2d(c, a, p);
+  const bool negative = s1 < 0 || s2 < 0 || s3<0, positive = s1> 0 || s2 > 0 || s3 > 0;
+  return !(negative && positive);
+}
+
+bool CoplanarSegmentMeetsTriangle(const DVec3& p, const DVec3& q, const DVec3& a, const DVec3& b,
+                                  const DVec3& c) {
+  const Projection flat(Cross(b - a, c - a));
+  const P2 p2 = flat(p), q2 = flat(q), a2 = flat(a), b2 = flat(b), c2 = flat(c);
+  return InTriangle(p2, a2, b2, c2) || InTriangle(q2, a2, b2, c2) || SegmentsMeet(p2, q2, a2, b2) ||
+         SegmentsMeet(p2, q2, b2, c2) || SegmentsMeet(p2, q2, c2, a2);
+}
+
+bool BoxesOverlap(const Triangle& a, const Triangle& b) {
+  const auto lo = [](const Triangle& t, double DVec3::*c) {
+    return std::min({t.p[0].*c, t.p[1].*c, t.p[2].*c});
+  };
+  const auto hi = [](const Triangle& t, double DVec3::*c) {
+    return std::max({t.p[0].*c, t.p[1].*c, t.p[2].*c});
+  };
+  for (double DVec3::*c : {&DVec3::x, &DVec3::y, &DVec3::z}) {
+    const double slack = 1e-9 * (std::fabs(hi(a, c)) + std::fabs(hi(b, c)) + 1e-30);
+    if (lo(a, c) > hi(b, c) + slack || lo(b, c) > hi(a, c) + slack) return false;
+  }
+  return true;
+}
+
+bool MeetsTriangle(const DVec3& p, const DVec3& q, const Triangle& t) {
+  return SegmentMeetsTriangle(p, q, t.p[0], t.p[1], t.p[2]);
+}
+
+}  // namespace
+
+bool SegmentMeetsTriangle(const DVec3& p, const DVec3& q, const DVec3& a, const DVec3& b,
+                          const DVec3& c) {
+  const int sp = Orient3d(a, b, c, p), sq = Orient3d(a, b, c, q);
+  if (sp == sq && sp != 0) return false;
+  if (sp == 0 && sq == 0) return CoplanarSegmentMeetsTriangle(p, q, a, b, c);
+  // The line pq crosses the plane inside the segment: inside the triangle iff pq passes on the
+  // same side of all three edges (or along one).
+  const int s1 = Orient3d(p, q, a, b), s2 = Orient3d(p, q, b, c), s3 = Orient3d(p, q, c, a);
+  const bool negative = s1 < 0 || s2 < 0 || s3<0, positive = s1> 0 || s2 > 0 || s3 > 0;
+  return !(negative && positive);
+}
+
+bool TrianglesIntersect(const Triangle& a, const Triangle& b) {
+  if (!BoxesOverlap(a, b)) return false;
+  int shared = 0, ia[3], ib[3];  // ia[k], ib[k]: corners of a and b that are the same vertex
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (a.id[i] == b.id[j]) {
+        ia[shared] = i;
+        ib[shared++] = j;
+      }
+  if (shared == 3) return true;  // the same triangle twice
+  if (shared == 2) {
+    // They meet along the shared edge; beyond it only if they fold onto each other.
+    const DVec3 &p = a.p[ia[0]], &q = a.p[ia[1]];
+    const DVec3& r = a.p[3 - ia[0] - ia[1]];
+    const DVec3& s = b.p[3 - ib[0] - ib[1]];
+    if (Orient3d(p, q, r, s) != 0) return false;
+    const Projection flat(Cross(q - p, r - p));
+    const int sr = Orient2d(flat(p), flat(q), flat(r)), ss = Orient2d(flat(p), flat(q), flat(s));
+    return sr * ss >= 0;
+  }
+  if (shared == 1) {
+    // Beyond the shared corner, they meet iff the edge opposite it in one meets the other.
+    const int i = ia[0], j = ib[0];
+    return MeetsTriangle(a.p[(i + 1) % 3], a.p[(i + 2) % 3], b) ||
+           MeetsTriangle(b.p[(j + 1) % 3], b.p[(j + 2) % 3], a);
+  }
+  // Two triangles that meet have an edge of one meeting the other.
+  for (int k = 0; k < 3; ++k)
+    if (MeetsTriangle(a.p[k], a.p[(k + 1) % 3], b) || MeetsTriangle(b.p[k], b.p[(k + 1) % 3], a))
+      return true;
+  return false;
+}
+
+}  // namespace femsimp
