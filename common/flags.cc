@@ -1,6 +1,7 @@
 #include "common/flags.h"
 
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 
 #include "absl/strings/match.h"
@@ -230,6 +231,21 @@ std::string FlagSet::Help() const {
                                     "read more flags from FILE, one a line (`#` lines skipped)"));
   absl::StrAppend(&out, HelpEntry("--help", "this text"));
   return out;
+}
+
+std::optional<int> FlagSet::ParseMain(int argc, char** argv, absl::string_view head,
+                                      absl::string_view tail, Parsed* parsed) const {
+  absl::StatusOr<Parsed> p = Parse(std::vector<std::string>(argv + 1, argv + argc));
+  if (!p.ok()) {
+    std::fprintf(stderr, "%s: %s\n", program_.c_str(), std::string(p.status().message()).c_str());
+    return kUsageExit;
+  }
+  if (p->help) {
+    std::fputs(absl::StrCat(head, Help(), tail).c_str(), stdout);
+    return 0;
+  }
+  *parsed = std::move(*p);
+  return std::nullopt;
 }
 
 std::vector<std::string> SplitList(absl::string_view value) {

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -18,6 +19,9 @@
 #include "common/range.h"
 
 namespace femsimp::flags {
+
+// Exit code of a usage error, in every executable.
+inline constexpr int kUsageExit = 2;
 
 // Help layout: flag and metavar from column 2, the text from column kHelpColumn, wrapped at
 // kHelpWidth.
@@ -102,6 +106,12 @@ class FlagSet {
 
   // Every flag, in the order added, under its section headings; --help last.
   std::string Help() const;
+
+  // For a main(): parses argv[1..] into *parsed. On --help prints head + Help() + tail to stdout
+  // and returns 0; on a usage error prints "PROGRAM: message" to stderr and returns kUsageExit;
+  // otherwise returns nullopt (go on).
+  std::optional<int> ParseMain(int argc, char** argv, absl::string_view head,
+                               absl::string_view tail, Parsed* parsed) const;
 
  private:
   struct Flag {

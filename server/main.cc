@@ -3,8 +3,8 @@
 
 #include <csignal>
 #include <cstdio>
+#include <optional>
 #include <string>
-#include <vector>
 
 #include "common/flags.h"
 #include "server/config.h"
@@ -26,19 +26,15 @@ int main(int argc, char** argv) {
   femsimp::flags::FlagSet flags("femsimp-server");
   femsimp::server::AddServerFlags(flags, &config);
   flags.AllowFlagfile();
-  absl::StatusOr<femsimp::flags::FlagSet::Parsed> parsed =
-      flags.Parse(std::vector<std::string>(argv + 1, argv + argc));
-  if (parsed.ok() && parsed->help) {
-    std::printf("%s%s%s", kUsage, flags.Help().c_str(), kExitCodes);
-    return 0;
-  }
-  std::string err = !parsed.ok() ? std::string(parsed.status().message())
-                    : !parsed->positional.empty()
-                        ? "unexpected argument '" + parsed->positional[0] + "'"
+  femsimp::flags::FlagSet::Parsed parsed;
+  if (std::optional<int> exit = flags.ParseMain(argc, argv, kUsage, kExitCodes, &parsed))
+    return *exit;
+  std::string err = !parsed.positional.empty()
+                        ? "unexpected argument '" + parsed.positional[0] + "'"
                         : femsimp::server::NormalizeConfig(&config);
   if (!err.empty()) {
     std::fprintf(stderr, "femsimp-server: %s\n", err.c_str());
-    return 2;
+    return femsimp::flags::kUsageExit;
   }
 
   // Signals go to one waiting thread (this one), not to whichever thread gRPC happens to run.
