@@ -16,8 +16,8 @@ using C = CellOptions;
 
 // The defaults are SimplifyOptions' own (simplify.h): the table reads them.
 std::vector<OptionSpec> MakeTable() {
-  std::vector<OptionSpec> table = {
   // clang-format off
+  std::vector<OptionSpec> table = {
       {.name = "ratio", .flag = "--ratio", .metavar = "R", .section = "target",
        .range = Range::ClosedOpen(0, 1), .zero_means = "none", .help = "keep R * input vertices",
        .field = &S::ratio},
@@ -96,8 +96,8 @@ std::vector<OptionSpec> MakeTable() {
       {.name = "reread_on_stale", .group = "cell", .section = "backend", .type = T::kBool,
        .help = "cell: on a stale cache line, re-read it (else skip the candidate)",
        .field = &C::reread_on_stale},
-  // clang-format on
   };
+  // clang-format on
   const SimplifyOptions defaults;
   for (OptionSpec& spec : table) spec.default_value = GetOption(spec, defaults);
   return table;
