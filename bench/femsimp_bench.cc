@@ -27,9 +27,12 @@
 
 #include <meshoptimizer.h>
 
+#include "common/flags.h"
 #include "engine/io/mesh_io.h"
 #include "engine/io/openmesh.h"
 #include "engine/mesh.h"
+#include "engine/option_flags.h"
+#include "engine/option_table.h"
 #include "engine/simplify.h"
 #include "tests/judge/judge.h"
 
@@ -396,7 +399,8 @@ struct Args {
   bool peers = true;
   std::string variant = "auto";  // min-angle-0 variant: auto (paper removes < 10 %), on, off
   double si_limit_s = 60;
-  double ratio = 0;  // target for topology-only and the variant (0: until the criteria stop)
+  // ratio: target for topology-only and the variant (0: until the criteria stop)
+  femsimp::SimplifyOptions target;
 };
 
 std::string Fmt(const char* f, double v) {
@@ -527,56 +531,63 @@ void WriteJson(const Args& a, const RawMesh& in, const std::vector<Row>& rows) {
   std::fclose(f);
 }
 
-int Usage(const char* argv0) {
-  std::fprintf(stderr,
-               "usage: %s MESH [--label=TEXT] [--repeats=N] [--threads=1,2] [--no-peers]\n"
-               "       [--variant=auto|on|off] [--si-timeout=SECONDS (0: skip)] [--json=PATH]\n"
-               "       [--ratio=R (topology-only and min-angle-0 keep R of the vertices)]\n"
-               "       [--pass-log (per-pass femsimp stats of the first repetition)]\n",
-               argv0);
-  return 2;
+femsimp::flags::FlagSet Flags(Args* a) {
+  using femsimp::flags::NumberKind;
+  femsimp::flags::FlagSet set("femsimp_bench");
+  set.String("--label", "TEXT", "name of the run in the report (default: the mesh)", &a->label);
+  set.Number({.name = "--repeats",
+              .metavar = "N",
+              .help = "repetitions (the best counts)",
+              .kind = NumberKind::kInteger,
+              .range = femsimp::Range::Closed(1, 1000),
+              .default_text = "3"},
+             &a->repeats);
+  set.Value("--threads", "1,2", "femsimp thread counts (default 1,2)",
+            [a](const std::string& v) -> absl::Status {
+              a->threads.clear();
+              for (const std::string& t : femsimp::flags::SplitList(v)) {
+                absl::StatusOr<double> n = femsimp::flags::ParseNumberIn(
+                    "--threads", t, NumberKind::kInteger, femsimp::FindOption("threads")->range);
+                if (!n.ok()) return n.status();
+                a->threads.push_back(static_cast<int>(*n));
+              }
+              return absl::OkStatus();
+            });
+  set.Switch("--no-peers", "femsimp only, without OpenMesh and meshoptimizer",
+             [a] { a->peers = false; });
+  set.Choice("--variant", {{"auto"}, {"on"}, {"off"}},
+             "the min-angle-0 variant: auto (when the paper's settings remove < 10 %), on, off",
+             [a](size_t i) { a->variant = i == 0   ? "auto"
+                                          : i == 1 ? "on"
+                                                   : "off"; });
+  set.Number({.name = "--si-timeout",
+              .metavar = "SECONDS",
+              .help = "time limit of each self-intersection check",
+              .range = femsimp::Range::AtLeast(0),
+              .unit = "seconds",
+              .zero_means = "skip",
+              .default_text = "60"},
+             &a->si_limit_s);
+  set.String("--json", "PATH", "also write the report as JSON", &a->json);
+  femsimp::AddOptionFlag(set, "ratio", &a->target);
+  set.Switch("--pass-log", "per-pass femsimp stats of the first repetition",
+             [] { g_pass_log = true; });
+  return set;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
   Args a;
-  for (int i = 1; i < argc; ++i) {
-    std::string s = argv[i];
-    auto val = [&](const char* key) -> std::optional<std::string> {
-      const size_t n = std::strlen(key);
-      if (s.compare(0, n, key) == 0) return s.substr(n);
-      return std::nullopt;
-    };
-    if (auto v = val("--label="))
-      a.label = *v;
-    else if (auto v = val("--repeats="))
-      a.repeats = std::max(1, std::atoi(v->c_str()));
-    else if (auto v = val("--threads=")) {
-      a.threads.clear();
-      for (size_t p = 0; p < v->size();) {
-        a.threads.push_back(std::atoi(v->c_str() + p));
-        p = v->find(',', p);
-        p = p == std::string::npos ? v->size() : p + 1;
-      }
-    } else if (s == "--no-peers")
-      a.peers = false;
-    else if (auto v = val("--variant="))
-      a.variant = *v;
-    else if (auto v = val("--si-timeout="))
-      a.si_limit_s = std::atof(v->c_str());
-    else if (auto v = val("--json="))
-      a.json = *v;
-    else if (auto v = val("--ratio="))
-      a.ratio = std::atof(v->c_str());
-    else if (s == "--pass-log")
-      g_pass_log = true;
-    else if (s[0] == '-')
-      return Usage(argv[0]);
-    else
-      a.mesh = s;
+  femsimp::flags::FlagSet::Parsed parsed;
+  if (std::optional<int> exit =
+          Flags(&a).ParseMain(argc, argv, "Usage: femsimp_bench MESH [flags]\n\n", "", &parsed))
+    return *exit;
+  if (parsed.positional.size() != 1) {
+    std::fprintf(stderr, "femsimp_bench: needs exactly one MESH (see --help)\n");
+    return femsimp::flags::kUsageExit;
   }
-  if (a.mesh.empty()) return Usage(argv[0]);
+  a.mesh = parsed.positional[0];
   if (a.label.empty()) a.label = a.mesh;
 
   const auto t0 = Clock::now();
@@ -593,9 +604,9 @@ int main(int argc, char** argv) {
   auto femsimp_row = [&](std::string name, std::string family, int threads, double min_angle,
                          bool topology) {
     Row r;
-    if (family != "geo" && a.ratio > 0) {
-      r.config.options.ratio = a.ratio;
-      name += " → " + Fmt("%g", 100 * a.ratio) + " %";
+    if (family != "geo" && a.target.ratio > 0) {
+      r.config.options.ratio = a.target.ratio;
+      name += " → " + Fmt("%g", 100 * a.target.ratio) + " %";
     }
     r.config.name = std::move(name);
     r.config.family = std::move(family);

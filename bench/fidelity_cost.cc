@@ -4,11 +4,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <cstdlib>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "common/flags.h"
 #include "engine/io/mesh_io.h"
+#include "engine/option_table.h"
 #include "engine/simplify.h"
 
 namespace {
@@ -28,16 +30,46 @@ double Median(std::vector<double> v) {
 
 }  // namespace
 
+// MESH [REPEATS [THREADS [TOLERANCE_RELATIVE]]], each number in its range (the threads and the
+// tolerance in the option table's).
 int main(int argc, char** argv) {
-  if (argc < 2) {
-    std::fprintf(stderr, "usage: %s MESH [REPEATS=3] [THREADS=2] [TOLERANCE_RELATIVE=0.01]\n",
-                 argv[0]);
-    return 2;
+  using femsimp::flags::NumberKind;
+  femsimp::flags::FlagSet flags("fidelity_cost");
+  femsimp::flags::FlagSet::Parsed parsed;
+  if (std::optional<int> exit = flags.ParseMain(
+          argc, argv,
+          "Usage: fidelity_cost MESH [REPEATS=3] [THREADS=2] [TOLERANCE_RELATIVE=0.01]\n\n", "",
+          &parsed))
+    return *exit;
+  const std::vector<std::string>& args = parsed.positional;
+  struct Positional {
+    const char* name;
+    double value;
+    NumberKind kind;
+    femsimp::Range range;
+  } numbers[] = {
+      {"REPEATS", 3, NumberKind::kInteger, femsimp::Range::Closed(1, 1000)},
+      {"THREADS", 2, NumberKind::kInteger, femsimp::FindOption("threads")->range},
+      {"TOLERANCE_RELATIVE", 0.01, NumberKind::kFraction,
+       femsimp::FindOption("tolerance_relative")->range},
+  };
+  if (args.empty() || args.size() > 4) {
+    std::fprintf(stderr, "fidelity_cost: needs MESH and at most three numbers (see --help)\n");
+    return femsimp::flags::kUsageExit;
   }
-  const int repeats = argc > 2 ? std::atoi(argv[2]) : 3;
-  const int threads = argc > 3 ? std::atoi(argv[3]) : 2;
-  const double tolerance = argc > 4 ? std::atof(argv[4]) : 0.01;
-  absl::StatusOr<femsimp::RawMesh> raw = femsimp::ReadMeshFile(argv[1]);
+  for (size_t i = 1; i < args.size(); ++i) {
+    Positional& p = numbers[i - 1];
+    absl::StatusOr<double> v = femsimp::flags::ParseNumberIn(p.name, args[i], p.kind, p.range);
+    if (!v.ok()) {
+      std::fprintf(stderr, "fidelity_cost: %s\n", std::string(v.status().message()).c_str());
+      return femsimp::flags::kUsageExit;
+    }
+    p.value = *v;
+  }
+  const int repeats = static_cast<int>(numbers[0].value);
+  const int threads = static_cast<int>(numbers[1].value);
+  const double tolerance = numbers[2].value;
+  absl::StatusOr<femsimp::RawMesh> raw = femsimp::ReadMeshFile(args[0]);
   if (!raw.ok()) {
     std::fprintf(stderr, "%s\n", std::string(raw.status().message()).c_str());
     return 1;
@@ -77,8 +109,8 @@ int main(int argc, char** argv) {
       v.bound = result->deviation_bound;
     }
   const double reference = Median(variants[1].seconds);
-  std::printf("%s: %zu vertices, %d threads, %d repeats, tolerance %g of the diagonal\n\n", argv[1],
-              raw->num_vertices(), threads, repeats, tolerance);
+  std::printf("%s: %zu vertices, %d threads, %d repeats, tolerance %g of the diagonal\n\n",
+              args[0].c_str(), raw->num_vertices(), threads, repeats, tolerance);
   std::printf(
       "| variant | vertices out | deviation bound | engine s (median) | vs min-angle 0 |\n");
   std::printf("|---|--:|--:|--:|--:|\n");

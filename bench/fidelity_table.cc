@@ -10,15 +10,17 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
-#include <cstring>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "absl/strings/str_cat.h"
+#include "common/flags.h"
 #include "engine/io/mesh_io.h"
 #include "engine/io/openmesh.h"
 #include "engine/mesh.h"
+#include "engine/option_table.h"
 #include "engine/simplify.h"
 #include "tests/judge/judge.h"
 
@@ -40,17 +42,6 @@ double Since(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
 }
 
-std::vector<std::string> Split(const std::string& s) {
-  std::vector<std::string> out;
-  size_t start = 0;
-  while (start <= s.size()) {
-    const size_t comma = std::min(s.find(',', start), s.size());
-    if (comma > start) out.push_back(s.substr(start, comma - start));
-    start = comma + 1;
-  }
-  return out;
-}
-
 struct Config {
   std::string data = "tests/data";
   std::vector<std::string> meshes = {"fandisk.off", "femur.off", "blade.off", "rotor_small.off"};
@@ -62,45 +53,61 @@ struct Config {
   std::string write_dir;
 };
 
-bool Parse(int argc, char** argv, Config& c) {
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (i + 1 >= argc) {
-      std::fprintf(stderr, "%s needs a value\n", arg.c_str());
-      return false;
-    }
-    const std::string value = argv[++i];
-    if (arg == "--data") {
-      c.data = value;
-    } else if (arg == "--meshes") {
-      c.meshes = Split(value);
-    } else if (arg == "--tolerances") {
-      c.tolerances.clear();
-      for (const std::string& t : Split(value)) c.tolerances.push_back(std::atof(t.c_str()));
-    } else if (arg == "--costs") {
-      c.costs.clear();
-      for (const std::string& k : Split(value)) {
-        if (k == "quadric") {
-          c.costs.push_back(femsimp::CostKind::kQuadric);
-        } else if (k == "gaussian_curvature") {
-          c.costs.push_back(femsimp::CostKind::kGaussianCurvature);
-        } else {
-          std::fprintf(stderr, "unknown cost %s\n", k.c_str());
-          return false;
-        }
-      }
-    } else if (arg == "--repeats") {
-      c.repeats = std::max(1, std::atoi(value.c_str()));
-    } else if (arg == "--write") {
-      c.write_dir = value;
-    } else if (arg == "--threads") {
-      c.threads = std::max(1, std::atoi(value.c_str()));
-    } else {
-      std::fprintf(stderr, "unknown option %s\n", arg.c_str());
-      return false;
-    }
-  }
-  return true;
+// The flags; list values are comma-separated, each item checked as the option table checks
+// the engine option it stands for.
+femsimp::flags::FlagSet Flags(Config* c) {
+  using femsimp::flags::FlagSet;
+  using femsimp::flags::NumberKind;
+  FlagSet set("fidelity_table");
+  set.String("--data", "DIR", "folder of the meshes (default tests/data)", &c->data);
+  set.Value("--meshes", "A,B", "mesh files in --data (default the four test meshes)",
+            [c](const std::string& v) {
+              c->meshes = femsimp::flags::SplitList(v);
+              return absl::OkStatus();
+            });
+  set.Value("--tolerances", "T,U", "relative tolerances (default 0.001,0.01)",
+            [c](const std::string& v) -> absl::Status {
+              const femsimp::OptionSpec& spec = *femsimp::FindOption("tolerance_relative");
+              c->tolerances.clear();
+              for (const std::string& t : femsimp::flags::SplitList(v)) {
+                absl::StatusOr<double> d = femsimp::flags::ParseNumberIn(
+                    "--tolerances", t, NumberKind::kFraction, spec.range, spec.unit);
+                if (!d.ok()) return d.status();
+                c->tolerances.push_back(*d);
+              }
+              return absl::OkStatus();
+            });
+  set.Value("--costs", "K,L", "costs: quadric, gaussian_curvature (default both)",
+            [c](const std::string& v) -> absl::Status {
+              const femsimp::OptionSpec& spec = *femsimp::FindOption("cost");
+              c->costs.clear();
+              for (const std::string& k : femsimp::flags::SplitList(v)) {
+                size_t i = 0;
+                while (i < spec.choices.size() && k != spec.choices[i].name) ++i;
+                if (i == spec.choices.size())
+                  return absl::InvalidArgumentError(
+                      absl::StrCat("--costs: '", k, "' is not one of quadric, gaussian_curvature"));
+                c->costs.push_back(static_cast<femsimp::CostKind>(i));
+              }
+              return absl::OkStatus();
+            });
+  set.Number({.name = "--repeats",
+              .metavar = "N",
+              .help = "runs per configuration (the best counts)",
+              .kind = NumberKind::kInteger,
+              .range = femsimp::Range::Closed(1, 1000),
+              .default_text = "3"},
+             &c->repeats);
+  set.Number({.name = "--threads",
+              .metavar = "N",
+              .help = "femsimp threads",
+              .kind = NumberKind::kInteger,
+              .range = femsimp::FindOption("threads")->range,
+              .default_text = "1"},
+             &c->threads);
+  set.String("--write", "DIR", "write every output as DIR/<mesh>_<tolerance>_<tool>.off",
+             &c->write_dir);
+  return set;
 }
 
 // Share of the input's triangles with an angle below `deg`.
@@ -212,7 +219,15 @@ std::string Fidelity(const Run& run, double diag, double tolerance) {
 
 int main(int argc, char** argv) {
   Config config;
-  if (!Parse(argc, argv, config)) return 2;
+  femsimp::flags::FlagSet::Parsed parsed;
+  if (std::optional<int> exit = Flags(&config).ParseMain(
+          argc, argv, "Usage: fidelity_table [flags]\n\nPrints a markdown table.\n\n", "", &parsed))
+    return *exit;
+  if (!parsed.positional.empty()) {
+    std::fprintf(stderr, "fidelity_table: unexpected argument '%s'\n",
+                 parsed.positional[0].c_str());
+    return femsimp::flags::kUsageExit;
+  }
   std::printf(
       "| mesh | tolerance | input vertices | femsimp cost | femsimp vertices | femsimp Hausdorff "
       "| OpenMesh vertices | OpenMesh Hausdorff | femsimp engine s | OpenMesh s |\n"

@@ -2,10 +2,11 @@
 // after each requested level (levels ascending, so level 4 reuses the level-3 result).
 #include <cstddef>  // before LoopT.hh: OpenMesh 9.0's SubdividerT.hh uses size_t unqualified
 #include <cstdio>
-#include <cstdlib>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "common/flags.h"
 #include "engine/io/openmesh.h"
 
 #pragma GCC diagnostic push
@@ -16,23 +17,38 @@
 using TriMesh = OpenMesh::TriMesh_ArrayKernelT<>;
 
 int main(int argc, char** argv) {
-  if (argc < 4) {
-    std::fprintf(stderr, "usage: %s IN_MESH OUT_PREFIX LEVEL...\n  writes OUT_PREFIX<LEVEL>.ply\n",
-                 argv[0]);
-    return 2;
-  }
-  TriMesh mesh;
-  if (!OpenMesh::IO::read_mesh(mesh, argv[1])) {
-    std::fprintf(stderr, "cannot read %s\n", argv[1]);
-    return 1;
+  femsimp::flags::FlagSet flags("make_meshes");
+  femsimp::flags::FlagSet::Parsed parsed;
+  if (std::optional<int> exit = flags.ParseMain(
+          argc, argv,
+          "Usage: make_meshes IN_MESH OUT_PREFIX LEVEL...\n  writes OUT_PREFIX<LEVEL>.ply\n\n", "",
+          &parsed))
+    return *exit;
+  const std::vector<std::string>& args = parsed.positional;
+  if (args.size() < 3) {
+    std::fprintf(stderr, "make_meshes: needs IN_MESH OUT_PREFIX LEVEL... (see --help)\n");
+    return femsimp::flags::kUsageExit;
   }
   std::vector<int> levels;
-  for (int i = 3; i < argc; ++i) levels.push_back(std::atoi(argv[i]));
+  for (size_t i = 2; i < args.size(); ++i) {
+    absl::StatusOr<double> level = femsimp::flags::ParseNumberIn(
+        "LEVEL", args[i], femsimp::flags::NumberKind::kInteger, femsimp::Range::Closed(0, 8));
+    if (!level.ok()) {
+      std::fprintf(stderr, "make_meshes: %s\n", std::string(level.status().message()).c_str());
+      return femsimp::flags::kUsageExit;
+    }
+    levels.push_back(static_cast<int>(*level));
+  }
+  TriMesh mesh;
+  if (!OpenMesh::IO::read_mesh(mesh, args[0])) {
+    std::fprintf(stderr, "cannot read %s\n", args[0].c_str());
+    return 1;
+  }
   int done = 0;
   for (int level : levels) {
     if (level < done) {
       std::fprintf(stderr, "levels must ascend\n");
-      return 2;
+      return femsimp::flags::kUsageExit;
     }
     if (level > done) {
       OpenMesh::Subdivider::Uniform::LoopT<TriMesh> loop;
@@ -41,7 +57,7 @@ int main(int argc, char** argv) {
       loop.detach();
       done = level;
     }
-    const std::string out = std::string(argv[2]) + std::to_string(level) + ".ply";
+    const std::string out = args[1] + std::to_string(level) + ".ply";
     if (!OpenMesh::IO::write_mesh(mesh, out, OpenMesh::IO::Options::Binary)) {
       std::fprintf(stderr, "cannot write %s\n", out.c_str());
       return 1;

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "absl/status/statusor.h"
+#include "common/flags.h"
 #include "engine/simplify.h"
 
 namespace femsimp::cli {
@@ -28,7 +29,8 @@ struct Command {
   SimplifyArgs simplify;
 };
 
-// Top-level and `simplify` usage, including the exit codes.
+// Top-level and `simplify` usage, including the exit codes. `femsimp options [--markdown]`
+// answers kHelp with the option table (engine/option_table.h) as text or as the README's table.
 std::string MainUsage();
 std::string SimplifyUsage();
 
@@ -39,11 +41,7 @@ absl::StatusOr<Command> ParseCommandLine(const std::vector<std::string>& args);
 // Parses the `simplify` arguments alone (after the subcommand word).
 absl::StatusOr<SimplifyArgs> ParseSimplifyArgs(const std::vector<std::string>& args);
 
-// Strict number parsing: the whole string must be a finite number / a non-negative integer.
-absl::StatusOr<double> ParseDouble(const std::string& flag, const std::string& value);
-// A finite number, or a percentage of one ("0.5%" = 0.005).
-absl::StatusOr<double> ParseFraction(const std::string& flag, const std::string& value);
-absl::StatusOr<long long> ParseInt(const std::string& flag, const std::string& value,
-                                   long long min_value, long long max_value);
+// Stores a HOST:PORT value (refuses one without a port separator), e.g. for --server.
+flags::FlagSet::Setter ServerAddressSetter(std::string flag, std::string* dst);
 
 }  // namespace femsimp::cli

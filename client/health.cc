@@ -7,65 +7,58 @@
 #include "client/args.h"
 #include "client/exit_codes.h"
 #include "client/remote_call.h"
+#include "common/flags.h"
 #include "grpc/health/v1/health.grpc.pb.h"
 
 namespace femsimp::cli {
 
+namespace {
+
+flags::FlagSet HealthFlags(HealthArgs* h) {
+  flags::FlagSet set("femsimp health");
+  set.Value("--server", "HOST:PORT", "the server (or a load balancer in front of replicas)",
+            ServerAddressSetter("--server", &h->server));
+  set.String("--service", "NAME",
+             "a single service, e.g. femsimp.v1.Simplifier (default: the whole server)",
+             &h->service);
+  set.Number({.name = "--timeout",
+              .metavar = "SECONDS",
+              .help = "give up after SECONDS",
+              .range = Range::Above(0),
+              .unit = "seconds",
+              .default_text = "5"},
+             &h->timeout_seconds);
+  return set;
+}
+
+}  // namespace
+
 std::string HealthUsage() {
-  return R"(Usage: femsimp health --server HOST:PORT [--service NAME] [--timeout SECONDS]
+  HealthArgs unused;
+  return absl::StrCat(
+      R"(Usage: femsimp health --server HOST:PORT [--service NAME] [--timeout SECONDS]
 
 Asks the server's gRPC health service (grpc.health.v1.Health/Check) whether it is serving and
 prints the answer. femsimp-server answers SERVING while it accepts jobs and NOT_SERVING from
 SIGTERM on (while it drains). The container image uses this as its HEALTHCHECK.
 
-  --server HOST:PORT   the server (or a load balancer in front of replicas)
-  --service NAME       a single service, e.g. femsimp.v1.Simplifier (default: the whole server)
-  --timeout SECONDS    give up after SECONDS, > 0 (default 5)
-
+)",
+      HealthFlags(&unused).Help(), R"(
 Exit codes: 0 SERVING, 2 usage error, 8 the server answered but is not SERVING,
 20+N the call failed with gRPC status N (24 DEADLINE_EXCEEDED, 25 NOT_FOUND: unknown service,
 34 UNAVAILABLE: not reachable).
-)";
+)");
 }
 
 absl::StatusOr<HealthArgs> ParseHealthArgs(const std::vector<std::string>& args) {
   HealthArgs h;
-  for (size_t i = 0; i < args.size(); ++i) {
-    std::string name = args[i], value;
-    if (name == "--help" || name == "-h") {
-      h.help = true;
-      return h;
-    }
-    if (size_t eq = name.find('='); eq != std::string::npos) {
-      value = name.substr(eq + 1);
-      name = name.substr(0, eq);
-    } else if (name == "--server" || name == "--service" || name == "--timeout") {
-      if (i + 1 >= args.size())
-        return absl::InvalidArgumentError(absl::StrCat(name, " needs a value"));
-      value = args[++i];
-    } else {
-      return absl::InvalidArgumentError(
-          absl::StrCat("unknown argument '", name, "' (see femsimp health --help)"));
-    }
-    if (name == "--server") {
-      if (value.find(':') == std::string::npos)
-        return absl::InvalidArgumentError(
-            absl::StrCat("--server: '", value, "' is not of the form HOST:PORT"));
-      h.server = value;
-    } else if (name == "--service") {
-      h.service = value;
-    } else if (name == "--timeout") {
-      absl::StatusOr<double> t = ParseDouble(name, value);
-      if (!t.ok()) return t.status();
-      if (*t <= 0)
-        return absl::InvalidArgumentError(
-            absl::StrCat("--timeout = ", value, " is out of range: must be > 0 seconds"));
-      h.timeout_seconds = *t;
-    } else {
-      return absl::InvalidArgumentError(
-          absl::StrCat("unknown option '", name, "' (see femsimp health --help)"));
-    }
-  }
+  absl::StatusOr<flags::FlagSet::Parsed> parsed = HealthFlags(&h).Parse(args);
+  if (!parsed.ok()) return parsed.status();
+  h.help = parsed->help;
+  if (h.help) return h;
+  if (!parsed->positional.empty())
+    return absl::InvalidArgumentError(
+        absl::StrCat("unknown argument '", parsed->positional[0], "' (see femsimp health --help)"));
   if (h.server.empty()) return absl::InvalidArgumentError("health needs --server HOST:PORT");
   return h;
 }

@@ -19,7 +19,9 @@
 #include "client/output_check.h"
 #include "client/remote_call.h"
 #include "client/retry.h"
+#include "common/flags.h"
 #include "engine/io/mesh_io.h"
+#include "engine/option_flags.h"
 #include "proto/wire.h"
 
 namespace {
@@ -27,8 +29,84 @@ namespace {
 using namespace femsimp;
 using namespace femsimp::cli;
 
-constexpr char kUsage[] =
-    R"(Usage: femsimp-load --server HOST:PORT --clients C (--jobs N | --duration S)
+struct Config {
+  std::string server;
+  int clients = 0;
+  long long jobs = 0;
+  double duration = 0;
+  double rate = 0;          // jobs started per second at most; 0: no limit
+  SimplifyOptions options;  // ratio and threads (given or not)
+  bool threads_given = false;
+  double deadline = 0;
+  int max_attempts = 5;
+  bool verify = false;
+  std::string jobs_report;
+  bool json = false;
+  std::vector<std::string> meshes;
+};
+
+flags::FlagSet LoadFlags(Config* c) {
+  flags::FlagSet set("femsimp-load");
+  set.Value("--server", "HOST:PORT", "femsimp-server to load",
+            ServerAddressSetter("--server", &c->server));
+  set.Number({.name = "--clients",
+              .metavar = "C",
+              .help = "concurrent clients (each its own channel)",
+              .kind = flags::NumberKind::kInteger,
+              .range = Range::Closed(1, 1024)},
+             &c->clients);
+  set.Number({.name = "--jobs",
+              .metavar = "N",
+              .help = "total jobs",
+              .kind = flags::NumberKind::kInteger,
+              .range = Range::Closed(1, 10'000'000)},
+             &c->jobs);
+  set.Number({.name = "--duration",
+              .metavar = "S",
+              .help = "time to keep sending (jobs in flight at the end are awaited)",
+              .range = Range::Above(0),
+              .unit = "seconds"},
+             &c->duration);
+  set.Number({.name = "--rate",
+              .metavar = "J",
+              .help = "start at most J jobs per second in all (job i not before i / J s), so a "
+                      "run lasts as long on any machine that keeps up",
+              .range = Range::Above(0),
+              .default_text = "as fast as the clients go"},
+             &c->rate);
+  AddOptionFlag(set, "ratio", &c->options, "0.5");
+  AddOptionFlag(set, "threads", &c->options, "the server's");
+  set.Number({.name = "--deadline",
+              .metavar = "S",
+              .help = "per-job deadline, all attempts together",
+              .range = Range::Above(0),
+              .unit = "seconds",
+              .default_text = "none"},
+             &c->deadline);
+  set.Number({.name = "--max-attempts",
+              .metavar = "A",
+              .help = "calls per job, retries included",
+              .kind = flags::NumberKind::kInteger,
+              .range = Range::Closed(1, 100),
+              .default_text = "5"},
+             &c->max_attempts);
+  set.Switch("--verify",
+             "assemble every result and check it: a valid mesh (manifold, oriented, no "
+             "degenerate face) with the input's Euler characteristic, components and closedness; "
+             "a failed check counts as error INVALID_OUTPUT",
+             &c->verify);
+  set.String("--jobs-report", "FILE",
+             "one line per job: index, mesh, status, attempts, job id, output vertices and "
+             "faces, seconds (tab-separated, with a header)",
+             &c->jobs_report);
+  set.Switch("--json", "JSON report on stdout instead of text", &c->json);
+  return set;
+}
+
+std::string Usage() {
+  Config unused;
+  return absl::StrCat(
+      R"(Usage: femsimp-load --server HOST:PORT --clients C (--jobs N | --duration S)
                     [--ratio R] [--threads N] [--deadline S] [--rate J] [--max-attempts A]
                     [--verify] [--jobs-report FILE] [--json] MESH...
 
@@ -42,99 +120,23 @@ pushback (queue full) is sent again as a new call, after the pushback or a backo
 doubling up to 8 s, +-20 %). A job counts as done only once its result and every mesh chunk
 arrived and add up.
 
-  --server HOST:PORT   femsimp-server to load
-  --clients C          concurrent clients (each its own channel), in [1, 1024]
-  --jobs N             total jobs, in [1, 10000000]
-  --duration S         seconds to keep sending (jobs in flight at the end are awaited)
-  --rate J             start at most J jobs per second in all (job i not before i / J s), so a
-                       run lasts as long on any machine that keeps up (default: as fast as the
-                       clients go)
-  --ratio R            target ratio of every job (default 0.5)
-  --threads N          engine threads per job (default: the server's)
-  --deadline S         per-job deadline in seconds, all attempts together (default: none)
-  --max-attempts A     calls per job, retries included, in [1, 100] (default 5)
-  --verify             assemble every result and check it: a valid mesh (manifold, oriented,
-                       no degenerate face) with the input's Euler characteristic, components
-                       and closedness; a failed check counts as error INVALID_OUTPUT
-  --jobs-report FILE   one line per job: index, mesh, status, attempts, job id, output
-                       vertices and faces, seconds (tab-separated, with a header)
-  --json               JSON report on stdout instead of text
-
+)",
+      LoadFlags(&unused).Help(), R"(
 Exit codes: 0 every job succeeded, 1 some jobs failed or were lost, 2 usage error,
 3 a mesh file unreadable, 5 --jobs-report could not be written.
-)";
+)");
+}
 
-struct Config {
-  std::string server;
-  int clients = 0;
-  long long jobs = 0;
-  double duration = 0;
-  double rate = 0;  // jobs started per second at most; 0: no limit
-  double ratio = 0.5;
-  int threads = 0;
-  double deadline = 0;
-  int max_attempts = 5;
-  bool verify = false;
-  std::string jobs_report;
-  bool json = false;
-  std::vector<std::string> meshes;
-};
-
-absl::StatusOr<Config> Parse(const std::vector<std::string>& args) {
+// Parsed (help: Usage() in help_text, nothing else checked).
+absl::StatusOr<Config> Parse(const std::vector<std::string>& args, bool* help) {
   Config c;
-  for (size_t i = 1; i < args.size(); ++i) {
-    std::string a = args[i], value;
-    if (a == "--json" || a == "--verify") {
-      (a == "--json" ? c.json : c.verify) = true;
-      continue;
-    }
-    if (a.rfind("--", 0) != 0) {
-      c.meshes.push_back(a);
-      continue;
-    }
-    if (size_t eq = a.find('='); eq != std::string::npos) {
-      value = a.substr(eq + 1);
-      a = a.substr(0, eq);
-    } else {
-      if (i + 1 >= args.size())
-        return absl::InvalidArgumentError(absl::StrCat(a, " needs a value"));
-      value = args[++i];
-    }
-    if (a == "--server") {
-      c.server = value;
-    } else if (a == "--jobs-report") {
-      c.jobs_report = value;
-    } else if (a == "--max-attempts") {
-      absl::StatusOr<long long> v = ParseInt(a, value, 1, 100);
-      if (!v.ok()) return v.status();
-      c.max_attempts = static_cast<int>(*v);
-    } else if (a == "--clients") {
-      absl::StatusOr<long long> v = ParseInt(a, value, 1, 1024);
-      if (!v.ok()) return v.status();
-      c.clients = static_cast<int>(*v);
-    } else if (a == "--jobs") {
-      absl::StatusOr<long long> v = ParseInt(a, value, 1, 10'000'000);
-      if (!v.ok()) return v.status();
-      c.jobs = *v;
-    } else if (a == "--duration" || a == "--ratio" || a == "--deadline" || a == "--rate") {
-      absl::StatusOr<double> v = ParseDouble(a, value);
-      if (!v.ok()) return v.status();
-      if (a == "--ratio") {
-        if (*v < 0 || *v >= 1)
-          return absl::InvalidArgumentError("--ratio is out of range: must be in [0, 1)");
-        c.ratio = *v;
-      } else {
-        if (*v <= 0) return absl::InvalidArgumentError(absl::StrCat(a, " must be > 0"));
-        (a == "--duration" ? c.duration : a == "--rate" ? c.rate : c.deadline) = *v;
-      }
-    } else if (a == "--threads") {
-      absl::StatusOr<long long> v = ParseInt(a, value, 1, 1024);
-      if (!v.ok()) return v.status();
-      c.threads = static_cast<int>(*v);
-    } else {
-      return absl::InvalidArgumentError(absl::StrCat("unknown option '", a, "'"));
-    }
-  }
+  c.options.ratio = 0.5;
+  absl::StatusOr<flags::FlagSet::Parsed> parsed = LoadFlags(&c).Parse(args);
+  if (!parsed.ok()) return parsed.status();
+  *help = parsed->help;
+  if (*help) return c;
+  c.meshes = parsed->positional;
+  c.threads_given = parsed->Given("--threads");
   if (c.server.empty()) return absl::InvalidArgumentError("--server is required");
   if (c.clients == 0) return absl::InvalidArgumentError("--clients is required");
   if ((c.jobs > 0) == (c.duration > 0))
@@ -181,13 +183,12 @@ absl::Status WriteJobsReport(const std::string& path, std::vector<JobRecord> rec
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::vector<std::string> args(argv, argv + argc);
-  for (const std::string& a : args)
-    if (a == "--help" || a == "-h") {
-      std::fputs(kUsage, stdout);
-      return kExitOk;
-    }
-  absl::StatusOr<Config> cfg = Parse(args);
+  bool help = false;
+  absl::StatusOr<Config> cfg = Parse(std::vector<std::string>(argv + 1, argv + argc), &help);
+  if (help) {
+    std::fputs(Usage().c_str(), stdout);
+    return kExitOk;
+  }
   if (!cfg.ok()) {
     std::fprintf(stderr, "femsimp-load: %s (see --help)\n",
                  std::string(cfg.status().message()).c_str());
@@ -206,11 +207,8 @@ int main(int argc, char** argv) {
     meshes.push_back(std::move(*m));
   }
 
-  SimplifyOptions options;
-  options.ratio = cfg->ratio;
-  options.threads = std::max(1, cfg->threads);
   v1::JobSpec spec;
-  wire::ToProto(options, cfg->threads > 0, spec.mutable_options());
+  wire::ToProto(cfg->options, cfg->threads_given, spec.mutable_options());
 
   std::atomic<long long> next{0};
   std::mutex mu;

@@ -7,6 +7,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
+#include "engine/option_table.h"
 
 namespace femsimp::cli {
 namespace {
@@ -57,30 +58,28 @@ std::string CellJson(const CellPassCounters& c) {
       ", \"busy_cycles\": ", c.busy_cycles, ", \"modeled_cycles\": ", c.modeled_cycles, "}");
 }
 
+// The options in the table's order and names; the cell group as an object, cell back end only.
 std::string OptionsJson(const SimplifyOptions& o) {
-  std::string s = absl::StrCat(
-      "{\"ratio\": ", JsonNumber(o.ratio), ", \"target_vertices\": ", o.target_vertices,
-      ", \"threads\": ", o.threads,
-      ", \"max_normal_deviation_deg\": ", JsonNumber(o.max_normal_deviation_deg),
-      ", \"min_angle_deg\": ", JsonNumber(o.min_angle_deg),
-      ", \"candidate_fraction\": ", JsonNumber(o.candidate_fraction),
-      ", \"max_passes\": ", o.max_passes, ", \"reconsider_every\": ", o.reconsider_every,
-      ", \"topology_only\": ", o.topology_only ? "true" : "false",
-      ", \"cost\": ", JsonString(CostKindName(o.cost)),
-      ", \"tolerance\": ", JsonNumber(o.tolerance),
-      ", \"tolerance_relative\": ", JsonNumber(o.tolerance_relative),
-      ", \"feature_angle_deg\": ", JsonNumber(o.feature_angle_deg),
-      ", \"max_volume_change\": ", JsonNumber(o.max_volume_change),
-      ", \"max_centroid_shift\": ", JsonNumber(o.max_centroid_shift),
-      ", \"max_field_change\": ", JsonNumber(o.max_field_change),
-      ", \"backend\": ", o.backend == Backend::kCell ? "\"cell\"" : "\"native\"");
-  if (o.backend == Backend::kCell)
-    absl::StrAppend(&s, ", \"cell\": {\"spes\": ", o.cell.spes,
-                    ", \"ls_cache_kib\": ", o.cell.ls_cache_kib,
-                    ", \"spe_threads\": ", o.cell.spe_threads,
-                    ", \"local_store_kib\": ", o.cell.local_store_kib,
-                    ", \"reread_on_stale\": ", o.cell.reread_on_stale ? "true" : "false", "}");
-  return s + "}";
+  std::vector<std::string> top, cell;
+  for (const OptionSpec& spec : OptionTable()) {
+    if (spec.cell_only() && o.backend != Backend::kCell) continue;
+    const double v = GetOption(spec, o);
+    std::string value;
+    switch (spec.type) {
+      case OptionType::kReal:
+      case OptionType::kFraction:
+        value = JsonNumber(v);
+        break;
+      case OptionType::kEnum:
+        value = JsonString(FormatOptionValue(spec, v));
+        break;
+      default:  // integers and booleans print as JSON has them
+        value = FormatOptionValue(spec, v);
+    }
+    (spec.cell_only() ? cell : top).push_back(absl::StrCat(JsonString(spec.name), ": ", value));
+  }
+  if (!cell.empty()) top.push_back(absl::StrCat("\"cell\": {", absl::StrJoin(cell, ", "), "}"));
+  return absl::StrCat("{", absl::StrJoin(top, ", "), "}");
 }
 
 std::string PassJson(const PassStats& p) {

@@ -2,103 +2,139 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
+#include <string_view>
 
+#include "absl/strings/ascii.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
+#include "engine/option_table.h"
 
 namespace femsimp::wire {
 
 const char* BackendName(Backend b) { return b == Backend::kCell ? "cell" : "native"; }
 
-void ToProto(const SimplifyOptions& o, bool threads_given, v1::EngineOptions* out) {
-  if (o.target_vertices > 0) {
-    out->set_target_vertices(o.target_vertices);
-  } else if (o.ratio > 0) {
-    out->set_ratio(o.ratio);
+namespace {
+
+using google::protobuf::EnumValueDescriptor;
+using google::protobuf::FieldDescriptor;
+using google::protobuf::Message;
+using google::protobuf::Reflection;
+
+// The message that holds an option's field (EngineOptions, or its CellOptions `group`), and the
+// field, found by the table's name. Fails only if the proto and the table disagree, which
+// tests/service/option_table_test.cc rules out.
+const FieldDescriptor* FieldOf(const OptionSpec& spec, const Message& m) {
+  return m.GetDescriptor()->FindFieldByName(spec.name);
+}
+
+// Proto enum values are the table's choice names upper-cased after the enum's prefix
+// (COST_KIND_QUADRIC); value 0 is the enum's UNSPECIFIED.
+std::string EnumPrefix(const FieldDescriptor* f) {
+  std::string unspecified = f->enum_type()->value(0)->name();
+  return unspecified.substr(0, unspecified.size() - std::string("UNSPECIFIED").size());
+}
+
+absl::StatusOr<double> ChoiceOf(const OptionSpec& spec, const FieldDescriptor* f, int number) {
+  const EnumValueDescriptor* v = f->enum_type()->FindValueByNumber(number);
+  const std::string prefix = EnumPrefix(f);
+  std::vector<std::string> known;
+  for (size_t i = 0; i < spec.choices.size(); ++i) {
+    known.push_back(absl::AsciiStrToUpper(absl::StrCat(prefix, spec.choices[i].name)));
+    if (v != nullptr && v->name() == known.back()) return static_cast<double>(i);
   }
-  out->set_threads(threads_given ? o.threads : 0);
-  out->set_max_normal_deviation_deg(o.max_normal_deviation_deg);
-  out->set_min_angle_deg(o.min_angle_deg);
-  out->set_candidate_fraction(o.candidate_fraction);
-  out->set_max_passes(o.max_passes);
-  out->set_reconsider_every(o.reconsider_every);
-  out->set_topology_only(o.topology_only);
-  out->set_cost(o.cost == CostKind::kQuadric ? v1::COST_KIND_QUADRIC
-                                             : v1::COST_KIND_GAUSSIAN_CURVATURE);
-  out->set_tolerance(o.tolerance);
-  out->set_tolerance_relative(o.tolerance_relative);
-  out->set_feature_angle_deg(o.feature_angle_deg);
-  out->set_max_volume_change(o.max_volume_change);
-  out->set_max_centroid_shift(o.max_centroid_shift);
-  out->set_max_field_change(o.max_field_change);
-  out->set_backend(o.backend == Backend::kCell ? v1::BACKEND_CELL : v1::BACKEND_NATIVE);
-  if (o.backend == Backend::kCell) {
-    v1::CellOptions* c = out->mutable_cell();
-    c->set_spes(o.cell.spes);
-    c->set_ls_cache_kib(o.cell.ls_cache_kib);
-    c->set_spe_threads(o.cell.spe_threads);
-    c->set_local_store_kib(o.cell.local_store_kib);
-    c->set_reread_on_stale(o.cell.reread_on_stale);
+  return absl::InvalidArgumentError(absl::StrCat(spec.name, " = ", number,
+                                                 " is not a known value: must be one of ",
+                                                 absl::StrJoin(known, ", ")));
+}
+
+// The value of a field that was sent; nullopt when it was not (no presence: 0 means unset).
+absl::StatusOr<std::optional<double>> ReadField(const OptionSpec& spec, const Message& m) {
+  const FieldDescriptor* f = FieldOf(spec, m);
+  const Reflection* r = m.GetReflection();
+  if (f->has_presence() ? !r->HasField(m, f) : false) return std::nullopt;
+  double v = 0;
+  switch (f->cpp_type()) {
+    case FieldDescriptor::CPPTYPE_DOUBLE:
+      v = r->GetDouble(m, f);
+      break;
+    case FieldDescriptor::CPPTYPE_INT32:
+      v = r->GetInt32(m, f);
+      break;
+    case FieldDescriptor::CPPTYPE_UINT64:
+      v = static_cast<double>(r->GetUInt64(m, f));
+      break;
+    case FieldDescriptor::CPPTYPE_BOOL:
+      v = r->GetBool(m, f) ? 1 : 0;
+      break;
+    case FieldDescriptor::CPPTYPE_ENUM: {
+      const int number = r->GetEnumValue(m, f);
+      if (number == 0) return std::nullopt;
+      absl::StatusOr<double> choice = ChoiceOf(spec, f, number);
+      if (!choice.ok()) return choice.status();
+      v = *choice;
+      break;
+    }
+    default:
+      return absl::InternalError(absl::StrCat(spec.name, ": unexpected proto type"));
+  }
+  if (!f->has_presence() && v == 0) return std::nullopt;
+  return v;
+}
+
+void WriteField(const OptionSpec& spec, double v, Message* m) {
+  const FieldDescriptor* f = FieldOf(spec, *m);
+  const Reflection* r = m->GetReflection();
+  switch (f->cpp_type()) {
+    case FieldDescriptor::CPPTYPE_DOUBLE:
+      r->SetDouble(m, f, v);
+      break;
+    case FieldDescriptor::CPPTYPE_INT32:
+      r->SetInt32(m, f, static_cast<int32_t>(v));
+      break;
+    case FieldDescriptor::CPPTYPE_UINT64:
+      r->SetUInt64(m, f, static_cast<uint64_t>(v));
+      break;
+    case FieldDescriptor::CPPTYPE_BOOL:
+      r->SetBool(m, f, v != 0);
+      break;
+    case FieldDescriptor::CPPTYPE_ENUM:
+      r->SetEnum(m, f,
+                 f->enum_type()->FindValueByName(absl::AsciiStrToUpper(
+                     absl::StrCat(EnumPrefix(f), spec.choices[static_cast<size_t>(v)].name))));
+      break;
+    default:
+      break;
+  }
+}
+
+}  // namespace
+
+void ToProto(const SimplifyOptions& o, bool threads_given, v1::EngineOptions* out) {
+  for (const OptionSpec& spec : OptionTable()) {
+    if (spec.cell_only() && o.backend != Backend::kCell) continue;
+    Message* m = spec.cell_only() ? static_cast<Message*>(out->mutable_cell()) : out;
+    double v = GetOption(spec, o);
+    if (std::string_view(spec.name) == "threads" && !threads_given) v = 0;  // server default
+    // Of a oneof (the target), only the member that is set.
+    if (FieldOf(spec, *m)->real_containing_oneof() != nullptr && v == 0) continue;
+    WriteField(spec, v, m);
   }
 }
 
 absl::StatusOr<SimplifyOptions> FromProto(const v1::EngineOptions& in, int default_threads,
                                           int max_threads) {
   SimplifyOptions o;
-  if (in.has_ratio()) o.ratio = in.ratio();
-  if (in.has_target_vertices()) {
-    if (in.target_vertices() == 0)
-      return absl::InvalidArgumentError("target_vertices = 0 is out of range: must be >= 1");
-    o.target_vertices = in.target_vertices();
+  o.threads = default_threads;  // threads 0 (unset): the server's default
+  for (const OptionSpec& spec : OptionTable()) {
+    // The cell options are read only for the cell back end (backend comes first in the table).
+    if (spec.cell_only() && o.backend != Backend::kCell) continue;
+    const Message& m = spec.cell_only() ? static_cast<const Message&>(in.cell()) : in;
+    absl::StatusOr<std::optional<double>> v = ReadField(spec, m);
+    if (!v.ok()) return v.status();
+    if (*v) SetOption(spec, **v, &o);
   }
-  if (in.threads() < 0)
-    return absl::InvalidArgumentError(
-        absl::StrCat("threads = ", in.threads(), " is out of range: must be >= 0"));
-  o.threads = in.threads() == 0 ? default_threads : std::min(in.threads(), max_threads);
-  if (in.has_max_normal_deviation_deg()) o.max_normal_deviation_deg = in.max_normal_deviation_deg();
-  if (in.has_min_angle_deg()) o.min_angle_deg = in.min_angle_deg();
-  if (in.has_candidate_fraction()) o.candidate_fraction = in.candidate_fraction();
-  if (in.has_max_passes()) o.max_passes = in.max_passes();
-  if (in.has_reconsider_every()) o.reconsider_every = in.reconsider_every();
-  o.topology_only = in.topology_only();
-  switch (in.cost()) {
-    case v1::COST_KIND_UNSPECIFIED:
-    case v1::COST_KIND_GAUSSIAN_CURVATURE:
-      o.cost = CostKind::kGaussianCurvature;
-      break;
-    case v1::COST_KIND_QUADRIC:
-      o.cost = CostKind::kQuadric;
-      break;
-    default:
-      return absl::InvalidArgumentError(
-          absl::StrCat("cost = ", in.cost(), " is not a known cost kind"));
-  }
-  if (in.has_tolerance()) o.tolerance = in.tolerance();
-  if (in.has_tolerance_relative()) o.tolerance_relative = in.tolerance_relative();
-  if (in.has_feature_angle_deg()) o.feature_angle_deg = in.feature_angle_deg();
-  if (in.has_max_volume_change()) o.max_volume_change = in.max_volume_change();
-  if (in.has_max_centroid_shift()) o.max_centroid_shift = in.max_centroid_shift();
-  if (in.has_max_field_change()) o.max_field_change = in.max_field_change();
-  switch (in.backend()) {
-    case v1::BACKEND_UNSPECIFIED:
-    case v1::BACKEND_NATIVE:
-      o.backend = Backend::kNative;
-      break;
-    case v1::BACKEND_CELL:
-      o.backend = Backend::kCell;
-      break;
-    default:
-      return absl::InvalidArgumentError(
-          absl::StrCat("backend = ", in.backend(), " is not a known back end"));
-  }
-  if (o.backend == Backend::kCell) {
-    const v1::CellOptions& c = in.cell();
-    if (c.spes() != 0) o.cell.spes = c.spes();
-    if (c.ls_cache_kib() != 0) o.cell.ls_cache_kib = c.ls_cache_kib();
-    if (c.spe_threads() != 0) o.cell.spe_threads = c.spe_threads();
-    if (c.local_store_kib() != 0) o.cell.local_store_kib = c.local_store_kib();
-    if (c.has_reread_on_stale()) o.cell.reread_on_stale = c.reread_on_stale();
-  }
+  o.threads = std::min(o.threads, max_threads);
   if (absl::Status s = ValidateOptions(o); !s.ok()) return s;
   return o;
 }

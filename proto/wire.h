@@ -21,10 +21,13 @@ namespace femsimp::wire {
 inline constexpr size_t kChunkVertices = 64 * 1024;
 inline constexpr size_t kChunkFaces = 64 * 1024;
 
-// threads_given = false leaves EngineOptions.threads at 0 (server default).
+// Both directions go over the option table (engine/option_table.h), field by field by name.
+// threads_given = false leaves EngineOptions.threads at 0 (server default); the cell options
+// are sent only for the cell back end.
 void ToProto(const SimplifyOptions& o, bool threads_given, v1::EngineOptions* out);
-// Unset fields take the engine defaults; threads 0 -> default_threads, capped at max_threads.
-// Runs ValidateOptions, so errors name the parameter and its range.
+// Unset fields take the engine defaults (a field without presence is unset when 0); threads 0
+// -> default_threads, capped at max_threads; the cell options are read only for the cell back
+// end. Runs ValidateOptions, so errors name the parameter and its range in the table's words.
 absl::StatusOr<SimplifyOptions> FromProto(const v1::EngineOptions& in, int default_threads,
                                           int max_threads);
 

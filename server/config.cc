@@ -4,21 +4,112 @@
 #include <thread>
 
 #include "absl/strings/str_cat.h"
+#include "common/range.h"
 
 namespace femsimp::server {
 
+namespace {
+
+constexpr Range kWorkers = Range::AtLeast(1);
+constexpr Range kNonNegative = Range::AtLeast(0);
+constexpr Range kMaxVertices = Range::AtLeast(3);
+constexpr Range kMaxFaces = Range::AtLeast(1);
+constexpr Range kMaxRequestBytes = Range::AtLeast(64 << 10);
+
+// "" when v is in r, else the flag's out-of-range message.
+std::string Check(const char* flag, double v, const Range& r, const char* unit = "") {
+  if (r.Contains(v)) return "";
+  return std::string(flags::OutOfRange(flag, FormatNumber(v), r, unit).message());
+}
+
+}  // namespace
+
+void AddServerFlags(flags::FlagSet& set, ServerConfig* c) {
+  using flags::NumberKind;
+  const ServerConfig d;  // the defaults, as ServerConfig has them
+  set.String("--listen", "HOST:PORT", absl::StrCat("gRPC address (default ", d.listen, ")"),
+             &c->listen);
+  set.String(
+      "--metrics_listen", "HOST:PORT",
+      absl::StrCat("Prometheus /metrics address, empty: off (default ", d.metrics_listen, ")"),
+      &c->metrics_listen);
+  set.Number({.name = "--workers",
+              .metavar = "N",
+              .help = "jobs running at once",
+              .kind = NumberKind::kInteger,
+              .range = kWorkers,
+              .default_text = FormatNumber(static_cast<double>(d.workers))},
+             &c->workers);
+  set.Number({.name = "--queue_capacity",
+              .metavar = "N",
+              .help = "jobs waiting or uploading at most; more get RESOURCE_EXHAUSTED",
+              .kind = NumberKind::kInteger,
+              .range = kNonNegative,
+              .default_text = FormatNumber(static_cast<double>(d.queue_capacity))},
+             &c->queue_capacity);
+  set.Number({.name = "--threads_per_job",
+              .metavar = "N",
+              .help = "engine threads per job, at most the host's cores",
+              .kind = NumberKind::kInteger,
+              .range = kNonNegative,
+              .zero_means = "cores / workers",
+              .default_text = FormatNumber(static_cast<double>(d.threads_per_job))},
+             &c->threads_per_job);
+  set.Number({.name = "--max_vertices",
+              .metavar = "N",
+              .help = "largest accepted mesh, in vertices",
+              .kind = NumberKind::kInteger,
+              .range = kMaxVertices,
+              .default_text = FormatNumber(static_cast<double>(d.max_vertices))},
+             &c->max_vertices);
+  set.Number({.name = "--max_faces",
+              .metavar = "N",
+              .help = "largest accepted mesh, in faces",
+              .kind = NumberKind::kInteger,
+              .range = kMaxFaces,
+              .default_text = FormatNumber(static_cast<double>(d.max_faces))},
+             &c->max_faces);
+  set.Number({.name = "--max_request_bytes",
+              .metavar = "N",
+              .help = "largest accepted request message",
+              .kind = NumberKind::kInteger,
+              .range = kMaxRequestBytes,
+              .unit = "bytes",
+              .default_text = FormatNumber(static_cast<double>(d.max_request_bytes))},
+             &c->max_request_bytes);
+  set.Number({.name = "--grace_period_seconds",
+              .metavar = "S",
+              .help = "on SIGTERM/SIGINT, time running jobs get to finish before they are "
+                      "cancelled",
+              .range = kNonNegative,
+              .unit = "seconds",
+              .default_text = FormatNumber(static_cast<double>(d.grace_period_seconds))},
+             &c->grace_period_seconds);
+  set.Number({.name = "--max_connection_age_seconds",
+              .metavar = "S",
+              .help = "close client connections after this long (running calls finish first), "
+                      "so clients balancing over DNS re-resolve and find new replicas",
+              .range = kNonNegative,
+              .unit = "seconds",
+              .zero_means = "never",
+              .default_text = FormatNumber(static_cast<double>(d.max_connection_age_seconds))},
+             &c->max_connection_age_seconds);
+}
+
 std::string NormalizeConfig(ServerConfig* c) {
-  if (c->workers < 1) return absl::StrCat("--workers = ", c->workers, " must be >= 1");
-  if (c->queue_capacity < 0)
-    return absl::StrCat("--queue_capacity = ", c->queue_capacity, " must be >= 0");
-  if (c->max_vertices < 3 || c->max_faces < 1) return "--max_vertices / --max_faces too small";
-  if (c->max_request_bytes < (64u << 10))
-    return absl::StrCat("--max_request_bytes = ", c->max_request_bytes, " must be >= 65536");
-  if (c->grace_period_seconds < 0) return "--grace_period_seconds must be >= 0";
-  if (c->max_connection_age_seconds < 0) return "--max_connection_age_seconds must be >= 0";
+  for (const std::string& err :
+       {Check("--workers", c->workers, kWorkers),
+        Check("--queue_capacity", c->queue_capacity, kNonNegative),
+        Check("--threads_per_job", c->threads_per_job, kNonNegative),
+        Check("--max_vertices", static_cast<double>(c->max_vertices), kMaxVertices),
+        Check("--max_faces", static_cast<double>(c->max_faces), kMaxFaces),
+        Check("--max_request_bytes", static_cast<double>(c->max_request_bytes), kMaxRequestBytes,
+              "bytes"),
+        Check("--grace_period_seconds", c->grace_period_seconds, kNonNegative, "seconds"),
+        Check("--max_connection_age_seconds", c->max_connection_age_seconds, kNonNegative,
+              "seconds")})
+    if (!err.empty()) return err;
   int cores = std::max(1u, std::thread::hardware_concurrency());
-  if (c->threads_per_job < 0)
-    return absl::StrCat("--threads_per_job = ", c->threads_per_job, " must be >= 0");
   // More threads than cores only adds contention to a shared-memory pass.
   if (c->threads_per_job == 0) c->threads_per_job = std::max(1, cores / c->workers);
   c->threads_per_job = std::min(c->threads_per_job, cores);

@@ -4,6 +4,8 @@
 #include <cstdint>
 #include <string>
 
+#include "common/flags.h"
+
 namespace femsimp::server {
 
 struct ServerConfig {
@@ -22,6 +24,10 @@ struct ServerConfig {
   int retry_pushback_ms = 1000;     // suggested to clients when the queue is full
   size_t finished_jobs_kept = 256;  // for GetJob/ListJobs
 };
+
+// femsimp-server's flags (--listen, --workers, --threads_per_job, ...), storing into *c, with
+// the ranges NormalizeConfig checks.
+void AddServerFlags(flags::FlagSet& set, ServerConfig* c);
 
 // Fills threads_per_job when 0 and clamps it to the host's cores; checks ranges.
 std::string NormalizeConfig(ServerConfig* c);  // empty on success, else the problem

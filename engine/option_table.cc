@@ -1,0 +1,228 @@
+#include "engine/option_table.h"
+
+#include <cmath>
+#include <type_traits>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_replace.h"
+#include "common/flags.h"
+
+namespace femsimp {
+namespace {
+
+using T = OptionType;
+using S = SimplifyOptions;
+using C = CellOptions;
+
+// The defaults are SimplifyOptions' own (simplify.h): the table reads them.
+std::vector<OptionSpec> MakeTable() {
+  // clang-format off
+  std::vector<OptionSpec> table = {
+      {.name = "ratio", .flag = "--ratio", .metavar = "R", .section = "target",
+       .range = Range::ClosedOpen(0, 1), .zero_means = "none", .help = "keep R * input vertices",
+       .field = &S::ratio},
+      {.name = "target_vertices", .flag = "--target-vertices", .metavar = "N", .section = "target",
+       .type = T::kCount, .range = Range::Closed(1, 4e9), .zero_means = "none",
+       .help = "keep N vertices", .field = &S::target_vertices},
+      {.name = "threads", .flag = "--threads", .metavar = "N", .section = "engine", .type = T::kInt,
+       .range = Range::Closed(1, 1024),
+       .default_note = "the host's cores; remote: the server's default",
+       .help = "worker threads (contexts) of the native back end", .field = &S::threads},
+      {.name = "max_normal_deviation_deg", .flag = "--max-normal-deviation", .metavar = "D",
+       .section = "engine", .range = Range::OpenClosed(0, 180), .unit = "degrees",
+       .help = "max angle between a new face's normal and the old one",
+       .field = &S::max_normal_deviation_deg},
+      {.name = "min_angle_deg", .flag = "--min-angle", .metavar = "D", .section = "engine",
+       .range = Range::ClosedOpen(0, 60), .unit = "degrees",
+       .help = "min interior angle of every new face", .field = &S::min_angle_deg},
+      {.name = "candidate_fraction", .flag = "--candidate-fraction", .metavar = "F",
+       .section = "engine", .range = Range::OpenClosed(0, 1),
+       .help = "share of the lowest-cost vertices tried per pass", .field = &S::candidate_fraction},
+      {.name = "max_passes", .flag = "--max-passes", .metavar = "N", .section = "engine",
+       .type = T::kInt, .range = Range::Closed(1, 100000), .help = "stop after N passes",
+       .field = &S::max_passes},
+      {.name = "reconsider_every", .flag = "--reconsider-every", .metavar = "N",
+       .section = "engine", .type = T::kInt, .range = Range::Closed(1, 1000000),
+       .help = "retry vertices that failed a criterion every Nth pass",
+       .field = &S::reconsider_every},
+      {.name = "topology_only", .flag = "--topology-only", .section = "engine", .type = T::kBool,
+       .help = "check topology only, no geometric criteria", .field = &S::topology_only},
+      {.name = "cost", .flag = "--cost", .section = "fidelity", .type = T::kEnum,
+       .help = "what orders the candidates: discrete Gaussian curvature or the quadric error of "
+               "the collapse",
+       .choices = {{"gaussian_curvature", "gaussian"}, {"quadric", "quadric"}}, .field = &S::cost},
+      {.name = "tolerance", .flag = "--tolerance", .metavar = "D", .section = "fidelity",
+       .range = Range::AtLeast(0), .unit = "model units", .zero_means = "off",
+       .help = "guaranteed (Hausdorff) deviation from the input", .field = &S::tolerance},
+      {.name = "tolerance_relative", .flag = "--tolerance-relative", .metavar = "F",
+       .section = "fidelity", .type = T::kFraction, .range = Range::Closed(0, 1),
+       .unit = "of the bounding-box diagonal", .zero_means = "off",
+       .help = "the same as a fraction of the bounding-box diagonal; with --tolerance the "
+               "smaller one applies",
+       .field = &S::tolerance_relative},
+      {.name = "feature_angle_deg", .flag = "--feature-angle", .metavar = "D",
+       .section = "fidelity", .range = Range::OpenClosed(0, 180), .unit = "degrees",
+       .help = "dihedral angle above which an edge is a feature edge (180: boundaries and group "
+               "borders only)",
+       .field = &S::feature_angle_deg},
+      {.name = "max_volume_change", .flag = "--max-volume-change", .metavar = "F",
+       .section = "fidelity", .type = T::kFraction, .range = Range::Closed(0, 1),
+       .zero_means = "off", .help = "relative change of the enclosed volume (closed meshes)",
+       .field = &S::max_volume_change},
+      {.name = "max_centroid_shift", .flag = "--max-centroid-shift", .metavar = "F",
+       .section = "fidelity", .type = T::kFraction, .range = Range::Closed(0, 1),
+       .unit = "of the bounding-box diagonal", .zero_means = "off", .help = "centroid shift",
+       .field = &S::max_centroid_shift},
+      {.name = "max_field_change", .flag = "--max-field-change", .metavar = "F",
+       .section = "fidelity", .type = T::kFraction, .range = Range::OpenClosed(0, 1),
+       .help = "relative change of each face field's resultant per face group",
+       .field = &S::max_field_change},
+      {.name = "backend", .flag = "--backend", .section = "backend", .type = T::kEnum,
+       .help = "shared-memory threads or the emulated Cell BE",
+       .choices = {{"native", "native"}, {"cell", "cell"}}, .field = &S::backend},
+      {.name = "spes", .group = "cell", .flag = "--spes", .metavar = "N", .section = "backend",
+       .type = T::kInt, .range = Range::Closed(1, 256), .help = "cell: SPE contexts",
+       .field = &C::spes},
+      {.name = "ls_cache_kib", .group = "cell", .flag = "--ls-cache-kib", .metavar = "K",
+       .section = "backend", .type = T::kInt, .range = Range::Closed(1, 32768), .unit = "KiB",
+       .help = "cell: software cache per local store, a power of two below local_store_kib",
+       .field = &C::ls_cache_kib},
+      {.name = "spe_threads", .group = "cell", .flag = "--spe-threads", .metavar = "K",
+       .section = "backend", .type = T::kInt, .range = Range::Closed(1, 16),
+       .help = "cell: software threads per SPE (1: off)", .field = &C::spe_threads},
+      {.name = "local_store_kib", .group = "cell", .section = "backend", .type = T::kInt,
+       .range = Range::Closed(16, 65536), .unit = "KiB",
+       .help = "cell: local store size of each SPE", .field = &C::local_store_kib},
+      {.name = "reread_on_stale", .group = "cell", .section = "backend", .type = T::kBool,
+       .help = "cell: on a stale cache line, re-read it (else skip the candidate)",
+       .field = &C::reread_on_stale},
+  };
+  // clang-format on
+  const SimplifyOptions defaults;
+  for (OptionSpec& spec : table) spec.default_value = GetOption(spec, defaults);
+  return table;
+}
+
+// The member a field names, in SimplifyOptions or its CellOptions.
+template <typename V, typename O>
+auto& Ref(V SimplifyOptions::*member, O& o) {
+  return o.*member;
+}
+template <typename V, typename O>
+auto& Ref(V CellOptions::*member, O& o) {
+  return o.cell.*member;
+}
+
+template <typename V>
+double ToDouble(V v) {
+  if constexpr (std::is_enum_v<V>) {
+    return static_cast<double>(static_cast<int>(v));
+  } else {
+    return static_cast<double>(v);
+  }
+}
+
+template <typename V>
+V FromDouble(double d) {
+  if constexpr (std::is_enum_v<V>) {
+    return static_cast<V>(static_cast<int>(d));
+  } else if constexpr (std::is_same_v<V, bool>) {
+    return d != 0;
+  } else {
+    return static_cast<V>(d);
+  }
+}
+
+// The markdown cell of a text: '|' escaped.
+std::string Cell(absl::string_view s) { return absl::StrReplaceAll(s, {{"|", "\\|"}}); }
+
+}  // namespace
+
+std::string OptionSpec::path() const {
+  return cell_only() ? absl::StrCat(group, ".", name) : std::string(name);
+}
+
+const std::vector<OptionSpec>& OptionTable() {
+  static const std::vector<OptionSpec>* table = new std::vector<OptionSpec>(MakeTable());
+  return *table;
+}
+
+const OptionSpec* FindOption(absl::string_view path_or_flag) {
+  for (const OptionSpec& s : OptionTable())
+    if (s.path() == path_or_flag || (s.flag != nullptr && path_or_flag == s.flag)) return &s;
+  return nullptr;
+}
+
+double GetOption(const OptionSpec& spec, const SimplifyOptions& o) {
+  return std::visit([&o](auto member) { return ToDouble(Ref(member, o)); }, spec.field);
+}
+
+void SetOption(const OptionSpec& spec, double value, SimplifyOptions* o) {
+  std::visit(
+      [o, value](auto member) {
+        auto& dst = Ref(member, *o);
+        dst = FromDouble<std::remove_reference_t<decltype(dst)>>(value);
+      },
+      spec.field);
+}
+
+std::string FormatOptionValue(const OptionSpec& spec, double value) {
+  switch (spec.type) {
+    case OptionType::kBool:
+      return value != 0 ? "true" : "false";
+    case OptionType::kEnum: {
+      const size_t i = static_cast<size_t>(value);
+      return i < spec.choices.size() ? spec.choices[i].name : absl::StrCat(value);
+    }
+    default:
+      return FormatNumber(value);
+  }
+}
+
+std::string DefaultText(const OptionSpec& spec) {
+  if (spec.default_note[0] != '\0') return spec.default_note;
+  if (spec.type == OptionType::kEnum)
+    return spec.choices[static_cast<size_t>(spec.default_value)].cli_name;
+  if (spec.type == OptionType::kBool) return spec.default_value != 0 ? "on" : "off";
+  return FormatOptionValue(spec, spec.default_value);
+}
+
+std::string RangeText(const OptionSpec& spec) {
+  return spec.numeric() ? flags::RangeWords(spec.range, spec.unit, spec.zero_means) : "";
+}
+
+absl::Status CheckOptionValue(const OptionSpec& spec, double value, absl::string_view name) {
+  if (spec.type == OptionType::kEnum) {
+    if (value >= 0 && value < static_cast<double>(spec.choices.size())) return absl::OkStatus();
+    return absl::InvalidArgumentError(absl::StrCat(name, " = ", value, " is not a known value"));
+  }
+  if (!spec.numeric() || spec.range.Contains(value) || (value == 0 && spec.zero_means[0] != '\0'))
+    return absl::OkStatus();
+  return flags::OutOfRange(name, FormatNumber(value), spec.range, spec.unit, spec.zero_means);
+}
+
+std::string OptionsMarkdown() {
+  std::string s =
+      "| option (proto, JSON) | flag | range | default | meaning |\n|---|---|---|---|---|\n";
+  for (const OptionSpec& o : OptionTable()) {
+    std::string flag = "—";
+    if (o.flag != nullptr) {
+      std::string metavar = o.metavar;
+      if (o.type == OptionType::kEnum) {
+        for (const OptionChoice& c : o.choices)
+          absl::StrAppend(&metavar, metavar.empty() ? "" : "|", c.cli_name);
+      }
+      flag = absl::StrCat("`", o.flag, metavar.empty() ? "" : " ", metavar, "`");
+    }
+    std::string range = RangeText(o);
+    if (o.type == OptionType::kEnum) {
+      for (const OptionChoice& c : o.choices)
+        absl::StrAppend(&range, range.empty() ? "" : ", ", "`", c.name, "`");
+    }
+    absl::StrAppend(&s, "| `", o.path(), "` | ", Cell(flag), " | ", Cell(range), " | ",
+                    Cell(DefaultText(o)), " | ", Cell(o.help), " |\n");
+  }
+  return s;
+}
+
+}  // namespace femsimp
