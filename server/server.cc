@@ -67,9 +67,9 @@ void FemsimpServer::Shutdown() {
   service_->BeginShutdown();
   queue_.Close();
   for (const std::shared_ptr<Job>& job : queue_.TakeAll()) {
-    job->RequestCancel(grpc::StatusCode::UNAVAILABLE, "server shut down before the job started");
-    job->Finish(JobState::kCancelled, grpc::Status(grpc::StatusCode::UNAVAILABLE,
-                                                   "server shut down before the job started"));
+    const grpc::Status s(grpc::StatusCode::UNAVAILABLE, "server shut down before the job started");
+    job->RequestCancel(s.error_code(), s.error_message());
+    job->Finish(JobState::kCancelled, s);
   }
   metrics_.SetQueueDepth(0);
 

@@ -44,7 +44,6 @@ class SimplifierService final : public v1::Simplifier::Service {
   grpc::Status Follow(grpc::ServerContext* ctx,
                       grpc::ServerReaderWriter<v1::SimplifyResponse, v1::SimplifyRequest>* stream,
                       const std::shared_ptr<Job>& job);
-  void CancelForClient(grpc::ServerContext* ctx, const std::shared_ptr<Job>& job);
   void UpdateQueueGauge();
 
   const ServerConfig& config_;
