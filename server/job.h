@@ -1,5 +1,5 @@
 // One simplification job, shared by the handler of its Simplify call (SimplifierService), the
-// worker that runs it, and the by-id queries (GetJob, ListJobs, CancelJob, shutdown).
+// JobRunner's worker that runs it, and the by-id queries (GetJob, ListJobs, CancelJob, shutdown).
 //
 // All mutable state is private and guarded by one mutex, taken only in job.cc: callers see state
 // transitions and snapshots, never the lock. Life cycle:

@@ -45,8 +45,8 @@ Job::Clock::time_point NextWake(const grpc::ServerContext* ctx) {
 }  // namespace
 
 SimplifierService::SimplifierService(const ServerConfig& config, JobQueue& queue,
-                                     JobRegistry& registry, WorkerPool& workers, Metrics& metrics)
-    : config_(config), queue_(queue), registry_(registry), workers_(workers), metrics_(metrics) {}
+                                     JobRegistry& registry, JobRunner& runner, Metrics& metrics)
+    : config_(config), queue_(queue), registry_(registry), runner_(runner), metrics_(metrics) {}
 
 void SimplifierService::UpdateQueueGauge() { metrics_.SetQueueDepth(queue_.waiting()); }
 
@@ -70,7 +70,7 @@ grpc::Status SimplifierService::Simplify(grpc::ServerContext* ctx, Stream* strea
       ctx->AddTrailingMetadata("grpc-retry-pushback-ms", std::to_string(config_.retry_pushback_ms));
       return grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
                           absl::StrCat("job queue is full (queue_capacity = ", queue_.capacity(),
-                                       ", ", workers_.running(), " jobs running); retry after ",
+                                       ", ", runner_.running(), " jobs running); retry after ",
                                        config_.retry_pushback_ms, " ms"));
     }
     auto job = std::make_shared<Job>(registry_.NewId(), spec->client_label(), *options,
@@ -241,7 +241,7 @@ grpc::Status SimplifierService::ServerInfo(grpc::ServerContext*, const v1::Serve
   resp->set_max_faces(config_.max_faces);
   resp->set_max_request_bytes(config_.max_request_bytes);
   resp->set_queued_jobs(static_cast<uint32_t>(queue_.waiting()));
-  resp->set_running_jobs(static_cast<uint32_t>(workers_.running()));
+  resp->set_running_jobs(static_cast<uint32_t>(runner_.running()));
   resp->set_host_cores(std::max(1u, std::thread::hardware_concurrency()));
   return grpc::Status::OK;
 }

@@ -1,4 +1,4 @@
-#include "server/worker_pool.h"
+#include "server/job_runner.h"
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
@@ -7,29 +7,29 @@
 #include "server/status_util.h"
 
 namespace femsimp::server {
-WorkerPool::WorkerPool(int workers, JobQueue& queue, JobRegistry& registry, Metrics& metrics)
-    : queue_(queue), registry_(registry), metrics_(metrics) {
-  for (int i = 0; i < workers; ++i) threads_.emplace_back([this] { Loop(); });
+
+JobRunner::JobRunner(int workers, JobQueue& queue, JobRegistry& registry, Metrics& metrics)
+    : queue_(queue), registry_(registry), metrics_(metrics), pool_(workers) {
+  driver_ = std::thread([this] { pool_.Run([this](int) { Work(); }); });
 }
 
-WorkerPool::~WorkerPool() {
+JobRunner::~JobRunner() {
   queue_.Close();
   Join();
 }
 
-void WorkerPool::Join() {
-  for (std::thread& t : threads_)
-    if (t.joinable()) t.join();
+void JobRunner::Join() {
+  if (driver_.joinable()) driver_.join();
 }
 
-void WorkerPool::Loop() {
+void JobRunner::Work() {
   while (std::shared_ptr<Job> job = queue_.Pop()) {
     metrics_.SetQueueDepth(queue_.waiting());
     Run(job);
   }
 }
 
-void WorkerPool::Run(const std::shared_ptr<Job>& job) {
+void JobRunner::Run(const std::shared_ptr<Job>& job) {
   std::optional<Mesh> mesh = job->Start();
   if (!mesh) return;  // ended while queued (cancelled, shutdown)
   const double queued = job->queued_seconds();
