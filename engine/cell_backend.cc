@@ -69,10 +69,19 @@ class CellBackend final : public RemovalBackend {
             CellPort port(ctx, mesh_);
             port.set_reread_on_stale(options_.reread_on_stale);
             RemovalKernel<CellPort> kernel(port, criteria_, fidelity_, *phase.budget, kstats);
+            // Software thread 0 of SPE 0 polls the caller's cancellation, as context 0 does on
+            // the native back end.
+            const bool polls = spe.index() == 0 && ctx.thread_index() == 0;
+            size_t visited = 0;
             while (std::optional<uint64_t> v = ctx.NextWorkItem()) {
               if (phase.stop->load(std::memory_order_relaxed) ||
                   phase.budget->stop.load(std::memory_order_relaxed))
                 break;
+              if (polls && visited++ % kCancelPollInterval == 0 && *phase.cancelled &&
+                  (*phase.cancelled)()) {
+                phase.stop->store(true, std::memory_order_relaxed);
+                break;
+              }
               kernel.TryRemove(static_cast<uint32_t>(*v));
             }
           });
