@@ -1,5 +1,7 @@
-// A fixed set of threads that run one function per pass phase; the caller is context 0, so
-// callbacks (progress, cancellation) stay on the caller's thread.
+// femsimp's one thread pool: a fixed set of contexts that Run one function each and return when
+// all are done; the caller is context 0. The engine runs a function per pass phase on it, so its
+// callbacks (progress, cancellation) stay on the caller's thread; the server's JobRunner runs a
+// job loop on each context for the server's lifetime.
 #pragma once
 
 #include <condition_variable>

@@ -1,92 +1,208 @@
 #include "server/job.h"
 
 namespace femsimp::server {
+namespace {
 
-Job::Job(std::string id_, std::string label_, SimplifyOptions options_, uint64_t vertices,
-         uint64_t faces, bool face_groups)
-    : id(std::move(id_)),
-      label(std::move(label_)),
-      options(options_),
-      input_vertices(vertices),
-      input_faces(faces),
-      has_face_groups(face_groups) {}
-
-void Job::RequestCancel(grpc::StatusCode code, const std::string& message) {
-  {
-    std::lock_guard<std::mutex> lock(mu);
-    if (cancel_code != grpc::StatusCode::OK) return;
-    cancel_code = code;
-    cancel_message = message;
-  }
-  cancel_.store(true);
-  cv.notify_all();
+double Seconds(Job::Clock::time_point a, Job::Clock::time_point b) {
+  return std::chrono::duration<double>(b - a).count();
 }
 
-void Job::Finish(JobState final_state, grpc::Status s) {
-  {
-    std::lock_guard<std::mutex> lock(mu);
-    state = final_state;
-    status = std::move(s);
-    finished_at = Clock::now();
-    mesh.reset();  // free the input as soon as the job is over
-  }
-  cv.notify_all();
-}
+}  // namespace
 
-bool Job::done() const {
-  return state == JobState::kSucceeded || state == JobState::kFailed ||
-         state == JobState::kCancelled;
-}
+Job::Job(std::string id, std::string label, SimplifyOptions options, uint64_t vertices,
+         uint64_t faces)
+    : id_(std::move(id)),
+      label_(std::move(label)),
+      options_(options),
+      input_vertices_(vertices),
+      input_faces_(faces) {}
 
 int Job::contexts() const {
-  return options.backend == Backend::kCell ? options.cell.spes : options.threads;
+  return options_.backend == Backend::kCell ? options_.cell.spes : options_.threads;
 }
 
-void Job::Describe(v1::JobInfo* info, int queue_position) {
-  std::lock_guard<std::mutex> lock(mu);
-  auto secs = [](Clock::time_point a, Clock::time_point b) {
-    return std::chrono::duration<double>(b - a).count();
-  };
+bool Job::done() const { return IsEnded(state_); }
+
+void Job::Enqueue(Mesh input) {
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    if (done()) return;
+    input_.emplace(std::move(input));
+    state_ = JobState::kQueued;
+    queued_at_ = Clock::now();
+  }
+  cv_.notify_all();
+}
+
+Job::Update Job::WaitForChange(size_t seen, bool cancel_seen, Clock::time_point until) const {
+  std::unique_lock<std::mutex> lock(mu_);
+  cv_.wait_until(lock, until,
+                 [&] { return passes_.size() > seen || done() || (cancelled() && !cancel_seen); });
+  Update u;
+  if (passes_.size() > seen)
+    u.passes.assign(passes_.begin() + static_cast<std::ptrdiff_t>(seen), passes_.end());
+  u.state = state_;
+  u.done = done();
+  u.cancel_requested = cancelled();
+  return u;
+}
+
+grpc::Status Job::TakeOutput(Output* out) {
+  std::lock_guard<std::mutex> lock(mu_);
+  if (!done())
+    return grpc::Status(grpc::StatusCode::FAILED_PRECONDITION,
+                        "job " + id_ + " has not ended yet: no output to take");
+  if (!status_.ok()) return status_;
+  if (!result_)
+    return grpc::Status(grpc::StatusCode::FAILED_PRECONDITION,
+                        "job " + id_ + ": its output was taken already");
+  out->result = std::move(*result_);
+  result_.reset();
+  out->mesh = std::move(output_);
+  output_ = RawMesh();
+  out->queue_seconds = Seconds(queued_at_, started_at_);
+  return grpc::Status::OK;
+}
+
+void Job::Close(const grpc::Status& status) {
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    const grpc::StatusCode code = status.error_code();
+    if (code == grpc::StatusCode::OK)  // the handler returns OK only for an ended job
+      FinishLocked(JobState::kFailed, grpc::Status(grpc::StatusCode::INTERNAL,
+                                                   "the call ended OK before job " + id_ + " did"));
+    else
+      FinishLocked(
+          code == grpc::StatusCode::CANCELLED || code == grpc::StatusCode::DEADLINE_EXCEEDED
+              ? JobState::kCancelled
+              : JobState::kFailed,
+          status);
+    result_.reset();
+    output_ = RawMesh();
+  }
+  cv_.notify_all();
+}
+
+std::optional<Mesh> Job::Start() {
+  std::optional<Mesh> input;
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    if (done()) return std::nullopt;
+    input = std::move(input_);
+    input_.reset();
+    state_ = JobState::kRunning;
+    started_at_ = Clock::now();
+  }
+  cv_.notify_all();
+  return input;
+}
+
+void Job::AddPass(const PassStats& pass) {
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    passes_.push_back(pass);
+  }
+  cv_.notify_all();
+}
+
+void Job::Succeed(const SimplifyResult& result, RawMesh output) {
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    if (!FinishLocked(JobState::kSucceeded, grpc::Status::OK)) return;
+    result_ = result;
+    output_ = std::move(output);
+  }
+  cv_.notify_all();
+}
+
+bool Job::Finish(JobState final_state, grpc::Status status) {
+  bool ended;
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    ended = FinishLocked(final_state, std::move(status));
+  }
+  cv_.notify_all();
+  return ended;
+}
+
+bool Job::FinishCancelled() {
+  bool ended;
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    ended = FinishLocked(JobState::kCancelled, grpc::Status(cancel_code_, cancel_message_));
+  }
+  cv_.notify_all();
+  return ended;
+}
+
+bool Job::FinishLocked(JobState final_state, grpc::Status status) {
+  if (done()) return false;
+  state_ = final_state;
+  status_ = std::move(status);
+  finished_at_ = Clock::now();
+  input_.reset();  // free the input as soon as the job is over
+  return true;
+}
+
+double Job::QueuedSecondsLocked(Clock::time_point now) const {
+  if (queued_at_ == Clock::time_point{}) return 0;
+  return Seconds(queued_at_, started_at_ != Clock::time_point{} ? started_at_
+                             : done()                           ? finished_at_
+                                                                : now);
+}
+
+double Job::RunSecondsLocked(Clock::time_point now) const {
+  if (started_at_ == Clock::time_point{}) return 0;
+  return Seconds(started_at_, done() ? finished_at_ : now);
+}
+
+double Job::queued_seconds() const {
+  std::lock_guard<std::mutex> lock(mu_);
+  return QueuedSecondsLocked(Clock::now());
+}
+
+double Job::run_seconds() const {
+  std::lock_guard<std::mutex> lock(mu_);
+  return RunSecondsLocked(Clock::now());
+}
+
+JobState Job::RequestCancel(grpc::StatusCode code, std::string message) {
+  JobState found;
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    found = state_;
+    if (done() || cancel_code_ != grpc::StatusCode::OK) return found;
+    cancel_code_ = code;
+    cancel_message_ = std::move(message);
+    cancel_.store(true, std::memory_order_relaxed);
+  }
+  cv_.notify_all();
+  return found;
+}
+
+grpc::Status Job::cancel_status() const {
+  std::lock_guard<std::mutex> lock(mu_);
+  return grpc::Status(cancel_code_, cancel_message_);
+}
+
+void Job::Describe(v1::JobInfo* info, int queue_position) const {
   const Clock::time_point now = Clock::now();
-  info->set_job_id(id);
-  info->set_client_label(label);
-  info->set_state(ToProto(state));
+  std::lock_guard<std::mutex> lock(mu_);
+  info->set_job_id(id_);
+  info->set_client_label(label_);
+  info->set_state(ToProto(state_));
   info->set_queue_position(queue_position < 0 ? 0 : queue_position);
-  info->set_passes_done(static_cast<uint32_t>(passes.size()));
-  info->set_input_vertices(input_vertices);
-  info->set_input_faces(input_faces);
-  info->set_vertices_left(passes.empty() ? input_vertices : passes.back().vertices_left);
-  info->set_backend(options.backend == Backend::kCell ? v1::BACKEND_CELL : v1::BACKEND_NATIVE);
-  if (queued_at != Clock::time_point{}) {
-    Clock::time_point end = started_at != Clock::time_point{} ? started_at
-                            : done()                          ? finished_at
-                                                              : now;
-    info->set_queued_seconds(secs(queued_at, end));
-  }
-  if (started_at != Clock::time_point{})
-    info->set_running_seconds(secs(started_at, done() ? finished_at : now));
+  info->set_passes_done(static_cast<uint32_t>(passes_.size()));
+  info->set_input_vertices(input_vertices_);
+  info->set_input_faces(input_faces_);
+  info->set_vertices_left(passes_.empty() ? input_vertices_ : passes_.back().vertices_left);
+  info->set_backend(options_.backend == Backend::kCell ? v1::BACKEND_CELL : v1::BACKEND_NATIVE);
+  if (queued_at_ != Clock::time_point{}) info->set_queued_seconds(QueuedSecondsLocked(now));
+  if (started_at_ != Clock::time_point{}) info->set_running_seconds(RunSecondsLocked(now));
   if (done()) {
-    info->set_status_code(StatusCodeName(status.error_code()));
-    info->set_status_message(status.error_message());
+    info->set_status_code(StatusCodeName(status_.error_code()));
+    info->set_status_message(status_.error_message());
   }
-}
-
-const char* StateName(JobState s) {
-  switch (s) {
-    case JobState::kUploading:
-      return "uploading";
-    case JobState::kQueued:
-      return "queued";
-    case JobState::kRunning:
-      return "running";
-    case JobState::kSucceeded:
-      return "succeeded";
-    case JobState::kFailed:
-      return "failed";
-    case JobState::kCancelled:
-      return "cancelled";
-  }
-  return "unknown";
 }
 
 v1::JobState ToProto(JobState s) {

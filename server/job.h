@@ -1,4 +1,16 @@
-// One simplification job, shared by the RPC handler that streams it and the worker that runs it.
+// One simplification job, shared by the handler of its Simplify call (SimplifierService), the
+// JobRunner's worker that runs it, and the by-id queries (GetJob, ListJobs, CancelJob, shutdown).
+//
+// All mutable state is private and guarded by one mutex, taken only in job.cc: callers see state
+// transitions and snapshots, never the lock. Life cycle:
+//
+//   kUploading --Enqueue--> kQueued --Start--> kRunning --Succeed/Finish--> kSucceeded | kFailed
+//   any state not yet ended --Finish/FinishCancelled/Close--> kFailed | kCancelled
+//
+// The first end wins; later ones are no-ops. Who calls what:
+//   the handler:  Enqueue, WaitForChange, TakeOutput, Close (always, when its call is over)
+//   the runner:   Start, AddPass, Succeed, Finish, FinishCancelled, queued_seconds, run_seconds
+//   anyone:       RequestCancel, cancelled, cancel_status, Describe, the constant facts
 #pragma once
 
 #include <atomic>
@@ -18,50 +30,102 @@
 namespace femsimp::server {
 
 enum class JobState { kUploading, kQueued, kRunning, kSucceeded, kFailed, kCancelled };
+inline bool IsEnded(JobState s) {
+  return s == JobState::kSucceeded || s == JobState::kFailed || s == JobState::kCancelled;
+}
 
-struct Job {
+class Job {
+ public:
   using Clock = std::chrono::steady_clock;
 
-  Job(std::string id, std::string label, SimplifyOptions options, uint64_t vertices, uint64_t faces,
-      bool face_groups);
+  Job(std::string id, std::string label, SimplifyOptions options, uint64_t vertices,
+      uint64_t faces);
+  Job(const Job&) = delete;
+  Job& operator=(const Job&) = delete;
 
-  const std::string id, label;
-  const SimplifyOptions options;
-  const uint64_t input_vertices, input_faces;
-  const bool has_face_groups;
-  const Clock::time_point created = Clock::now();
-
-  // First request wins; the engine polls cancelled() between and inside passes.
-  void RequestCancel(grpc::StatusCode code, const std::string& message);
-  bool cancelled() const { return cancel_.load(std::memory_order_relaxed); }
-
-  // Marks the job finished with its status and wakes the handler.
-  void Finish(JobState final_state, grpc::Status status);
-  bool done() const;  // requires mu
-
+  // Constant facts; any thread, no lock.
+  const std::string& id() const { return id_; }
+  const std::string& label() const { return label_; }
+  const SimplifyOptions& options() const { return options_; }
+  uint64_t input_vertices() const { return input_vertices_; }
+  uint64_t input_faces() const { return input_faces_; }
+  Clock::time_point created() const { return created_; }
   int contexts() const;  // threads (native) or SPEs (cell)
 
-  // Fills the ListJobs/GetJob view; takes mu.
-  void Describe(v1::JobInfo* info, int queue_position);
+  // --- The handler ---
+  // The upload is complete: the job waits in the queue, holding its input.
+  void Enqueue(Mesh input);
+  // What changed since the handler last looked.
+  struct Update {
+    std::vector<PassStats> passes;  // passes after the first `seen`
+    JobState state = JobState::kUploading;
+    bool done = false;
+    bool cancel_requested = false;
+  };
+  // Waits until passes beyond the first `seen` exist, the job ended, a cancel was requested (when
+  // `cancel_seen` is false) or `until` came; returns the new passes and the state.
+  Update WaitForChange(size_t seen, bool cancel_seen, Clock::time_point until) const;
+  // A finished job's result and output mesh, moved out (once).
+  struct Output {
+    SimplifyResult result;
+    RawMesh mesh;
+    double queue_seconds = 0;
+  };
+  // The final status of an ended job; when it is OK, *out receives the result and the output.
+  grpc::Status TakeOutput(Output* out);
+  // The call is over with `status`: ends the job with it when nothing has (CANCELLED and
+  // DEADLINE_EXCEEDED as cancelled, any other code as failed; OK cannot end a job) and frees the
+  // input and any output left.
+  void Close(const grpc::Status& status);
 
-  mutable std::mutex mu;
-  std::condition_variable cv;  // signalled on every change below
-  // Guarded by mu:
-  JobState state = JobState::kUploading;
-  std::optional<Mesh> mesh;  // the input until the worker is done with it
-  std::vector<PassStats> passes;
-  std::optional<SimplifyResult> result;
-  RawMesh output;
-  grpc::Status status;  // final status once done()
-  grpc::StatusCode cancel_code = grpc::StatusCode::OK;
-  std::string cancel_message;
-  Clock::time_point queued_at{}, started_at{}, finished_at{};
+  // --- The runner ---
+  // A worker takes the job: kRunning, and the input handed over. nullopt when the job ended
+  // while it waited (cancelled out of the queue, shutdown).
+  std::optional<Mesh> Start();
+  void AddPass(const PassStats& pass);  // wakes the handler
+  void Succeed(const SimplifyResult& result, RawMesh output);
+  // Ends the job; false (and nothing changes) when it had ended already. The input goes.
+  bool Finish(JobState final_state, grpc::Status status);
+  // Ends the job as cancelled with the status its cancel request gave.
+  bool FinishCancelled();
+  double queued_seconds() const;  // from Enqueue to Start (or to now)
+  double run_seconds() const;     // from Start to the end (or to now)
+
+  // --- Anyone ---
+  // The first request wins and sets the job's final status; the engine polls cancelled().
+  // Returns the state found; an ended job is left as it is.
+  JobState RequestCancel(grpc::StatusCode code, std::string message);
+  bool cancelled() const { return cancel_.load(std::memory_order_relaxed); }
+  grpc::Status cancel_status() const;  // OK when none was requested
+  // Fills the ListJobs/GetJob view.
+  void Describe(v1::JobInfo* info, int queue_position) const;
 
  private:
+  bool done() const;  // requires mu_
+  bool FinishLocked(JobState final_state, grpc::Status status);
+  double QueuedSecondsLocked(Clock::time_point now) const;
+  double RunSecondsLocked(Clock::time_point now) const;
+
+  const std::string id_, label_;
+  const SimplifyOptions options_;
+  const uint64_t input_vertices_, input_faces_;
+  const Clock::time_point created_ = Clock::now();
   std::atomic<bool> cancel_{false};
+
+  mutable std::mutex mu_;
+  mutable std::condition_variable cv_;  // signalled on every change below
+  // Guarded by mu_:
+  JobState state_ = JobState::kUploading;
+  std::optional<Mesh> input_;  // from Enqueue until Start (or the end)
+  std::vector<PassStats> passes_;
+  std::optional<SimplifyResult> result_;
+  RawMesh output_;
+  grpc::Status status_;  // final once done()
+  grpc::StatusCode cancel_code_ = grpc::StatusCode::OK;
+  std::string cancel_message_;
+  Clock::time_point queued_at_{}, started_at_{}, finished_at_{};
 };
 
-const char* StateName(JobState s);
 v1::JobState ToProto(JobState s);
 const char* StatusCodeName(grpc::StatusCode code);
 

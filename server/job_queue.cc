@@ -71,9 +71,4 @@ size_t JobQueue::waiting() const {
   return jobs_.size();
 }
 
-size_t JobQueue::reserved() const {
-  std::lock_guard<std::mutex> lock(mu_);
-  return reserved_;
-}
-
 }  // namespace femsimp::server

@@ -33,7 +33,6 @@ class JobQueue {
   std::vector<std::shared_ptr<Job>> TakeAll();
 
   size_t waiting() const;
-  size_t reserved() const;
   size_t capacity() const { return capacity_; }
 
  private:

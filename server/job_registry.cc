@@ -17,12 +17,12 @@ std::string JobRegistry::NewId() {
 
 void JobRegistry::Add(std::shared_ptr<Job> job) {
   std::lock_guard<std::mutex> lock(mu_);
-  active_[job->id] = std::move(job);
+  active_[job->id()] = std::move(job);
 }
 
 void JobRegistry::MarkFinished(const std::shared_ptr<Job>& job) {
   std::lock_guard<std::mutex> lock(mu_);
-  if (active_.erase(job->id) == 0) return;
+  if (active_.erase(job->id()) == 0) return;
   finished_.push_front(job);
   while (finished_.size() > finished_kept_) finished_.pop_back();
 }
@@ -31,7 +31,7 @@ std::shared_ptr<Job> JobRegistry::Find(const std::string& id) const {
   std::lock_guard<std::mutex> lock(mu_);
   if (auto it = active_.find(id); it != active_.end()) return it->second;
   for (const auto& j : finished_)
-    if (j->id == id) return j;
+    if (j->id() == id) return j;
   return nullptr;
 }
 
@@ -47,7 +47,7 @@ std::vector<std::shared_ptr<Job>> JobRegistry::Unfinished() const {
   std::vector<std::shared_ptr<Job>> out;
   for (const auto& [id, j] : active_) out.push_back(j);
   std::sort(out.begin(), out.end(),
-            [](const auto& a, const auto& b) { return a->created > b->created; });
+            [](const auto& a, const auto& b) { return a->created() > b->created(); });
   return out;
 }
 

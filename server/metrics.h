@@ -38,8 +38,6 @@ class Metrics {
   void JobCompleted(Backend backend, int contexts, double job_seconds, double queue_seconds,
                     const SimplifyResult& r);
 
-  prometheus::Registry& registry() { return *registry_; }
-
  private:
   std::shared_ptr<prometheus::Registry> registry_;
   std::unique_ptr<prometheus::Exposer> exposer_;

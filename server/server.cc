@@ -30,8 +30,8 @@ absl::Status FemsimpServer::Start() {
   if (!config_.metrics_listen.empty())
     if (absl::Status s = metrics_.StartExposer(config_.metrics_listen); !s.ok()) return s;
 
-  workers_ = std::make_unique<WorkerPool>(config_.workers, queue_, registry_, metrics_);
-  service_ = std::make_unique<SimplifierService>(config_, queue_, registry_, *workers_, metrics_);
+  runner_ = std::make_unique<JobRunner>(config_.workers, queue_, registry_, metrics_);
+  service_ = std::make_unique<SimplifierService>(config_, queue_, registry_, *runner_, metrics_);
   grpc::EnableDefaultHealthCheckService(true);
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
   grpc::ServerBuilder builder;
@@ -45,7 +45,7 @@ absl::Status FemsimpServer::Start() {
         static_cast<int>(std::min(config_.max_connection_age_seconds * 1e3, 2e9)));
   server_ = builder.BuildAndStart();
   if (!server_ || port_ == 0) {
-    workers_.reset();
+    runner_.reset();
     return absl::UnavailableError(absl::StrCat("cannot listen on ", config_.listen));
   }
   server_->GetHealthCheckService()->SetServingStatus(true);
@@ -67,23 +67,23 @@ void FemsimpServer::Shutdown() {
   service_->BeginShutdown();
   queue_.Close();
   for (const std::shared_ptr<Job>& job : queue_.TakeAll()) {
-    job->RequestCancel(grpc::StatusCode::UNAVAILABLE, "server shut down before the job started");
-    job->Finish(JobState::kCancelled, grpc::Status(grpc::StatusCode::UNAVAILABLE,
-                                                   "server shut down before the job started"));
+    const grpc::Status s(grpc::StatusCode::UNAVAILABLE, "server shut down before the job started");
+    job->RequestCancel(s.error_code(), s.error_message());
+    job->Finish(JobState::kCancelled, s);
   }
   metrics_.SetQueueDepth(0);
 
   const auto deadline = std::chrono::steady_clock::now() +
                         std::chrono::duration<double>(config_.grace_period_seconds);
-  while (workers_->running() > 0 && std::chrono::steady_clock::now() < deadline)
+  while (runner_->running() > 0 && std::chrono::steady_clock::now() < deadline)
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  if (workers_->running() > 0) {
-    LogLine(absl::StrCat("grace period over: cancelling ", workers_->running(), " running jobs"));
+  if (runner_->running() > 0) {
+    LogLine(absl::StrCat("grace period over: cancelling ", runner_->running(), " running jobs"));
     for (const std::shared_ptr<Job>& job : registry_.Unfinished())
       job->RequestCancel(grpc::StatusCode::UNAVAILABLE,
                          "server shut down: grace period over, job cancelled");
   }
-  workers_->Join();
+  runner_->Join();
   // Handlers are only streaming results now; give them a moment, then cut the calls.
   server_->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(5));
   server_->Wait();

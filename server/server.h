@@ -9,9 +9,9 @@
 #include "server/config.h"
 #include "server/job_queue.h"
 #include "server/job_registry.h"
+#include "server/job_runner.h"
 #include "server/metrics.h"
 #include "server/service.h"
-#include "server/worker_pool.h"
 
 namespace femsimp::server {
 
@@ -35,7 +35,7 @@ class FemsimpServer {
   Metrics metrics_;
   JobQueue queue_;
   JobRegistry registry_;
-  std::unique_ptr<WorkerPool> workers_;
+  std::unique_ptr<JobRunner> runner_;
   std::unique_ptr<SimplifierService> service_;
   std::unique_ptr<grpc::Server> server_;
   int port_ = 0;

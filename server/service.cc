@@ -14,21 +14,39 @@ namespace femsimp::server {
 namespace {
 
 using Stream = grpc::ServerReaderWriter<v1::SimplifyResponse, v1::SimplifyRequest>;
+// How often the handler of a running job looks at its call (cancelled, client gone) besides
+// waking for progress and at the call's deadline.
 constexpr auto kPoll = std::chrono::milliseconds(50);
+// The client cancels its call at its own deadline; the server's copy of it is later by the
+// transit time and by the rounding up of the grpc-timeout header. A cancel that arrives this
+// close to the server's deadline is the deadline.
+constexpr auto kDeadlineSlack = std::chrono::milliseconds(100);
 
-double Seconds(Job::Clock::time_point a, Job::Clock::time_point b) {
-  return std::chrono::duration<double>(b - a).count();
+bool DeadlinePassed(const grpc::ServerContext* ctx, std::chrono::milliseconds slack = {}) {
+  return ctx->deadline() <= std::chrono::system_clock::now() + slack;
 }
 
-bool DeadlinePassed(const grpc::ServerContext* ctx) {
-  return ctx->deadline() <= std::chrono::system_clock::now();
+// The status of a call the client ended (cancelled, or its deadline passed) at `when`.
+grpc::Status ClientEnded(const grpc::ServerContext* ctx, const char* when) {
+  if (DeadlinePassed(ctx, kDeadlineSlack))
+    return grpc::Status(grpc::StatusCode::DEADLINE_EXCEEDED,
+                        absl::StrCat("deadline exceeded ", when));
+  return grpc::Status(grpc::StatusCode::CANCELLED, absl::StrCat("cancelled by the client ", when));
+}
+
+// The handler's next wake-up: the next poll, or the call's deadline when that comes first.
+Job::Clock::time_point NextWake(const grpc::ServerContext* ctx) {
+  const auto poll = Job::Clock::now() + kPoll;
+  const auto to_deadline = ctx->deadline() - std::chrono::system_clock::now();
+  if (to_deadline >= kPoll || to_deadline <= decltype(to_deadline)::zero()) return poll;
+  return Job::Clock::now() + std::chrono::duration_cast<Job::Clock::duration>(to_deadline);
 }
 
 }  // namespace
 
 SimplifierService::SimplifierService(const ServerConfig& config, JobQueue& queue,
-                                     JobRegistry& registry, WorkerPool& workers, Metrics& metrics)
-    : config_(config), queue_(queue), registry_(registry), workers_(workers), metrics_(metrics) {}
+                                     JobRegistry& registry, JobRunner& runner, Metrics& metrics)
+    : config_(config), queue_(queue), registry_(registry), runner_(runner), metrics_(metrics) {}
 
 void SimplifierService::UpdateQueueGauge() { metrics_.SetQueueDepth(queue_.waiting()); }
 
@@ -39,7 +57,7 @@ grpc::Status SimplifierService::Simplify(grpc::ServerContext* ctx, Stream* strea
     RequestReader reader([stream](v1::SimplifyRequest* r) { return stream->Read(r); }, config_);
     absl::StatusOr<v1::JobSpec> spec = reader.ReadSpec();
     if (!spec.ok()) {
-      if (ctx->IsCancelled()) return grpc::Status::CANCELLED;
+      if (ctx->IsCancelled()) return ClientEnded(ctx, "before the job spec");
       return ToGrpc(spec.status());
     }
     absl::StatusOr<SimplifyOptions> options =
@@ -52,28 +70,14 @@ grpc::Status SimplifierService::Simplify(grpc::ServerContext* ctx, Stream* strea
       ctx->AddTrailingMetadata("grpc-retry-pushback-ms", std::to_string(config_.retry_pushback_ms));
       return grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
                           absl::StrCat("job queue is full (queue_capacity = ", queue_.capacity(),
-                                       ", ", workers_.running(), " jobs running); retry after ",
+                                       ", ", runner_.running(), " jobs running); retry after ",
                                        config_.retry_pushback_ms, " ms"));
     }
-    auto job =
-        std::make_shared<Job>(registry_.NewId(), spec->client_label(), *options,
-                              spec->vertex_count(), spec->face_count(), spec->has_face_groups());
+    auto job = std::make_shared<Job>(registry_.NewId(), spec->client_label(), *options,
+                                     spec->vertex_count(), spec->face_count());
     registry_.Add(job);
     grpc::Status s = RunJob(ctx, stream, job, reader, *spec);
-    {
-      std::lock_guard<std::mutex> lock(job->mu);
-      if (!job->done()) {
-        const bool cancelled = s.error_code() == grpc::StatusCode::CANCELLED ||
-                               s.error_code() == grpc::StatusCode::DEADLINE_EXCEEDED;
-        job->state = s.ok()      ? JobState::kSucceeded
-                     : cancelled ? JobState::kCancelled
-                                 : JobState::kFailed;
-        job->status = s;
-        job->finished_at = Job::Clock::now();
-        job->mesh.reset();
-      }
-      job->output = RawMesh();
-    }
+    job->Close(s);
     registry_.MarkFinished(job);
     return s;
   }();
@@ -90,7 +94,7 @@ grpc::Status SimplifierService::RunJob(grpc::ServerContext* ctx, Stream* stream,
     reserved = false;
   };
   v1::SimplifyResponse resp;
-  resp.mutable_accepted()->set_job_id(job->id);
+  resp.mutable_accepted()->set_job_id(job->id());
   resp.mutable_accepted()->set_queue_position(static_cast<uint32_t>(queue_.waiting()));
   if (!stream->Write(resp)) {
     release();
@@ -98,15 +102,13 @@ grpc::Status SimplifierService::RunJob(grpc::ServerContext* ctx, Stream* stream,
   }
 
   absl::StatusOr<RawMesh> raw = reader.ReadMesh(spec);
-  if (ctx->IsCancelled() || job->cancelled()) {
+  if (job->cancelled()) {
     release();
-    if (job->cancelled()) {
-      std::lock_guard<std::mutex> lock(job->mu);
-      return grpc::Status(job->cancel_code, job->cancel_message);
-    }
-    return grpc::Status(
-        DeadlinePassed(ctx) ? grpc::StatusCode::DEADLINE_EXCEEDED : grpc::StatusCode::CANCELLED,
-        "client cancelled during the upload");
+    return job->cancel_status();
+  }
+  if (ctx->IsCancelled()) {
+    release();
+    return ClientEnded(ctx, "during the upload");
   }
   if (!raw.ok()) {
     release();
@@ -119,12 +121,7 @@ grpc::Status SimplifierService::RunJob(grpc::ServerContext* ctx, Stream* stream,
     return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
                         absl::StrCat("invalid mesh: ", mesh.status().message()));
   }
-  {
-    std::lock_guard<std::mutex> lock(job->mu);
-    job->mesh.emplace(std::move(*mesh));
-    job->state = JobState::kQueued;
-    job->queued_at = Job::Clock::now();
-  }
+  job->Enqueue(*std::move(mesh));
   reserved = false;
   if (!queue_.PushReserved(job))
     return grpc::Status(grpc::StatusCode::UNAVAILABLE, "server is shutting down");
@@ -132,59 +129,36 @@ grpc::Status SimplifierService::RunJob(grpc::ServerContext* ctx, Stream* stream,
   return Follow(ctx, stream, job);
 }
 
-void SimplifierService::CancelForClient(grpc::ServerContext* ctx, const std::shared_ptr<Job>& job) {
-  if (DeadlinePassed(ctx)) {
-    job->RequestCancel(grpc::StatusCode::DEADLINE_EXCEEDED, "deadline exceeded");
-  } else {
-    job->RequestCancel(grpc::StatusCode::CANCELLED, "cancelled by the client");
-  }
-}
-
 grpc::Status SimplifierService::Follow(grpc::ServerContext* ctx, Stream* stream,
                                        const std::shared_ptr<Job>& job) {
   size_t sent_passes = 0;
   int last_position = -2;
-  bool client_gone = false;
+  bool client_gone = false, cancel_seen = false;
   for (;;) {
-    std::vector<PassStats> fresh;
-    bool done, cancelled;
-    JobState state;
-    {
-      std::unique_lock<std::mutex> lock(job->mu);
-      job->cv.wait_for(lock, kPoll, [&] {
-        return job->passes.size() > sent_passes || job->done() || job->cancelled();
-      });
-      fresh.assign(job->passes.begin() + static_cast<std::ptrdiff_t>(sent_passes),
-                   job->passes.end());
-      sent_passes = job->passes.size();
-      done = job->done();
-      state = job->state;
-      cancelled = job->cancelled();
-    }
-    if (!done && !cancelled && (client_gone || ctx->IsCancelled())) {
-      CancelForClient(ctx, job);
-      cancelled = true;
+    Job::Update u = job->WaitForChange(sent_passes, cancel_seen, NextWake(ctx));
+    sent_passes += u.passes.size();
+    cancel_seen = u.cancel_requested;
+    if (!u.done && !u.cancel_requested &&
+        (client_gone || ctx->IsCancelled() || DeadlinePassed(ctx))) {
+      const grpc::Status ended = ClientEnded(ctx, "while the job ran");
+      job->RequestCancel(ended.error_code(), ended.error_message());
+      u.cancel_requested = cancel_seen = true;
     }
     // A cancelled job still waiting is taken out here; a running one stops within a pass.
-    if (!done && cancelled && queue_.Remove(job.get())) {
+    if (!u.done && u.cancel_requested && queue_.Remove(job.get())) {
       UpdateQueueGauge();
-      grpc::Status s;
-      {
-        std::lock_guard<std::mutex> lock(job->mu);
-        s = grpc::Status(job->cancel_code, job->cancel_message);
-      }
-      job->Finish(JobState::kCancelled, s);
-      done = true;
+      job->FinishCancelled();
+      u.done = true;
     }
     // Passes fetched together with the end of the job still go out before the result.
-    for (const PassStats& p : fresh) {
+    for (const PassStats& p : u.passes) {
       v1::SimplifyResponse resp;
       wire::ToProto(p, resp.mutable_progress());
       if (!client_gone && !stream->Write(resp)) client_gone = true;
     }
-    if (done) break;
+    if (u.done) break;
     if (client_gone) continue;  // wait for the worker to let go of the job
-    if (state == JobState::kQueued) {
+    if (u.state == JobState::kQueued) {
       int pos = queue_.Position(job.get());
       if (pos >= 0 && pos != last_position) {
         v1::SimplifyResponse resp;
@@ -195,37 +169,30 @@ grpc::Status SimplifierService::Follow(grpc::ServerContext* ctx, Stream* stream,
     }
   }
 
+  Job::Output output;
+  if (grpc::Status s = job->TakeOutput(&output); !s.ok()) return s;
+  if (client_gone || ctx->IsCancelled()) return ClientEnded(ctx, "before the result");
   v1::SimplifyResponse resp;
-  RawMesh output;
-  {
-    std::lock_guard<std::mutex> lock(job->mu);
-    if (!job->status.ok()) return job->status;
-    if (!job->result) return grpc::Status(grpc::StatusCode::INTERNAL, "job ended without result");
-    const SimplifyResult& r = *job->result;
-    v1::Result* m = resp.mutable_result();
-    m->set_job_id(job->id);
-    m->set_input_vertices(r.input_vertices);
-    m->set_input_faces(r.input_faces);
-    m->set_output_vertices(job->output.num_vertices());
-    m->set_output_faces(job->output.num_faces());
-    m->set_engine_seconds(r.engine_seconds);
-    m->set_busy_seconds(r.busy_seconds);
-    m->set_queue_seconds(Seconds(job->queued_at, job->started_at));
-    m->set_stop_reason(StopReasonName(r.stop_reason));
-    m->set_passes(static_cast<uint32_t>(r.passes.size()));
-    m->set_modeled_cycles(r.modeled_cycles);
-    m->set_has_face_groups(!job->output.face_groups.empty());
-    m->set_contexts(job->contexts());
-    for (const FaceField& field : job->output.face_fields) m->add_face_field_names(field.name);
-    wire::FidelityToProto(r, m);
-    output = std::move(job->output);
-    job->output = RawMesh();
-  }
-  if (client_gone || ctx->IsCancelled())
-    return grpc::Status(grpc::StatusCode::CANCELLED, "client went away");
+  const SimplifyResult& r = output.result;
+  v1::Result* m = resp.mutable_result();
+  m->set_job_id(job->id());
+  m->set_input_vertices(r.input_vertices);
+  m->set_input_faces(r.input_faces);
+  m->set_output_vertices(output.mesh.num_vertices());
+  m->set_output_faces(output.mesh.num_faces());
+  m->set_engine_seconds(r.engine_seconds);
+  m->set_busy_seconds(r.busy_seconds);
+  m->set_queue_seconds(output.queue_seconds);
+  m->set_stop_reason(StopReasonName(r.stop_reason));
+  m->set_passes(static_cast<uint32_t>(r.passes.size()));
+  m->set_modeled_cycles(r.modeled_cycles);
+  m->set_has_face_groups(!output.mesh.face_groups.empty());
+  m->set_contexts(job->contexts());
+  for (const FaceField& field : output.mesh.face_fields) m->add_face_field_names(field.name);
+  wire::FidelityToProto(r, m);
   if (!stream->Write(resp)) return grpc::Status(grpc::StatusCode::CANCELLED, "client went away");
   bool ok = true;
-  wire::ForEachChunk(output, [&](v1::MeshChunk& chunk) {
+  wire::ForEachChunk(output.mesh, [&](v1::MeshChunk& chunk) {
     v1::SimplifyResponse c;
     c.mutable_chunk()->Swap(&chunk);
     ok = stream->Write(c);
@@ -249,13 +216,9 @@ grpc::Status SimplifierService::CancelJob(grpc::ServerContext*, const v1::Cancel
   std::shared_ptr<Job> job = registry_.Find(req->job_id());
   if (!job)
     return grpc::Status(grpc::StatusCode::NOT_FOUND, absl::StrCat("no job '", req->job_id(), "'"));
-  {
-    std::lock_guard<std::mutex> lock(job->mu);
-    resp->set_previous_state(ToProto(job->state));
-    if (job->done()) return grpc::Status::OK;
-  }
-  job->RequestCancel(grpc::StatusCode::CANCELLED, "cancelled by CancelJob");
-  LogLine(absl::StrCat("job ", job->id, ": CancelJob"));
+  const JobState found = job->RequestCancel(grpc::StatusCode::CANCELLED, "cancelled by CancelJob");
+  resp->set_previous_state(ToProto(found));
+  if (!IsEnded(found)) LogLine(absl::StrCat("job ", job->id(), ": CancelJob"));
   return grpc::Status::OK;
 }
 
@@ -278,7 +241,7 @@ grpc::Status SimplifierService::ServerInfo(grpc::ServerContext*, const v1::Serve
   resp->set_max_faces(config_.max_faces);
   resp->set_max_request_bytes(config_.max_request_bytes);
   resp->set_queued_jobs(static_cast<uint32_t>(queue_.waiting()));
-  resp->set_running_jobs(static_cast<uint32_t>(workers_.running()));
+  resp->set_running_jobs(static_cast<uint32_t>(runner_.running()));
   resp->set_host_cores(std::max(1u, std::thread::hardware_concurrency()));
   return grpc::Status::OK;
 }

@@ -7,8 +7,8 @@
 #include "server/config.h"
 #include "server/job_queue.h"
 #include "server/job_registry.h"
+#include "server/job_runner.h"
 #include "server/metrics.h"
-#include "server/worker_pool.h"
 
 namespace femsimp::server {
 
@@ -17,7 +17,7 @@ inline constexpr char kVersion[] = "0.1.0";
 class SimplifierService final : public v1::Simplifier::Service {
  public:
   SimplifierService(const ServerConfig& config, JobQueue& queue, JobRegistry& registry,
-                    WorkerPool& workers, Metrics& metrics);
+                    JobRunner& runner, Metrics& metrics);
 
   grpc::Status Simplify(
       grpc::ServerContext* ctx,
@@ -44,13 +44,12 @@ class SimplifierService final : public v1::Simplifier::Service {
   grpc::Status Follow(grpc::ServerContext* ctx,
                       grpc::ServerReaderWriter<v1::SimplifyResponse, v1::SimplifyRequest>* stream,
                       const std::shared_ptr<Job>& job);
-  void CancelForClient(grpc::ServerContext* ctx, const std::shared_ptr<Job>& job);
   void UpdateQueueGauge();
 
   const ServerConfig& config_;
   JobQueue& queue_;
   JobRegistry& registry_;
-  WorkerPool& workers_;
+  JobRunner& runner_;
   Metrics& metrics_;
   std::atomic<bool> shutting_down_{false};
 };

@@ -2,6 +2,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <thread>
 
 #include "engine/mesh.h"
@@ -26,18 +27,8 @@ v1::SimplifyRequest SpecRequest(uint64_t vertices, uint64_t faces,
 
 // Waits until the job is RUNNING (true) or finished / timed out (false).
 bool WaitRunning(v1::Simplifier::Stub& stub, const std::string& id) {
-  for (int i = 0; i < 2000; ++i) {
-    grpc::ClientContext ctx;
-    v1::GetJobRequest req;
-    req.set_job_id(id);
-    v1::JobInfo info;
-    if (stub.GetJob(&ctx, req, &info).ok()) {
-      if (info.state() == v1::JOB_STATE_RUNNING) return true;
-      if (info.state() != v1::JOB_STATE_QUEUED) return false;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
-  }
-  return false;
+  std::optional<v1::JobInfo> info = testing::WaitWhile(stub, id, v1::JOB_STATE_QUEUED);
+  return info && info->state() == v1::JOB_STATE_RUNNING;
 }
 
 TEST(Service, FandiskRoundTrip) {
@@ -136,18 +127,11 @@ TEST(Service, CancelRunningJobThenWorkerTakesNext) {
   ASSERT_TRUE(cancelled_at_running) << "job was never seen running";
   EXPECT_EQ(out.status.error_code(), grpc::StatusCode::CANCELLED);
   // The server side ends the job within a pass (here: well under the job's run time).
-  grpc::ClientContext gctx;
-  v1::GetJobRequest req;
-  req.set_job_id(out.job_id);
-  v1::JobInfo info;
-  for (int i = 0; i < 500; ++i) {
-    grpc::ClientContext c;
-    ASSERT_TRUE(s.stub().GetJob(&c, req, &info).ok());
-    if (info.state() != v1::JOB_STATE_RUNNING) break;
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
-  EXPECT_EQ(info.state(), v1::JOB_STATE_CANCELLED);
-  EXPECT_EQ(info.status_code(), "CANCELLED");
+  std::optional<v1::JobInfo> info =
+      testing::WaitWhile(s.stub(), out.job_id, v1::JOB_STATE_RUNNING, 5.0);
+  ASSERT_TRUE(info) << "job still running 5 s after the cancel";
+  EXPECT_EQ(info->state(), v1::JOB_STATE_CANCELLED);
+  EXPECT_EQ(info->status_code(), "CANCELLED");
 
   // The single worker is free again.
   grpc::ClientContext ctx2;

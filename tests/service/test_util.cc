@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <set>
 #include <sstream>
+#include <thread>
 
 #include "absl/strings/str_cat.h"
 #include "engine/io/mesh_io.h"
@@ -105,6 +106,27 @@ v1::JobSpec RatioSpec(double ratio, int threads) {
   spec.mutable_options()->set_threads(threads);
   spec.set_client_label("test");
   return spec;
+}
+
+std::optional<v1::JobInfo> GetJob(v1::Simplifier::Stub& stub, const std::string& id) {
+  grpc::ClientContext ctx;
+  v1::GetJobRequest req;
+  req.set_job_id(id);
+  v1::JobInfo info;
+  if (!stub.GetJob(&ctx, req, &info).ok()) return std::nullopt;
+  return info;
+}
+
+std::optional<v1::JobInfo> WaitWhile(v1::Simplifier::Stub& stub, const std::string& id,
+                                     v1::JobState state, double timeout_seconds) {
+  const auto end =
+      std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_seconds);
+  while (std::chrono::steady_clock::now() < end) {
+    std::optional<v1::JobInfo> info = GetJob(stub, id);
+    if (!info || info->state() != state) return info;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  return std::nullopt;
 }
 
 grpc::Status SendRaw(v1::Simplifier::Stub& stub, const std::vector<v1::SimplifyRequest>& requests) {

@@ -4,6 +4,7 @@
 
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -43,6 +44,13 @@ class InProcessServer {
 };
 
 v1::JobSpec RatioSpec(double ratio, int threads = 0);
+
+// GetJob; nullopt when the call fails (unknown job).
+std::optional<v1::JobInfo> GetJob(v1::Simplifier::Stub& stub, const std::string& id);
+// Polls GetJob every 2 ms while the job is in `state`; the job as last seen, nullopt when it is
+// unknown or still in `state` after the timeout.
+std::optional<v1::JobInfo> WaitWhile(v1::Simplifier::Stub& stub, const std::string& id,
+                                     v1::JobState state, double timeout_seconds = 60);
 
 // Sends exactly these requests, half-closes, reads to the end; the call's status.
 grpc::Status SendRaw(v1::Simplifier::Stub& stub, const std::vector<v1::SimplifyRequest>& requests);

@@ -451,8 +451,8 @@ TEST(JobQueue, ReservationsBoundCapacity) {
   EXPECT_TRUE(q.TryReserve());
   EXPECT_TRUE(q.TryReserve());
   EXPECT_FALSE(q.TryReserve());
-  auto a = std::make_shared<server::Job>("a", "", SimplifyOptions{}, 3, 1, false);
-  auto b = std::make_shared<server::Job>("b", "", SimplifyOptions{}, 3, 1, false);
+  auto a = std::make_shared<server::Job>("a", "", SimplifyOptions{}, 3, 1);
+  auto b = std::make_shared<server::Job>("b", "", SimplifyOptions{}, 3, 1);
   EXPECT_TRUE(q.PushReserved(a));
   EXPECT_TRUE(q.PushReserved(b));
   EXPECT_EQ(q.Position(b.get()), 1);

@@ -1,0 +1,97 @@
+#include "server/job_runner.h"
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "proto/wire.h"
+#include "server/log.h"
+#include "server/status_util.h"
+
+namespace femsimp::server {
+
+JobRunner::JobRunner(int workers, JobQueue& queue, JobRegistry& registry, Metrics& metrics)
+    : queue_(queue), registry_(registry), metrics_(metrics), pool_(workers) {
+  driver_ = std::thread([this] { pool_.Run([this](int) { Work(); }); });
+}
+
+JobRunner::~JobRunner() {
+  queue_.Close();
+  Join();
+}
+
+void JobRunner::Join() {
+  if (driver_.joinable()) driver_.join();
+}
+
+void JobRunner::Work() {
+  while (std::shared_ptr<Job> job = queue_.Pop()) {
+    metrics_.SetQueueDepth(queue_.waiting());
+    Run(job);
+  }
+}
+
+void JobRunner::Run(const std::shared_ptr<Job>& job) {
+  std::optional<Mesh> mesh = job->Start();
+  if (!mesh) return;  // ended while queued (cancelled, shutdown)
+  const double queued = job->queued_seconds();
+  if (job->cancelled()) {  // cancelled between Pop and Start
+    job->FinishCancelled();
+    registry_.MarkFinished(job);
+    return;
+  }
+
+  metrics_.SetRunning(++running_);
+  const SimplifyOptions& o = job->options();
+  LogLine(absl::StrFormat(
+      "job %s start: label=\"%s\" vertices=%u faces=%u fields=%u backend=%s contexts=%d "
+      "ratio=%g target_vertices=%u cost=%s tolerance=%g tolerance_relative=%g queued=%.3fs",
+      job->id(), job->label(), job->input_vertices(), job->input_faces(),
+      mesh->field_names().size(), wire::BackendName(o.backend), job->contexts(), o.ratio,
+      o.target_vertices, CostKindName(o.cost), o.tolerance, o.tolerance_relative, queued));
+
+  SimplifyControl control;
+  control.cancelled = [&job] { return job->cancelled(); };
+  control.on_pass = [&](const PassStats& p) {
+    metrics_.PassFinished(o.backend, p);
+    job->AddPass(p);
+  };
+  absl::StatusOr<SimplifyResult> result = Simplify(*mesh, o, control);
+
+  grpc::Status status;
+  if (!result.ok()) {
+    status = ToGrpc(absl::Status(result.status().code(), absl::StrCat("simplification failed: ",
+                                                                      result.status().message())));
+  } else if (job->cancelled()) {
+    status = job->cancel_status();
+  }
+  RawMesh output;
+  if (result.ok() && status.ok()) output = mesh->ToRaw();
+  mesh.reset();  // the engine's arrays go before the next job starts
+  // Metrics before the job ends: a client that saw its job end then sees it counted.
+  if (result.ok() && status.ok())
+    metrics_.JobCompleted(o.backend, job->contexts(), result->engine_seconds, queued, *result);
+  metrics_.SetRunning(--running_);
+  if (!result.ok())
+    job->Finish(JobState::kFailed, status);
+  else if (!status.ok())
+    job->FinishCancelled();
+  else
+    job->Succeed(*result, std::move(output));
+  registry_.MarkFinished(job);
+
+  const double run_seconds = job->run_seconds();
+  if (result.ok() && status.ok()) {
+    double speedup = result->engine_seconds > 0 ? result->busy_seconds / result->engine_seconds : 0;
+    LogLine(absl::StrFormat(
+        "job %s end: OK vertices=%u->%u faces=%u->%u passes=%u engine=%.3fs busy=%.3fs "
+        "speedup=%.2f stop=%s run=%.3fs",
+        job->id(), result->input_vertices, result->output_vertices, result->input_faces,
+        result->output_faces, result->passes.size(), result->engine_seconds, result->busy_seconds,
+        speedup, StopReasonName(result->stop_reason), run_seconds));
+  } else {
+    LogLine(absl::StrFormat("job %s end: %s \"%s\" passes=%u run=%.3fs", job->id(),
+                            StatusCodeName(status.error_code()), status.error_message(),
+                            result.ok() ? result->passes.size() : 0, run_seconds));
+  }
+}
+
+}  // namespace femsimp::server

@@ -1,0 +1,235 @@
+// Cancellation inside a pass, through the server: a passed deadline, CancelJob and a client-side
+// cancel end a running job within 0.5 s on both back ends, and the worker is free afterwards.
+#include <chrono>
+#include <condition_variable>
+#include <cstdio>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+
+#include "gtest/gtest.h"
+#include "tests/service/test_util.h"
+
+namespace femsimp {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using std::chrono::milliseconds;
+using testing::GetJob;
+using testing::InProcessServer;
+using testing::WaitWhile;
+
+// What the issue demands between the deadline or the cancel and the end of the job.
+constexpr double kMaxLatencySeconds = 0.5;
+
+double Since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+// One worker with one context, so that "the next job runs" shows that the cancelled one let go.
+server::ServerConfig OneWorker() {
+  server::ServerConfig c = testing::TestConfig();
+  c.workers = 1;
+  c.threads_per_job = 1;
+  return c;
+}
+
+// 1M vertices, 2M faces, uploaded in about 0.5 s. With the options below the first pass takes
+// about 5 s on one native thread and 7 s on one emulated SPE (more on a loaded machine), so a
+// cancel 1 to 3 s into the job lands inside it, past the pass's cost and sort phases.
+const RawMesh& BigMesh() {
+  static const RawMesh mesh = testing::MakeTorus(1000, 1000);
+  return mesh;
+}
+
+v1::JobSpec LongJob(v1::Backend backend) {
+  v1::JobSpec spec;
+  spec.set_client_label("long");
+  spec.mutable_options()->set_target_vertices(50);
+  spec.mutable_options()->set_threads(1);
+  spec.mutable_options()->set_backend(backend);
+  if (backend == v1::BACKEND_CELL) {
+    spec.mutable_options()->mutable_cell()->set_spes(1);
+  } else {
+    // Bounds that make each collapse dearer (deviation and volume checks), not the cost phase.
+    spec.mutable_options()->set_tolerance_relative(0.01);
+    spec.mutable_options()->set_max_volume_change(0.01);
+  }
+  return spec;
+}
+
+// A long job on its own thread: the test cancels it while it runs.
+class LongCall {
+ public:
+  LongCall(InProcessServer& s, v1::Backend backend,
+           std::optional<std::chrono::system_clock::time_point> deadline = std::nullopt)
+      : s_(s) {
+    if (deadline) ctx_.set_deadline(*deadline);
+    cli::RemoteCallbacks cb;
+    cb.on_accepted = [this](const v1::Accepted& a) {
+      std::lock_guard<std::mutex> lock(mu_);
+      id_ = a.job_id();
+      cv_.notify_all();
+    };
+    thread_ = std::thread([this, backend, cb] {
+      outcome_ = cli::RemoteSimplify(s_.stub(), ctx_, LongJob(backend), BigMesh(), cb, false);
+      ended_ = Clock::now();
+    });
+  }
+  ~LongCall() { Join(); }
+
+  // Waits for the job's id, then until it runs; false when it never did.
+  bool WaitRunning() {
+    std::string id;
+    {
+      std::unique_lock<std::mutex> lock(mu_);
+      if (!cv_.wait_for(lock, std::chrono::seconds(60), [&] { return !id_.empty(); })) return false;
+      id = id_;
+    }
+    std::optional<v1::JobInfo> info = WaitWhile(s_.stub(), id, v1::JOB_STATE_QUEUED);
+    running_since_ = Clock::now();
+    return info && info->state() == v1::JOB_STATE_RUNNING;
+  }
+  void Join() {
+    if (thread_.joinable()) thread_.join();
+  }
+
+  grpc::ClientContext& ctx() { return ctx_; }
+  std::string id() {
+    std::lock_guard<std::mutex> lock(mu_);
+    return id_;
+  }
+  Clock::time_point running_since() const { return running_since_; }
+  // After Join():
+  const cli::RemoteOutcome& outcome() const { return outcome_; }
+  Clock::time_point ended() const { return ended_; }
+
+ private:
+  InProcessServer& s_;
+  grpc::ClientContext ctx_;
+  std::mutex mu_;
+  std::condition_variable cv_;
+  std::string id_;
+  Clock::time_point running_since_{}, ended_{};
+  cli::RemoteOutcome outcome_;
+  std::thread thread_;
+};
+
+// The job is over on the server (not RUNNING) and the single worker takes the next job.
+void ExpectWorkerFree(InProcessServer& s) {
+  grpc::ClientContext ictx;
+  v1::ServerInfoResponse info;
+  ASSERT_TRUE(s.stub().ServerInfo(&ictx, {}, &info).ok());
+  EXPECT_EQ(info.running_jobs(), 0u);
+  grpc::ClientContext ctx;
+  ctx.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(60));
+  cli::RemoteOutcome next = cli::RemoteSimplify(s.stub(), ctx, testing::RatioSpec(0.5),
+                                                testing::LoadTestMesh("fandisk.off"));
+  EXPECT_TRUE(next.status.ok()) << next.status.error_message();
+}
+
+std::string BackendName(const ::testing::TestParamInfo<v1::Backend>& p) {
+  return p.param == v1::BACKEND_CELL ? "Cell" : "Native";
+}
+
+class CancelInPass : public ::testing::TestWithParam<v1::Backend> {
+ protected:
+  // Waits until the job has run 1.2 s: well inside its first pass, past the cost and sort.
+  static void IntoFirstPass(InProcessServer& s, LongCall& call) {
+    ASSERT_TRUE(call.WaitRunning()) << "the job never ran";
+    std::this_thread::sleep_until(call.running_since() + milliseconds(1200));
+    std::optional<v1::JobInfo> info = GetJob(s.stub(), call.id());
+    ASSERT_TRUE(info);
+    ASSERT_EQ(info->state(), v1::JOB_STATE_RUNNING);
+    ASSERT_EQ(info->passes_done(), 0u) << "the first pass was over before the cancel";
+  }
+};
+
+TEST_P(CancelInPass, CancelJobEndsTheCallWithinHalfASecond) {
+  InProcessServer s(OneWorker());
+  LongCall call(s, GetParam());
+  ASSERT_NO_FATAL_FAILURE(IntoFirstPass(s, call));
+
+  const Clock::time_point cancelled = Clock::now();
+  grpc::ClientContext c;
+  v1::CancelJobRequest req;
+  req.set_job_id(call.id());
+  v1::CancelJobResponse resp;
+  ASSERT_TRUE(s.stub().CancelJob(&c, req, &resp).ok());
+  EXPECT_EQ(resp.previous_state(), v1::JOB_STATE_RUNNING);
+  call.Join();
+  const double latency = std::chrono::duration<double>(call.ended() - cancelled).count();
+  std::printf("CancelJob (%s) in pass 1: the call ended %.3f s after the cancel\n",
+              GetParam() == v1::BACKEND_CELL ? "cell" : "native", latency);
+
+  EXPECT_EQ(call.outcome().status.error_code(), grpc::StatusCode::CANCELLED)
+      << call.outcome().status.error_message();
+  EXPECT_NE(call.outcome().status.error_message().find("CancelJob"), std::string::npos);
+  EXPECT_LT(latency, kMaxLatencySeconds);
+  std::optional<v1::JobInfo> after = GetJob(s.stub(), call.id());
+  ASSERT_TRUE(after);
+  EXPECT_EQ(after->state(), v1::JOB_STATE_CANCELLED);
+  EXPECT_EQ(after->status_code(), "CANCELLED");
+  EXPECT_EQ(after->passes_done(), 1u);  // the cancelled pass is reported too
+  ExpectWorkerFree(s);
+}
+
+TEST_P(CancelInPass, ClientCancelEndsTheJobWithinHalfASecond) {
+  InProcessServer s(OneWorker());
+  LongCall call(s, GetParam());
+  ASSERT_NO_FATAL_FAILURE(IntoFirstPass(s, call));
+
+  const Clock::time_point cancelled = Clock::now();
+  call.ctx().TryCancel();
+  std::optional<v1::JobInfo> after = WaitWhile(s.stub(), call.id(), v1::JOB_STATE_RUNNING);
+  const double latency = Since(cancelled);
+  call.Join();
+  std::printf("client cancel (%s) in pass 1: the job ended %.3f s after the cancel\n",
+              GetParam() == v1::BACKEND_CELL ? "cell" : "native", latency);
+
+  EXPECT_EQ(call.outcome().status.error_code(), grpc::StatusCode::CANCELLED);
+  ASSERT_TRUE(after);
+  EXPECT_EQ(after->state(), v1::JOB_STATE_CANCELLED);
+  EXPECT_EQ(after->status_code(), "CANCELLED") << after->status_message();
+  EXPECT_EQ(after->passes_done(), 1u);  // the cancelled pass is reported too
+  EXPECT_LT(latency, kMaxLatencySeconds);
+  ExpectWorkerFree(s);
+}
+
+TEST_P(CancelInPass, DeadlineEndsTheJobWithinHalfASecond) {
+  InProcessServer s(OneWorker());
+  // The upload and the mesh build take about half a second; the deadline then falls into pass 1
+  // (which the job reports as its one pass, cancelled).
+  const auto deadline = std::chrono::system_clock::now() + milliseconds(3500);
+  const Clock::time_point steady_deadline = Clock::now() + milliseconds(3500);
+  LongCall call(s, GetParam(), deadline);
+  ASSERT_TRUE(call.WaitRunning()) << "the job never ran";
+  ASSERT_LT(call.running_since(), steady_deadline) << "the upload took the whole deadline";
+  std::optional<v1::JobInfo> after = WaitWhile(s.stub(), call.id(), v1::JOB_STATE_RUNNING);
+  const double latency = Since(steady_deadline);
+  call.Join();
+  const double call_latency = std::chrono::duration<double>(call.ended() - steady_deadline).count();
+  ASSERT_TRUE(after);
+  std::printf(
+      "deadline (%s), %.3f s into the job, in pass %u: the call ended %.3f s and the job "
+      "%.3f s after it\n",
+      GetParam() == v1::BACKEND_CELL ? "cell" : "native",
+      std::chrono::duration<double>(steady_deadline - call.running_since()).count(),
+      after->passes_done(), call_latency, latency);
+
+  EXPECT_EQ(call.outcome().status.error_code(), grpc::StatusCode::DEADLINE_EXCEEDED)
+      << call.outcome().status.error_message();
+  EXPECT_LT(call_latency, kMaxLatencySeconds);
+  EXPECT_EQ(after->state(), v1::JOB_STATE_CANCELLED);
+  EXPECT_EQ(after->status_code(), "DEADLINE_EXCEEDED") << after->status_message();
+  EXPECT_EQ(after->passes_done(), 1u) << "the deadline did not fall into the first pass";
+  EXPECT_LT(latency, kMaxLatencySeconds);
+  ExpectWorkerFree(s);
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, CancelInPass,
+                         ::testing::Values(v1::BACKEND_NATIVE, v1::BACKEND_CELL), BackendName);
+
+}  // namespace
+}  // namespace femsimp
