@@ -5,6 +5,7 @@
 #include <cstring>
 #include <limits>
 #include <tuple>
+#include <type_traits>
 #include <utility>
 
 #include "absl/container/flat_hash_map.h"
@@ -26,21 +27,31 @@ constexpr size_t kMaxListedErrors = 20;
 
 struct KindInfo {
   const char* name;
-  const char* singular;
+  const char* singular;  // records and errors: "flipped facet 5 at ..."
   const char* plural;
-  const char* verb;  // for the summary line
+  const char* verb;  // the summary: verb, count, noun, suffix ("flipped 2 facets")
+  const char* noun;
+  const char* nouns;
+  const char* suffix;
 };
 constexpr KindInfo kKinds[kNumRepairKinds] = {
-    {"welded_vertex", "welded vertex", "welded vertices", "welded"},
-    {"stitched_edge", "stitched edge", "stitched edges", "stitched"},
-    {"degenerate_facet", "degenerate facet", "degenerate facets", "removed"},
-    {"duplicate_facet", "duplicate facet", "duplicate facets", "removed"},
-    {"flipped_facet", "flipped facet", "flipped facets", "flipped"},
-    {"reversed_component", "inside-out component", "inside-out components", "turned outward"},
-    {"split_vertex", "non-manifold vertex", "non-manifold vertices", "split"},
-    {"unreferenced_vertex", "unreferenced vertex", "unreferenced vertices", "dropped"},
-    {"seam_edge", "non-manifold edge", "non-manifold edges", "kept"},
-    {"non_orientable", "non-orientable component", "non-orientable components", "left"},
+    {"welded_vertex", "welded vertex", "welded vertices", "welded", "vertex", "vertices", ""},
+    {"stitched_edge", "stitched edge", "stitched edges", "stitched", "edge", "edges", ""},
+    {"degenerate_facet", "degenerate facet", "degenerate facets", "removed", "degenerate facet",
+     "degenerate facets", ""},
+    {"duplicate_facet", "duplicate facet", "duplicate facets", "removed", "duplicate facet",
+     "duplicate facets", ""},
+    {"flipped_facet", "flipped facet", "flipped facets", "flipped", "facet", "facets", ""},
+    {"reversed_component", "inside-out component", "inside-out components", "turned",
+     "inside-out component", "inside-out components", " outward"},
+    {"split_vertex", "non-manifold vertex", "non-manifold vertices", "split", "non-manifold vertex",
+     "non-manifold vertices", ""},
+    {"unreferenced_vertex", "unreferenced vertex", "unreferenced vertices", "dropped",
+     "unreferenced vertex", "unreferenced vertices", ""},
+    {"seam_edge", "non-manifold edge", "non-manifold edges", "kept", "non-manifold edge",
+     "non-manifold edges", " as seams"},
+    {"non_orientable", "non-orientable component", "non-orientable components", "left",
+     "non-orientable component", "non-orientable components", " as they were"},
 };
 
 const KindInfo& Info(RepairKind kind) { return kKinds[static_cast<size_t>(kind)]; }
@@ -113,11 +124,20 @@ class Repairer {
       for (int k = 0; k < 3; ++k) c[k] += Pos(t[i])[k] / 3.0;
     return c;
   }
-  void Record(RepairKind kind, int64_t facet, int64_t vertex, std::array<double, 3> at,
-              std::string detail) {
+  // Counts one change; records it while under the cap. `detail` is a string or, where the text
+  // is costly and changes may number millions, a callable making it.
+  template <typename Detail>
+  void Record(RepairKind kind, int64_t facet, int64_t vertex, const std::array<double, 3>& at,
+              Detail&& detail) {
     size_t& n = result_.report.counts[static_cast<size_t>(kind)];
-    if (n++ < options_.max_records_per_kind)
-      result_.report.records.push_back({kind, facet, vertex, at, std::move(detail)});
+    if (n++ >= options_.max_records_per_kind) return;
+    std::string text;
+    if constexpr (std::is_invocable_v<Detail>) {
+      text = detail();
+    } else {
+      text = std::string(detail);
+    }
+    result_.report.records.push_back({kind, facet, vertex, at, std::move(text)});
   }
   // Finds the corner of kept face k at working vertex v.
   uint32_t Origin(uint32_t w) const { return w < nv_ ? w : copy_of_[w - nv_]; }
@@ -239,8 +259,9 @@ void Repairer::Weld() {
     }
     return;
   }
-  // Cells four tolerances wide: a point's tolerance ball touches 1 or 2 cells per axis.
-  const double cell = 4 * tol, tol2 = tol * tol;
+  // Cells eight tolerances wide: a point's tolerance ball touches 1 cell per axis, 2 with
+  // probability 1/4, so about two cells are looked up per point.
+  const double cell = 8 * tol, tol2 = tol * tol;
   absl::flat_hash_map<CellKey, uint32_t> head;  // cell -> last representative put there
   std::vector<uint32_t> next(nv_, kNoIndex);    // earlier representative in the same cell
   head.reserve(nv_);
@@ -278,49 +299,82 @@ void Repairer::Weld() {
   }
 }
 
-// Removes degenerate facets, then later copies of a facet's vertex set.
+// Removes degenerate facets, then later copies of a facet's vertex set. Copies share their lowest
+// vertex: bucketing by it (a counting sort) and sorting each short bucket finds them without a
+// hash table of a million triples.
 void Repairer::FilterFacets() {
   const std::vector<uint32_t>& t = in_.triangles;
-  absl::flat_hash_map<std::array<uint32_t, 3>, uint32_t> seen;  // sorted vertices -> facet
-  seen.reserve(nf_);
+  constexpr uint32_t kKeep = kNoIndex, kRepeats = kNoIndex - 1, kZeroArea = kNoIndex - 2;
+  std::vector<uint32_t> fate(nf_, kKeep);  // kKeep, a degenerate kind, or the facet it copies
+  std::vector<uint32_t> start(nv_ + 1, 0);
+  for (uint32_t f = 0; f < nf_; ++f) {
+    const uint32_t* o = &t[3 * size_t(f)];
+    const uint32_t w[3] = {rep_[o[0]], rep_[o[1]], rep_[o[2]]};
+    if (w[0] == w[1] || w[1] == w[2] || w[0] == w[2]) {
+      fate[f] = kRepeats;
+      continue;
+    }
+    double longest2;
+    const double area2 = TriangleArea2(Pos(w[0]), Pos(w[1]), Pos(w[2]), &longest2);
+    if (!(area2 > kZeroAreaRatio * longest2)) {
+      fate[f] = kZeroArea;
+      continue;
+    }
+    ++start[std::min({w[0], w[1], w[2]}) + 1];
+  }
+  for (size_t v = 0; v < nv_; ++v) start[v + 1] += start[v];
+  std::vector<std::array<uint32_t, 3>> bucket(start[nv_]);  // (middle, highest, facet)
+  {
+    std::vector<uint32_t> fill(start.begin(), start.end() - 1);
+    for (uint32_t f = 0; f < nf_; ++f) {
+      if (fate[f] != kKeep) continue;
+      std::array<uint32_t, 3> w = {rep_[t[3 * size_t(f)]], rep_[t[3 * size_t(f) + 1]],
+                                   rep_[t[3 * size_t(f) + 2]]};
+      std::sort(w.begin(), w.end());
+      bucket[fill[w[0]]++] = {w[1], w[2], f};
+    }
+  }
+  for (size_t v = 0; v < nv_; ++v) {
+    if (start[v + 1] - start[v] < 2) continue;
+    std::sort(bucket.begin() + start[v], bucket.begin() + start[v + 1]);
+    for (uint32_t i = start[v] + 1, first = start[v]; i < start[v + 1]; ++i) {
+      if (bucket[i][0] != bucket[first][0] || bucket[i][1] != bucket[first][1]) {
+        first = i;
+        continue;
+      }
+      fate[bucket[i][2]] = bucket[first][2];
+    }
+  }
   kept_.reserve(nf_);
   tri_.reserve(3 * nf_);
   orig_.reserve(3 * nf_);
   for (uint32_t f = 0; f < nf_; ++f) {
     const uint32_t* o = &t[3 * size_t(f)];
     const uint32_t w[3] = {rep_[o[0]], rep_[o[1]], rep_[o[2]]};
-    if (w[0] == w[1] || w[1] == w[2] || w[0] == w[2]) {
+    if (fate[f] == kRepeats) {
       const bool before = o[0] == o[1] || o[1] == o[2] || o[0] == o[2];
-      Record(RepairKind::kDegenerateFacet, f, -1, Centroid(o),
-             before ? absl::StrCat("repeats a vertex (", o[0], ", ", o[1], ", ", o[2], ")")
-                    : absl::StrCat("two of its corners weld together (vertices ", o[0], ", ", o[1],
-                                   ", ", o[2], ")"));
-      continue;
-    }
-    double longest2;
-    const double area2 = TriangleArea2(Pos(w[0]), Pos(w[1]), Pos(w[2]), &longest2);
-    if (!(area2 > kZeroAreaRatio * longest2)) {
+      Record(RepairKind::kDegenerateFacet, f, -1, Centroid(o), [&] {
+        return absl::StrCat(before ? "repeats a vertex" : "two of its corners weld together",
+                            " (vertices ", o[0], ", ", o[1], ", ", o[2], ")");
+      });
+    } else if (fate[f] == kZeroArea) {
       Record(RepairKind::kDegenerateFacet, f, -1, Centroid(w),
              "zero area (its corners lie on a line)");
-      continue;
-    }
-    std::array<uint32_t, 3> key = {w[0], w[1], w[2]};
-    std::sort(key.begin(), key.end());
-    auto [it, inserted] = seen.try_emplace(key, f);
-    if (!inserted) {
-      // Same cyclic order = same orientation.
-      const uint32_t* first = &t[3 * size_t(it->second)];
+    } else if (fate[f] != kKeep) {
+      const uint32_t* first = &t[3 * size_t(fate[f])];
       const uint32_t w0 = rep_[first[0]], w1 = rep_[first[1]];
+      // The same cyclic order is the same orientation.
       const bool same =
           (w[0] == w0 && w[1] == w1) || (w[1] == w0 && w[2] == w1) || (w[2] == w0 && w[0] == w1);
-      Record(RepairKind::kDuplicateFacet, f, -1, Centroid(w),
-             absl::StrCat("same vertices as facet ", it->second,
-                          same ? "" : ", opposite orientation (a zero-volume double wall)"));
-      continue;
+      Record(RepairKind::kDuplicateFacet, f, -1, Centroid(w), [&] {
+        return absl::StrCat("same vertices as facet ", fate[f],
+                            same ? "" : ", opposite orientation (a zero-volume double wall)");
+      });
+    } else {
+      kept_.push_back(f);
+      tri_.insert(tri_.end(), w, w + 3);
+      orig_.insert(orig_.end(), o, o + 3);
     }
-    kept_.push_back(f);
-    tri_.insert(tri_.end(), w, w + 3);
-    orig_.insert(orig_.end(), o, o + 3);
   }
 }
 
@@ -508,14 +562,14 @@ void Repairer::SplitVertices() {
       copy_of_.push_back(v);
       ++copies;
     }
-    if (copies > 0) {
-      std::string facets;
-      for (size_t j = 0; j < fans.size(); ++j)
-        absl::StrAppend(&facets, j == 0 ? "" : ", ", kept_[fans[j].first_corner / 3]);
-      Record(RepairKind::kSplitVertex, first_facet_[v], v, PosD(v),
-             absl::StrCat(fans.size(), " fans meet there (first facets ", facets, ")",
-                          strict_ ? "" : absl::StrCat("; ", copies, " copies added")));
-    }
+    if (copies > 0)
+      Record(RepairKind::kSplitVertex, first_facet_[v], v, PosD(v), [&] {
+        std::string facets;
+        for (size_t j = 0; j < fans.size(); ++j)
+          absl::StrAppend(&facets, j == 0 ? "" : ", ", kept_[fans[j].first_corner / 3]);
+        return absl::StrCat(fans.size(), " fans meet there (first facets ", facets, ")",
+                            strict_ ? "" : absl::StrCat("; ", copies, " copies added"));
+      });
     for (size_t j = begin; j < end; ++j) {
       const uint32_t c = at_split[j].second, r = corners.Find(c);
       for (const Fan& fan : fans)
@@ -543,16 +597,19 @@ void Repairer::ReportVertices() {
       went[o] = rep_[o];
     }
     if (moved[o]) {
-      const uint32_t r = went[o];
-      double d2 = 0;
-      for (int k = 0; k < 3; ++k) d2 += (double(Pos(o)[k]) - Pos(r)[k]) * (Pos(o)[k] - Pos(r)[k]);
-      Record(RepairKind::kWeldedVertex, first_facet_[o], o, PosD(o),
-             absl::StrFormat("merged into vertex %u (distance %.3g)", r, std::sqrt(d2)));
+      Record(RepairKind::kWeldedVertex, first_facet_[o], o, PosD(o), [&] {
+        const uint32_t r = went[o];
+        double d2 = 0;
+        for (int k = 0; k < 3; ++k)
+          d2 += (double(Pos(o)[k]) - Pos(r)[k]) * (double(Pos(o)[k]) - Pos(r)[k]);
+        return absl::StrFormat("merged into vertex %u (distance %.3g)", r, std::sqrt(d2));
+      });
     } else if (went[o] == kNoIndex) {
-      Record(RepairKind::kUnreferencedVertex, -1, o, PosD(o),
-             first_facet_[o] == kNoIndex
-                 ? "no facet uses it"
-                 : absl::StrCat("its facets were removed (first: ", first_facet_[o], ")"));
+      Record(RepairKind::kUnreferencedVertex, -1, o, PosD(o), [&] {
+        return first_facet_[o] == kNoIndex
+                   ? std::string("no facet uses it")
+                   : absl::StrCat("its facets were removed (first: ", first_facet_[o], ")");
+      });
     }
   }
 }
@@ -567,13 +624,14 @@ void Repairer::ReportEdges() {
     uint32_t ends[2], m = 0;  // corners of k0 on the edge
     for (uint32_t j = 0; j < 3 && m < 2; ++j)
       if (tri_[CornerAt(k1, tri_[3 * k0 + j])] == tri_[3 * k0 + j]) ends[m++] = 3 * k0 + j;
+    if (n == 2 && orig_[CornerAt(k1, tri_[ends[0]])] == orig_[ends[0]] &&
+        orig_[CornerAt(k1, tri_[ends[1]])] == orig_[ends[1]])
+      continue;
     const std::array<double, 3> a = PosD(Origin(tri_[ends[0]])), b = PosD(Origin(tri_[ends[1]]));
     if (n == 2) {
-      if (orig_[CornerAt(k1, tri_[ends[0]])] == orig_[ends[0]] &&
-          orig_[CornerAt(k1, tri_[ends[1]])] == orig_[ends[1]])
-        continue;
-      Record(RepairKind::kStitchedEdge, kept_[k0], orig_[ends[0]], a,
-             absl::StrCat("to ", Point(b), ": joins facets ", kept_[k0], " and ", kept_[k1]));
+      Record(RepairKind::kStitchedEdge, kept_[k0], orig_[ends[0]], a, [&] {
+        return absl::StrCat("to ", Point(b), ": joins facets ", kept_[k0], " and ", kept_[k1]);
+      });
       continue;
     }
     SeamEdge seam;
@@ -581,9 +639,10 @@ void Repairer::ReportEdges() {
     seam.b = tri_[ends[1]];
     for (uint32_t i = ebeg_[e]; i < ebeg_[e + 1]; ++i) seam.facets.push_back(kept_[ehe_[i] / 3]);
     std::sort(seam.facets.begin(), seam.facets.end());
-    Record(RepairKind::kSeamEdge, seam.facets[0], orig_[ends[0]], a,
-           absl::StrCat("to ", Point(b), ": shared by ", n, " facets (",
-                        absl::StrJoin(seam.facets, ", "), ")"));
+    Record(RepairKind::kSeamEdge, seam.facets[0], orig_[ends[0]], a, [&] {
+      return absl::StrCat("to ", Point(b), ": shared by ", n, " facets (",
+                          absl::StrJoin(seam.facets, ", "), ")");
+    });
     for (int k = 0; k < 3; ++k) {
       seam.pa[k] = float(a[k]);
       seam.pb[k] = float(b[k]);
@@ -749,8 +808,8 @@ std::string RepairReport::Summary() const {
   for (size_t k = 0; k < kNumRepairKinds; ++k) {
     if (counts[k] == 0) continue;
     const KindInfo& info = kKinds[k];
-    std::string item =
-        absl::StrCat(info.verb, " ", counts[k], " ", counts[k] == 1 ? info.singular : info.plural);
+    std::string item = absl::StrCat(info.verb, " ", counts[k], " ",
+                                    counts[k] == 1 ? info.noun : info.nouns, info.suffix);
     if (static_cast<RepairKind>(k) == RepairKind::kWeldedVertex)
       absl::StrAppend(&item, absl::StrFormat(" (tolerance %.3g of the diagonal = %.3g)",
                                              weld_tolerance_relative, weld_tolerance_absolute));

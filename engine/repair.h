@@ -79,7 +79,7 @@ struct RepairReport {
   size_t num_changes() const;       // sum of the counts of the change kinds
   size_t num_defects_left() const;  // sum of the counts of the kinds left in place
   // One line of counts, e.g. "repair: welded 3 vertices (tolerance 1e-07 of the diagonal =
-  // 1.7e-07), flipped 2 facets; 4 non-manifold edges kept as seams", or "repair: no changes".
+  // 1.7e-07), flipped 2 facets; kept 4 non-manifold edges as seams", or "repair: no changes".
   std::string Summary() const;
   // Summary() and then one line per record, with "... and N more" per kind beyond the cap.
   std::string Details() const;
