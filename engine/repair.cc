@@ -139,8 +139,9 @@ class Repairer {
     }
     result_.report.records.push_back({kind, facet, vertex, at, std::move(text)});
   }
-  // Finds the corner of kept face k at working vertex v.
+  // The input vertex a working vertex stands for (split copies: the vertex they were split from).
   uint32_t Origin(uint32_t w) const { return w < nv_ ? w : copy_of_[w - nv_]; }
+  // The corner of kept face k at working vertex v (the last corner when v is not on k).
   uint32_t CornerAt(uint32_t k, uint32_t v) const {
     const uint32_t c = 3 * k;
     return tri_[c] == v ? c : tri_[c + 1] == v ? c + 1 : c + 2;
@@ -176,6 +177,10 @@ class Repairer {
 
 absl::Status Repairer::CheckInput() const {
   const RawMesh& m = in_;
+  if (!(options_.weld_tolerance >= 0 && options_.weld_tolerance < 1))
+    return absl::InvalidArgumentError(
+        absl::StrCat("weld tolerance ", options_.weld_tolerance,
+                     ": must be at least 0 and below 1 (a fraction of the diagonal)"));
   if (m.positions.size() % 3 != 0)
     return absl::InvalidArgumentError(
         absl::StrCat("vertex coordinates: ", m.positions.size(), " is not a multiple of 3"));
@@ -245,7 +250,7 @@ void Repairer::Weld() {
       std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
                 (hi[2] - lo[2]) * (hi[2] - lo[2]));
   if (strict_) return;  // Build accepts coincident vertices: not a defect
-  report.weld_tolerance_relative = std::max(0.0, options_.weld_tolerance);
+  report.weld_tolerance_relative = options_.weld_tolerance;
   const double tol = report.weld_tolerance_relative * report.diagonal;
   report.weld_tolerance_absolute = tol;
 

@@ -439,6 +439,13 @@ TEST(Repair, UnrepairableInputIsRefusedWithEveryProblem) {
   EXPECT_HAS(message, "facet 10 references vertex 41");
   EXPECT_HAS(message, "vertex 6 (used by facet 0) has a non-finite coordinate");
 
+  RawMesh cube = Cube();
+  RepairOptions bad;
+  bad.weld_tolerance = -1e-7;
+  r = RepairMesh(cube, bad);
+  ASSERT_FALSE(r.ok());
+  EXPECT_HAS(r.status().message(), "weld tolerance -1e-07: must be at least 0");
+
   RawMesh all_degenerate = {{0, 0, 0, 1, 0, 0, 2, 0, 0}, {0, 1, 2}, {}, {}};
   r = RepairMesh(all_degenerate, {});
   ASSERT_FALSE(r.ok());
@@ -478,6 +485,38 @@ TEST(Repair, FandiskWithFlippedAndDuplicatedFacets) {
   EXPECT_HAS(dups, "same vertices as facet 10\n");
   EXPECT_HAS(dups, "duplicate facet 7001 at");
   EXPECT_HAS(dups, "same vertices as facet 300, opposite orientation");
+}
+
+// As an STL file would give it: three vertices per facet, a few facets flipped and repeated.
+TEST(Repair, SoupOfFandiskIsWeldedBackDeterministically) {
+  const RawMesh clean = testing::LoadTestMesh("fandisk.off");
+  RawMesh soup;
+  for (size_t f = 0; f < clean.num_faces(); ++f) {
+    for (int i = 0; i < 3; ++i) {
+      const float* p = &clean.positions[3 * clean.triangles[3 * f + i]];
+      soup.positions.insert(soup.positions.end(), p, p + 3);
+    }
+    const uint32_t v = static_cast<uint32_t>(3 * f);
+    if (f % 997 == 5) {
+      AppendFacet(soup, {v, v + 2, v + 1});
+    } else {
+      AppendFacet(soup, {v, v + 1, v + 2});
+    }
+    if (f % 1999 == 7) AppendFacet(soup, {v + 1, v + 2, v});
+  }
+  RawMesh again = soup;
+  RepairResult r = Repair(soup);
+  ExpectBuilds(soup);
+  EXPECT_EQ(CornerPoints(soup), CornerPoints(clean));
+  const testing::SurfaceTopology a = testing::Topology(soup), b = testing::Topology(clean);
+  EXPECT_EQ(a.vertices, b.vertices);
+  EXPECT_EQ(a.edges, b.edges);
+  EXPECT_EQ(a.boundary_edges, b.boundary_edges);
+  EXPECT_EQ(r.report.count(RepairKind::kWeldedVertex), 3 * clean.num_faces() - b.vertices);
+  EXPECT_EQ(r.report.count(RepairKind::kFlippedFacet), (clean.num_faces() + 991) / 997);
+  EXPECT_EQ(r.report.count(RepairKind::kDuplicateFacet), (clean.num_faces() + 1991) / 1999);
+  Repair(again);
+  ExpectSameMesh(again, soup);
 }
 
 // Timing on a large mesh, when FEMSIMP_REPAIR_BENCH names one (e.g. bench/data/blade_loop3.ply):
