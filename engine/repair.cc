@@ -1,0 +1,849 @@
+#include "engine/repair.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <tuple>
+#include <type_traits>
+#include <utility>
+
+#include "absl/container/flat_hash_map.h"
+#include "absl/status/status.h"
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "absl/strings/str_join.h"
+
+namespace femsimp {
+namespace {
+
+constexpr uint32_t kNoIndex = std::numeric_limits<uint32_t>::max();
+// Mesh::Build refuses a face whose doubled area is not above this times its longest edge squared;
+// the same test, computed the same way, decides what is removed here, so that Build accepts the
+// result.
+constexpr double kZeroAreaRatio = 1e-12;
+// How many unrepairable problems an error lists before "and N more".
+constexpr size_t kMaxListedErrors = 20;
+
+struct KindInfo {
+  const char* name;
+  const char* singular;  // records and errors: "flipped facet 5 at ..."
+  const char* plural;
+  const char* verb;  // the summary: verb, count, noun, suffix ("flipped 2 facets")
+  const char* noun;
+  const char* nouns;
+  const char* suffix;
+};
+constexpr KindInfo kKinds[kNumRepairKinds] = {
+    {"welded_vertex", "welded vertex", "welded vertices", "welded", "vertex", "vertices", ""},
+    {"stitched_edge", "stitched edge", "stitched edges", "stitched", "edge", "edges", ""},
+    {"degenerate_facet", "degenerate facet", "degenerate facets", "removed", "degenerate facet",
+     "degenerate facets", ""},
+    {"duplicate_facet", "duplicate facet", "duplicate facets", "removed", "duplicate facet",
+     "duplicate facets", ""},
+    {"flipped_facet", "flipped facet", "flipped facets", "flipped", "facet", "facets", ""},
+    {"reversed_component", "inside-out component", "inside-out components", "turned",
+     "inside-out component", "inside-out components", " outward"},
+    {"split_vertex", "non-manifold vertex", "non-manifold vertices", "split", "non-manifold vertex",
+     "non-manifold vertices", ""},
+    {"unreferenced_vertex", "unreferenced vertex", "unreferenced vertices", "dropped",
+     "unreferenced vertex", "unreferenced vertices", ""},
+    {"seam_edge", "non-manifold edge", "non-manifold edges", "kept", "non-manifold edge",
+     "non-manifold edges", " as seams"},
+    {"non_orientable", "non-orientable component", "non-orientable components", "left",
+     "non-orientable component", "non-orientable components", " as they were"},
+};
+
+const KindInfo& Info(RepairKind kind) { return kKinds[static_cast<size_t>(kind)]; }
+
+std::string Point(const std::array<double, 3>& p) {
+  return absl::StrFormat("(%.9g, %.9g, %.9g)", p[0], p[1], p[2]);
+}
+
+double TriangleArea2(const float* a, const float* b, const float* c, double* longest2) {
+  // Same arithmetic as Mesh::Build's check (engine/mesh.cc), so both decide alike.
+  double u[3], w[3], e[3];
+  for (int i = 0; i < 3; ++i) {
+    u[i] = double(b[i]) - a[i];
+    w[i] = double(c[i]) - a[i];
+    e[i] = double(c[i]) - b[i];
+  }
+  double cx = u[1] * w[2] - u[2] * w[1], cy = u[2] * w[0] - u[0] * w[2],
+         cz = u[0] * w[1] - u[1] * w[0];
+  auto len2 = [](const double* v) { return v[0] * v[0] + v[1] * v[1] + v[2] * v[2]; };
+  *longest2 = std::max({len2(u), len2(w), len2(e)});
+  return std::sqrt(cx * cx + cy * cy + cz * cz);
+}
+
+struct CellKey {
+  int64_t x, y, z;
+  bool operator==(const CellKey& o) const { return x == o.x && y == o.y && z == o.z; }
+  template <typename H>
+  friend H AbslHashValue(H h, const CellKey& k) {
+    return H::combine(std::move(h), k.x, k.y, k.z);
+  }
+};
+
+class UnionFind {
+ public:
+  explicit UnionFind(size_t n) : parent_(n) {
+    for (size_t i = 0; i < n; ++i) parent_[i] = static_cast<uint32_t>(i);
+  }
+  uint32_t Find(uint32_t x) {
+    while (parent_[x] != x) x = parent_[x] = parent_[parent_[x]];
+    return x;
+  }
+  // The smaller root wins, so that roots do not depend on the order of the unions.
+  void Union(uint32_t a, uint32_t b) {
+    a = Find(a);
+    b = Find(b);
+    if (a < b) parent_[b] = a;
+    if (b < a) parent_[a] = b;
+  }
+
+ private:
+  std::vector<uint32_t> parent_;
+};
+
+class Repairer {
+ public:
+  Repairer(const RawMesh& in, const RepairOptions& options)
+      : in_(in), options_(options), strict_(options.mode == RepairMode::kOff) {}
+
+  absl::StatusOr<RepairResult> Run(RawMesh& mesh);
+
+ private:
+  const float* Pos(uint32_t v) const { return &in_.positions[3 * size_t(v)]; }
+  std::array<double, 3> PosD(uint32_t v) const {
+    const float* p = Pos(v);
+    return {p[0], p[1], p[2]};
+  }
+  std::array<double, 3> Centroid(const uint32_t* t) const {
+    std::array<double, 3> c{};
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) c[k] += Pos(t[i])[k] / 3.0;
+    return c;
+  }
+  // Counts one change; records it while under the cap. `detail` is a string or, where the text
+  // is costly and changes may number millions, a callable making it.
+  template <typename Detail>
+  void Record(RepairKind kind, int64_t facet, int64_t vertex, const std::array<double, 3>& at,
+              Detail&& detail) {
+    size_t& n = result_.report.counts[static_cast<size_t>(kind)];
+    if (n++ >= options_.max_records_per_kind) return;
+    std::string text;
+    if constexpr (std::is_invocable_v<Detail>) {
+      text = detail();
+    } else {
+      text = std::string(detail);
+    }
+    result_.report.records.push_back({kind, facet, vertex, at, std::move(text)});
+  }
+  // The input vertex a working vertex stands for (split copies: the vertex they were split from).
+  uint32_t Origin(uint32_t w) const { return w < nv_ ? w : copy_of_[w - nv_]; }
+  // The corner of kept face k at working vertex v (the last corner when v is not on k).
+  uint32_t CornerAt(uint32_t k, uint32_t v) const {
+    const uint32_t c = 3 * k;
+    return tri_[c] == v ? c : tri_[c + 1] == v ? c + 1 : c + 2;
+  }
+
+  absl::Status CheckInput() const;
+  void Weld();
+  void FilterFacets();
+  void BuildEdges();
+  void Orient();
+  void SplitVertices();
+  void ReportVertices();
+  void ReportEdges();
+  void WriteOutput(RawMesh& mesh);
+  absl::Status StrictError() const;
+
+  const RawMesh& in_;
+  const RepairOptions& options_;
+  const bool strict_;
+  size_t nv_ = 0, nf_ = 0;
+  RepairResult result_;
+
+  std::vector<uint32_t> first_facet_;  // per input vertex: first facet using it, or kNoIndex
+  std::vector<uint32_t> rep_;          // per input vertex: the vertex it is welded into
+  // Kept faces (in input order): their input facet, and per corner the working vertex (an input
+  // vertex, or nv_ + i for split copy i) and the input vertex the file gave.
+  std::vector<uint32_t> kept_, tri_, orig_;
+  // Undirected edges of the kept faces: edge e owns half-edges ehe_[ebeg_[e] .. ebeg_[e + 1]),
+  // half-edge 3k + i running from corner i to corner i + 1 of kept face k (before flips).
+  std::vector<uint32_t> ebeg_, ehe_, edge_of_;
+  std::vector<uint32_t> copy_of_;  // split copy i is a copy of input vertex copy_of_[i]
+};
+
+absl::Status Repairer::CheckInput() const {
+  const RawMesh& m = in_;
+  if (!(options_.weld_tolerance >= 0 && options_.weld_tolerance < 1))
+    return absl::InvalidArgumentError(
+        absl::StrCat("weld tolerance ", options_.weld_tolerance,
+                     ": must be at least 0 and below 1 (a fraction of the diagonal)"));
+  if (m.positions.size() % 3 != 0)
+    return absl::InvalidArgumentError(
+        absl::StrCat("vertex coordinates: ", m.positions.size(), " is not a multiple of 3"));
+  if (m.triangles.size() % 3 != 0)
+    return absl::InvalidArgumentError(
+        absl::StrCat("triangle indices: ", m.triangles.size(), " is not a multiple of 3"));
+  if (nv_ == 0 || nf_ == 0)
+    return absl::InvalidArgumentError(
+        absl::StrCat("mesh is empty (", nv_, " vertices, ", nf_, " facets)"));
+  if (nv_ >= kNoIndex / 2 || 3 * nf_ >= kNoIndex)
+    return absl::InvalidArgumentError(
+        absl::StrCat("mesh too large: ", nv_, " vertices, ", nf_, " facets"));
+  if (!m.face_groups.empty() && m.face_groups.size() != nf_)
+    return absl::InvalidArgumentError(
+        absl::StrCat("face groups: ", m.face_groups.size(), " ids for ", nf_, " facets"));
+  for (const FaceField& field : m.face_fields)
+    if (field.values.size() != nf_)
+      return absl::InvalidArgumentError(absl::StrCat(
+          "face field '", field.name, "': ", field.values.size(), " values for ", nf_, " facets"));
+  // List every bad index and every used non-finite vertex: a user fixing the file needs them all.
+  std::vector<std::string> problems;
+  size_t num_problems = 0;
+  auto add = [&](std::string s) {
+    if (num_problems++ < kMaxListedErrors) problems.push_back(std::move(s));
+  };
+  std::vector<uint8_t> reported(nv_, 0);
+  for (size_t f = 0; f < nf_; ++f)
+    for (int i = 0; i < 3; ++i) {
+      const uint32_t v = m.triangles[3 * f + i];
+      if (v >= nv_) {
+        add(absl::StrCat("facet ", f, " references vertex ", v, " but the mesh has ", nv_,
+                         " vertices"));
+        continue;
+      }
+      const float* p = Pos(v);
+      if (!reported[v] && !(std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]))) {
+        reported[v] = 1;
+        add(absl::StrCat("vertex ", v, " (used by facet ", f, ") has a non-finite coordinate (",
+                         p[0], ", ", p[1], ", ", p[2], ")"));
+      }
+    }
+  if (num_problems == 0) return absl::OkStatus();
+  std::string message =
+      absl::StrCat(num_problems, " unrepairable problem", num_problems == 1 ? "" : "s", ": ",
+                   absl::StrJoin(problems, "; "));
+  if (num_problems > problems.size())
+    absl::StrAppend(&message, "; and ", num_problems - problems.size(), " more");
+  return absl::InvalidArgumentError(message);
+}
+
+// Welds each used vertex into the lowest-numbered earlier representative within the tolerance.
+// Only representatives go into the grid, and distances are measured to them, so chains of
+// near points do not drift; processing in index order makes the choice deterministic.
+void Repairer::Weld() {
+  RepairReport& report = result_.report;
+  rep_.resize(nv_);
+  for (uint32_t v = 0; v < nv_; ++v) rep_[v] = v;
+  double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+  for (uint32_t v = 0; v < nv_; ++v) {
+    if (first_facet_[v] == kNoIndex) continue;
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = std::min(lo[k], double(Pos(v)[k]));
+      hi[k] = std::max(hi[k], double(Pos(v)[k]));
+    }
+  }
+  report.diagonal =
+      std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                (hi[2] - lo[2]) * (hi[2] - lo[2]));
+  if (strict_) return;  // Build accepts coincident vertices: not a defect
+  report.weld_tolerance_relative = options_.weld_tolerance;
+  const double tol = report.weld_tolerance_relative * report.diagonal;
+  report.weld_tolerance_absolute = tol;
+
+  if (!(tol > 0)) {  // exact duplicates only (+0 and -0 alike)
+    absl::flat_hash_map<std::array<float, 3>, uint32_t> seen;
+    seen.reserve(nv_);
+    for (uint32_t v = 0; v < nv_; ++v) {
+      if (first_facet_[v] == kNoIndex) continue;
+      std::array<float, 3> key = {Pos(v)[0] + 0.f, Pos(v)[1] + 0.f, Pos(v)[2] + 0.f};
+      rep_[v] = seen.try_emplace(key, v).first->second;
+    }
+    return;
+  }
+  // Cells eight tolerances wide: a point's tolerance ball touches 1 cell per axis, 2 with
+  // probability 1/4, so about two cells are looked up per point.
+  const double cell = 8 * tol, tol2 = tol * tol;
+  absl::flat_hash_map<CellKey, uint32_t> head;  // cell -> last representative put there
+  std::vector<uint32_t> next(nv_, kNoIndex);    // earlier representative in the same cell
+  head.reserve(nv_);
+  auto index = [&](double x, int k) { return int64_t(std::floor((x - lo[k]) / cell)); };
+  for (uint32_t v = 0; v < nv_; ++v) {
+    if (first_facet_[v] == kNoIndex) continue;
+    const float* p = Pos(v);
+    int64_t a[3], b[3];
+    for (int k = 0; k < 3; ++k) {
+      a[k] = index(p[k] - tol, k);
+      b[k] = index(p[k] + tol, k);
+    }
+    uint32_t best = kNoIndex;
+    for (int64_t x = a[0]; x <= b[0]; ++x)
+      for (int64_t y = a[1]; y <= b[1]; ++y)
+        for (int64_t z = a[2]; z <= b[2]; ++z) {
+          auto it = head.find(CellKey{x, y, z});
+          if (it == head.end()) continue;
+          for (uint32_t r = it->second; r != kNoIndex; r = next[r]) {
+            const float* q = Pos(r);
+            double d2 = 0;
+            for (int k = 0; k < 3; ++k) d2 += (double(p[k]) - q[k]) * (double(p[k]) - q[k]);
+            if (d2 <= tol2 && r < best) best = r;
+          }
+        }
+    if (best != kNoIndex) {
+      rep_[v] = best;
+      continue;
+    }
+    uint32_t& h =
+        head.try_emplace(CellKey{index(p[0], 0), index(p[1], 1), index(p[2], 2)}, kNoIndex)
+            .first->second;
+    next[v] = h;
+    h = v;
+  }
+}
+
+// Removes degenerate facets, then later copies of a facet's vertex set. Copies share their lowest
+// vertex: bucketing by it (a counting sort) and sorting each short bucket finds them without a
+// hash table of a million triples.
+void Repairer::FilterFacets() {
+  const std::vector<uint32_t>& t = in_.triangles;
+  constexpr uint32_t kKeep = kNoIndex, kRepeats = kNoIndex - 1, kZeroArea = kNoIndex - 2;
+  std::vector<uint32_t> fate(nf_, kKeep);  // kKeep, a degenerate kind, or the facet it copies
+  std::vector<uint32_t> start(nv_ + 1, 0);
+  for (uint32_t f = 0; f < nf_; ++f) {
+    const uint32_t* o = &t[3 * size_t(f)];
+    const uint32_t w[3] = {rep_[o[0]], rep_[o[1]], rep_[o[2]]};
+    if (w[0] == w[1] || w[1] == w[2] || w[0] == w[2]) {
+      fate[f] = kRepeats;
+      continue;
+    }
+    double longest2;
+    const double area2 = TriangleArea2(Pos(w[0]), Pos(w[1]), Pos(w[2]), &longest2);
+    if (!(area2 > kZeroAreaRatio * longest2)) {
+      fate[f] = kZeroArea;
+      continue;
+    }
+    ++start[std::min({w[0], w[1], w[2]}) + 1];
+  }
+  for (size_t v = 0; v < nv_; ++v) start[v + 1] += start[v];
+  std::vector<std::array<uint32_t, 3>> bucket(start[nv_]);  // (middle, highest, facet)
+  {
+    std::vector<uint32_t> fill(start.begin(), start.end() - 1);
+    for (uint32_t f = 0; f < nf_; ++f) {
+      if (fate[f] != kKeep) continue;
+      std::array<uint32_t, 3> w = {rep_[t[3 * size_t(f)]], rep_[t[3 * size_t(f) + 1]],
+                                   rep_[t[3 * size_t(f) + 2]]};
+      std::sort(w.begin(), w.end());
+      bucket[fill[w[0]]++] = {w[1], w[2], f};
+    }
+  }
+  for (size_t v = 0; v < nv_; ++v) {
+    if (start[v + 1] - start[v] < 2) continue;
+    std::sort(bucket.begin() + start[v], bucket.begin() + start[v + 1]);
+    for (uint32_t i = start[v] + 1, first = start[v]; i < start[v + 1]; ++i) {
+      if (bucket[i][0] != bucket[first][0] || bucket[i][1] != bucket[first][1]) {
+        first = i;
+        continue;
+      }
+      fate[bucket[i][2]] = bucket[first][2];
+    }
+  }
+  kept_.reserve(nf_);
+  tri_.reserve(3 * nf_);
+  orig_.reserve(3 * nf_);
+  for (uint32_t f = 0; f < nf_; ++f) {
+    const uint32_t* o = &t[3 * size_t(f)];
+    const uint32_t w[3] = {rep_[o[0]], rep_[o[1]], rep_[o[2]]};
+    if (fate[f] == kRepeats) {
+      const bool before = o[0] == o[1] || o[1] == o[2] || o[0] == o[2];
+      Record(RepairKind::kDegenerateFacet, f, -1, Centroid(o), [&] {
+        return absl::StrCat(before ? "repeats a vertex" : "two of its corners weld together",
+                            " (vertices ", o[0], ", ", o[1], ", ", o[2], ")");
+      });
+    } else if (fate[f] == kZeroArea) {
+      Record(RepairKind::kDegenerateFacet, f, -1, Centroid(w),
+             "zero area (its corners lie on a line)");
+    } else if (fate[f] != kKeep) {
+      const uint32_t* first = &t[3 * size_t(fate[f])];
+      const uint32_t w0 = rep_[first[0]], w1 = rep_[first[1]];
+      // The same cyclic order is the same orientation.
+      const bool same =
+          (w[0] == w0 && w[1] == w1) || (w[1] == w0 && w[2] == w1) || (w[2] == w0 && w[0] == w1);
+      Record(RepairKind::kDuplicateFacet, f, -1, Centroid(w), [&] {
+        return absl::StrCat("same vertices as facet ", fate[f],
+                            same ? "" : ", opposite orientation (a zero-volume double wall)");
+      });
+    } else {
+      kept_.push_back(f);
+      tri_.insert(tri_.end(), w, w + 3);
+      orig_.insert(orig_.end(), o, o + 3);
+    }
+  }
+}
+
+// Groups half-edges by undirected edge: a counting sort by the lower vertex, then a sort of each
+// (short) bucket by the upper one. Linear apart from the buckets of high-valence vertices.
+void Repairer::BuildEdges() {
+  const uint32_t nh = static_cast<uint32_t>(tri_.size());
+  auto ends = [&](uint32_t h, uint32_t* a, uint32_t* b) {
+    const uint32_t x = tri_[h], y = tri_[h % 3 == 2 ? h - 2 : h + 1];
+    *a = std::min(x, y);
+    *b = std::max(x, y);
+  };
+  std::vector<uint32_t> start(nv_ + 1, 0);
+  for (uint32_t h = 0; h < nh; ++h) {
+    uint32_t a, b;
+    ends(h, &a, &b);
+    ++start[a + 1];
+  }
+  for (size_t v = 0; v < nv_; ++v) start[v + 1] += start[v];
+  std::vector<uint64_t> sorted(nh);
+  {
+    std::vector<uint32_t> fill(start.begin(), start.end() - 1);
+    for (uint32_t h = 0; h < nh; ++h) {
+      uint32_t a, b;
+      ends(h, &a, &b);
+      sorted[fill[a]++] = (uint64_t(b) << 32) | h;
+    }
+  }
+  ebeg_.clear();
+  ehe_.resize(nh);
+  edge_of_.resize(nh);
+  for (size_t v = 0; v < nv_; ++v) {
+    if (start[v + 1] - start[v] > 1) std::sort(&sorted[start[v]], &sorted[0] + start[v + 1]);
+    for (uint32_t i = start[v]; i < start[v + 1]; ++i) {
+      if (i == start[v] || (sorted[i] >> 32) != (sorted[i - 1] >> 32)) ebeg_.push_back(i);
+      const uint32_t h = uint32_t(sorted[i]);
+      ehe_[i] = h;
+      edge_of_[h] = uint32_t(ebeg_.size() - 1);
+    }
+  }
+  ebeg_.push_back(nh);
+}
+
+// Components are connected through manifold edges (2 facets). In each, a breadth-first walk
+// gives every facet its parity relative to the first; the component then takes the orientation
+// of positive volume when it is closed (kOn), else that of the majority of its facets.
+void Repairer::Orient() {
+  const uint32_t nk = static_cast<uint32_t>(kept_.size());
+  std::vector<uint32_t> comp(nk, kNoIndex), queue;
+  std::vector<uint8_t> parity(nk, 0), flip(nk, 0);
+  queue.reserve(nk);
+  for (uint32_t seed = 0; seed < nk; ++seed) {
+    if (comp[seed] != kNoIndex) continue;
+    queue.clear();
+    queue.push_back(seed);
+    comp[seed] = seed;
+    bool closed = true, conflict = false;
+    for (size_t qi = 0; qi < queue.size(); ++qi) {
+      const uint32_t x = queue[qi];
+      for (uint32_t i = 0; i < 3; ++i) {
+        const uint32_t h = 3 * x + i, e = edge_of_[h];
+        if (ebeg_[e + 1] - ebeg_[e] != 2) {
+          closed = false;
+          continue;
+        }
+        const uint32_t g = ehe_[ebeg_[e]] == h ? ehe_[ebeg_[e] + 1] : ehe_[ebeg_[e]];
+        const uint32_t y = g / 3;
+        const bool same_direction = tri_[h] == tri_[g];  // both start at the same vertex
+        const uint8_t want = parity[x] ^ uint8_t(same_direction);
+        if (comp[y] == kNoIndex) {
+          comp[y] = seed;
+          parity[y] = want;
+          queue.push_back(y);
+        } else if (parity[y] != want) {
+          conflict = true;
+        }
+      }
+    }
+    if (conflict) {  // a Moebius band or worse: no flip makes it consistent
+      Record(RepairKind::kNonOrientable, kept_[seed], -1, Centroid(&tri_[3 * seed]),
+             absl::StrCat("component of ", queue.size(),
+                          " facets: no orientation is consistent; left as it was"));
+      continue;
+    }
+    size_t odd = 0;
+    for (uint32_t x : queue) odd += parity[x];
+    bool keep_seed = 2 * odd <= queue.size();  // majority; a tie keeps the first facet
+    bool by_volume = false;
+    if (closed && !strict_ && options_.orient_outward) {
+      // Signed volume with the seed's orientation, about the seed's first corner.
+      const std::array<double, 3> o = PosD(tri_[3 * seed]);
+      double volume = 0;
+      for (uint32_t x : queue) {
+        std::array<double, 3> p[3];
+        for (int i = 0; i < 3; ++i) {
+          p[i] = PosD(tri_[3 * x + i]);
+          for (int k = 0; k < 3; ++k) p[i][k] -= o[k];
+        }
+        const double det = p[0][0] * (p[1][1] * p[2][2] - p[1][2] * p[2][1]) -
+                           p[0][1] * (p[1][0] * p[2][2] - p[1][2] * p[2][0]) +
+                           p[0][2] * (p[1][0] * p[2][1] - p[1][1] * p[2][0]);
+        volume += parity[x] ? -det : det;
+      }
+      if (volume != 0) {
+        by_volume = keep_seed != (volume > 0);
+        keep_seed = volume > 0;
+      }
+    }
+    size_t flipped = 0;
+    for (uint32_t x : queue) flipped += flip[x] = parity[x] == uint8_t(keep_seed);
+    if (by_volume)
+      Record(RepairKind::kReversedComponent, kept_[seed], -1, Centroid(&tri_[3 * seed]),
+             absl::StrCat("closed component of ", queue.size(), " facets had a negative volume; ",
+                          flipped, " facets flipped"));
+  }
+  for (uint32_t k = 0; k < nk; ++k) {
+    if (!flip[k]) continue;
+    Record(RepairKind::kFlippedFacet, kept_[k], -1, Centroid(&tri_[3 * k]),
+           strict_ ? "oriented against its neighbours" : "orientation reversed");
+    std::swap(tri_[3 * k + 1], tri_[3 * k + 2]);
+    std::swap(orig_[3 * k + 1], orig_[3 * k + 2]);
+  }
+}
+
+// Corners at one vertex belong to the same fan when their facets share an edge at that vertex
+// (a manifold edge or a seam: seam vertices are shared by the parts and stay one vertex). A
+// vertex with several fans gets one vertex per fan. Where the weld made the vertex and each fan
+// used its own input vertex, the fans get those back: the weld is undone, not reported.
+void Repairer::SplitVertices() {
+  const uint32_t nc = static_cast<uint32_t>(tri_.size());
+  UnionFind corners(nc);
+  for (size_t e = 0; e + 1 < ebeg_.size(); ++e) {
+    const uint32_t k0 = ehe_[ebeg_[e]] / 3;
+    for (uint32_t i = ebeg_[e] + 1; i < ebeg_[e + 1]; ++i) {
+      const uint32_t k = ehe_[i] / 3;
+      for (uint32_t j = 0; j < 3; ++j) {  // the two shared vertices are the edge's ends
+        const uint32_t c = CornerAt(k, tri_[3 * k0 + j]);
+        if (tri_[c] == tri_[3 * k0 + j]) corners.Union(3 * k0 + j, c);
+      }
+    }
+  }
+  std::vector<uint32_t> first_root(nv_, kNoIndex);
+  std::vector<uint8_t> non_manifold(nv_, 0);
+  for (uint32_t c = 0; c < nc; ++c) {
+    const uint32_t v = tri_[c], r = corners.Find(c);
+    if (first_root[v] == kNoIndex) {
+      first_root[v] = r;
+    } else if (r != first_root[v]) {
+      non_manifold[v] = 1;
+    }
+  }
+  std::vector<std::pair<uint32_t, uint32_t>> at_split;  // (vertex, corner) at non-manifold ones
+  for (uint32_t c = 0; c < nc; ++c)
+    if (non_manifold[tri_[c]]) at_split.push_back({tri_[c], c});
+  std::sort(at_split.begin(), at_split.end());
+  struct Fan {
+    uint32_t root, orig, first_corner, vertex;
+  };
+  std::vector<Fan> fans;
+  for (size_t begin = 0, end; begin < at_split.size(); begin = end) {
+    const uint32_t v = at_split[begin].first;
+    fans.clear();
+    for (end = begin; end < at_split.size() && at_split[end].first == v; ++end) {
+      const uint32_t c = at_split[end].second, r = corners.Find(c);
+      auto it = std::find_if(fans.begin(), fans.end(), [r](const Fan& f) { return f.root == r; });
+      if (it == fans.end()) {
+        fans.push_back({r, orig_[c], c, kNoIndex});
+      } else if (it->orig != orig_[c]) {
+        it->orig = kNoIndex;  // the fan mixes input vertices
+      }
+    }
+    auto taken = [&](uint32_t w) {
+      return std::any_of(fans.begin(), fans.end(), [w](const Fan& f) { return f.vertex == w; });
+    };
+    for (Fan& fan : fans)
+      if (fan.orig != kNoIndex && !taken(fan.orig)) fan.vertex = fan.orig;
+    size_t copies = 0;
+    for (Fan& fan : fans) {
+      if (fan.vertex != kNoIndex) continue;
+      if (!taken(v)) {
+        fan.vertex = v;
+        continue;
+      }
+      fan.vertex = static_cast<uint32_t>(nv_ + copy_of_.size());
+      copy_of_.push_back(v);
+      ++copies;
+    }
+    if (copies > 0)
+      Record(RepairKind::kSplitVertex, first_facet_[v], v, PosD(v), [&] {
+        std::string facets;
+        for (size_t j = 0; j < fans.size(); ++j)
+          absl::StrAppend(&facets, j == 0 ? "" : ", ", kept_[fans[j].first_corner / 3]);
+        return absl::StrCat(fans.size(), " fans meet there (first facets ", facets, ")",
+                            strict_ ? "" : absl::StrCat("; ", copies, " copies added"));
+      });
+    for (size_t j = begin; j < end; ++j) {
+      const uint32_t c = at_split[j].second, r = corners.Find(c);
+      for (const Fan& fan : fans)
+        if (fan.root == r) tri_[c] = fan.vertex;
+    }
+  }
+}
+
+// Welded and dropped vertices, judged from where each input vertex's surviving corners went.
+void Repairer::ReportVertices() {
+  std::vector<uint32_t> went(nv_, kNoIndex);  // an input vertex's output vertex (origin id)
+  std::vector<uint8_t> moved(nv_, 0);
+  for (size_t c = 0; c < tri_.size(); ++c) {
+    const uint32_t o = orig_[c];
+    const uint32_t origin = Origin(tri_[c]);
+    if (origin != o && !moved[o]) {
+      moved[o] = 1;
+      went[o] = origin;
+    }
+    if (went[o] == kNoIndex) went[o] = origin;
+  }
+  for (uint32_t o = 0; o < nv_; ++o) {
+    if (went[o] == kNoIndex && rep_[o] != o) {  // all its facets were removed after the weld
+      moved[o] = 1;
+      went[o] = rep_[o];
+    }
+    if (moved[o]) {
+      Record(RepairKind::kWeldedVertex, first_facet_[o], o, PosD(o), [&] {
+        const uint32_t r = went[o];
+        double d2 = 0;
+        for (int k = 0; k < 3; ++k)
+          d2 += (double(Pos(o)[k]) - Pos(r)[k]) * (double(Pos(o)[k]) - Pos(r)[k]);
+        return absl::StrFormat("merged into vertex %u (distance %.3g)", r, std::sqrt(d2));
+      });
+    } else if (went[o] == kNoIndex) {
+      Record(RepairKind::kUnreferencedVertex, -1, o, PosD(o), [&] {
+        return first_facet_[o] == kNoIndex
+                   ? std::string("no facet uses it")
+                   : absl::StrCat("its facets were removed (first: ", first_facet_[o], ")");
+      });
+    }
+  }
+}
+
+// Stitched edges (two facets now share an edge that their input vertices did not) and seams.
+// Runs after the split: the facets on an edge are in one fan at each end, so share its copies.
+void Repairer::ReportEdges() {
+  for (size_t e = 0; e + 1 < ebeg_.size(); ++e) {
+    const uint32_t n = ebeg_[e + 1] - ebeg_[e];
+    if (n == 1 || (n == 2 && strict_)) continue;
+    const uint32_t k0 = ehe_[ebeg_[e]] / 3, k1 = ehe_[ebeg_[e] + 1] / 3;
+    uint32_t ends[2], m = 0;  // corners of k0 on the edge
+    for (uint32_t j = 0; j < 3 && m < 2; ++j)
+      if (tri_[CornerAt(k1, tri_[3 * k0 + j])] == tri_[3 * k0 + j]) ends[m++] = 3 * k0 + j;
+    if (n == 2 && orig_[CornerAt(k1, tri_[ends[0]])] == orig_[ends[0]] &&
+        orig_[CornerAt(k1, tri_[ends[1]])] == orig_[ends[1]])
+      continue;
+    const std::array<double, 3> a = PosD(Origin(tri_[ends[0]])), b = PosD(Origin(tri_[ends[1]]));
+    if (n == 2) {
+      Record(RepairKind::kStitchedEdge, kept_[k0], orig_[ends[0]], a, [&] {
+        return absl::StrCat("to ", Point(b), ": joins facets ", kept_[k0], " and ", kept_[k1]);
+      });
+      continue;
+    }
+    SeamEdge seam;
+    seam.a = tri_[ends[0]];
+    seam.b = tri_[ends[1]];
+    for (uint32_t i = ebeg_[e]; i < ebeg_[e + 1]; ++i) seam.facets.push_back(kept_[ehe_[i] / 3]);
+    std::sort(seam.facets.begin(), seam.facets.end());
+    Record(RepairKind::kSeamEdge, seam.facets[0], orig_[ends[0]], a, [&] {
+      return absl::StrCat("to ", Point(b), ": shared by ", n, " facets (",
+                          absl::StrJoin(seam.facets, ", "), ")");
+    });
+    for (int k = 0; k < 3; ++k) {
+      seam.pa[k] = float(a[k]);
+      seam.pb[k] = float(b[k]);
+    }
+    result_.seams.push_back(std::move(seam));
+  }
+}
+
+void Repairer::WriteOutput(RawMesh& mesh) {
+  // Output vertices: used input vertices in order, then the split copies.
+  const size_t nw = nv_ + copy_of_.size();
+  std::vector<uint32_t> out(nw, kNoIndex);
+  for (uint32_t w : tri_) out[w] = 0;
+  uint32_t next = 0;
+  RawMesh r;
+  for (size_t w = 0; w < nw; ++w) {
+    if (out[w] == kNoIndex) continue;
+    out[w] = next++;
+    const uint32_t from = w < nv_ ? uint32_t(w) : copy_of_[w - nv_];
+    r.positions.insert(r.positions.end(), Pos(from), Pos(from) + 3);
+    result_.vertex_origin.push_back(from);
+  }
+  r.triangles.resize(tri_.size());
+  for (size_t c = 0; c < tri_.size(); ++c) r.triangles[c] = out[tri_[c]];
+  if (!in_.face_groups.empty())
+    for (uint32_t f : kept_) r.face_groups.push_back(in_.face_groups[f]);
+  for (const FaceField& field : in_.face_fields) {
+    r.face_fields.push_back({field.name, {}});
+    r.face_fields.back().values.reserve(kept_.size());
+    for (uint32_t f : kept_) r.face_fields.back().values.push_back(field.values[f]);
+  }
+  for (SeamEdge& seam : result_.seams) {
+    seam.a = out[seam.a];
+    seam.b = out[seam.b];
+  }
+  result_.facet_origin = kept_;
+  mesh = std::move(r);
+}
+
+absl::Status Repairer::StrictError() const {
+  const RepairReport& report = result_.report;
+  std::vector<std::string> parts;
+  size_t total = 0;
+  for (size_t k = 0; k < kNumRepairKinds; ++k)
+    if (report.counts[k] > 0) {
+      total += report.counts[k];
+      parts.push_back(absl::StrCat(report.counts[k], " ",
+                                   report.counts[k] == 1 ? kKinds[k].singular : kKinds[k].plural));
+    }
+  std::string message =
+      absl::StrCat("repair is off and the mesh has ", total, " defect", total == 1 ? "" : "s", " (",
+                   absl::StrJoin(parts, ", "), "): ");
+  std::string details;
+  for (size_t k = 0; k < kNumRepairKinds; ++k) {
+    size_t listed = 0;
+    for (const RepairRecord& record : report.records)
+      if (static_cast<size_t>(record.kind) == k) {
+        absl::StrAppend(&details, details.empty() ? "" : "; ", record.ToString());
+        ++listed;
+      }
+    if (report.counts[k] > listed)
+      absl::StrAppend(&details, "; and ", report.counts[k] - listed, " more ", kKinds[k].plural);
+  }
+  return absl::InvalidArgumentError(message + details);
+}
+
+absl::StatusOr<RepairResult> Repairer::Run(RawMesh& mesh) {
+  nv_ = in_.num_vertices();
+  nf_ = in_.num_faces();
+  if (absl::Status s = CheckInput(); !s.ok()) return s;
+  RepairReport& report = result_.report;
+  report.input_vertices = nv_;
+  report.input_facets = nf_;
+  first_facet_.assign(nv_, kNoIndex);
+  for (size_t c = 3 * nf_; c-- > 0;) first_facet_[in_.triangles[c]] = uint32_t(c / 3);
+
+  Weld();
+  FilterFacets();
+  if (kept_.empty())
+    return absl::InvalidArgumentError(absl::StrCat("mesh is empty after repair: all ", nf_,
+                                                   " facets were degenerate or duplicates"));
+  BuildEdges();
+  Orient();
+  SplitVertices();
+  ReportEdges();
+  if (!strict_) ReportVertices();
+  // Records were added stage by stage; present them per kind, in input order within each.
+  std::sort(report.records.begin(), report.records.end(),
+            [](const RepairRecord& a, const RepairRecord& b) {
+              return std::tie(a.kind, a.facet, a.vertex) < std::tie(b.kind, b.facet, b.vertex);
+            });
+  if (strict_) {
+    if (report.num_changes() + report.num_defects_left() > 0) return StrictError();
+  } else if (report.num_changes() > 0) {
+    WriteOutput(mesh);
+  }
+  if (result_.facet_origin.empty()) {  // untouched: the identity
+    result_.facet_origin.resize(nf_);
+    for (uint32_t f = 0; f < nf_; ++f) result_.facet_origin[f] = f;
+    result_.vertex_origin.resize(nv_);
+    for (uint32_t v = 0; v < nv_; ++v) result_.vertex_origin[v] = v;
+  }
+  for (SeamEdge& seam : result_.seams)
+    if (seam.a > seam.b) {
+      std::swap(seam.a, seam.b);
+      std::swap(seam.pa, seam.pb);
+    }
+  std::sort(result_.seams.begin(), result_.seams.end(), [](const SeamEdge& x, const SeamEdge& y) {
+    return std::pair(x.a, x.b) < std::pair(y.a, y.b);
+  });
+  report.output_vertices = mesh.num_vertices();
+  report.output_facets = mesh.num_faces();
+  return std::move(result_);
+}
+
+}  // namespace
+
+const char* RepairKindName(RepairKind kind) { return Info(kind).name; }
+
+bool IsRepairChange(RepairKind kind) {
+  return kind != RepairKind::kSeamEdge && kind != RepairKind::kNonOrientable &&
+         kind != RepairKind::kCount;
+}
+
+std::string RepairRecord::ToString() const {
+  std::string s = Info(kind).singular;
+  switch (kind) {
+    case RepairKind::kWeldedVertex:
+    case RepairKind::kSplitVertex:
+    case RepairKind::kUnreferencedVertex:
+      absl::StrAppend(&s, " ", vertex);
+      if (facet >= 0) absl::StrAppend(&s, " (facet ", facet, ")");
+      break;
+    case RepairKind::kDegenerateFacet:
+    case RepairKind::kDuplicateFacet:
+    case RepairKind::kFlippedFacet:
+      absl::StrAppend(&s, " ", facet);
+      break;
+    default:  // edges and components: named by a facet on them
+      absl::StrAppend(&s, " (facet ", facet, ")");
+  }
+  absl::StrAppend(&s, " at ", Point(at));
+  if (!detail.empty()) absl::StrAppend(&s, ": ", detail);
+  return s;
+}
+
+size_t RepairReport::num_changes() const {
+  size_t n = 0;
+  for (size_t k = 0; k < kNumRepairKinds; ++k)
+    if (IsRepairChange(static_cast<RepairKind>(k))) n += counts[k];
+  return n;
+}
+
+size_t RepairReport::num_defects_left() const {
+  size_t n = 0;
+  for (size_t k = 0; k < kNumRepairKinds; ++k)
+    if (!IsRepairChange(static_cast<RepairKind>(k))) n += counts[k];
+  return n;
+}
+
+std::string RepairReport::Summary() const {
+  std::vector<std::string> changes, left;
+  for (size_t k = 0; k < kNumRepairKinds; ++k) {
+    if (counts[k] == 0) continue;
+    const KindInfo& info = kKinds[k];
+    std::string item = absl::StrCat(info.verb, " ", counts[k], " ",
+                                    counts[k] == 1 ? info.noun : info.nouns, info.suffix);
+    if (static_cast<RepairKind>(k) == RepairKind::kWeldedVertex)
+      absl::StrAppend(&item, absl::StrFormat(" (tolerance %.3g of the diagonal = %.3g)",
+                                             weld_tolerance_relative, weld_tolerance_absolute));
+    (IsRepairChange(static_cast<RepairKind>(k)) ? changes : left).push_back(item);
+  }
+  std::string s = "repair: ";
+  absl::StrAppend(&s, changes.empty() ? "no changes" : absl::StrJoin(changes, ", "));
+  if (!left.empty()) absl::StrAppend(&s, "; ", absl::StrJoin(left, ", "));
+  return s;
+}
+
+std::string RepairReport::Details() const {
+  std::string s = Summary();
+  for (size_t k = 0; k < kNumRepairKinds; ++k) {
+    size_t listed = 0;
+    for (const RepairRecord& record : records)
+      if (static_cast<size_t>(record.kind) == k) {
+        absl::StrAppend(&s, "\n  ", record.ToString());
+        ++listed;
+      }
+    if (counts[k] > listed)
+      absl::StrAppend(&s, "\n  ... and ", counts[k] - listed, " more ", kKinds[k].plural);
+  }
+  return s;
+}
+
+absl::StatusOr<RepairResult> RepairMesh(RawMesh& mesh, const RepairOptions& options) {
+  // The repairer reads the input while it works and replaces the mesh only at the end.
+  return Repairer(mesh, options).Run(mesh);
+}
+
+}  // namespace femsimp

@@ -1,0 +1,117 @@
+// The repair stage: turns a triangle soup as CAD exports write it into one that Mesh::Build
+// accepts, or says exactly what it could not fix, and reports every change it made.
+//
+// Facet and vertex numbers in reports are 0-based indices into the RawMesh passed to RepairMesh,
+// that is, the order in which the reader delivered them: the file's facet order for STL, OFF and
+// PLY triangle files (a reader that triangulates polygons numbers the triangles it makes).
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "engine/raw_mesh.h"
+
+namespace femsimp {
+
+enum class RepairMode {
+  kOff,  // strict: change nothing; fail naming every defect Mesh::Build would refuse
+  kOn,   // repair what can be repaired without moving a point, and report it
+};
+
+struct RepairOptions {
+  RepairMode mode = RepairMode::kOn;
+  // Vertices closer than this fraction of the bounding-box diagonal (of the referenced vertices)
+  // are welded into the lowest-numbered one. 0 welds exact duplicates only.
+  double weld_tolerance = 1e-7;
+  // Closed components are turned so that their signed volume is positive.
+  bool orient_outward = true;
+  // Per kind, how many changes are recorded one by one (counts are always complete).
+  size_t max_records_per_kind = 20;
+};
+
+enum class RepairKind : int {
+  // Changes (kOn).
+  kWeldedVertex,        // merged into a coincident vertex (within the weld tolerance)
+  kStitchedEdge,        // two boundary edges joined into one by the weld (a crack closed)
+  kDegenerateFacet,     // removed: repeats a vertex (after welding) or has zero area
+  kDuplicateFacet,      // removed: same three vertices as an earlier facet, either orientation
+  kFlippedFacet,        // turned to agree with its component (or with the outward orientation)
+  kReversedComponent,   // a closed component that was inside out (its facets are also listed)
+  kSplitVertex,         // a vertex where several fans met, given one copy per fan
+  kUnreferencedVertex,  // dropped: no facet uses it (any more)
+  // Defects left in place (the mesh still fails Mesh::Build while any remains).
+  kSeamEdge,       // an edge of 3 or more facets: kept, listed in RepairResult::seams
+  kNonOrientable,  // a component that no choice of facet orientations makes consistent
+  kCount,
+};
+inline constexpr size_t kNumRepairKinds = static_cast<size_t>(RepairKind::kCount);
+
+// Stable lower-case name of a kind ("welded_vertex", ...), for JSON, metrics and messages.
+const char* RepairKindName(RepairKind kind);
+// True for the kinds RepairMesh changes; false for the defects it leaves in place.
+bool IsRepairChange(RepairKind kind);
+
+// One change (or defect), located for a user who only has the input file.
+struct RepairRecord {
+  RepairKind kind;
+  int64_t facet = -1;   // input facet it concerns (for vertex kinds: the first facet using it)
+  int64_t vertex = -1;  // input vertex it concerns, for vertex and edge kinds
+  std::array<double, 3> at{};  // where: the vertex, the facet's centroid, the edge's first end
+  std::string detail;          // what exactly, e.g. "merged into vertex 3 (distance 2e-08)"
+
+  std::string ToString() const;  // "flipped facet 5 at (0, 0.5, 0.5): ..."
+};
+
+struct RepairReport {
+  std::array<size_t, kNumRepairKinds> counts{};
+  // The first max_records_per_kind found of each kind, ordered by kind, then facet, then vertex.
+  std::vector<RepairRecord> records;
+  double diagonal = 0;  // bounding-box diagonal of the referenced vertices
+  double weld_tolerance_relative = 0;
+  double weld_tolerance_absolute = 0;  // = relative * diagonal
+  size_t input_vertices = 0, input_facets = 0, output_vertices = 0, output_facets = 0;
+
+  size_t count(RepairKind kind) const { return counts[static_cast<size_t>(kind)]; }
+  size_t num_changes() const;       // sum of the counts of the change kinds
+  size_t num_defects_left() const;  // sum of the counts of the kinds left in place
+  // One line of counts, e.g. "repair: welded 3 vertices (tolerance 1e-07 of the diagonal =
+  // 1.7e-07), flipped 2 facets; kept 4 non-manifold edges as seams", or "repair: no changes".
+  std::string Summary() const;
+  // Summary() and then one line per record, with "... and N more" per kind beyond the cap.
+  std::string Details() const;
+};
+
+// A non-manifold edge left in place: the lead's seam machinery locks these.
+struct SeamEdge {
+  uint32_t a = 0, b = 0;  // output vertex indices, a < b
+  std::array<float, 3> pa{}, pb{};
+  std::vector<uint32_t> facets;  // input facet indices of the facets sharing it
+};
+
+struct RepairResult {
+  RepairReport report;
+  std::vector<SeamEdge> seams;  // every non-manifold edge of the output, ordered by (a, b)
+  // Provenance of the output (empty in kOff mode, where the mesh is left as it was): the input
+  // facet of each output facet, and the input vertex of each output vertex (split copies name
+  // the vertex they were split from).
+  std::vector<uint32_t> facet_origin, vertex_origin;
+};
+
+// Repairs `mesh` in place (kOn) in this order: weld coincident vertices; remove degenerate, then
+// duplicate facets; orient each component consistently (outward when closed); split non-manifold
+// vertices; drop unreferenced vertices. Faces keep their input order, groups and fields; kept
+// vertices keep their order, split copies are appended. A mesh with nothing to repair comes back
+// untouched (byte-identical) with an empty report. Non-manifold edges are kept and reported.
+//
+// Errors (InvalidArgument, the mesh untouched): what no repair can fix (indices out of range,
+// referenced non-finite coordinates, inconsistent array sizes, empty input or output), each
+// occurrence listed; in kOff mode also every defect Mesh::Build would refuse (degenerate,
+// duplicate and inconsistently oriented facets, non-manifold vertices and edges), by kind,
+// facet and coordinates, capped per kind with "and N more".
+absl::StatusOr<RepairResult> RepairMesh(RawMesh& mesh, const RepairOptions& options);
+
+}  // namespace femsimp

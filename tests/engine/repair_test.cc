@@ -1,0 +1,549 @@
+#include "engine/repair.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <string>
+
+#include "engine/io/mesh_io.h"
+#include "engine/mesh.h"
+#include "tests/engine/mesh_checks.h"
+#include "tests/engine/small_meshes.h"
+
+namespace femsimp {
+namespace {
+
+// Substring checks without gmock (the engine tests link gtest only).
+#define EXPECT_HAS(text, part)                               \
+  EXPECT_NE(std::string(text).find(part), std::string::npos) \
+      << "missing: " << (part) << "\nin: " << (text)
+#define EXPECT_HAS_NOT(text, part)                           \
+  EXPECT_EQ(std::string(text).find(part), std::string::npos) \
+      << "found: " << (part) << "\nin: " << (text)
+
+// Appends an axis-aligned cube of 8 vertices and 12 outward facets; its first vertex is the
+// corner (x, y, z), vertex i the corner at offsets (i & 1, i >> 1 & 1, i >> 2 & 1) * size.
+void AddCube(RawMesh& m, float x, float y, float z, float size = 1) {
+  const uint32_t base = static_cast<uint32_t>(m.num_vertices());
+  for (uint32_t i = 0; i < 8; ++i)
+    m.positions.insert(m.positions.end(),
+                       {x + size * (i & 1), y + size * (i >> 1 & 1), z + size * (i >> 2 & 1)});
+  // Quads counter-clockwise seen from outside: -x, +x, -y, +y, -z, +z.
+  const uint32_t quads[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
+                                {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+  for (const auto& q : quads)
+    m.triangles.insert(m.triangles.end(), {base + q[0], base + q[1], base + q[2], base + q[0],
+                                           base + q[2], base + q[3]});
+}
+
+RawMesh Cube() {
+  RawMesh m;
+  AddCube(m, 0, 0, 0);
+  return m;
+}
+
+// Groups and one field, both telling the facet's input number, to see them follow the facets.
+void NumberFacets(RawMesh& m) {
+  m.face_groups.clear();
+  m.face_fields = {{"pressure", {}}};
+  for (uint32_t f = 0; f < m.num_faces(); ++f) {
+    m.face_groups.push_back(100 + f);
+    m.face_fields[0].values.push_back(0.5f * f);
+  }
+}
+
+double SignedVolume(const RawMesh& m) {
+  double v = 0;
+  for (size_t f = 0; f < m.num_faces(); ++f) {
+    const float* p[3];
+    for (int i = 0; i < 3; ++i) p[i] = &m.positions[3 * m.triangles[3 * f + i]];
+    v += (p[0][0] * (double(p[1][1]) * p[2][2] - double(p[1][2]) * p[2][1]) -
+          p[0][1] * (double(p[1][0]) * p[2][2] - double(p[1][2]) * p[2][0]) +
+          p[0][2] * (double(p[1][0]) * p[2][1] - double(p[1][1]) * p[2][0])) /
+         6;
+  }
+  return v;
+}
+
+void Flip(RawMesh& m, size_t f) { std::swap(m.triangles[3 * f + 1], m.triangles[3 * f + 2]); }
+
+void AppendFacet(RawMesh& m, std::initializer_list<uint32_t> t) {
+  m.triangles.insert(m.triangles.end(), t);
+}
+
+RepairResult Repair(RawMesh& m, RepairOptions options = {}) {
+  absl::StatusOr<RepairResult> r = RepairMesh(m, options);
+  EXPECT_TRUE(r.ok()) << r.status();
+  return r.ok() ? *std::move(r) : RepairResult{};
+}
+
+void ExpectBuilds(const RawMesh& m) {
+  absl::StatusOr<Mesh> mesh = Mesh::Build(m);
+  EXPECT_TRUE(mesh.ok()) << mesh.status();
+}
+
+// The records of one kind, joined, for substring checks.
+std::string Records(const RepairReport& report, RepairKind kind) {
+  std::string s;
+  for (const RepairRecord& r : report.records)
+    if (r.kind == kind) s += r.ToString() + "\n";
+  return s;
+}
+
+// Each facet's corners as coordinates: the facets, whatever the vertex numbering.
+std::vector<float> CornerPoints(const RawMesh& m) {
+  std::vector<float> points;
+  for (uint32_t v : m.triangles)
+    points.insert(points.end(), &m.positions[3 * v], &m.positions[3 * v] + 3);
+  return points;
+}
+
+void ExpectSameMesh(const RawMesh& a, const RawMesh& b) {
+  EXPECT_EQ(a.positions, b.positions);
+  EXPECT_EQ(a.triangles, b.triangles);
+  EXPECT_EQ(a.face_groups, b.face_groups);
+  ASSERT_EQ(a.face_fields.size(), b.face_fields.size());
+  for (size_t i = 0; i < a.face_fields.size(); ++i) {
+    EXPECT_EQ(a.face_fields[i].name, b.face_fields[i].name);
+    EXPECT_EQ(a.face_fields[i].values, b.face_fields[i].values);
+  }
+}
+
+TEST(Repair, CleanMeshesComeBackUntouched) {
+  RawMesh touching;  // two cubes meeting at (1, 1, 1), each with its own vertex there
+  AddCube(touching, 0, 0, 0);
+  AddCube(touching, 1, 1, 1);
+  for (RawMesh clean : {Cube(), testing::Octahedron(), testing::FlatGrid(4), touching,
+                        testing::LoadTestMesh("fandisk.off")}) {
+    NumberFacets(clean);
+    RawMesh m = clean;
+    RepairResult r = Repair(m);
+    ExpectSameMesh(m, clean);
+    EXPECT_EQ(r.report.num_changes(), 0u) << r.report.Details();
+    EXPECT_TRUE(r.report.records.empty());
+    EXPECT_EQ(r.report.Summary(), "repair: no changes");
+    EXPECT_EQ(r.facet_origin.size(), clean.num_faces());
+    EXPECT_EQ(r.vertex_origin.size(), clean.num_vertices());
+  }
+}
+
+TEST(Repair, FlippedFacet) {
+  RawMesh m = Cube();
+  NumberFacets(m);
+  const RawMesh clean = m;
+  Flip(m, 5);
+  EXPECT_FALSE(Mesh::Build(m).ok());
+  RepairResult r = Repair(m);
+  ExpectSameMesh(m, clean);
+  ExpectBuilds(m);
+  EXPECT_EQ(r.report.count(RepairKind::kFlippedFacet), 1u);
+  EXPECT_EQ(r.report.num_changes(), 1u) << r.report.Details();
+  ASSERT_EQ(r.report.records.size(), 1u);
+  EXPECT_EQ(r.report.records[0].facet, 5);
+  // Facet 5 is the second half of the -y quad, (0, 5, 4): centroid (1/3, 0, 2/3).
+  EXPECT_NEAR(r.report.records[0].at[0], 1.0 / 3, 1e-7);
+  EXPECT_EQ(r.report.records[0].at[1], 0.0);
+  EXPECT_HAS(r.report.Details(), "flipped facet 5 at (0.333333333, 0, 0.666666667)");
+  EXPECT_EQ(r.report.Summary(), "repair: flipped 1 facet");
+}
+
+TEST(Repair, InsideOutComponentIsTurnedOutward) {
+  RawMesh m;
+  AddCube(m, 0, 0, 0);
+  AddCube(m, 3, 0, 0);
+  const RawMesh clean = m;
+  for (size_t f = 12; f < 24; ++f) Flip(m, f);
+  ExpectBuilds(m);  // consistent, only inside out
+  RepairResult r = Repair(m);
+  ExpectSameMesh(m, clean);
+  EXPECT_GT(SignedVolume(m), 1.99);
+  EXPECT_EQ(r.report.count(RepairKind::kReversedComponent), 1u);
+  EXPECT_EQ(r.report.count(RepairKind::kFlippedFacet), 12u);
+  EXPECT_HAS(Records(r.report, RepairKind::kReversedComponent), "inside-out component (facet 12)");
+  EXPECT_HAS(Records(r.report, RepairKind::kFlippedFacet), "flipped facet 23 at");
+  EXPECT_HAS_NOT(Records(r.report, RepairKind::kFlippedFacet), "flipped facet 11 ");
+
+  RepairOptions keep;
+  keep.orient_outward = false;
+  RawMesh inside_out = m;
+  for (size_t f = 0; f < 12; ++f) Flip(inside_out, f);
+  const RawMesh before = inside_out;
+  EXPECT_EQ(Repair(inside_out, keep).report.num_changes(), 0u);
+  ExpectSameMesh(inside_out, before);
+}
+
+TEST(Repair, DuplicateFacetsEitherOrientation) {
+  RawMesh m = Cube();
+  NumberFacets(m);
+  const RawMesh clean = m;
+  // Facet 12 repeats facet 3, facet 13 is facet 7 turned over (a zero-volume double wall).
+  AppendFacet(m, {m.triangles[9], m.triangles[10], m.triangles[11]});
+  AppendFacet(m, {m.triangles[21], m.triangles[23], m.triangles[22]});
+  m.face_groups.insert(m.face_groups.end(), {7, 8});
+  m.face_fields[0].values.insert(m.face_fields[0].values.end(), {-1.f, -2.f});
+  EXPECT_FALSE(Mesh::Build(m).ok());
+  RepairResult r = Repair(m);
+  ExpectSameMesh(m, clean);
+  ExpectBuilds(m);
+  EXPECT_EQ(r.report.count(RepairKind::kDuplicateFacet), 2u);
+  EXPECT_EQ(r.report.num_changes(), 2u) << r.report.Details();
+  const std::string records = Records(r.report, RepairKind::kDuplicateFacet);
+  EXPECT_HAS(records, "duplicate facet 12 at");
+  EXPECT_HAS(records, "same vertices as facet 3\n");
+  EXPECT_HAS(records, "duplicate facet 13 at");
+  EXPECT_HAS(records, "same vertices as facet 7, opposite orientation");
+  EXPECT_EQ(r.facet_origin.size(), 12u);
+  EXPECT_EQ(r.facet_origin.back(), 11u);
+}
+
+TEST(Repair, DegenerateFacetsGroupsAndFieldsFollow) {
+  RawMesh m = Cube();
+  NumberFacets(m);
+  const RawMesh clean = m;
+  // A facet repeating an index and a zero-area one through a new vertex on edge (0, 1), both
+  // inserted before facet 4, with their own group and field values.
+  m.positions.insert(m.positions.end(), {0.5f, 0, 0});
+  m.triangles.insert(m.triangles.begin() + 12, {0, 0, 1, 0, 8, 1});
+  m.face_groups.insert(m.face_groups.begin() + 4, {7, 8});
+  m.face_fields[0].values.insert(m.face_fields[0].values.begin() + 4, {-1.f, -2.f});
+  EXPECT_FALSE(Mesh::Build(m).ok());
+  RepairResult r = Repair(m);
+  ExpectSameMesh(m, clean);
+  ExpectBuilds(m);
+  EXPECT_EQ(r.report.count(RepairKind::kDegenerateFacet), 2u);
+  EXPECT_EQ(r.report.count(RepairKind::kUnreferencedVertex), 1u);  // vertex 8, used by facet 5
+  const std::string records = Records(r.report, RepairKind::kDegenerateFacet);
+  EXPECT_HAS(records, "degenerate facet 4 at (0.333333333, 0, 0): repeats a vertex");
+  EXPECT_HAS(records, "degenerate facet 5 at (0.5, 0, 0): zero area");
+  EXPECT_HAS(Records(r.report, RepairKind::kUnreferencedVertex),
+             "unreferenced vertex 8 at (0.5, 0, 0): its facets were removed");
+  EXPECT_EQ(r.facet_origin[4], 6u);
+}
+
+// The bottom quad uses its own copies (8, 9) of vertices 0 and 1: the edges (0, 1), (0, 2) and
+// (1, 3) are each open twice.
+RawMesh CrackedCube(float offset) {
+  RawMesh m = Cube();
+  m.positions.insert(m.positions.end(), {offset, 0, 0, 1, 0, offset});
+  for (size_t c = 24; c < 30; ++c) {  // facets 8 and 9: the -z quad (0, 2, 3, 1)
+    if (m.triangles[c] == 0) m.triangles[c] = 8;
+    if (m.triangles[c] == 1) m.triangles[c] = 9;
+  }
+  return m;
+}
+
+TEST(Repair, CrackIsStitched) {
+  for (float offset : {0.f, 1e-8f}) {
+    SCOPED_TRACE(offset);
+    RawMesh m = CrackedCube(offset);
+    EXPECT_EQ(testing::Topology(m).boundary_edges, 6);  // open, but Build accepts it
+    RepairResult r = Repair(m);
+    ExpectSameMesh(m, Cube());
+    ExpectBuilds(m);
+    EXPECT_EQ(testing::Topology(m).boundary_edges, 0);
+    EXPECT_EQ(r.report.count(RepairKind::kWeldedVertex), 2u);
+    EXPECT_EQ(r.report.count(RepairKind::kStitchedEdge), 3u);  // (0, 1), (0, 2), (1, 3)
+    EXPECT_EQ(r.report.num_changes(), 5u) << r.report.Details();
+    const std::string welded = Records(r.report, RepairKind::kWeldedVertex);
+    EXPECT_HAS(welded, "welded vertex 8 (facet 8) at (");
+    EXPECT_HAS(welded, "merged into vertex 0");
+    EXPECT_HAS(welded, "welded vertex 9 (facet 9)");
+    EXPECT_HAS(Records(r.report, RepairKind::kStitchedEdge),
+               "stitched edge (facet 1) at (0, 0, 0): to (0, 1, 0): joins facets 1 and 8\n"
+               "stitched edge (facet 2) at (1, 0, 0): to (1, 1, 0): joins facets 2 and 9\n"
+               "stitched edge (facet 4) at (0, 0, 0): to (1, 0, 0): joins facets 4 and 9\n");
+    EXPECT_NEAR(r.report.weld_tolerance_absolute, 1e-7 * std::sqrt(3.0), 1e-12);
+    EXPECT_HAS(r.report.Summary(), "welded 2 vertices (tolerance 1e-07");
+  }
+  // Exact welding only: the exact crack closes, the near one stays open.
+  RepairOptions exact;
+  exact.weld_tolerance = 0;
+  RawMesh m = CrackedCube(0);
+  Repair(m, exact);
+  ExpectSameMesh(m, Cube());
+  m = CrackedCube(1e-8f);
+  const RawMesh before = m;
+  EXPECT_EQ(Repair(m, exact).report.num_changes(), 0u);
+  ExpectSameMesh(m, before);
+}
+
+TEST(Repair, WeldKeepsLowestIndexAndDoesNotChain) {
+  // A strip of two triangles whose shared edge is given three times, slightly apart.
+  RawMesh m;
+  m.positions = {0,     0, 0, 1, 0,     0, 0,     1,     0,   // 0 1 2
+                 1,     1, 0,                                 // 3
+                 1e-7f, 0, 0, 1, 1e-7f, 0, 2e-7f, 1e-7f, 0};  // 4 ~ 0, 5 ~ 1, 6 ~ 4 not 0
+  m.triangles = {0, 1, 2, 5, 3, 2};
+  m.triangles.insert(m.triangles.end(), {6, 4, 2});
+  RepairOptions o;
+  o.weld_tolerance = 1.2e-7 / std::sqrt(2.0);  // 1.2e-7 absolute: 4 -> 0 and 5 -> 1; 6 stays
+  RepairResult r = Repair(m, o);
+  EXPECT_EQ(r.report.count(RepairKind::kWeldedVertex), 2u) << r.report.Details();
+  EXPECT_HAS(r.report.Details(),
+             "welded vertex 5 (facet 1) at (1, 1.00000001e-07, "
+             "0): merged into vertex 1");
+  EXPECT_EQ(r.vertex_origin, (std::vector<uint32_t>{0, 1, 2, 3, 6}));
+}
+
+TEST(Repair, NonManifoldVertexIsSplit) {
+  RawMesh m;
+  AddCube(m, 0, 0, 0);
+  AddCube(m, 1, 1, 1);
+  // The second cube uses the first's vertex 7 for its corner 0 at (1, 1, 1).
+  for (size_t c = 36; c < 72; ++c)
+    if (m.triangles[c] == 8) m.triangles[c] = 7;
+  EXPECT_FALSE(Mesh::Build(m).ok());
+  RepairResult r = Repair(m);
+  ExpectBuilds(m);
+  EXPECT_EQ(r.report.count(RepairKind::kSplitVertex), 1u);
+  EXPECT_EQ(r.report.num_changes(), 2u) << r.report.Details();  // and vertex 8 unused
+  EXPECT_HAS(Records(r.report, RepairKind::kSplitVertex),
+             "non-manifold vertex 7 (facet 2) at (1, 1, 1): 2 fans meet there "
+             "(first facets 2, 12); 1 copies added");
+  EXPECT_EQ(m.num_vertices(), 16u);
+  EXPECT_EQ(r.vertex_origin.back(), 7u);
+  EXPECT_EQ(testing::Topology(m).components, 2);
+  EXPECT_NEAR(SignedVolume(m), 2, 1e-6);
+}
+
+// Two unit cubes side by side whose common square x = 1 is one wall of two facets (in the first
+// cube): its four sides are edges of three facets.
+constexpr uint32_t kSkip = ~0u;
+
+RawMesh CubesSharingAFace() {
+  RawMesh m;
+  AddCube(m, 0, 0, 0);
+  AddCube(m, 1, 0, 0);
+  // Second cube: drop its -x quad (facets 12, 13) and use the first cube's vertices there.
+  m.triangles.erase(m.triangles.begin() + 36, m.triangles.begin() + 42);
+  const uint32_t same[8] = {1, kSkip, 3, kSkip, 5, kSkip, 7, kSkip};
+  for (size_t c = 36; c < m.triangles.size(); ++c)
+    if (same[m.triangles[c] - 8] != kSkip) m.triangles[c] = same[m.triangles[c] - 8];
+  return m;
+}
+
+TEST(Repair, NonManifoldEdgesAreKeptAsSeams) {
+  RawMesh m = CubesSharingAFace();
+  NumberFacets(m);
+  const RawMesh before = m;
+  RepairResult r = Repair(m);
+  EXPECT_EQ(m.num_faces(), 22u);                     // nothing deleted
+  EXPECT_EQ(CornerPoints(m), CornerPoints(before));  // same facets, renumbered vertices
+  EXPECT_EQ(m.face_groups, before.face_groups);
+  EXPECT_EQ(r.report.count(RepairKind::kSeamEdge), 4u);
+  ASSERT_EQ(r.seams.size(), 4u);
+  // Output vertices: 0..7, then 9, 11, 13, 15 (the unused 8, 10, 12, 14 dropped).
+  EXPECT_EQ(r.seams[0].a, 1u);
+  EXPECT_EQ(r.seams[0].b, 3u);
+  EXPECT_EQ(r.seams[0].pa, (std::array<float, 3>{1, 0, 0}));
+  EXPECT_EQ(r.seams[0].pb, (std::array<float, 3>{1, 1, 0}));
+  EXPECT_EQ(r.seams[0].facets.size(), 3u);
+  EXPECT_HAS(Records(r.report, RepairKind::kSeamEdge),
+             "non-manifold edge (facet 3) at (1, 0, 0): to (1, 0, 1): shared by 3 "
+             "facets (3, 4, 15)");
+  EXPECT_HAS(r.report.Summary(), "kept 4 non-manifold edges as seams");
+  EXPECT_EQ(r.report.count(RepairKind::kUnreferencedVertex), 4u);
+  EXPECT_EQ(r.report.num_changes(), 4u) << r.report.Details();
+  absl::StatusOr<Mesh> mesh = Mesh::Build(m);
+  ASSERT_FALSE(mesh.ok());
+  EXPECT_HAS(std::string(mesh.status().message()), "non-manifold edge");
+}
+
+TEST(Repair, DoubleWallBetweenPartsBecomesOneWallWithSeams) {
+  // Each cube closed, with its own facets on the common square and the vertices there welded:
+  // the second copy of the square is a double wall, removed; its sides stay as seams.
+  RawMesh m;
+  AddCube(m, 0, 0, 0);
+  AddCube(m, 1, 0, 0);
+  RepairResult r = Repair(m);
+  EXPECT_EQ(r.report.count(RepairKind::kWeldedVertex), 4u);
+  EXPECT_EQ(r.report.count(RepairKind::kDuplicateFacet), 2u);
+  EXPECT_EQ(r.report.count(RepairKind::kSeamEdge), 4u);
+  EXPECT_EQ(m.num_faces(), 22u);
+}
+
+TEST(Repair, StrictModeNamesEveryDefectAndChangesNothing) {
+  RawMesh m;
+  AddCube(m, 0, 0, 0);
+  AddCube(m, 1, 1, 1);
+  for (size_t c = 36; c < 72; ++c)
+    if (m.triangles[c] == 8) m.triangles[c] = 7;  // non-manifold vertex 7
+  Flip(m, 3);
+  Flip(m, 20);
+  AppendFacet(m, {0, 1, 1});                                            // facet 24
+  AppendFacet(m, {m.triangles[15], m.triangles[16], m.triangles[17]});  // facet 25 = 5
+  const RawMesh before = m;
+  RepairOptions strict;
+  strict.mode = RepairMode::kOff;
+  absl::StatusOr<RepairResult> r = RepairMesh(m, strict);
+  ASSERT_FALSE(r.ok());
+  ExpectSameMesh(m, before);
+  EXPECT_EQ(r.status().code(), absl::StatusCode::kInvalidArgument);
+  const std::string message(r.status().message());
+  EXPECT_HAS(message,
+             "repair is off and the mesh has 5 defects (1 degenerate facet, "
+             "1 duplicate facet, 2 flipped facets, 1 non-manifold vertex)");
+  EXPECT_HAS(message, "degenerate facet 24 at (0.666666667, 0, 0): repeats a vertex");
+  EXPECT_HAS(message, "duplicate facet 25 at");
+  EXPECT_HAS(message, "flipped facet 3 at");
+  EXPECT_HAS(message, "flipped facet 20 at");
+  EXPECT_HAS(message, "non-manifold vertex 7 (facet 2) at (1, 1, 1)");
+
+  // Seams are defects too; a mesh Build accepts passes, untouched.
+  RawMesh seams = CubesSharingAFace();
+  r = RepairMesh(seams, strict);
+  ASSERT_FALSE(r.ok());
+  EXPECT_HAS(std::string(r.status().message()), "4 non-manifold edges");
+  RawMesh inside_out = CrackedCube(0);
+  for (size_t f = 0; f < 12; ++f) Flip(inside_out, f);
+  const RawMesh clean = inside_out;
+  r = RepairMesh(inside_out, strict);
+  ASSERT_TRUE(r.ok()) << r.status();
+  EXPECT_EQ(r->report.num_changes(), 0u);
+  ExpectSameMesh(inside_out, clean);
+}
+
+TEST(Repair, StrictModeCapsTheListPerKind) {
+  RawMesh m = testing::FlatGrid(10);  // 200 facets
+  for (size_t f = 0; f < 60; f += 2) Flip(m, f);
+  RepairOptions strict;
+  strict.mode = RepairMode::kOff;
+  strict.max_records_per_kind = 20;
+  absl::StatusOr<RepairResult> r = RepairMesh(m, strict);
+  ASSERT_FALSE(r.ok());
+  const std::string message(r.status().message());
+  EXPECT_HAS(message, "30 flipped facets");
+  EXPECT_HAS(message, "flipped facet 38 at");
+  EXPECT_HAS_NOT(message, "flipped facet 40 at");
+  EXPECT_HAS(message, "and 10 more flipped facets");
+  // Repaired, the grid takes the majority's orientation.
+  RepairResult repaired = Repair(m);
+  EXPECT_EQ(repaired.report.count(RepairKind::kFlippedFacet), 30u);
+  EXPECT_EQ(m.triangles, testing::FlatGrid(10).triangles);
+  EXPECT_HAS(repaired.report.Details(), "... and 10 more flipped facets");
+}
+
+TEST(Repair, UnrepairableInputIsRefusedWithEveryProblem) {
+  RawMesh m = Cube();
+  m.triangles[4] = 40;
+  m.triangles[30] = 41;
+  m.positions[3 * 6 + 1] = std::numeric_limits<float>::quiet_NaN();
+  absl::StatusOr<RepairResult> r = RepairMesh(m, {});
+  ASSERT_FALSE(r.ok());
+  const std::string message(r.status().message());
+  EXPECT_HAS(message, "3 unrepairable problems");
+  EXPECT_HAS(message, "facet 1 references vertex 40 but the mesh has 8 vertices");
+  EXPECT_HAS(message, "facet 10 references vertex 41");
+  EXPECT_HAS(message, "vertex 6 (used by facet 0) has a non-finite coordinate");
+
+  RawMesh cube = Cube();
+  RepairOptions bad;
+  bad.weld_tolerance = -1e-7;
+  r = RepairMesh(cube, bad);
+  ASSERT_FALSE(r.ok());
+  EXPECT_HAS(r.status().message(), "weld tolerance -1e-07: must be at least 0");
+
+  RawMesh all_degenerate = {{0, 0, 0, 1, 0, 0, 2, 0, 0}, {0, 1, 2}, {}, {}};
+  r = RepairMesh(all_degenerate, {});
+  ASSERT_FALSE(r.ok());
+  EXPECT_HAS(std::string(r.status().message()), "empty after repair");
+}
+
+TEST(Repair, FandiskWithFlippedAndDuplicatedFacets) {
+  const RawMesh clean = testing::LoadTestMesh("fandisk_groups_fields.ply");
+  ASSERT_GT(clean.num_faces(), 10000u);
+  ASSERT_FALSE(clean.face_groups.empty());
+  RawMesh m = clean;
+  for (size_t f : {100, 2000, 5000}) Flip(m, f);
+  // Duplicates of facets 10 and 300 (the second turned over) inserted at 7000, then 500.
+  const size_t dup[2] = {10, 300};
+  const size_t at[2] = {500, 7000};
+  for (int i = 1; i >= 0; --i) {
+    std::vector<uint32_t> t(m.triangles.begin() + 3 * dup[i], m.triangles.begin() + 3 * dup[i] + 3);
+    if (i == 1) std::swap(t[1], t[2]);
+    m.triangles.insert(m.triangles.begin() + 3 * at[i], t.begin(), t.end());
+    if (!m.face_groups.empty()) m.face_groups.insert(m.face_groups.begin() + at[i], 999 + i);
+    for (FaceField& field : m.face_fields) field.values.insert(field.values.begin() + at[i], 1e6f);
+  }
+  EXPECT_FALSE(Mesh::Build(m).ok());
+  RepairResult r = Repair(m);
+  ExpectSameMesh(m, clean);
+  ExpectBuilds(m);
+  EXPECT_EQ(r.report.count(RepairKind::kFlippedFacet), 3u);
+  EXPECT_EQ(r.report.count(RepairKind::kDuplicateFacet), 2u);
+  EXPECT_EQ(r.report.num_changes(), 5u) << r.report.Details();
+  // Input numbers: facets after 500 moved one on.
+  const std::string flipped = Records(r.report, RepairKind::kFlippedFacet);
+  EXPECT_HAS(flipped, "flipped facet 100 at");
+  EXPECT_HAS(flipped, "flipped facet 2001 at");
+  EXPECT_HAS(flipped, "flipped facet 5001 at");
+  const std::string dups = Records(r.report, RepairKind::kDuplicateFacet);
+  EXPECT_HAS(dups, "duplicate facet 500 at");
+  EXPECT_HAS(dups, "same vertices as facet 10\n");
+  EXPECT_HAS(dups, "duplicate facet 7001 at");
+  EXPECT_HAS(dups, "same vertices as facet 300, opposite orientation");
+}
+
+// As an STL file would give it: three vertices per facet, a few facets flipped and repeated.
+TEST(Repair, SoupOfFandiskIsWeldedBackDeterministically) {
+  const RawMesh clean = testing::LoadTestMesh("fandisk.off");
+  RawMesh soup;
+  for (size_t f = 0; f < clean.num_faces(); ++f) {
+    for (int i = 0; i < 3; ++i) {
+      const float* p = &clean.positions[3 * clean.triangles[3 * f + i]];
+      soup.positions.insert(soup.positions.end(), p, p + 3);
+    }
+    const uint32_t v = static_cast<uint32_t>(3 * f);
+    if (f % 997 == 5) {
+      AppendFacet(soup, {v, v + 2, v + 1});
+    } else {
+      AppendFacet(soup, {v, v + 1, v + 2});
+    }
+    if (f % 1999 == 7) AppendFacet(soup, {v + 1, v + 2, v});
+  }
+  RawMesh again = soup;
+  RepairResult r = Repair(soup);
+  ExpectBuilds(soup);
+  EXPECT_EQ(CornerPoints(soup), CornerPoints(clean));
+  const testing::SurfaceTopology a = testing::Topology(soup), b = testing::Topology(clean);
+  EXPECT_EQ(a.vertices, b.vertices);
+  EXPECT_EQ(a.edges, b.edges);
+  EXPECT_EQ(a.boundary_edges, b.boundary_edges);
+  EXPECT_EQ(r.report.count(RepairKind::kWeldedVertex), 3 * clean.num_faces() - b.vertices);
+  EXPECT_EQ(r.report.count(RepairKind::kFlippedFacet), (clean.num_faces() + 991) / 997);
+  EXPECT_EQ(r.report.count(RepairKind::kDuplicateFacet), (clean.num_faces() + 1991) / 1999);
+  Repair(again);
+  ExpectSameMesh(again, soup);
+}
+
+// Timing on a large mesh, when FEMSIMP_REPAIR_BENCH names one (e.g. bench/data/blade_loop3.ply):
+// as read, and as an STL-like soup (three vertices per facet) that the weld must join.
+TEST(Repair, LargeMeshTiming) {
+  const char* path = std::getenv("FEMSIMP_REPAIR_BENCH");
+  if (path == nullptr) GTEST_SKIP() << "set FEMSIMP_REPAIR_BENCH to a mesh file to time";
+  absl::StatusOr<RawMesh> read = ReadMeshFile(path);
+  ASSERT_TRUE(read.ok()) << read.status();
+  RawMesh soup;
+  for (size_t c = 0; c < read->triangles.size(); ++c) {
+    const float* p = &read->positions[3 * read->triangles[c]];
+    soup.positions.insert(soup.positions.end(), p, p + 3);
+    soup.triangles.push_back(static_cast<uint32_t>(c));
+  }
+  for (size_t f = 0; f < read->num_faces(); f += 100000) Flip(soup, f);
+  for (RawMesh* m : {&*read, &soup}) {
+    const size_t faces = m->num_faces(), vertices = m->num_vertices();
+    const auto start = std::chrono::steady_clock::now();
+    RepairResult r = Repair(*m);
+    const double s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::printf("repair of %zu facets, %zu vertices: %.3f s\n%s\n", faces, vertices, s,
+                r.report.Summary().c_str());
+    ExpectBuilds(*m);
+  }
+}
+
+}  // namespace
+}  // namespace femsimp
