@@ -1,7 +1,7 @@
 // femsimp's one thread pool: a fixed set of contexts that Run one function each and return when
-// all are done; the caller is context 0. The engine runs a function per pass phase on it, so its
-// callbacks (progress, cancellation) stay on the caller's thread; the server's JobRunner runs a
-// job loop on each context for the server's lifetime.
+// all are done; the caller is context 0. The engine runs a function per pass phase on it (the
+// progress callback stays on the caller's thread; every context polls cancellation); the server's
+// JobRunner runs a job loop on each context for the server's lifetime.
 #pragma once
 
 #include <condition_variable>
