@@ -7,10 +7,10 @@
 #include <map>
 #include <set>
 
+#include "engine/mesh_checks.h"
 #include "engine/simplify.h"
 #include "engine/vec.h"
-#include "tests/engine/mesh_checks.h"
-#include "tests/engine/small_meshes.h"
+#include "tests/support/meshes.h"
 
 namespace femsimp {
 namespace {
@@ -82,7 +82,7 @@ FidelityRun Simplified(const RawMesh& input, const SimplifyOptions& options) {
   absl::StatusOr<SimplifyResult> result = Simplify(*mesh, options);
   EXPECT_TRUE(result.ok()) << result.status();
   if (!result.ok()) return run;
-  EXPECT_EQ(testing::HalfEdgeInvariantViolation(*mesh), "");
+  EXPECT_EQ(HalfEdgeInvariantViolation(*mesh), "");
   run.result = *result;
   run.output = mesh->ToRaw();
   return run;
