@@ -8,10 +8,7 @@
 namespace femsimp {
 namespace {
 
-struct CellRun {
-  SimplifyResult result;
-  RawMesh output;
-};
+using CellRun = testing::SimplifyRun;
 
 CellRun RunCell(const RawMesh& raw, int spes, int ls_cache_kib, int spe_threads,
                 bool topology_only = false) {
@@ -21,13 +18,7 @@ CellRun RunCell(const RawMesh& raw, int spes, int ls_cache_kib, int spe_threads,
   options.cell.ls_cache_kib = ls_cache_kib;
   options.cell.spe_threads = spe_threads;
   options.topology_only = topology_only;
-  absl::StatusOr<Mesh> mesh = Mesh::Build(raw);
-  EXPECT_TRUE(mesh.ok());
-  absl::StatusOr<SimplifyResult> result = Simplify(*mesh, options);
-  EXPECT_TRUE(result.ok()) << result.status();
-  if (!result.ok()) return {};
-  EXPECT_EQ(HalfEdgeInvariantViolation(*mesh), "");
-  return {*result, mesh->ToRaw()};
+  return testing::SimplifyChecked(raw, options);
 }
 
 void ExpectValid(const RawMesh& in, const CellRun& run) {

@@ -14,24 +14,10 @@ namespace {
 
 using testing::LoadTestMesh;
 
-struct SimplifyRun {
-  RawMesh input, output;
-  SimplifyResult result;
-};
+using testing::SimplifyRun;
 
-SimplifyRun Simplified(const std::string& name, SimplifyOptions options) {
-  SimplifyRun run;
-  run.input = LoadTestMesh(name);
-  absl::StatusOr<Mesh> mesh = Mesh::Build(run.input);
-  EXPECT_TRUE(mesh.ok()) << mesh.status();
-  if (!mesh.ok()) return run;
-  absl::StatusOr<SimplifyResult> result = Simplify(*mesh, options);
-  EXPECT_TRUE(result.ok()) << result.status();
-  if (!result.ok()) return run;
-  EXPECT_EQ(HalfEdgeInvariantViolation(*mesh), "");
-  run.result = *result;
-  run.output = mesh->ToRaw();
-  return run;
+SimplifyRun Simplified(const std::string& name, const SimplifyOptions& options) {
+  return testing::SimplifyChecked(LoadTestMesh(name), options);
 }
 
 // Faces of the output that are not faces of the input were made by collapses.

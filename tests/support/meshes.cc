@@ -6,6 +6,8 @@
 #include <set>
 
 #include "engine/io/mesh_io.h"
+#include "engine/mesh.h"
+#include "engine/mesh_checks.h"
 #include "gtest/gtest.h"
 
 namespace femsimp::testing {
@@ -114,6 +116,21 @@ RawMesh LoadTestMesh(const std::string& name) {
   absl::StatusOr<RawMesh> raw = ReadMeshFile(TestDataPath(name));
   EXPECT_TRUE(raw.ok()) << raw.status();
   return raw.ok() ? *std::move(raw) : RawMesh{};
+}
+
+SimplifyRun SimplifyChecked(const RawMesh& input, const SimplifyOptions& options) {
+  SimplifyRun run;
+  run.input = input;
+  absl::StatusOr<Mesh> mesh = Mesh::Build(input);
+  EXPECT_TRUE(mesh.ok()) << mesh.status();
+  if (!mesh.ok()) return run;
+  absl::StatusOr<SimplifyResult> result = Simplify(*mesh, options);
+  EXPECT_TRUE(result.ok()) << result.status();
+  if (!result.ok()) return run;
+  EXPECT_EQ(HalfEdgeInvariantViolation(*mesh), "");
+  run.result = *result;
+  run.output = mesh->ToRaw();
+  return run;
 }
 
 double MinAngleDegrees(const RawMesh& mesh, size_t face) {

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "engine/raw_mesh.h"
+#include "engine/simplify.h"
 
 namespace femsimp::testing {
 
@@ -31,6 +32,14 @@ size_t ExpectGroupsAndFields(const RawMesh& out);
 
 std::string TestDataPath(const std::string& name);  // in tests/data
 RawMesh LoadTestMesh(const std::string& name);      // from tests/data, fails the test if missing
+
+// One engine run, failing the test on any error: builds `input`, simplifies it, checks the
+// half-edge invariants, and keeps the input, the output soup and the result.
+struct SimplifyRun {
+  RawMesh input, output;
+  SimplifyResult result;
+};
+SimplifyRun SimplifyChecked(const RawMesh& input, const SimplifyOptions& options);
 
 // Smallest interior angle (degrees) of a triangle of the soup.
 double MinAngleDegrees(const RawMesh& mesh, size_t face);
