@@ -1,5 +1,5 @@
-// OpenMesh headers (the OFF and STL writers), wrapped: GCC 12 reports -Wmaybe-uninitialized false positives inside
-// OpenMesh's Property.hh, which we silence here and only here.
+// OpenMesh headers (the OFF and STL writers), wrapped: GCC 12 reports -Wmaybe-uninitialized false
+// positives inside OpenMesh's Property.hh, which we silence here and only here.
 #pragma once
 
 #pragma GCC diagnostic push
