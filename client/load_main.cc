@@ -16,12 +16,12 @@
 #include "absl/strings/str_format.h"
 #include "client/args.h"
 #include "client/exit_codes.h"
-#include "client/output_check.h"
 #include "client/remote_call.h"
 #include "client/retry.h"
 #include "common/flags.h"
 #include "engine/io/mesh_io.h"
 #include "engine/option_flags.h"
+#include "engine/mesh_checks.h"
 #include "proto/wire.h"
 
 namespace {

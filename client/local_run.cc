@@ -55,8 +55,6 @@ int RunLocal(const SimplifyArgs& args) {
                  result.status().ToString().c_str());
     return kExitEngineFailed;
   }
-  report.output_vertices = result->output_vertices;
-  report.output_faces = result->output_faces;
   report.engine_seconds = result->engine_seconds;
   report.busy_seconds = result->busy_seconds;
   report.stop_reason = StopReasonName(result->stop_reason);
@@ -64,20 +62,8 @@ int RunLocal(const SimplifyArgs& args) {
   report.passes = std::move(result->passes);
   report.fidelity = FidelityFigures::Of(*result);
 
-  auto t1 = std::chrono::steady_clock::now();
   RawMesh out = mesh->ToRaw();
-  report.output_vertices = out.num_vertices();
-  report.output_faces = out.num_faces();
-  if (!WriteOutput(args, out, group_names)) return kExitOutputFailed;
-  report.write_seconds = SecondsSince(t1);
-
-  std::printf("%s", Summary(report).c_str());
-  if (!args.stats_json.empty()) {
-    if (absl::Status s = WriteTextFile(args.stats_json, ReportJson(report)); !s.ok()) {
-      std::fprintf(stderr, "femsimp: --stats-json: %s\n", std::string(s.message()).c_str());
-      return kExitOutputFailed;
-    }
-  }
+  if (int code = FinishRun(args, out, group_names, report); code != kExitOk) return code;
   return g_interrupted.load() ? kExitCancelled : kExitOk;
 }
 

@@ -154,8 +154,6 @@ int RunRemote(const SimplifyArgs& args) {
     return kExitGrpcBase + static_cast<int>(code);
   }
   const v1::Result& r = out.result;
-  report.output_vertices = out.output.num_vertices();
-  report.output_faces = out.output.num_faces();
   report.engine_seconds = r.engine_seconds();
   report.busy_seconds = r.busy_seconds();
   report.queue_seconds = r.queue_seconds();
@@ -167,17 +165,7 @@ int RunRemote(const SimplifyArgs& args) {
   if (args.options.backend == Backend::kNative && r.contexts() > 0)
     report.options.threads = r.contexts();  // what the server actually ran with
 
-  auto t1 = std::chrono::steady_clock::now();
-  if (!WriteOutput(args, out.output, group_names)) return kExitOutputFailed;
-  report.write_seconds = SecondsSince(t1);
-  std::printf("%s", Summary(report).c_str());
-  if (!args.stats_json.empty()) {
-    if (absl::Status s = WriteTextFile(args.stats_json, ReportJson(report)); !s.ok()) {
-      std::fprintf(stderr, "femsimp: --stats-json: %s\n", std::string(s.message()).c_str());
-      return kExitOutputFailed;
-    }
-  }
-  return kExitOk;
+  return FinishRun(args, out.output, group_names, report);
 }
 
 }  // namespace femsimp::cli

@@ -5,6 +5,7 @@
 #include <unordered_set>
 
 #include "absl/strings/str_cat.h"
+#include "client/exit_codes.h"
 #include "engine/io/mesh_io.h"
 
 namespace femsimp::cli {
@@ -59,14 +60,26 @@ bool CheckOutputFormat(const SimplifyArgs& args, const RawMesh& input, RunReport
   return true;
 }
 
-bool WriteOutput(const SimplifyArgs& args, RawMesh& output, const GroupNames& group_names) {
+int FinishRun(const SimplifyArgs& args, RawMesh& output, const GroupNames& group_names,
+              RunReport& report) {
+  report.output_vertices = output.num_vertices();
+  report.output_faces = output.num_faces();
+  const auto t0 = std::chrono::steady_clock::now();
   if (args.drop_face_data) DropUnheldFaceData(MeshFileExtension(args.output), &output);
   if (absl::Status s = WriteMeshFile(args.output, output, group_names); !s.ok()) {
     std::fprintf(stderr, "femsimp: cannot write %s: %s\n", args.output.c_str(),
                  std::string(s.message()).c_str());
-    return false;
+    return kExitOutputFailed;
   }
-  return true;
+  report.write_seconds = SecondsSince(t0);
+  std::printf("%s", Summary(report).c_str());
+  if (!args.stats_json.empty()) {
+    if (absl::Status s = WriteTextFile(args.stats_json, ReportJson(report)); !s.ok()) {
+      std::fprintf(stderr, "femsimp: --stats-json: %s\n", std::string(s.message()).c_str());
+      return kExitOutputFailed;
+    }
+  }
+  return kExitOk;
 }
 
 double SecondsSince(std::chrono::steady_clock::time_point t0) {

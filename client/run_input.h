@@ -1,5 +1,5 @@
-// The start shared by the local and the remote simplify run: the report skeleton, the input
-// file, the clock.
+// The start and the end shared by the local and the remote simplify run: the report skeleton,
+// the input file, the output file, the summary, the clock.
 #pragma once
 
 #include <chrono>
@@ -25,9 +25,11 @@ std::optional<RawMesh> ReadInput(const SimplifyArgs& args, RunReport& report,
 // records what OUT will lack in the report.
 bool CheckOutputFormat(const SimplifyArgs& args, const RawMesh& input, RunReport& report);
 
-// Writes OUT (dropping what its format cannot hold under --drop-face-data); prints why on
-// failure (the caller exits with kExitOutputFailed).
-bool WriteOutput(const SimplifyArgs& args, RawMesh& output, const GroupNames& group_names);
+// The end of a run: writes OUT (dropping what its format cannot hold under --drop-face-data),
+// records its size and the time the write took, prints the summary and writes --stats-json.
+// kExitOk, or kExitOutputFailed after printing why.
+int FinishRun(const SimplifyArgs& args, RawMesh& output, const GroupNames& group_names,
+              RunReport& report);
 
 double SecondsSince(std::chrono::steady_clock::time_point t0);
 

@@ -1,91 +1,12 @@
 #include "engine/mesh.h"
 
-#include <cmath>
-#include <limits>
+#include <memory>
 
 #include "absl/status/status.h"
 #include "absl/strings/str_cat.h"
+#include "engine/mesh_checks.h"
 
 namespace femsimp {
-namespace {
-
-double TriangleArea2(const float* a, const float* b, const float* c, double* longest2) {
-  double u[3], w[3], e[3];
-  for (int i = 0; i < 3; ++i) {
-    u[i] = double(b[i]) - a[i];
-    w[i] = double(c[i]) - a[i];
-    e[i] = double(c[i]) - b[i];
-  }
-  double cx = u[1] * w[2] - u[2] * w[1], cy = u[2] * w[0] - u[0] * w[2],
-         cz = u[0] * w[1] - u[1] * w[0];
-  auto len2 = [](const double* v) { return v[0] * v[0] + v[1] * v[1] + v[2] * v[2]; };
-  *longest2 = std::max({len2(u), len2(w), len2(e)});
-  return std::sqrt(cx * cx + cy * cy + cz * cz);
-}
-
-absl::Status CheckSoup(const RawMesh& raw) {
-  if (raw.positions.size() % 3 != 0)
-    return absl::InvalidArgumentError(
-        absl::StrCat("vertex coordinates: ", raw.positions.size(), " is not a multiple of 3"));
-  if (raw.triangles.size() % 3 != 0)
-    return absl::InvalidArgumentError(
-        absl::StrCat("triangle indices: ", raw.triangles.size(), " is not a multiple of 3"));
-  const size_t nv = raw.num_vertices(), nf = raw.num_faces();
-  if (nv == 0 || nf == 0)
-    return absl::InvalidArgumentError(
-        absl::StrCat("mesh is empty (", nv, " vertices, ", nf, " faces)"));
-  if (!raw.face_groups.empty() && raw.face_groups.size() != nf)
-    return absl::InvalidArgumentError(
-        absl::StrCat("face groups: ", raw.face_groups.size(), " ids for ", nf, " faces"));
-  if (raw.face_fields.size() > kMaxFaceFields)
-    return absl::InvalidArgumentError(
-        absl::StrCat("face fields: ", raw.face_fields.size(), " given, at most ", kMaxFaceFields));
-  for (size_t i = 0; i < raw.face_fields.size(); ++i) {
-    const FaceField& field = raw.face_fields[i];
-    if (field.name.empty())
-      return absl::InvalidArgumentError(absl::StrCat("face field ", i, " has no name"));
-    for (size_t j = 0; j < i; ++j)
-      if (raw.face_fields[j].name == field.name)
-        return absl::InvalidArgumentError(
-            absl::StrCat("face field '", field.name, "' is given twice"));
-    if (field.values.size() != nf)
-      return absl::InvalidArgumentError(absl::StrCat(
-          "face field '", field.name, "': ", field.values.size(), " values for ", nf, " faces"));
-    for (size_t f = 0; f < nf; ++f)
-      if (!std::isfinite(field.values[f]))
-        return absl::InvalidArgumentError(
-            absl::StrCat("face field '", field.name, "': face ", f, " has a non-finite value"));
-  }
-  // Indices are 32-bit and kNone is reserved.
-  if (nv >= kNone || 3 * nf >= kNone)
-    return absl::InvalidArgumentError(
-        absl::StrCat("mesh too large: ", nv, " vertices, ", nf, " faces"));
-  for (size_t v = 0; v < nv; ++v) {
-    const float* p = &raw.positions[3 * v];
-    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
-      return absl::InvalidArgumentError(absl::StrCat("vertex ", v, " has a non-finite coordinate (",
-                                                     p[0], ", ", p[1], ", ", p[2], ")"));
-  }
-  for (size_t f = 0; f < nf; ++f) {
-    const uint32_t* t = &raw.triangles[3 * f];
-    for (int i = 0; i < 3; ++i)
-      if (t[i] >= nv)
-        return absl::InvalidArgumentError(absl::StrCat("face ", f, " references vertex ", t[i],
-                                                       " but the mesh has ", nv, " vertices"));
-    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2])
-      return absl::InvalidArgumentError(absl::StrCat("face ", f, " is degenerate: vertices (", t[0],
-                                                     ", ", t[1], ", ", t[2], ") repeat an index"));
-    double longest2;
-    double area2 = TriangleArea2(&raw.positions[3 * t[0]], &raw.positions[3 * t[1]],
-                                 &raw.positions[3 * t[2]], &longest2);
-    if (!(area2 > 1e-12 * longest2))
-      return absl::InvalidArgumentError(
-          absl::StrCat("face ", f, " (", t[0], ", ", t[1], ", ", t[2], ") has zero area"));
-  }
-  return absl::OkStatus();
-}
-
-}  // namespace
 
 absl::StatusOr<Mesh> Mesh::Build(const RawMesh& raw) {
   if (absl::Status s = CheckSoup(raw); !s.ok()) return s;
@@ -222,12 +143,6 @@ size_t Mesh::CountLiveFaces() const {
   size_t n = 0;
   for (uint32_t f = 0; f < face_capacity(); ++f) n += !IsFaceRemoved(f);
   return n;
-}
-
-size_t Mesh::MemoryBytes() const {
-  return vertices_.size() * (sizeof(VertexQ) + sizeof(std::atomic<uint32_t>)) +
-         halfedges_.size() * sizeof(HalfEdgeQ) + face_attrs_.size() * sizeof(FaceAttrQ) +
-         quadrics_.size() * sizeof(QuadricQ);
 }
 
 }  // namespace femsimp

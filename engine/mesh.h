@@ -55,9 +55,6 @@ class Mesh {
   }
   bool IsFaceRemoved(uint32_t f) const { return halfedges_[3 * f].flags & kFaceRemoved; }
 
-  // Bytes held by the engine's arrays (for memory reports).
-  size_t MemoryBytes() const;
-
  private:
   Mesh() = default;
 

@@ -1,6 +1,6 @@
 // Face groups and face fields in mesh files: which format holds what, the naming rules shared by
-// the reader (survey.cc) and the writers, and femsimp's own OBJ and PLY writers (OpenMesh's OBJ
-// writer writes no groups, and its PLY writer stores face properties only from a mesh kernel).
+// the readers (mesh_readers.cc) and the writers, and femsimp's own OBJ and PLY writers (OpenMesh's
+// OBJ writer writes no groups, and its PLY writer stores face properties only from a mesh kernel).
 //
 //   format  face groups                               face fields
 //   OBJ     `g NAME` statements                        -

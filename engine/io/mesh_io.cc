@@ -12,9 +12,8 @@
 #include "absl/strings/ascii.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
+#include "engine/io/mesh_readers.h"
 #include "engine/io/openmesh.h"
-#include "engine/io/raw_importer.h"
-#include "engine/io/survey.h"
 
 namespace femsimp {
 namespace {
@@ -147,36 +146,10 @@ absl::StatusOr<RawMesh> ReadMeshFile(const std::string& path, GroupNames* group_
   absl::StatusOr<std::string> data = ReadWholeFile(path);
   if (!data.ok()) return data.status();
   if (data->empty()) return absl::InvalidArgumentError(absl::StrCat(path, ": file is empty"));
-  absl::StatusOr<MeshFileSurvey> survey = SurveyMeshFile(ext, *data);
-  if (!survey.ok()) return Prefixed(path, survey.status());
-
-  RawImporter importer;
-  OpenMesh::IO::Options options;
-  if (!OpenMesh::IO::IOManager().read(path, importer, options))
-    return absl::InvalidArgumentError(
-        absl::StrCat(path, ": OpenMesh's ", ext, " reader cannot parse the file"));
-
-  // The survey counted what the file holds; anything OpenMesh dropped or invented is an error
-  // rather than a silently different mesh. STL corners are merged, so only faces compare.
-  if (importer.faces_seen() != survey->faces ||
-      (ext != ".stl" && importer.n_vertices() != survey->vertices))
-    return absl::InvalidArgumentError(
-        absl::StrCat(path, ": the file holds ", survey->vertices, " vertices and ", survey->faces,
-                     " faces but OpenMesh's reader returned ", importer.n_vertices(), " and ",
-                     importer.faces_seen()));
-  if (importer.first_polygon() != RawImporter::kNoFace)
-    return absl::InvalidArgumentError(absl::StrCat(
-        path, ": face ", importer.first_polygon(), " has ", importer.first_polygon_size(),
-        " vertices: femsimp accepts triangles only; triangulate first"));
-  if (importer.first_bad_index_face() != RawImporter::kNoFace)
-    return absl::InvalidArgumentError(absl::StrCat(path, ": face ", importer.first_bad_index_face(),
-                                                   " has a negative vertex index"));
-  // The survey read the groups and fields in file order, which is the importer's face order.
-  RawMesh mesh = std::move(importer.mesh());
-  mesh.face_groups = std::move(survey->face_groups);
-  mesh.face_fields = std::move(survey->face_fields);
-  if (group_names) *group_names = std::move(survey->group_names);
-  return mesh;
+  absl::StatusOr<ParsedMeshFile> parsed = ParseMeshFile(ext, *data);
+  if (!parsed.ok()) return Prefixed(path, parsed.status());
+  if (group_names) *group_names = std::move(parsed->group_names);
+  return std::move(parsed->mesh);
 }
 
 absl::Status WriteMeshFile(const std::string& path, const RawMesh& mesh,

@@ -1,6 +1,6 @@
-// Mesh files in and out, chosen by file extension: geometry through OpenMesh's readers and its
-// OFF and STL writers; face groups and fields, and the OBJ and PLY files that carry them, by
-// femsimp's own code (face_data.h says which format holds what).
+// Mesh files in and out, chosen by file extension. Every format is read by femsimp's own readers
+// in one pass (mesh_readers.h); OFF and STL are written by OpenMesh's writers, OBJ and PLY with
+// their face groups and fields by femsimp's own (face_data.h says which format holds what).
 #pragma once
 
 #include <string>
@@ -17,7 +17,8 @@ const std::vector<std::string>& SupportedMeshExtensions();
 
 // Reads OFF, OBJ, STL (ascii or binary) or PLY into an indexed triangle soup. File-level
 // problems (missing, unreadable, truncated, unknown extension, non-triangle faces, ...) come
-// back as errors naming the file and the problem. Topology is checked later by Mesh::Build.
+// back as errors naming the file, the problem and where (mesh_readers.h). Indices in range and
+// topology are checked later by Mesh::Build (engine/mesh_checks.h).
 // Face groups come from OBJ and PLY files, face fields from PLY files; group_names, when given,
 // receives the OBJ group names that are not derived from the id.
 absl::StatusOr<RawMesh> ReadMeshFile(const std::string& path, GroupNames* group_names = nullptr);

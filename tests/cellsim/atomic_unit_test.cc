@@ -7,7 +7,7 @@
 
 #include "cellsim/runtime.h"
 #include "gtest/gtest.h"
-#include "test_util.h"
+#include "tests/support/cellsim.h"
 
 namespace femsimp::cellsim {
 namespace {

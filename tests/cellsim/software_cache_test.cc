@@ -5,7 +5,7 @@
 
 #include "cellsim/spe_context.h"
 #include "gtest/gtest.h"
-#include "test_util.h"
+#include "tests/support/cellsim.h"
 
 namespace femsimp::cellsim {
 namespace {

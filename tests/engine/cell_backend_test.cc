@@ -3,16 +3,14 @@
 
 #include <atomic>
 
+#include "engine/mesh_checks.h"
 #include "engine/simplify.h"
-#include "tests/engine/mesh_checks.h"
+#include "tests/support/meshes.h"
 
 namespace femsimp {
 namespace {
 
-struct CellRun {
-  SimplifyResult result;
-  RawMesh output;
-};
+using CellRun = testing::SimplifyRun;
 
 CellRun RunCell(const RawMesh& raw, int spes, int ls_cache_kib, int spe_threads,
                 bool topology_only = false) {
@@ -22,18 +20,12 @@ CellRun RunCell(const RawMesh& raw, int spes, int ls_cache_kib, int spe_threads,
   options.cell.ls_cache_kib = ls_cache_kib;
   options.cell.spe_threads = spe_threads;
   options.topology_only = topology_only;
-  absl::StatusOr<Mesh> mesh = Mesh::Build(raw);
-  EXPECT_TRUE(mesh.ok());
-  absl::StatusOr<SimplifyResult> result = Simplify(*mesh, options);
-  EXPECT_TRUE(result.ok()) << result.status();
-  if (!result.ok()) return {};
-  EXPECT_EQ(testing::HalfEdgeInvariantViolation(*mesh), "");
-  return {*result, mesh->ToRaw()};
+  return testing::SimplifyChecked(raw, options);
 }
 
 void ExpectValid(const RawMesh& in, const CellRun& run) {
   ASSERT_TRUE(Mesh::Build(run.output).ok()) << Mesh::Build(run.output).status();
-  const auto a = testing::Topology(in), b = testing::Topology(run.output);
+  const auto a = TopologyOf(in), b = TopologyOf(run.output);
   EXPECT_EQ(a.euler(), b.euler());
   EXPECT_EQ(a.components, b.components);
   EXPECT_EQ(b.boundary_edges, 0);
@@ -71,7 +63,7 @@ TEST(CellBackend, SoftwareThreadsOnAndOffBothValid) {
   for (int threads : {1, 3}) {
     const CellRun run = RunCell(raw, 4, 16, threads);
     ASSERT_TRUE(Mesh::Build(run.output).ok());
-    EXPECT_EQ(testing::Topology(raw).euler(), testing::Topology(run.output).euler());
+    EXPECT_EQ(TopologyOf(raw).euler(), TopologyOf(run.output).euler());
     uint64_t switches = 0;
     for (const PassStats& p : run.result.passes) switches += p.cell->thread_switches;
     if (threads == 1) {

@@ -9,8 +9,7 @@
 
 #include "engine/simplify.h"
 #include "engine/vec.h"
-#include "tests/engine/mesh_checks.h"
-#include "tests/engine/small_meshes.h"
+#include "tests/support/meshes.h"
 
 namespace femsimp {
 namespace {
@@ -68,25 +67,8 @@ double SampledDistance(const RawMesh& from, const RawMesh& to, int steps) {
   return worst;
 }
 
-struct FidelityRun {
-  RawMesh input, output;
-  SimplifyResult result;
-};
-
-FidelityRun Simplified(const RawMesh& input, const SimplifyOptions& options) {
-  FidelityRun run;
-  run.input = input;
-  absl::StatusOr<Mesh> mesh = Mesh::Build(input);
-  EXPECT_TRUE(mesh.ok()) << mesh.status();
-  if (!mesh.ok()) return run;
-  absl::StatusOr<SimplifyResult> result = Simplify(*mesh, options);
-  EXPECT_TRUE(result.ok()) << result.status();
-  if (!result.ok()) return run;
-  EXPECT_EQ(testing::HalfEdgeInvariantViolation(*mesh), "");
-  run.result = *result;
-  run.output = mesh->ToRaw();
-  return run;
-}
+using FidelityRun = testing::SimplifyRun;
+constexpr auto Simplified = testing::SimplifyChecked;
 
 TEST(EngineFidelity, DeviationStaysWithinTheToleranceBothWays) {
   const RawMesh fandisk = LoadTestMesh("fandisk.off");

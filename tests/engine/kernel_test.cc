@@ -6,15 +6,12 @@
 
 #include "engine/features.h"
 #include "engine/kernel.h"
+#include "engine/mesh_checks.h"
 #include "engine/port.h"
-#include "tests/engine/mesh_checks.h"
-#include "tests/engine/small_meshes.h"
+#include "tests/support/meshes.h"
 
 namespace femsimp {
 namespace {
-
-using testing::HalfEdgeInvariantViolation;
-using testing::Topology;
 
 struct Harness {
   explicit Harness(const RawMesh& raw, SimplifyOptions options = {})
@@ -42,7 +39,7 @@ void ExpectSameTopology(const RawMesh& before, const Mesh& mesh) {
   ASSERT_EQ(HalfEdgeInvariantViolation(mesh), "");
   const RawMesh after = mesh.ToRaw();
   ASSERT_TRUE(Mesh::Build(after).ok()) << Mesh::Build(after).status();
-  const auto a = Topology(before), b = Topology(after);
+  const auto a = TopologyOf(before), b = TopologyOf(after);
   EXPECT_EQ(a.euler(), b.euler());
   EXPECT_EQ(a.components, b.components);
   EXPECT_EQ(a.boundary_edges == 0, b.boundary_edges == 0);
@@ -67,8 +64,8 @@ TEST(Kernel, BoundaryVertexCollapsesAlongItsBoundary) {
   const uint32_t on_edge = 2;  // middle of the bottom row
   ASSERT_EQ(h.Remove(on_edge), Outcome::kRemoved);
   ExpectSameTopology(raw, h.mesh);
-  const auto after = Topology(h.mesh.ToRaw());
-  EXPECT_EQ(after.boundary_edges, Topology(raw).boundary_edges - 1);
+  const auto after = TopologyOf(h.mesh.ToRaw());
+  EXPECT_EQ(after.boundary_edges, TopologyOf(raw).boundary_edges - 1);
   // The bottom row stays straight: no surviving vertex left the boundary line y = 0.
   const RawMesh out = h.mesh.ToRaw();
   int bottom = 0;

@@ -4,7 +4,8 @@
 #include <limits>
 
 #include "engine/mesh.h"
-#include "tests/engine/small_meshes.h"
+#include "engine/mesh_checks.h"
+#include "tests/support/meshes.h"
 
 namespace femsimp {
 namespace {
@@ -101,6 +102,36 @@ TEST(MeshBuild, RoundTripKeepsFacesAndGroups) {
   EXPECT_EQ(back.positions, m.positions);
   EXPECT_EQ(back.triangles, m.triangles);
   EXPECT_EQ(back.face_groups, m.face_groups);
+}
+
+// The output check of femsimp-load --verify (engine/mesh_checks.h).
+TEST(OutputCheck, TopologyOfATorusAndWhatBreaksIt) {
+  const RawMesh torus = testing::MakeTorus(12, 10);
+  const SoupTopology t = TopologyOf(torus);
+  EXPECT_EQ(t.vertices, 120);
+  EXPECT_EQ(t.faces, 240);
+  EXPECT_EQ(t.edges, 360);
+  EXPECT_EQ(t.euler(), 0);
+  EXPECT_EQ(t.components, 1);
+  EXPECT_EQ(t.boundary_edges, 0);
+  EXPECT_TRUE(CheckOutput(t, torus).ok());
+
+  RawMesh open = torus;  // one face less: no longer closed, Euler characteristic -1
+  open.triangles.resize(open.triangles.size() - 3);
+  absl::Status s = CheckOutput(t, open);
+  EXPECT_FALSE(s.ok());
+  EXPECT_NE(s.message().find("Euler"), std::string_view::npos) << s;
+
+  RawMesh two = torus;  // a second, disjoint torus: larger, and two components
+  RawMesh other = testing::MakeTorus(12, 10);
+  for (uint32_t& i : other.triangles) i += 120;
+  two.positions.insert(two.positions.end(), other.positions.begin(), other.positions.end());
+  two.triangles.insert(two.triangles.end(), other.triangles.begin(), other.triangles.end());
+  EXPECT_FALSE(CheckOutput(t, two).ok());
+
+  RawMesh degenerate = torus;  // a face using one vertex twice
+  degenerate.triangles[2] = degenerate.triangles[1];
+  EXPECT_FALSE(CheckOutput(t, degenerate).ok());
 }
 
 }  // namespace

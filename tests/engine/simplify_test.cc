@@ -7,32 +7,18 @@
 #include <set>
 #include <tuple>
 
-#include "tests/engine/mesh_checks.h"
+#include "engine/mesh_checks.h"
+#include "tests/support/meshes.h"
 
 namespace femsimp {
 namespace {
 
 using testing::LoadTestMesh;
-using testing::Topology;
 
-struct SimplifyRun {
-  RawMesh input, output;
-  SimplifyResult result;
-};
+using testing::SimplifyRun;
 
-SimplifyRun Simplified(const std::string& name, SimplifyOptions options) {
-  SimplifyRun run;
-  run.input = LoadTestMesh(name);
-  absl::StatusOr<Mesh> mesh = Mesh::Build(run.input);
-  EXPECT_TRUE(mesh.ok()) << mesh.status();
-  if (!mesh.ok()) return run;
-  absl::StatusOr<SimplifyResult> result = Simplify(*mesh, options);
-  EXPECT_TRUE(result.ok()) << result.status();
-  if (!result.ok()) return run;
-  EXPECT_EQ(testing::HalfEdgeInvariantViolation(*mesh), "");
-  run.result = *result;
-  run.output = mesh->ToRaw();
-  return run;
+SimplifyRun Simplified(const std::string& name, const SimplifyOptions& options) {
+  return testing::SimplifyChecked(LoadTestMesh(name), options);
 }
 
 // Faces of the output that are not faces of the input were made by collapses.
@@ -64,7 +50,7 @@ TEST_P(SimplifyOnMesh, KeepsTopologyAndShape) {
   // Consistent orientation, no degenerate, duplicate or non-manifold face: Build checks all.
   absl::StatusOr<Mesh> rebuilt = Mesh::Build(run.output);
   ASSERT_TRUE(rebuilt.ok()) << rebuilt.status();
-  const auto in = Topology(run.input), out = Topology(run.output);
+  const auto in = TopologyOf(run.input), out = TopologyOf(run.output);
   EXPECT_EQ(in.euler(), out.euler());
   EXPECT_EQ(in.components, out.components);
   EXPECT_EQ(in.boundary_edges == 0, out.boundary_edges == 0) << "closed stays closed";
@@ -157,7 +143,7 @@ TEST(Simplify, CancellationStopsWithAValidMesh) {
   ASSERT_TRUE(r.ok());
   EXPECT_EQ(r->stop_reason, StopReason::kCancelled);
   EXPECT_LE(r->passes.size(), 1u);
-  EXPECT_EQ(testing::HalfEdgeInvariantViolation(*mesh), "");
+  EXPECT_EQ(HalfEdgeInvariantViolation(*mesh), "");
   EXPECT_TRUE(Mesh::Build(mesh->ToRaw()).ok());
 }
 

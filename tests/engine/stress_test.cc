@@ -1,15 +1,16 @@
 // Many 8-context runs on the same mesh: every output must be valid, whatever the interleaving.
 #include <gtest/gtest.h>
 
+#include "engine/mesh_checks.h"
 #include "engine/simplify.h"
-#include "tests/engine/mesh_checks.h"
+#include "tests/support/meshes.h"
 
 namespace femsimp {
 namespace {
 
 TEST(Stress, EightContextsManyRunsAllValid) {
   const RawMesh raw = testing::LoadTestMesh("fandisk.off");
-  const auto topology = testing::Topology(raw);
+  const auto topology = TopologyOf(raw);
   for (int run = 0; run < 24; ++run) {
     SimplifyOptions options;
     options.threads = 8;
@@ -19,10 +20,10 @@ TEST(Stress, EightContextsManyRunsAllValid) {
     ASSERT_TRUE(mesh.ok());
     absl::StatusOr<SimplifyResult> result = Simplify(*mesh, options);
     ASSERT_TRUE(result.ok()) << result.status();
-    ASSERT_EQ(testing::HalfEdgeInvariantViolation(*mesh), "") << "run " << run;
+    ASSERT_EQ(HalfEdgeInvariantViolation(*mesh), "") << "run " << run;
     const RawMesh out = mesh->ToRaw();
     ASSERT_TRUE(Mesh::Build(out).ok()) << "run " << run << ": " << Mesh::Build(out).status();
-    const auto after = testing::Topology(out);
+    const auto after = TopologyOf(out);
     ASSERT_EQ(after.euler(), topology.euler()) << "run " << run;
     ASSERT_EQ(after.components, topology.components) << "run " << run;
     ASSERT_EQ(after.boundary_edges, 0) << "run " << run;

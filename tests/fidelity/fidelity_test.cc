@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "engine/simplify.h"
-#include "tests/engine/mesh_checks.h"
 #include "tests/judge/judge.h"
+#include "tests/support/meshes.h"
 
 namespace femsimp {
 namespace {

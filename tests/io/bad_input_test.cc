@@ -13,7 +13,8 @@
 #include "engine/io/mesh_io.h"
 #include "engine/mesh.h"
 #include "gtest/gtest.h"
-#include "tests/io/test_files.h"
+#include "tests/support/files.h"
+#include "tests/support/meshes.h"
 
 namespace femsimp {
 namespace {
@@ -100,7 +101,7 @@ TEST_F(BadInputTest, TruncatedOffVertices) {
 
 TEST_F(BadInputTest, TruncatedBinaryStl) {
   const std::string path = Path("tet.stl");
-  ASSERT_TRUE(WriteMeshFile(path, testing::Tetrahedron()).ok());
+  ASSERT_TRUE(WriteMeshFile(path, testing::PreciseTetrahedron()).ok());
   ExpectReadError(Truncate(path, 30), kInvalid,
                   "binary STL size mismatch (truncated?): header announces 4 triangles (284 "
                   "bytes) but the file has 254 bytes");
@@ -108,18 +109,18 @@ TEST_F(BadInputTest, TruncatedBinaryStl) {
 
 TEST_F(BadInputTest, TruncatedAsciiStl) {
   const std::string path = Path("tet.stl");
-  ASSERT_TRUE(WriteMeshFileAscii(path, testing::Tetrahedron()).ok());
+  ASSERT_TRUE(WriteMeshFileAscii(path, testing::PreciseTetrahedron()).ok());
   ExpectReadError(Truncate(path, 10), kInvalid, "truncated");
 }
 
 TEST_F(BadInputTest, TruncatedPly) {
   const std::string binary = Path("tet.ply");
-  ASSERT_TRUE(WriteMeshFile(binary, testing::Tetrahedron()).ok());
+  ASSERT_TRUE(WriteMeshFile(binary, testing::PreciseTetrahedron()).ok());
   ExpectReadError(Truncate(binary, 5), kInvalid,
                   "truncated: header announces 4 vertices and 4 faces but the data ends in "
                   "face 3");
   const std::string ascii = Path("tet_ascii.ply");
-  ASSERT_TRUE(WriteMeshFileAscii(ascii, testing::Tetrahedron()).ok());
+  ASSERT_TRUE(WriteMeshFileAscii(ascii, testing::PreciseTetrahedron()).ok());
   ExpectReadError(Truncate(ascii, 4), kInvalid, "the data ends in face 3");
 }
 
@@ -139,11 +140,11 @@ std::string BinaryOff(const RawMesh& m) {
 }
 
 TEST_F(BadInputTest, BinaryOffReadsAndTruncationIsCaught) {
-  const std::string data = BinaryOff(testing::Tetrahedron());
+  const std::string data = BinaryOff(testing::PreciseTetrahedron());
   absl::StatusOr<RawMesh> m = ReadMeshFile(Write("bin.off", data));
   ASSERT_TRUE(m.ok()) << m.status();
-  EXPECT_EQ(m->positions, testing::Tetrahedron().positions);
-  EXPECT_EQ(m->triangles, testing::Tetrahedron().triangles);
+  EXPECT_EQ(m->positions, testing::PreciseTetrahedron().positions);
+  EXPECT_EQ(m->triangles, testing::PreciseTetrahedron().triangles);
   ExpectReadError(Write("cut.off", data.substr(0, data.size() - 8)), kInvalid,
                   "binary OFF truncated: header announces 4 vertices and 4 faces");
 }
@@ -189,7 +190,7 @@ TEST_F(BadInputTest, NonFiniteCoordinate) {
   ExpectReadError(Write("nan.obj", "v 0 0 0\nv 1 NaN 0\nv 1 1 0\nf 1 2 3\n"), kInvalid,
                   "vertex 1 (line 2): coordinate 'NaN' is not a finite float");
   // Binary files carry the NaN bits: the writer does not refuse them, the reader does.
-  RawMesh tet = testing::Tetrahedron();
+  RawMesh tet = testing::PreciseTetrahedron();
   tet.positions[4] = std::numeric_limits<float>::quiet_NaN();
   ASSERT_TRUE(WriteMeshFile(Path("nan.ply"), tet).ok());
   ExpectReadError(Path("nan.ply"), kInvalid, "vertex 1 (byte");
@@ -223,7 +224,7 @@ TEST_F(BadInputTest, DegenerateFace) {
                          "property list uchar int vertex_indices\nend_header\n"
                          "0 0 0\n1 0 0\n1 1 0\n3 0 1 0\n"),
                    "face 0 is degenerate");
-  // OpenMesh drops these from OBJ and STL files, so the survey reports them.
+  // OBJ faces and STL facets that repeat a corner are refused by the reader, with their line.
   ExpectReadError(Write("d.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\nf 1 3 -1\n"), kInvalid,
                   "face 1 (line 5) is degenerate: it repeats a vertex index");
   ExpectReadError(Write("d.stl",

@@ -12,7 +12,8 @@
 #include "engine/io/mesh_io.h"
 #include "engine/mesh.h"
 #include "gtest/gtest.h"
-#include "tests/io/test_files.h"
+#include "tests/support/files.h"
+#include "tests/support/meshes.h"
 
 namespace femsimp {
 namespace {
@@ -24,7 +25,7 @@ constexpr auto kInvalid = absl::StatusCode::kInvalidArgument;
 // The tetrahedron with four groups (one of them the default 0) and two fields whose values need
 // every bit of a float.
 RawMesh TetrahedronWithData() {
-  RawMesh m = testing::Tetrahedron();
+  RawMesh m = testing::PreciseTetrahedron();
   m.face_groups = {0, 7, 7, 4000000000u};
   m.face_fields = {{"pressure", {1.0f / 3.0f, -2.5e-7f, 101325.0f, 0.0f}},
                    {"shear", {3.14159265f, -1e30f, 1e-30f, 42.0f}}};
@@ -53,22 +54,8 @@ void ExpectSameFaceData(const RawMesh& out, const RawMesh& in, bool fields) {
 
 // ------------------------------------------------------------------------- round trips
 
-struct Variant {
-  std::string ext;
-  bool ascii;
-};
-
-class FaceDataRoundTrip : public TempDirTest, public ::testing::WithParamInterface<Variant> {
+class FaceDataRoundTrip : public testing::FileFormatTest {
  protected:
-  RawMesh RoundTrip(const RawMesh& in) {
-    const std::string path = Path("mesh" + GetParam().ext);
-    absl::Status written =
-        GetParam().ascii ? WriteMeshFileAscii(path, in) : WriteMeshFile(path, in);
-    EXPECT_TRUE(written.ok()) << written;
-    absl::StatusOr<RawMesh> out = ReadMeshFile(path);
-    EXPECT_TRUE(out.ok()) << out.status();
-    return out.ok() ? *out : RawMesh{};
-  }
   bool HoldsFields() const { return GetParam().ext == ".ply"; }
 };
 
@@ -99,18 +86,16 @@ TEST_P(FaceDataRoundTrip, FandiskWithGroupsAndThreeFields) {
 }
 
 TEST_P(FaceDataRoundTrip, NoDataStaysWithout) {
-  const RawMesh out = RoundTrip(testing::Tetrahedron());
+  const RawMesh out = RoundTrip(testing::PreciseTetrahedron());
   EXPECT_TRUE(out.face_groups.empty());
   EXPECT_TRUE(out.face_fields.empty());
 }
 
 INSTANTIATE_TEST_SUITE_P(Formats, FaceDataRoundTrip,
-                         ::testing::Values(Variant{".obj", true}, Variant{".ply", true},
-                                           Variant{".ply", false}),
-                         [](const ::testing::TestParamInfo<Variant>& info) {
-                           return info.param.ext.substr(1) +
-                                  (info.param.ascii ? "_ascii" : "_binary");
-                         });
+                         ::testing::Values(testing::FileFormat{".obj", true},
+                                           testing::FileFormat{".ply", true},
+                                           testing::FileFormat{".ply", false}),
+                         testing::FileFormatName);
 
 // ------------------------------------------------------------------------- OBJ names
 
@@ -119,7 +104,7 @@ class ObjGroupsTest : public TempDirTest {
   // The tetrahedron's vertices, then `body` (faces and group statements).
   std::string Obj(const std::string& name, const std::string& body) {
     std::ostringstream s;
-    const RawMesh t = testing::Tetrahedron();
+    const RawMesh t = testing::PreciseTetrahedron();
     for (size_t v = 0; v < t.num_vertices(); ++v)
       s << "v " << t.positions[3 * v] << " " << t.positions[3 * v + 1] << " "
         << t.positions[3 * v + 2] << "\n";
@@ -153,7 +138,7 @@ TEST_F(ObjGroupsTest, NamesMapToIdsAndBack) {
 }
 
 TEST_F(ObjGroupsTest, WithoutNamesIdsAreWrittenAsGroupN) {
-  RawMesh in = testing::Tetrahedron();
+  RawMesh in = testing::PreciseTetrahedron();
   in.face_groups = {5, 5, 0, 12};
   const std::string path = Path("ids.obj");
   ASSERT_TRUE(WriteMeshFile(path, in).ok());
@@ -199,7 +184,7 @@ class PlyFaceDataTest : public TempDirTest {
   // and, after each face's indices, the tokens in `values[face]`.
   std::string Ply(const std::string& name, const std::vector<std::string>& props,
                   const std::vector<std::string>& values) {
-    const RawMesh t = testing::Tetrahedron();
+    const RawMesh t = testing::PreciseTetrahedron();
     std::ostringstream s;
     s << "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
          "property float z\nelement face 4\nproperty list uchar int vertex_indices\n";
@@ -245,7 +230,7 @@ TEST_F(PlyFaceDataTest, AllZeroGroupsMeanNoGroups) {
 }
 
 TEST_F(PlyFaceDataTest, BigEndianBinary) {
-  const RawMesh t = testing::Tetrahedron();
+  const RawMesh t = testing::PreciseTetrahedron();
   std::string s =
       "ply\nformat binary_big_endian 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
       "property float z\nelement face 4\nproperty list uchar int vertex_indices\n"
@@ -332,7 +317,7 @@ TEST_F(WriteFaceDataTest, FormatsThatCannotHoldThemRefuse) {
   EXPECT_TRUE(WriteMeshFile(Path("m.obj"), groups_only).ok());
 
   // All faces in group 0 is no grouping: nothing is lost.
-  RawMesh zero = testing::Tetrahedron();
+  RawMesh zero = testing::PreciseTetrahedron();
   zero.face_groups.assign(4, 0);
   EXPECT_TRUE(WriteMeshFile(Path("zero.stl"), zero).ok());
 
@@ -373,7 +358,7 @@ TEST_F(WriteFaceDataTest, BadFieldsAreRefused) {
 }
 
 TEST_F(WriteFaceDataTest, MultiLineGroupNameIsRefused) {
-  RawMesh m = testing::Tetrahedron();
+  RawMesh m = testing::PreciseTetrahedron();
   m.face_groups = {1, 1, 2, 2};
   absl::Status s = WriteMeshFile(Path("m.obj"), m, GroupNames{{2, "two\nlines"}});
   EXPECT_EQ(s.code(), kInvalid) << s;

@@ -1,40 +1,24 @@
 // Write then read back every format, on a hand-made tetrahedron and on fandisk.off.
 #include <cmath>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include "engine/io/mesh_io.h"
 #include "engine/mesh.h"
 #include "gtest/gtest.h"
-#include "tests/io/test_files.h"
+#include "tests/support/files.h"
+#include "tests/support/meshes.h"
 
 namespace femsimp {
 namespace {
 
 using testing::TempDirTest;
 
-struct Variant {
-  std::string ext;
-  bool ascii;
-};
-
-std::string VariantName(const ::testing::TestParamInfo<Variant>& info) {
-  return info.param.ext.substr(1) + (info.param.ascii ? "_ascii" : "_binary");
-}
-
-class RoundTripTest : public TempDirTest, public ::testing::WithParamInterface<Variant> {
+class RoundTripTest : public testing::FileFormatTest {
  protected:
-  RawMesh RoundTrip(const RawMesh& in) {
-    const std::string path = Path("mesh" + GetParam().ext);
-    absl::Status written =
-        GetParam().ascii ? WriteMeshFileAscii(path, in) : WriteMeshFile(path, in);
-    EXPECT_TRUE(written.ok()) << written;
-    absl::StatusOr<RawMesh> out = ReadMeshFile(path);
-    EXPECT_TRUE(out.ok()) << out.status();
-    return out.ok() ? *out : RawMesh{};
-  }
-
   // OFF, OBJ and PLY keep vertex and face order and (at 9 digits or in binary) every bit.
-  // STL stores corners per facet; OpenMesh merges equal points again in order of first use,
+  // STL stores corners per facet; the reader joins equal points again in order of first use,
   // so compare the corners of each face.
   void ExpectSame(const RawMesh& in, const RawMesh& out) {
     ASSERT_EQ(out.num_vertices(), in.num_vertices());
@@ -57,7 +41,7 @@ class RoundTripTest : public TempDirTest, public ::testing::WithParamInterface<V
 };
 
 TEST_P(RoundTripTest, Tetrahedron) {
-  const RawMesh in = testing::Tetrahedron();
+  const RawMesh in = testing::PreciseTetrahedron();
   ASSERT_TRUE(Mesh::Build(in).ok());
   ExpectSame(in, RoundTrip(in));
 }
@@ -71,18 +55,80 @@ TEST_P(RoundTripTest, Fandisk) {
   ExpectSame(*in, RoundTrip(*in));
 }
 
-INSTANTIATE_TEST_SUITE_P(Formats, RoundTripTest,
-                         ::testing::Values(Variant{".off", true}, Variant{".obj", true},
-                                           Variant{".stl", false}, Variant{".stl", true},
-                                           Variant{".ply", false}, Variant{".ply", true}),
-                         VariantName);
+INSTANTIATE_TEST_SUITE_P(
+    Formats, RoundTripTest,
+    ::testing::Values(testing::FileFormat{".off", true}, testing::FileFormat{".obj", true},
+                      testing::FileFormat{".stl", false}, testing::FileFormat{".stl", true},
+                      testing::FileFormat{".ply", false}, testing::FileFormat{".ply", true}),
+    testing::FileFormatName);
 
 class WriteTest : public TempDirTest {};
+
+// The soup renumbered so that vertices come in order of first use by the faces.
+RawMesh InOrderOfFirstUse(const RawMesh& in) {
+  RawMesh out;
+  std::vector<uint32_t> index(in.num_vertices(), ~0u);
+  for (uint32_t v : in.triangles) {
+    if (index[v] == ~0u) {
+      index[v] = uint32_t(out.num_vertices());
+      out.positions.insert(out.positions.end(), &in.positions[3 * v], &in.positions[3 * v + 3]);
+    }
+    out.triangles.push_back(index[v]);
+  }
+  return out;
+}
+
+// ASCII STL with every float written exactly.
+std::string StlText(const RawMesh& m) {
+  std::ostringstream s;
+  s.precision(9);
+  s << "solid m\n";
+  for (size_t f = 0; f < m.num_faces(); ++f) {
+    s << "facet normal 0 0 0\nouter loop\n";
+    for (int k = 0; k < 3; ++k) {
+      const float* p = &m.positions[3 * m.triangles[3 * f + k]];
+      s << "vertex " << p[0] << " " << p[1] << " " << p[2] << "\n";
+    }
+    s << "endloop\nendfacet\n";
+  }
+  return s.str() + "endsolid m\n";
+}
+
+// STL has no shared vertices: the reader joins exactly equal corners into one vertex, numbered
+// in order of first appearance (as OpenMesh's STL reader did). An OFF file whose vertices come in
+// that order therefore reads as the very same mesh, from binary and from ASCII STL.
+TEST_F(WriteTest, StlReadsAsTheEquivalentOff) {
+  const RawMesh mesh = InOrderOfFirstUse(testing::LoadTestMesh("fandisk.off"));
+  ASSERT_TRUE(WriteMeshFileAscii(Path("m.off"), mesh).ok());
+  ASSERT_TRUE(WriteMeshFile(Path("m.stl"), mesh).ok());
+  absl::StatusOr<RawMesh> off = ReadMeshFile(Path("m.off"));
+  ASSERT_TRUE(off.ok()) << off.status();
+  for (const std::string& stl : {Path("m.stl"), Write("a.stl", StlText(mesh))}) {
+    absl::StatusOr<RawMesh> read = ReadMeshFile(stl);
+    ASSERT_TRUE(read.ok()) << read.status();
+    EXPECT_EQ(read->positions, off->positions) << stl;
+    EXPECT_EQ(read->triangles, off->triangles) << stl;
+  }
+}
+
+// 0 and -0 are the same point: two facets that share an edge, once written with -0.
+TEST_F(WriteTest, StlJoinsZeroAndNegativeZero) {
+  absl::StatusOr<RawMesh> m = ReadMeshFile(Write("z.stl",
+                                                 "solid z\nouter loop\nvertex 0 0 0\n"
+                                                 "vertex 1 0 0\nvertex 0 1 0\nendloop\n"
+                                                 "outer loop\nvertex 1 -0 0\nvertex 1 1 0\n"
+                                                 "vertex -0 1 -0\nendloop\nendsolid z\n"));
+  ASSERT_TRUE(m.ok()) << m.status();
+  EXPECT_EQ(m->num_vertices(), 4u);
+  EXPECT_EQ(m->triangles, (std::vector<uint32_t>{0, 1, 2, 1, 3, 2}));
+  EXPECT_EQ(m->positions[3], 1.0f);
+  EXPECT_FALSE(std::signbit(m->positions[4]));  // the first appearance gives the coordinates
+}
 
 TEST_F(WriteTest, UpperCaseExtensionPicksTheFormat) {
   for (const char* name : {"MESH.OFF", "Mesh.Obj", "MESH.STL", "MESH.PLY"}) {
     const std::string path = Path(name);
-    ASSERT_TRUE(WriteMeshFile(path, testing::Tetrahedron()).ok()) << name;
+    ASSERT_TRUE(WriteMeshFile(path, testing::PreciseTetrahedron()).ok()) << name;
     absl::StatusOr<RawMesh> out = ReadMeshFile(path);
     ASSERT_TRUE(out.ok()) << out.status();
     EXPECT_EQ(out->num_vertices(), 4u) << name;
@@ -91,19 +137,19 @@ TEST_F(WriteTest, UpperCaseExtensionPicksTheFormat) {
 }
 
 TEST_F(WriteTest, MissingDirectory) {
-  absl::Status s = WriteMeshFile(Path("no/such/dir/mesh.off"), testing::Tetrahedron());
+  absl::Status s = WriteMeshFile(Path("no/such/dir/mesh.off"), testing::PreciseTetrahedron());
   EXPECT_EQ(s.code(), absl::StatusCode::kNotFound);
   EXPECT_NE(s.message().find("does not exist"), std::string::npos) << s;
 }
 
 TEST_F(WriteTest, UnknownExtension) {
-  absl::Status s = WriteMeshFile(Path("mesh.vtk"), testing::Tetrahedron());
+  absl::Status s = WriteMeshFile(Path("mesh.vtk"), testing::PreciseTetrahedron());
   EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
   EXPECT_NE(s.message().find("'.vtk' (supported: .off, .obj, .stl, .ply)"), std::string::npos) << s;
 }
 
 TEST_F(WriteTest, NonManifoldSoupIsRefused) {
-  RawMesh in = testing::Tetrahedron();
+  RawMesh in = testing::PreciseTetrahedron();
   in.triangles.insert(in.triangles.end(), {0, 2, 1});  // a second copy of face 0
   absl::Status s = WriteMeshFile(Path("bad.off"), in);
   EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);

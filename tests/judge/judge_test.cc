@@ -8,7 +8,7 @@
 #include <limits>
 #include <random>
 
-#include "tests/engine/mesh_checks.h"
+#include "tests/support/meshes.h"
 
 namespace femsimp::judge {
 namespace {
@@ -56,24 +56,6 @@ RawMesh Tetrahedron(Vec3 o) {
     for (int k = 0; k < 3; ++k) m.positions.push_back(static_cast<float>(q[k] + o[k]));
   m.triangles = {0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3};
   return m;
-}
-
-// Torus of n x m quads split into triangles: genus 1.
-RawMesh Torus(int n, int m) {
-  RawMesh t;
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < m; ++j) {
-      const double u = 2 * M_PI * i / n, v = 2 * M_PI * j / m;
-      t.positions.push_back(static_cast<float>((2 + 0.5 * std::cos(v)) * std::cos(u)));
-      t.positions.push_back(static_cast<float>((2 + 0.5 * std::cos(v)) * std::sin(u)));
-      t.positions.push_back(static_cast<float>(0.5 * std::sin(v)));
-    }
-  auto id = [&](int i, int j) { return static_cast<uint32_t>((i % n) * m + j % m); };
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < m; ++j)
-      t.triangles.insert(t.triangles.end(), {id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j),
-                                             id(i + 1, j + 1), id(i, j + 1)});
-  return t;
 }
 
 RawMesh Merge(const RawMesh& a, const RawMesh& b) {
@@ -199,12 +181,13 @@ TEST(JudgeTopology, ClosedOpenAndGenus) {
   EXPECT_EQ(square.boundary_loops, 1);
   EXPECT_EQ(square.genus(), 0);
 
-  const Topology torus = ComputeTopology(Torus(12, 8));
+  const Topology torus = ComputeTopology(testing::MakeTorus(12, 8, 2.0, 0.5));
   EXPECT_TRUE(torus.closed_manifold());
   EXPECT_EQ(torus.euler(), 0);
   EXPECT_EQ(torus.genus(), 1);
 
-  const Topology two = ComputeTopology(Merge(UnitCube(), Translated(Torus(12, 8), {5, 0, 0})));
+  const Topology two = ComputeTopology(
+      Merge(UnitCube(), Translated(testing::MakeTorus(12, 8, 2.0, 0.5), {5, 0, 0})));
   EXPECT_EQ(two.components, 2);
   EXPECT_EQ(two.genus(), 1);
 }
@@ -339,7 +322,8 @@ TEST(JudgeFeatures, CoverageMeasuresHowFarLinesMoved) {
   EXPECT_NEAR(lost.worst_point[2], 0.5, 1e-6);
   EXPECT_NEAR(lost.reverse_max_distance, 0.0, kFloat);
 
-  const FeatureCoverage none = CheckFeatureCoverage(UnitCube(), Torus(12, 8), 90.5, spacing);
+  const FeatureCoverage none =
+      CheckFeatureCoverage(UnitCube(), testing::MakeTorus(12, 8, 2.0, 0.5), 90.5, spacing);
   EXPECT_EQ(none.original_edges, 0u);
   EXPECT_EQ(none.max_distance, 0.0);
 }

@@ -1,10 +1,8 @@
 // `femsimp simplify` (local mode, in process) with face groups and fields: they reach OUT, OBJ
 // group names survive, and an OUT format that cannot hold them stops the run before it starts
 // unless --drop-face-data.
-#include <unistd.h>
 
 #include <filesystem>
-#include <fstream>
 #include <string>
 #include <vector>
 
@@ -14,29 +12,21 @@
 #include "engine/io/mesh_io.h"
 #include "gtest/gtest.h"
 #include "tests/service/test_util.h"
+#include "tests/support/files.h"
 
 namespace femsimp {
 namespace {
 
 namespace fs = std::filesystem;
 
-class CliFaceDataTest : public ::testing::Test {
+class CliFaceDataTest : public testing::TempDirTest {
  protected:
   void SetUp() override {
-    dir_ = (fs::temp_directory_path() /
-            ("femsimp_cli_" + std::to_string(getpid()) + "_" +
-             ::testing::UnitTest::GetInstance()->current_test_info()->name()))
-               .string();
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    TempDirTest::SetUp();
     input_ = Path("in.ply");
     ASSERT_TRUE(
         WriteMeshFileAscii(input_, testing::WithGroupsAndFields(testing::MakeTorus(40, 24))).ok());
   }
-  void TearDown() override {
-    if (!HasFailure()) fs::remove_all(dir_);
-  }
-  std::string Path(const std::string& name) const { return dir_ + "/" + name; }
 
   int Run(std::vector<std::string> args) {
     args.insert(args.begin(), {"femsimp", "simplify"});
@@ -45,12 +35,8 @@ class CliFaceDataTest : public ::testing::Test {
     EXPECT_TRUE(cmd.ok()) << cmd.status();
     return cmd.ok() ? cli::RunLocal(cmd->simplify) : -1;
   }
-  static std::string ReadText(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  }
 
-  std::string dir_, input_;
+  std::string input_;
 };
 
 TEST_F(CliFaceDataTest, GroupsAndFieldsReachThePly) {
@@ -60,7 +46,7 @@ TEST_F(CliFaceDataTest, GroupsAndFieldsReachThePly) {
     ASSERT_TRUE(out.ok()) << out.status();
     EXPECT_EQ(out->num_faces(), 960u);
     EXPECT_EQ(testing::ExpectGroupsAndFields(*out), 4u);
-    const std::string json = ReadText(Path("stats.json"));
+    const std::string json = testing::ReadFileBytes(Path("stats.json"));
     EXPECT_NE(json.find("\"face_data\": {\"groups\": 4, \"fields\": [\"pressure\", \"heat_flux\"], "
                         "\"dropped\": null}"),
               std::string::npos)
@@ -74,7 +60,7 @@ TEST_F(CliFaceDataTest, ObjGroupNamesSurvive) {
   const GroupNames names = {{10, "inlet"}, {11, "wall"}, {13, "outlet"}};  // 12: group_12
   ASSERT_TRUE(WriteMeshFile(Path("in.obj"), mesh, names).ok());
   ASSERT_EQ(Run({Path("in.obj"), Path("out.obj")}), cli::kExitOk);
-  const std::string text = ReadText(Path("out.obj"));
+  const std::string text = testing::ReadFileBytes(Path("out.obj"));
   for (const char* line : {"\ng inlet\n", "\ng wall\n", "\ng group_12\n", "\ng outlet\n"})
     EXPECT_NE(text.find(line), std::string::npos) << line;
   GroupNames read_names;
@@ -103,8 +89,9 @@ TEST_F(CliFaceDataTest, DropFaceDataWritesWhatTheFormatHolds) {
   ASSERT_EQ(Run({input_, Path("out.stl"), "--drop-face-data", "--stats-json", Path("s.json")}),
             cli::kExitOk);
   EXPECT_TRUE(ReadMeshFile(Path("out.stl")).ok());
-  EXPECT_NE(ReadText(Path("s.json")).find("\"dropped\": \"face groups and face fields\""),
-            std::string::npos);
+  EXPECT_NE(
+      testing::ReadFileBytes(Path("s.json")).find("\"dropped\": \"face groups and face fields\""),
+      std::string::npos);
 
   ASSERT_EQ(Run({input_, Path("out.obj"), "--drop-face-data", "--stats-json", Path("s.json")}),
             cli::kExitOk);
@@ -112,7 +99,8 @@ TEST_F(CliFaceDataTest, DropFaceDataWritesWhatTheFormatHolds) {
   ASSERT_TRUE(obj.ok()) << obj.status();
   EXPECT_EQ(obj->face_groups.size(), obj->num_faces());  // OBJ keeps the groups
   EXPECT_TRUE(obj->face_fields.empty());
-  EXPECT_NE(ReadText(Path("s.json")).find("\"dropped\": \"face fields\""), std::string::npos);
+  EXPECT_NE(testing::ReadFileBytes(Path("s.json")).find("\"dropped\": \"face fields\""),
+            std::string::npos);
 
   // Nothing to drop: the flag changes nothing.
   ASSERT_EQ(Run({input_, Path("out.ply"), "--drop-face-data"}), cli::kExitOk);

@@ -15,8 +15,8 @@
 
 #include "absl/strings/str_cat.h"
 #include "client/health.h"
-#include "client/output_check.h"
 #include "client/retry.h"
+#include "engine/mesh_checks.h"
 #include "gtest/gtest.h"
 #include "tests/service/test_util.h"
 
@@ -141,7 +141,7 @@ TEST(Retry, JobGetsInOnceTheQueueHasRoom) {
   EXPECT_GE(counters.attempts, 2);
   EXPECT_EQ(counters.resource_exhausted, counters.attempts - 1);
   EXPECT_EQ(out.output.num_vertices(), out.result.output_vertices());
-  EXPECT_TRUE(cli::CheckOutput(cli::TopologyOf(mesh), out.output).ok());
+  EXPECT_TRUE(CheckOutput(TopologyOf(mesh), out.output).ok());
 }
 
 // Nothing listens yet (a replica starting): UNAVAILABLE attempts, then the server is up and the
@@ -376,35 +376,6 @@ TEST(HealthArgs, ParsesAndRejects) {
   EXPECT_FALSE(cli::ParseHealthArgs({"--server", "a:1", "--timeout", "0"}).ok());
   EXPECT_FALSE(cli::ParseHealthArgs({"--server", "a:1", "--bogus"}).ok());
   EXPECT_FALSE(cli::ParseHealthArgs({"--server"}).ok());
-}
-
-TEST(OutputCheck, TopologyOfATorusAndWhatBreaksIt) {
-  const RawMesh torus = testing::MakeTorus(12, 10);
-  const cli::SoupTopology t = cli::TopologyOf(torus);
-  EXPECT_EQ(t.vertices, 120);
-  EXPECT_EQ(t.faces, 240);
-  EXPECT_EQ(t.edges, 360);
-  EXPECT_EQ(t.euler(), 0);
-  EXPECT_EQ(t.components, 1);
-  EXPECT_EQ(t.boundary_edges, 0);
-  EXPECT_TRUE(cli::CheckOutput(t, torus).ok());
-
-  RawMesh open = torus;  // one face less: no longer closed, Euler characteristic -1
-  open.triangles.resize(open.triangles.size() - 3);
-  absl::Status s = cli::CheckOutput(t, open);
-  EXPECT_FALSE(s.ok());
-  EXPECT_NE(s.message().find("Euler"), std::string_view::npos) << s;
-
-  RawMesh two = torus;  // a second, disjoint torus: larger, and two components
-  RawMesh other = testing::MakeTorus(12, 10);
-  for (uint32_t& i : other.triangles) i += 120;
-  two.positions.insert(two.positions.end(), other.positions.begin(), other.positions.end());
-  two.triangles.insert(two.triangles.end(), other.triangles.begin(), other.triangles.end());
-  EXPECT_FALSE(cli::CheckOutput(t, two).ok());
-
-  RawMesh degenerate = torus;  // a face using one vertex twice
-  degenerate.triangles[2] = degenerate.triangles[1];
-  EXPECT_FALSE(cli::CheckOutput(t, degenerate).ok());
 }
 
 }  // namespace

@@ -17,66 +17,6 @@
 
 namespace femsimp::testing {
 
-RawMesh MakeTorus(int n, int m) {
-  RawMesh mesh;
-  const double R = 3.0, r = 1.0, kPi = 3.14159265358979323846;
-  mesh.positions.reserve(3 * size_t(n) * m);
-  for (int i = 0; i < n; ++i) {
-    double u = 2 * kPi * i / n;
-    for (int j = 0; j < m; ++j) {
-      double v = 2 * kPi * j / m;
-      mesh.positions.push_back(float((R + r * std::cos(v)) * std::cos(u)));
-      mesh.positions.push_back(float((R + r * std::cos(v)) * std::sin(u)));
-      mesh.positions.push_back(float(r * std::sin(v)));
-    }
-  }
-  mesh.triangles.reserve(6 * size_t(n) * m);
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < m; ++j) {
-      uint32_t a = i * m + j, b = ((i + 1) % n) * m + j, c = ((i + 1) % n) * m + (j + 1) % m,
-               d = i * m + (j + 1) % m;
-      mesh.triangles.insert(mesh.triangles.end(), {a, b, c, a, c, d});
-    }
-  return mesh;
-}
-
-RawMesh LoadTestMesh(const std::string& name) {
-  absl::StatusOr<RawMesh> m = ReadMeshFile(absl::StrCat(FEMSIMP_TEST_DATA, "/", name));
-  EXPECT_TRUE(m.ok()) << m.status();
-  return m.ok() ? std::move(*m) : RawMesh();
-}
-
-RawMesh WithGroupsAndFields(RawMesh mesh) {
-  const size_t nf = mesh.num_faces();
-  mesh.face_groups.resize(nf);
-  mesh.face_fields = {{"pressure", {}}, {"heat_flux", {}}};
-  for (size_t f = 0; f < nf; ++f) {
-    const uint32_t g = 10 + uint32_t(4 * f / nf);
-    mesh.face_groups[f] = g;
-    mesh.face_fields[0].values.push_back(1000.0f + float(g));
-    mesh.face_fields[1].values.push_back(-0.5f * float(g));
-  }
-  return mesh;
-}
-
-size_t ExpectGroupsAndFields(const RawMesh& out) {
-  EXPECT_EQ(out.face_groups.size(), out.num_faces());
-  EXPECT_EQ(out.face_fields.size(), 2u);
-  if (out.face_groups.size() != out.num_faces() || out.face_fields.size() != 2) return 0;
-  EXPECT_EQ(out.face_fields[0].name, "pressure");
-  EXPECT_EQ(out.face_fields[1].name, "heat_flux");
-  std::set<uint32_t> seen;
-  for (size_t f = 0; f < out.num_faces(); ++f) {
-    const uint32_t g = out.face_groups[f];
-    EXPECT_TRUE(g >= 10 && g <= 13) << "face " << f << " group " << g;
-    if (!(g >= 10 && g <= 13)) return 0;
-    seen.insert(g);
-    EXPECT_EQ(out.face_fields[0].values[f], 1000.0f + float(g)) << "face " << f;
-    EXPECT_EQ(out.face_fields[1].values[f], -0.5f * float(g)) << "face " << f;
-  }
-  return seen.size();
-}
-
 server::ServerConfig TestConfig() {
   server::ServerConfig c;
   c.listen = "127.0.0.1:0";

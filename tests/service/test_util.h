@@ -1,5 +1,5 @@
-// Helpers of the service tests: generated meshes, an in-process server, raw request streams,
-// a minimal HTTP GET for /metrics.
+// Helpers of the service tests: an in-process server, raw request streams, a minimal HTTP GET
+// for /metrics. The meshes come from tests/support.
 #pragma once
 
 #include <map>
@@ -12,20 +12,9 @@
 #include "engine/raw_mesh.h"
 #include "femsimp/v1/femsimp.grpc.pb.h"
 #include "server/server.h"
+#include "tests/support/meshes.h"
 
 namespace femsimp::testing {
-
-// Closed torus of n * m vertices and 2nm faces (a valid closed 2-manifold).
-RawMesh MakeTorus(int n, int m);
-RawMesh LoadTestMesh(const std::string& name);  // from FEMSIMP_TEST_DATA
-
-// Adds four face groups (ids 10..13, consecutive runs of faces: bands of a torus) and two face
-// fields constant per group, "pressure" = 1000 + group and "heat_flux" = -group / 2, so that
-// every surviving face of a simplified mesh can be checked against its group.
-RawMesh WithGroupsAndFields(RawMesh mesh);
-// Checks that every face of `out` has one of those groups and its group's field values; returns
-// the distinct groups seen (0 after a failed check).
-size_t ExpectGroupsAndFields(const RawMesh& out);
 
 // Listens on free loopback ports; small limits the tests can reach.
 server::ServerConfig TestConfig();

@@ -20,8 +20,9 @@
 
 #include "engine/io/mesh_io.h"
 #include "engine/simplify.h"
-#include "tests/engine/mesh_checks.h"
 #include "tests/judge/judge.h"
+#include "tests/support/files.h"
+#include "tests/support/meshes.h"
 
 namespace femsimp {
 namespace {
@@ -37,13 +38,7 @@ bool TetgenInstalled() { return kTetgen[0] != '\0' && access(kTetgen, X_OK) == 0
   if (!TetgenInstalled())     \
   GTEST_SKIP() << "tetgen is not installed (Debian package tetgen, see scripts/install-deps.sh)"
 
-fs::path WorkDir(const std::string& name) {
-  const fs::path dir =
-      fs::path(::testing::TempDir()) / ("femsimp_tetgen_" + name + "_" + std::to_string(getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path WorkDir(const std::string& name) { return testing::MakeTempDir("tetgen_" + name); }
 
 // TetGen's surface-mesh format: 0-based nodes, one facet per triangle with its group + 1 as
 // boundary marker (tetgen keeps 0 for "no marker").

@@ -1,5 +1,5 @@
-#ifndef FEMSIMP_TESTS_CELLSIM_TEST_UTIL_H_
-#define FEMSIMP_TESTS_CELLSIM_TEST_UTIL_H_
+#ifndef FEMSIMP_TESTS_SUPPORT_CELLSIM_H_
+#define FEMSIMP_TESTS_SUPPORT_CELLSIM_H_
 
 #include <cstdint>
 #include <memory>
@@ -49,4 +49,4 @@ class QuadArray {
 
 }  // namespace femsimp::cellsim::testing
 
-#endif  // FEMSIMP_TESTS_CELLSIM_TEST_UTIL_H_
+#endif  // FEMSIMP_TESTS_SUPPORT_CELLSIM_H_

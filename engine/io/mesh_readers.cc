@@ -1,0 +1,724 @@
+#include "engine/io/mesh_readers.h"
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <limits>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "absl/container/flat_hash_map.h"
+#include "absl/status/status.h"
+#include "absl/strings/ascii.h"
+#include "absl/strings/match.h"
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_join.h"
+#include "engine/mesh_checks.h"
+
+namespace femsimp {
+namespace {
+
+absl::Status Bad(auto&&... parts) { return absl::InvalidArgumentError(absl::StrCat(parts...)); }
+
+constexpr absl::string_view kTrianglesOnly = "femsimp accepts triangles only; triangulate first";
+
+// What a reader hands on: the soup, and for OBJ and ASCII STL the line of each face, for the
+// messages of the check that follows the parse.
+struct Reading {
+  ParsedMeshFile file;
+  std::vector<size_t> face_lines;
+};
+
+// Splits text into lines, counting them from 1; strips a trailing '\r'.
+class Lines {
+ public:
+  explicit Lines(absl::string_view data) : data_(data) {}
+  bool Next(absl::string_view* line) {
+    if (pos_ >= data_.size()) return false;
+    size_t end = data_.find('\n', pos_);
+    if (end == absl::string_view::npos) end = data_.size();
+    *line = data_.substr(pos_, end - pos_);
+    if (!line->empty() && line->back() == '\r') line->remove_suffix(1);
+    pos_ = end + 1;
+    ++number_;
+    return true;
+  }
+  // The next line that is neither blank nor a '#' comment.
+  bool NextContent(absl::string_view* line) {
+    while (Next(line)) {
+      absl::string_view s = absl::StripAsciiWhitespace(*line);
+      if (!s.empty() && s[0] != '#') return true;
+    }
+    return false;
+  }
+  size_t number() const { return number_; }
+  size_t offset() const { return std::min(pos_, data_.size()); }
+
+ private:
+  absl::string_view data_;
+  size_t pos_ = 0;
+  size_t number_ = 0;
+};
+
+bool IsBlank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
+
+// The blank-separated tokens of a line, into `out` (reused from line to line, so that reading a
+// line allocates nothing).
+void Split(absl::string_view line, std::vector<absl::string_view>* out) {
+  out->clear();
+  size_t i = 0;
+  while (true) {
+    while (i < line.size() && IsBlank(line[i])) ++i;
+    if (i == line.size()) return;
+    const size_t start = i;
+    while (i < line.size() && !IsBlank(line[i])) ++i;
+    out->push_back(line.substr(start, i - start));
+  }
+}
+
+// A number as a C++ stream reads a float (and so as OpenMesh's readers did): correctly rounded;
+// beyond the float range it reads as an infinity, below it as a denormal or zero. Accepts a
+// leading '+', and "nan" and "inf" so that they can be reported as such.
+bool ParseFloat(absl::string_view s, float* out) {
+  if (!s.empty() && s[0] == '+') s.remove_prefix(1);
+  auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), *out);
+  if (p != s.data() + s.size()) return false;
+  if (ec == std::errc::result_out_of_range) *out = std::strtof(std::string(s).c_str(), nullptr);
+  return ec == std::errc() || ec == std::errc::result_out_of_range;
+}
+
+bool ParseDouble(absl::string_view s, double* out) {
+  if (!s.empty() && s[0] == '+') s.remove_prefix(1);
+  auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), *out);
+  return ec == std::errc() && p == s.data() + s.size();
+}
+
+bool ParseInt(absl::string_view s, int64_t* out) {
+  if (!s.empty() && s[0] == '+') s.remove_prefix(1);
+  auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), *out);
+  return ec == std::errc() && p == s.data() + s.size();
+}
+
+// Coordinates are stored as float: a double that overflows float is as bad as "inf".
+bool FiniteAsFloat(double d) { return std::isfinite(static_cast<float>(d)); }
+
+// Parses tok[first..first+2] as a finite vertex position and appends it; `where` names the
+// vertex.
+absl::Status AddPosition(const std::vector<absl::string_view>& tok, size_t first,
+                         absl::string_view where, RawMesh* mesh) {
+  if (tok.size() < first + 3)
+    return Bad(where, ": expected 3 coordinates, found ", tok.size() - first);
+  for (size_t i = first; i < first + 3; ++i) {
+    float x;
+    if (!ParseFloat(tok[i], &x)) return Bad(where, ": cannot parse '", tok[i], "' as a number");
+    if (!std::isfinite(x)) return Bad(where, ": coordinate '", tok[i], "' is not a finite float");
+    mesh->positions.push_back(x);
+  }
+  return absl::OkStatus();
+}
+
+// Whether a vertex index fits the soup's 32 bits (Mesh::Build checks that it names a vertex).
+bool FitsIndex(int64_t i) { return i >= 0 && i <= int64_t{std::numeric_limits<uint32_t>::max()}; }
+
+absl::Status Polygon(size_t face, size_t corners, absl::string_view where) {
+  return Bad("face ", face, where, " has ", corners, " vertices: ", kTrianglesOnly);
+}
+
+// ---------------------------------------------------------------------------------- OFF
+
+template <typename T>
+T LoadBytes(const char* p, bool swap) {
+  std::array<char, sizeof(T)> b;
+  std::memcpy(b.data(), p, sizeof(T));
+  if (swap) std::reverse(b.begin(), b.end());
+  return std::bit_cast<T>(b);
+}
+
+// Binary OFF: three 32-bit counts, then per vertex 3 floats (and what the header's prefixes
+// add: normal, colour, texture coordinates), per face a count and the indices. Little-endian as
+// OpenMesh writes it; big-endian (the format's own definition) when the counts only fit so.
+absl::Status ParseOffBinary(absl::string_view rest, absl::string_view key, Reading* out) {
+  if (rest.size() < 12) return Bad("binary OFF: file ends inside the counts");
+  bool swap = false;
+  uint32_t nv = LoadBytes<uint32_t>(rest.data(), false);
+  uint32_t nf = LoadBytes<uint32_t>(rest.data() + 4, false);
+  if (uint64_t(nv) * 12 > rest.size()) {
+    swap = true;
+    nv = LoadBytes<uint32_t>(rest.data(), true);
+    nf = LoadBytes<uint32_t>(rest.data() + 4, true);
+  }
+  const size_t extra = (absl::StartsWith(key, "ST") ? 8 : 0) +
+                       (absl::StrContains(key, "C") ? 12 : 0) +
+                       (absl::StrContains(key, "N") ? 12 : 0);
+  const uint64_t vertex_bytes = 12 + extra;
+  const uint64_t need = 12 + uint64_t(nv) * vertex_bytes + uint64_t(nf) * 16;
+  if (need > rest.size())
+    return Bad("binary OFF truncated: header announces ", nv, " vertices and ", nf,
+               " faces (at least ", need, " bytes of data) but only ", rest.size(),
+               " bytes follow the header");
+  RawMesh& mesh = out->file.mesh;
+  mesh.positions.resize(3 * size_t(nv));
+  const char* p = rest.data() + 12;
+  // Non-finite coordinates are left to Mesh::Build, as they always were for binary OFF.
+  for (size_t v = 0; v < nv; ++v, p += vertex_bytes)
+    for (int i = 0; i < 3; ++i) mesh.positions[3 * v + i] = LoadBytes<float>(p + 4 * i, swap);
+  mesh.triangles.reserve(3 * size_t(nf));
+  for (size_t f = 0; f < nf; ++f) {
+    const std::string where = absl::StrCat(" (byte ", p - rest.data(), " after the header)");
+    if (p + 4 > rest.data() + rest.size())
+      return Bad("binary OFF truncated: the file ends inside face ", f, where);
+    const int32_t n = LoadBytes<int32_t>(p, swap);
+    if (n != 3) return Polygon(f, size_t(std::max(n, 0)), where);
+    if (p + 16 > rest.data() + rest.size())
+      return Bad("binary OFF truncated: the file ends inside face ", f, where);
+    for (int i = 1; i <= 3; ++i) {
+      const int32_t idx = LoadBytes<int32_t>(p + 4 * i, swap);
+      if (idx < 0) return Bad("face ", f, where, " has a negative vertex index ", idx);
+      mesh.triangles.push_back(uint32_t(idx));
+    }
+    p += 16;
+  }
+  return absl::OkStatus();
+}
+
+absl::Status ParseOff(absl::string_view data, Reading* out) {
+  Lines lines(data);
+  absl::string_view line;
+  if (!lines.NextContent(&line)) return Bad("no OFF header");
+  std::vector<absl::string_view> tok;
+  Split(line, &tok);
+  const absl::string_view key = tok[0];
+  // OFF with optional ST (texture), C (colour), N (normal) prefixes; 4OFF/nOFF are not 3D.
+  if (!absl::EndsWith(key, "OFF") || absl::StrContains(key, "4") || key[0] == 'n')
+    return Bad("line ", lines.number(), ": expected an OFF header, found '", key, "'");
+  if (tok.size() > 1 && tok[1] == "BINARY")
+    return ParseOffBinary(data.substr(lines.offset()), key, out);
+  tok.erase(tok.begin());
+  if (tok.empty()) {
+    if (!lines.NextContent(&line)) return Bad("OFF header has no vertex and face counts");
+    Split(line, &tok);
+  }
+  int64_t nv, nf;
+  if (tok.size() < 2 || !ParseInt(tok[0], &nv) || !ParseInt(tok[1], &nf) || nv < 0 || nf < 0)
+    return Bad("line ", lines.number(), ": expected vertex and face counts, found '", line, "'");
+  const auto truncated = [&](absl::string_view what, size_t got) {
+    return Bad("truncated: header announces ", nv, " vertices and ", nf,
+               " faces but the file ends after ", got, " ", what, " (line ", lines.number(), ")");
+  };
+  RawMesh& mesh = out->file.mesh;
+  // The counts are not trusted for memory: every line takes at least two bytes.
+  mesh.positions.reserve(3 * std::min<size_t>(size_t(nv), data.size() / 2));
+  mesh.triangles.reserve(3 * std::min<size_t>(size_t(nf), data.size() / 2));
+  for (size_t v = 0; v < size_t(nv); ++v) {
+    if (!lines.NextContent(&line)) return truncated("vertices", v);
+    Split(line, &tok);
+    absl::Status st =
+        AddPosition(tok, 0, absl::StrCat("vertex ", v, " (line ", lines.number(), ")"), &mesh);
+    if (!st.ok()) return st;
+  }
+  for (size_t f = 0; f < size_t(nf); ++f) {
+    if (!lines.NextContent(&line)) return truncated("faces", f);
+    Split(line, &tok);
+    const auto where = [&] { return absl::StrCat(" (line ", lines.number(), ")"); };
+    int64_t n;
+    if (!ParseInt(tok[0], &n))
+      return Bad("face ", f, where(), ": cannot parse '", tok[0], "' as a vertex count");
+    if (n != 3) return Polygon(f, size_t(std::max<int64_t>(n, 0)), where());
+    if (tok.size() < 4) return Bad("face ", f, where(), ": expected 3 vertex indices");
+    for (size_t i = 1; i <= 3; ++i) {
+      int64_t idx;
+      if (!ParseInt(tok[i], &idx))
+        return Bad("face ", f, where(), ": cannot parse '", tok[i], "' as a vertex index");
+      if (idx < 0) return Bad("face ", f, where(), " has a negative vertex index ", idx);
+      if (!FitsIndex(idx)) return Bad("face ", f, where(), ": vertex index ", idx, " is too large");
+      mesh.triangles.push_back(uint32_t(idx));
+    }
+  }
+  return absl::OkStatus();
+}
+
+// ---------------------------------------------------------------------------------- OBJ
+
+absl::Status ParseObj(absl::string_view data, Reading* out) {
+  static constexpr absl::string_view kIgnored[] = {
+      "vt",    "vn",       "vp",       "o",    "s",          "mtllib",    "usemtl", "l",
+      "p",     "cstype",   "deg",      "bmat", "step",       "curv",      "curv2",  "surf",
+      "parm",  "trim",     "hole",     "scrv", "sp",         "end",       "con",    "mg",
+      "bevel", "c_interp", "d_interp", "lod",  "shadow_obj", "trace_obj", "ctech",  "stech"};
+  RawMesh& mesh = out->file.mesh;
+  // Group names in order of first appearance, and each face's index into them. Faces before
+  // the first `g` are in OBJ's "default" group.
+  std::vector<std::string> group_names;
+  std::unordered_map<std::string, uint32_t> group_index;
+  const auto intern = [&](std::string name) {
+    auto [it, fresh] = group_index.try_emplace(name, uint32_t(group_names.size()));
+    if (fresh) group_names.push_back(std::move(name));
+    return it->second;
+  };
+  uint32_t group = intern(kObjDefaultGroup);
+  bool any_group_statement = false;
+  std::vector<uint32_t> face_group_index;
+  Lines lines(data);
+  absl::string_view line;
+  std::vector<absl::string_view> tok;
+  while (lines.NextContent(&line)) {
+    Split(line, &tok);
+    if (tok[0] == "v") {
+      absl::Status st = AddPosition(
+          tok, 1, absl::StrCat("vertex ", mesh.num_vertices(), " (line ", lines.number(), ")"),
+          &mesh);
+      if (!st.ok()) return st;
+    } else if (tok[0] == "g") {
+      any_group_statement = true;
+      group = intern(tok.size() == 1 ? std::string(kObjDefaultGroup)
+                                     : absl::StrJoin(tok.begin() + 1, tok.end(), " "));
+    } else if (tok[0] == "f") {
+      const size_t f = out->face_lines.size();
+      out->face_lines.push_back(lines.number());
+      face_group_index.push_back(group);
+      const std::string where = absl::StrCat(" (line ", lines.number(), ")");
+      if (tok.size() != 4) return Polygon(f, tok.size() - 1, where);
+      for (int i = 1; i <= 3; ++i) {
+        int64_t idx;
+        absl::string_view t = tok[i].substr(0, tok[i].find('/'));
+        if (!ParseInt(t, &idx) || idx == 0)
+          return Bad("face ", f, where, ": invalid vertex index '", tok[i], "'");
+        if (idx < 0) idx += int64_t(mesh.num_vertices()) + 1;  // relative to the last vertex
+        if (idx <= 0)
+          return Bad("face ", f, where, ": relative index '", tok[i],
+                     "' points before the first vertex");
+        if (!FitsIndex(idx - 1))
+          return Bad("face ", f, where, ": vertex index '", tok[i], "' is too large");
+        mesh.triangles.push_back(uint32_t(idx - 1));
+      }
+    } else if (std::find(std::begin(kIgnored), std::end(kIgnored), tok[0]) == std::end(kIgnored)) {
+      return Bad("line ", lines.number(), ": unknown OBJ statement '", tok[0], "'");
+    }
+  }
+  if (any_group_statement) {
+    const std::vector<uint32_t> ids = ObjGroupIds(group_names, &out->file.group_names);
+    mesh.face_groups.reserve(face_group_index.size());
+    for (uint32_t i : face_group_index) mesh.face_groups.push_back(ids[i]);
+    if (!HasFaceGroups(mesh)) {
+      mesh.face_groups.clear();
+      out->file.group_names.clear();
+    }
+  }
+  return absl::OkStatus();
+}
+
+// ---------------------------------------------------------------------------------- STL
+
+// STL stores each facet's corners; equal corners become one vertex, numbered in order of first
+// appearance (0.0 and -0.0 are equal, as they were to OpenMesh's STL reader).
+class Welder {
+ public:
+  explicit Welder(RawMesh* mesh) : mesh_(mesh) {}
+  void Reserve(size_t facets) {
+    index_.reserve(facets / 2);
+    mesh_->positions.reserve(3 * facets / 2);
+    mesh_->triangles.reserve(3 * facets);
+  }
+  void AddCorner(const float* p) {
+    std::array<uint32_t, 3> key;
+    for (int i = 0; i < 3; ++i) key[i] = std::bit_cast<uint32_t>(p[i] == 0.0f ? 0.0f : p[i]);
+    auto [it, fresh] = index_.try_emplace(key, uint32_t(mesh_->num_vertices()));
+    if (fresh) mesh_->positions.insert(mesh_->positions.end(), p, p + 3);
+    mesh_->triangles.push_back(it->second);
+  }
+
+ private:
+  RawMesh* mesh_;
+  absl::flat_hash_map<std::array<uint32_t, 3>, uint32_t> index_;
+};
+
+absl::Status ParseStlBinary(absl::string_view data, uint32_t n, Reading* out) {
+  Welder welder(&out->file.mesh);
+  welder.Reserve(n);
+  for (uint32_t t = 0; t < n; ++t) {
+    float c[9];  // the three corners, after the facet normal
+    std::memcpy(c, data.data() + 84 + 50 * size_t(t) + 12, sizeof(c));
+    for (int i = 0; i < 9; ++i)
+      if (!std::isfinite(c[i]))
+        return Bad("facet ", t, " corner ", i / 3, " has a non-finite coordinate ", c[i]);
+    for (int k = 0; k < 3; ++k) welder.AddCorner(&c[3 * k]);
+  }
+  return absl::OkStatus();
+}
+
+absl::Status ParseStlAscii(absl::string_view data, Reading* out) {
+  Welder welder(&out->file.mesh);
+  Lines lines(data);
+  absl::string_view line;
+  std::vector<absl::string_view> tok;
+  RawMesh corners;  // of the facet being read
+  bool ended = false;
+  while (lines.Next(&line)) {
+    Split(line, &tok);
+    if (tok.empty()) continue;
+    const std::string key = absl::AsciiStrToLower(tok[0]);
+    if (key == "endsolid") {
+      ended = true;
+      continue;
+    }
+    if (key == "solid" || key == "facet" || key == "endloop" || key == "endfacet") continue;
+    if (key != "outer")
+      return Bad("line ", lines.number(), ": unexpected '", tok[0], "' in ASCII STL");
+    // The three lines after "outer loop" are the corners.
+    const size_t t = out->face_lines.size();
+    corners.positions.clear();
+    for (int k = 0; k < 3; ++k) {
+      if (!lines.Next(&line))
+        return Bad("truncated: the file ends inside facet ", t, " (line ", lines.number(), ")");
+      Split(line, &tok);
+      const std::string where =
+          absl::StrCat("facet ", t, " corner ", k, " (line ", lines.number(), ")");
+      if (tok.empty() || absl::AsciiStrToLower(tok[0]) != "vertex")
+        return Bad(where, ": expected 'vertex x y z'");
+      if (absl::Status st = AddPosition(tok, 1, where, &corners); !st.ok()) return st;
+    }
+    for (int k = 0; k < 3; ++k) welder.AddCorner(&corners.positions[3 * k]);
+    out->face_lines.push_back(lines.number());
+  }
+  if (!ended)
+    return Bad("truncated: ASCII STL without 'endsolid' (", out->face_lines.size(),
+               " facets read)");
+  return absl::OkStatus();
+}
+
+absl::Status ParseStl(absl::string_view data, Reading* out) {
+  // Binary exactly when the size matches the triangle count (OpenMesh's rule).
+  uint32_t n = 0;
+  if (data.size() >= 84) {
+    std::memcpy(&n, data.data() + 80, 4);
+    if (data.size() == 84 + 50 * uint64_t(n)) return ParseStlBinary(data, n, out);
+  }
+  absl::string_view head = absl::StripLeadingAsciiWhitespace(data.substr(0, 512));
+  if (absl::StartsWithIgnoreCase(head, "solid")) return ParseStlAscii(data, out);
+  if (data.size() < 84)
+    return Bad("not an ASCII STL (no 'solid') and too short for a binary STL (", data.size(),
+               " bytes, the header alone takes 84)");
+  return Bad("binary STL size mismatch (truncated?): header announces ", n, " triangles (",
+             84 + 50 * uint64_t(n), " bytes) but the file has ", data.size(), " bytes");
+}
+
+// ---------------------------------------------------------------------------------- PLY
+
+enum class PlyType { kI8, kU8, kI16, kU16, kI32, kU32, kF32, kF64, kNone };
+
+PlyType ParsePlyType(absl::string_view t) {
+  if (t == "char" || t == "int8") return PlyType::kI8;
+  if (t == "uchar" || t == "uint8") return PlyType::kU8;
+  if (t == "short" || t == "int16") return PlyType::kI16;
+  if (t == "ushort" || t == "uint16") return PlyType::kU16;
+  if (t == "int" || t == "int32") return PlyType::kI32;
+  if (t == "uint" || t == "uint32") return PlyType::kU32;
+  if (t == "float" || t == "float32") return PlyType::kF32;
+  if (t == "double" || t == "float64") return PlyType::kF64;
+  return PlyType::kNone;
+}
+
+size_t PlySize(PlyType t) {
+  static constexpr size_t kSize[] = {1, 1, 2, 2, 4, 4, 4, 8, 0};
+  return kSize[int(t)];
+}
+
+double LoadPly(const char* p, PlyType t, bool swap) {
+  switch (t) {
+    case PlyType::kI8:
+      return LoadBytes<int8_t>(p, swap);
+    case PlyType::kU8:
+      return LoadBytes<uint8_t>(p, swap);
+    case PlyType::kI16:
+      return LoadBytes<int16_t>(p, swap);
+    case PlyType::kU16:
+      return LoadBytes<uint16_t>(p, swap);
+    case PlyType::kI32:
+      return LoadBytes<int32_t>(p, swap);
+    case PlyType::kU32:
+      return LoadBytes<uint32_t>(p, swap);
+    case PlyType::kF32:
+      return LoadBytes<float>(p, swap);
+    case PlyType::kF64:
+      return LoadBytes<double>(p, swap);
+    case PlyType::kNone:
+      break;
+  }
+  return 0;
+}
+
+struct PlyProperty {
+  std::string name;
+  PlyType type = PlyType::kNone;
+  PlyType count_type = PlyType::kNone;  // set for lists
+};
+
+struct PlyElement {
+  std::string name;
+  size_t count = 0;
+  std::vector<PlyProperty> props;
+};
+
+// Reads the values of a PLY body, ASCII or binary, one at a time.
+class PlyValues {
+ public:
+  PlyValues(absl::string_view body, bool ascii, bool swap)
+      : body_(body), ascii_(ascii), swap_(swap) {}
+  // False at the end of the data; sets error_ if a token is not a number.
+  bool Next(PlyType t, double* out) {
+    if (!ascii_) {
+      const size_t n = PlySize(t);
+      if (pos_ + n > body_.size()) return false;
+      *out = LoadPly(body_.data() + pos_, t, swap_);
+      pos_ += n;
+      return true;
+    }
+    return NextToken() && Result(ParseDouble(token_, out));
+  }
+  // A coordinate: ASCII text parsed as a float, a binary value of any type converted to float.
+  bool NextFloat(PlyType t, float* out) {
+    if (ascii_) return NextToken() && Result(ParseFloat(token_, out));
+    double d;
+    if (!Next(t, &d)) return false;
+    *out = static_cast<float>(d);
+    return true;
+  }
+  bool ascii() const { return ascii_; }
+  bool error() const { return error_; }
+  absl::string_view token() const { return token_; }
+  // Where the reader stands, for messages.
+  std::string Where(size_t header_lines) const {
+    return ascii_ ? absl::StrCat(" (line ", header_lines + line_ + 1, ")")
+                  : absl::StrCat(" (byte ", pos_, " of the body)");
+  }
+
+ private:
+  bool NextToken() {
+    while (pos_ < body_.size() && absl::ascii_isspace(body_[pos_])) line_ += body_[pos_++] == '\n';
+    if (pos_ >= body_.size()) return false;
+    size_t end = pos_;
+    while (end < body_.size() && !absl::ascii_isspace(body_[end])) ++end;
+    token_ = body_.substr(pos_, end - pos_);
+    pos_ = end;
+    return true;
+  }
+  bool Result(bool ok) {
+    error_ = !ok;
+    return ok;
+  }
+
+  absl::string_view body_;
+  bool ascii_, swap_;
+  size_t pos_ = 0, line_ = 0;
+  bool error_ = false;
+  absl::string_view token_;
+};
+
+absl::Status ParsePly(absl::string_view data, Reading* out) {
+  Lines lines(data);
+  absl::string_view line;
+  if (!lines.Next(&line) || absl::StripAsciiWhitespace(line) != "ply")
+    return Bad("not a PLY file: the first line is not 'ply'");
+  std::vector<PlyElement> elements;
+  std::string format;
+  bool header_done = false;
+  std::vector<absl::string_view> tok;
+  while (lines.Next(&line)) {
+    Split(line, &tok);
+    if (tok.empty() || tok[0] == "comment" || tok[0] == "obj_info") continue;
+    const std::string where = absl::StrCat("PLY header line ", lines.number());
+    if (tok[0] == "end_header") {
+      header_done = true;
+      break;
+    }
+    if (tok[0] == "format" && tok.size() >= 2) {
+      format = std::string(tok[1]);
+    } else if (tok[0] == "element" && tok.size() == 3) {
+      int64_t n;
+      if (!ParseInt(tok[2], &n) || n < 0) return Bad(where, ": bad element count '", tok[2], "'");
+      elements.push_back({std::string(tok[1]), size_t(n), {}});
+    } else if (tok[0] == "property" && !elements.empty() && tok.size() == 3 &&
+               ParsePlyType(tok[1]) != PlyType::kNone) {
+      elements.back().props.push_back({std::string(tok[2]), ParsePlyType(tok[1]), PlyType::kNone});
+    } else if (tok[0] == "property" && !elements.empty() && tok.size() == 5 && tok[1] == "list" &&
+               ParsePlyType(tok[2]) != PlyType::kNone && ParsePlyType(tok[3]) != PlyType::kNone) {
+      elements.back().props.push_back(
+          {std::string(tok[4]), ParsePlyType(tok[3]), ParsePlyType(tok[2])});
+    } else {
+      return Bad(where, ": cannot parse '", line, "'");
+    }
+  }
+  if (!header_done) return Bad("truncated: PLY header without 'end_header'");
+  const bool ascii = format == "ascii";
+  if (!ascii && format != "binary_little_endian" && format != "binary_big_endian")
+    return Bad("unknown PLY format '", format, "'");
+  const bool swap = format == (std::endian::native == std::endian::little ? "binary_big_endian"
+                                                                          : "binary_little_endian");
+  size_t announced_vertices = 0, announced_faces = 0;
+  for (const PlyElement& e : elements) {
+    if (e.name == "vertex") announced_vertices = e.count;
+    if (e.name == "face") announced_faces = e.count;
+  }
+  RawMesh& mesh = out->file.mesh;
+  const size_t header_lines = lines.number();
+  PlyValues values(data.substr(lines.offset()), ascii, swap);
+  for (const PlyElement& e : elements) {
+    const bool is_vertex = e.name == "vertex", is_face = e.name == "face";
+    // What each property carries: a coordinate (0, 1, 2 for x, y, z), the face's corners, its
+    // group, a field index (face_data.h), or nothing femsimp keeps.
+    constexpr int kOther = -3, kCorners = -2, kGroup = -1;
+    std::vector<int> role(e.props.size(), kOther);
+    // The header's count is not trusted for memory: every element takes at least a byte.
+    const size_t expected = std::min(e.count, data.size());
+    if (is_vertex) {
+      for (int axis = 0; axis < 3; ++axis) {
+        const std::string name(1, char('x' + axis));
+        auto it = std::find_if(e.props.begin(), e.props.end(), [&](const PlyProperty& p) {
+          return p.name == name && p.count_type == PlyType::kNone;
+        });
+        if (it == e.props.end())
+          return Bad("PLY header: the vertex element has no scalar property '", name, "'");
+        role[size_t(it - e.props.begin())] = axis;
+      }
+      mesh.positions.reserve(3 * expected);
+    }
+    if (is_face) {
+      mesh.face_fields.clear();
+      bool groups = false, corners = false;
+      for (size_t k = 0; k < e.props.size(); ++k) {
+        const PlyProperty& p = e.props[k];
+        for (size_t j = 0; j < k; ++j)
+          if (e.props[j].name == p.name)
+            return Bad("PLY header: face property '", p.name, "' is declared twice");
+        const bool scalar = p.count_type == PlyType::kNone;
+        const bool floating = p.type == PlyType::kF32 || p.type == PlyType::kF64;
+        if (!scalar && !corners && (p.name == "vertex_indices" || p.name == "vertex_index")) {
+          role[k] = kCorners;
+          corners = true;
+        } else if (p.name == kPlyGroupProperty) {
+          if (!scalar || floating)
+            return Bad("PLY header: face property '", kPlyGroupProperty,
+                       "' must be a scalar of an integer type (one group id per face)");
+          role[k] = kGroup;
+          groups = true;
+        } else if (scalar && floating && IsPlyFieldName(p.name)) {
+          role[k] = int(mesh.face_fields.size());
+          mesh.face_fields.push_back({p.name, {}});
+        }
+      }
+      if (!corners && e.count > 0)
+        return Bad("PLY header: the face element has no list property 'vertex_indices'");
+      if (mesh.face_fields.size() > kMaxFaceFields) {
+        std::vector<std::string> names;
+        for (const FaceField& f : mesh.face_fields) names.push_back(f.name);
+        return Bad("PLY header: ", names.size(), " float face properties (",
+                   absl::StrJoin(names, ", "), ") but femsimp carries at most ", kMaxFaceFields,
+                   " face fields");
+      }
+      mesh.triangles.clear();
+      mesh.triangles.reserve(3 * expected);
+      mesh.face_groups.clear();
+      if (groups) mesh.face_groups.reserve(expected);
+      for (FaceField& f : mesh.face_fields) f.values.reserve(expected);
+    }
+    for (size_t i = 0; i < e.count; ++i) {
+      float xyz[3] = {0, 0, 0};
+      for (size_t k = 0; k < e.props.size(); ++k) {
+        const PlyProperty& p = e.props[k];
+        const auto where = [&] { return values.Where(header_lines); };
+        const auto fail = [&]() {
+          if (values.error())
+            return Bad(e.name, " ", i, where(), ": cannot parse '", values.token(),
+                       "' as a number");
+          return Bad("truncated: header announces ", announced_vertices, " vertices and ",
+                     announced_faces, " faces but the data ends in ", e.name, " ", i, where());
+        };
+        double v;
+        if (role[k] >= 0 && is_vertex) {
+          float& x = xyz[role[k]];
+          if (!values.NextFloat(p.type, &x)) return fail();
+          if (!std::isfinite(x))
+            return Bad("vertex ", i, where(), ": coordinate ", p.name, " = ",
+                       values.ascii() ? values.token() : absl::StrCat(x), " is not a finite float");
+          continue;
+        }
+        if (p.count_type == PlyType::kNone) {
+          if (!values.Next(p.type, &v)) return fail();
+          if (role[k] == kGroup) {
+            // ASCII values are not bound by the declared type.
+            if (!(v >= 0 && v <= double(std::numeric_limits<uint32_t>::max()) &&
+                  v == std::floor(v)))
+              return Bad("face ", i, where(), ": group ", v, " is not an integer in [0, 2^32)");
+            mesh.face_groups.push_back(uint32_t(v));
+          } else if (role[k] >= 0) {
+            if (!FiniteAsFloat(v))
+              return Bad("face ", i, where(), ": field '", p.name, "' = ", v,
+                         " is not a finite float");
+            mesh.face_fields[size_t(role[k])].values.push_back(float(v));
+          }
+          continue;
+        }
+        double n;
+        if (!values.Next(p.count_type, &n)) return fail();
+        if (!(n >= 0 && n <= 1e9))  // also keeps the size_t conversion below defined
+          return Bad(e.name, " ", i, where(), ": bad list length ", n);
+        const bool indices = role[k] == kCorners;
+        if (indices && n != 3) return Polygon(i, size_t(n), where());
+        for (size_t c = 0; c < size_t(n); ++c) {
+          if (!values.Next(p.type, &v)) return fail();
+          if (!indices) continue;
+          if (v < 0) return Bad("face ", i, where(), " has a negative vertex index ", v);
+          if (!(v == std::floor(v) && v <= double(std::numeric_limits<uint32_t>::max())))
+            return Bad("face ", i, where(), ": vertex index ", v, " is not a vertex number");
+          mesh.triangles.push_back(uint32_t(v));
+        }
+      }
+      if (is_vertex) mesh.positions.insert(mesh.positions.end(), xyz, xyz + 3);
+    }
+  }
+  if (!HasFaceGroups(mesh)) mesh.face_groups.clear();
+  return absl::OkStatus();
+}
+
+// The one check of a loaded soup that the readers make (mesh_readers.h): an OBJ face or STL
+// facet that repeats a corner.
+absl::Status CheckCornersDistinct(absl::string_view ext, const Reading& parsed) {
+  const RawMesh& mesh = parsed.file.mesh;
+  for (size_t f = 0; f < mesh.num_faces(); ++f) {
+    if (!RepeatsVertex(&mesh.triangles[3 * f])) continue;
+    const size_t line = f < parsed.face_lines.size() ? parsed.face_lines[f] : 0;
+    const std::string where = line ? absl::StrCat(" (line ", line, ")") : "";
+    if (ext == ".obj") return Bad("face ", f, where, " is degenerate: it repeats a vertex index");
+    return Bad("facet ", f, where, " is degenerate: two of its corners coincide");
+  }
+  return absl::OkStatus();
+}
+
+}  // namespace
+
+absl::StatusOr<ParsedMeshFile> ParseMeshFile(absl::string_view ext, absl::string_view data) {
+  Reading parsed;
+  absl::Status s;
+  if (ext == ".off") {
+    s = ParseOff(data, &parsed);
+  } else if (ext == ".obj") {
+    s = ParseObj(data, &parsed);
+  } else if (ext == ".stl") {
+    s = ParseStl(data, &parsed);
+  } else if (ext == ".ply") {
+    s = ParsePly(data, &parsed);
+  } else {
+    s = Bad("no reader for extension '", ext, "'");
+  }
+  if (s.ok() && (ext == ".obj" || ext == ".stl")) s = CheckCornersDistinct(ext, parsed);
+  if (!s.ok()) return s;
+  return std::move(parsed.file);
+}
+
+}  // namespace femsimp

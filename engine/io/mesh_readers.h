@@ -1,0 +1,33 @@
+// femsimp's own mesh file readers: one pass over the bytes of an OFF (text or binary), OBJ, STL
+// (ASCII or binary) or PLY (ASCII, binary little- or big-endian) file yields the triangle soup
+// with its face groups and fields (face_data.h says which format holds what).
+//
+// A reader refuses what the file cannot mean, and says where: a number it cannot parse, a
+// coordinate that is not a finite float, a face that is not a triangle, a negative index, a file
+// that ends before its header says. What the loaded soup must hold to be simplified (indices in
+// range, no degenerate, duplicate or non-manifold face) is checked afterwards by Mesh::Build
+// (engine/mesh_checks.h), with one exception kept from the readers femsimp used before: an OBJ
+// face or STL facet that repeats a corner is refused here, naming its line.
+//
+// Results are those of OpenMesh 9's readers, which femsimp used before: coordinates parsed as a
+// C++ stream parses a float (binary values of another type converted to float); STL facets share
+// a vertex where their corners are equal (the first appearance gives the vertex its index).
+#pragma once
+
+#include "absl/status/statusor.h"
+#include "absl/strings/string_view.h"
+#include "engine/io/face_data.h"
+#include "engine/raw_mesh.h"
+
+namespace femsimp {
+
+struct ParsedMeshFile {
+  RawMesh mesh;            // with face groups (OBJ, PLY) and fields (PLY) where the file has them
+  GroupNames group_names;  // OBJ: the names that are not "default" or "group_<id>"
+};
+
+// `ext` is the lower-case extension with the dot. Errors are InvalidArgument with a message
+// (without the path) naming the problem and where: line, byte, vertex, face or facet index.
+absl::StatusOr<ParsedMeshFile> ParseMeshFile(absl::string_view ext, absl::string_view data);
+
+}  // namespace femsimp

@@ -1,0 +1,156 @@
+#include "tests/support/meshes.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <set>
+
+#include "engine/io/mesh_io.h"
+#include "engine/mesh.h"
+#include "engine/mesh_checks.h"
+#include "gtest/gtest.h"
+
+namespace femsimp::testing {
+
+RawMesh FlatGrid(int n) {
+  RawMesh m;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) m.positions.insert(m.positions.end(), {float(i), float(j), 0.f});
+  auto id = [n](int i, int j) { return uint32_t(j * (n + 1) + i); };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      // Alternate the diagonals so every vertex is surrounded symmetrically.
+      if ((i + j) % 2 == 0) {
+        m.triangles.insert(m.triangles.end(), {id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+        m.triangles.insert(m.triangles.end(), {id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+      } else {
+        m.triangles.insert(m.triangles.end(), {id(i, j), id(i + 1, j), id(i, j + 1)});
+        m.triangles.insert(m.triangles.end(), {id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
+      }
+    }
+  return m;
+}
+
+RawMesh Tetrahedron() {
+  return {{0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1}, {0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3}, {}, {}};
+}
+
+RawMesh Octahedron() {
+  return {{1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1},
+          {4, 0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 5, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3},
+          {},
+          {}};
+}
+
+RawMesh SingleTriangle() { return {{0, 0, 0, 1, 0, 0, 0, 1, 0}, {0, 1, 2}, {}, {}}; }
+
+RawMesh PreciseTetrahedron() {
+  RawMesh m;
+  m.positions = {0.1f,        -0.2f,          1.0f / 3.0f,   //
+                 123.456789f, 1.23456789e-6f, 0.3f,          //
+                 0.7f,        45.6f,          -2.0f / 7.0f,  //
+                 3.14159265f, 2.5f,           -98.7654321f};
+  // Oriented so that every face is counter-clockwise seen from outside.
+  m.triangles = {0, 2, 1, 0, 1, 3, 1, 2, 3, 0, 3, 2};
+  return m;
+}
+
+RawMesh MakeTorus(int n, int m, double R, double r) {
+  RawMesh mesh;
+  mesh.positions.reserve(3 * size_t(n) * m);
+  for (int i = 0; i < n; ++i) {
+    double u = 2 * std::numbers::pi * i / n;
+    for (int j = 0; j < m; ++j) {
+      double v = 2 * std::numbers::pi * j / m;
+      mesh.positions.push_back(float((R + r * std::cos(v)) * std::cos(u)));
+      mesh.positions.push_back(float((R + r * std::cos(v)) * std::sin(u)));
+      mesh.positions.push_back(float(r * std::sin(v)));
+    }
+  }
+  mesh.triangles.reserve(6 * size_t(n) * m);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < m; ++j) {
+      uint32_t a = i * m + j, b = ((i + 1) % n) * m + j, c = ((i + 1) % n) * m + (j + 1) % m,
+               d = i * m + (j + 1) % m;
+      mesh.triangles.insert(mesh.triangles.end(), {a, b, c, a, c, d});
+    }
+  return mesh;
+}
+
+RawMesh WithGroupsAndFields(RawMesh mesh) {
+  const size_t nf = mesh.num_faces();
+  mesh.face_groups.resize(nf);
+  mesh.face_fields = {{"pressure", {}}, {"heat_flux", {}}};
+  for (size_t f = 0; f < nf; ++f) {
+    const uint32_t g = 10 + uint32_t(4 * f / nf);
+    mesh.face_groups[f] = g;
+    mesh.face_fields[0].values.push_back(1000.0f + float(g));
+    mesh.face_fields[1].values.push_back(-0.5f * float(g));
+  }
+  return mesh;
+}
+
+size_t ExpectGroupsAndFields(const RawMesh& out) {
+  EXPECT_EQ(out.face_groups.size(), out.num_faces());
+  EXPECT_EQ(out.face_fields.size(), 2u);
+  if (out.face_groups.size() != out.num_faces() || out.face_fields.size() != 2) return 0;
+  EXPECT_EQ(out.face_fields[0].name, "pressure");
+  EXPECT_EQ(out.face_fields[1].name, "heat_flux");
+  std::set<uint32_t> seen;
+  for (size_t f = 0; f < out.num_faces(); ++f) {
+    const uint32_t g = out.face_groups[f];
+    EXPECT_TRUE(g >= 10 && g <= 13) << "face " << f << " group " << g;
+    if (!(g >= 10 && g <= 13)) return 0;
+    seen.insert(g);
+    EXPECT_EQ(out.face_fields[0].values[f], 1000.0f + float(g)) << "face " << f;
+    EXPECT_EQ(out.face_fields[1].values[f], -0.5f * float(g)) << "face " << f;
+  }
+  return seen.size();
+}
+
+std::string TestDataPath(const std::string& name) {
+  return std::string(FEMSIMP_TEST_DATA) + "/" + name;
+}
+
+RawMesh LoadTestMesh(const std::string& name) {
+  absl::StatusOr<RawMesh> raw = ReadMeshFile(TestDataPath(name));
+  EXPECT_TRUE(raw.ok()) << raw.status();
+  return raw.ok() ? *std::move(raw) : RawMesh{};
+}
+
+SimplifyRun SimplifyChecked(const RawMesh& input, const SimplifyOptions& options) {
+  SimplifyRun run;
+  run.input = input;
+  absl::StatusOr<Mesh> mesh = Mesh::Build(input);
+  EXPECT_TRUE(mesh.ok()) << mesh.status();
+  if (!mesh.ok()) return run;
+  absl::StatusOr<SimplifyResult> result = Simplify(*mesh, options);
+  EXPECT_TRUE(result.ok()) << result.status();
+  if (!result.ok()) return run;
+  EXPECT_EQ(HalfEdgeInvariantViolation(*mesh), "");
+  run.result = *result;
+  run.output = mesh->ToRaw();
+  return run;
+}
+
+double MinAngleDegrees(const RawMesh& mesh, size_t face) {
+  double p[3][3];
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k) p[i][k] = mesh.positions[3 * mesh.triangles[3 * face + i] + k];
+  double smallest = 180.0;
+  for (int i = 0; i < 3; ++i) {
+    double u[3], w[3];
+    for (int k = 0; k < 3; ++k) {
+      u[k] = p[(i + 1) % 3][k] - p[i][k];
+      w[k] = p[(i + 2) % 3][k] - p[i][k];
+    }
+    const double d = u[0] * w[0] + u[1] * w[1] + u[2] * w[2];
+    const double nu = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+    const double nw = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+    smallest = std::min(smallest,
+                        std::acos(std::clamp(d / (nu * nw), -1.0, 1.0)) * 180.0 / std::numbers::pi);
+  }
+  return smallest;
+}
+
+}  // namespace femsimp::testing

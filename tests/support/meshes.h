@@ -1,0 +1,47 @@
+// Meshes for the tests, written once: small hand-made ones, generated ones, the files of
+// tests/data, and geometry helpers to check results with.
+#pragma once
+
+#include <cstddef>
+#include <string>
+
+#include "engine/raw_mesh.h"
+#include "engine/simplify.h"
+
+namespace femsimp::testing {
+
+RawMesh FlatGrid(int n);  // (n+1)^2 vertices on the unit square, open boundary
+RawMesh Tetrahedron();    // unit corner tetrahedron, closed
+RawMesh Octahedron();
+RawMesh SingleTriangle();
+
+// A closed tetrahedron, counter-clockwise seen from outside, with coordinates that need all
+// nine significant digits of a float (for file round trips).
+RawMesh PreciseTetrahedron();
+
+// Closed torus of n * m vertices and 2nm faces (a valid closed 2-manifold), radii R and r.
+RawMesh MakeTorus(int n, int m, double R = 3.0, double r = 1.0);
+
+// Adds four face groups (ids 10..13, consecutive runs of faces: bands of a torus) and two face
+// fields constant per group, "pressure" = 1000 + group and "heat_flux" = -group / 2, so that
+// every surviving face of a simplified mesh can be checked against its group.
+RawMesh WithGroupsAndFields(RawMesh mesh);
+// Checks that every face of `out` has one of those groups and its group's field values; returns
+// the distinct groups seen (0 after a failed check).
+size_t ExpectGroupsAndFields(const RawMesh& out);
+
+std::string TestDataPath(const std::string& name);  // in tests/data
+RawMesh LoadTestMesh(const std::string& name);      // from tests/data, fails the test if missing
+
+// One engine run, failing the test on any error: builds `input`, simplifies it, checks the
+// half-edge invariants, and keeps the input, the output soup and the result.
+struct SimplifyRun {
+  RawMesh input, output;
+  SimplifyResult result;
+};
+SimplifyRun SimplifyChecked(const RawMesh& input, const SimplifyOptions& options);
+
+// Smallest interior angle (degrees) of a triangle of the soup.
+double MinAngleDegrees(const RawMesh& mesh, size_t face);
+
+}  // namespace femsimp::testing
