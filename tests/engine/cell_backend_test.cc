@@ -100,7 +100,7 @@ TEST(CellBackend, CancellationStopsInsideAPassWithAValidMesh) {
     ASSERT_EQ(r->passes.size(), 1u);
     // Stopped early in the first pass: far fewer candidates tried than handed out.
     EXPECT_LT(r->passes[0].tried * 4, r->passes[0].candidates) << spe_threads;
-    EXPECT_EQ(testing::HalfEdgeInvariantViolation(*mesh), "");
+    EXPECT_EQ(HalfEdgeInvariantViolation(*mesh), "");
     EXPECT_TRUE(Mesh::Build(mesh->ToRaw()).ok());
   }
 }

@@ -10,8 +10,8 @@
 
 #include "engine/io/mesh_io.h"
 #include "engine/mesh.h"
-#include "tests/engine/mesh_checks.h"
-#include "tests/engine/small_meshes.h"
+#include "engine/mesh_checks.h"
+#include "tests/support/meshes.h"
 
 namespace femsimp {
 namespace {
@@ -239,11 +239,11 @@ TEST(Repair, CrackIsStitched) {
   for (float offset : {0.f, 1e-8f}) {
     SCOPED_TRACE(offset);
     RawMesh m = CrackedCube(offset);
-    EXPECT_EQ(testing::Topology(m).boundary_edges, 6);  // open, but Build accepts it
+    EXPECT_EQ(TopologyOf(m).boundary_edges, 6);  // open, but Build accepts it
     RepairResult r = Repair(m);
     ExpectSameMesh(m, Cube());
     ExpectBuilds(m);
-    EXPECT_EQ(testing::Topology(m).boundary_edges, 0);
+    EXPECT_EQ(TopologyOf(m).boundary_edges, 0);
     EXPECT_EQ(r.report.count(RepairKind::kWeldedVertex), 2u);
     EXPECT_EQ(r.report.count(RepairKind::kStitchedEdge), 3u);  // (0, 1), (0, 2), (1, 3)
     EXPECT_EQ(r.report.num_changes(), 5u) << r.report.Details();
@@ -305,7 +305,7 @@ TEST(Repair, NonManifoldVertexIsSplit) {
              "(first facets 2, 12); 1 copies added");
   EXPECT_EQ(m.num_vertices(), 16u);
   EXPECT_EQ(r.vertex_origin.back(), 7u);
-  EXPECT_EQ(testing::Topology(m).components, 2);
+  EXPECT_EQ(TopologyOf(m).components, 2);
   EXPECT_NEAR(SignedVolume(m), 2, 1e-6);
 }
 
@@ -508,7 +508,7 @@ TEST(Repair, SoupOfFandiskIsWeldedBackDeterministically) {
   RepairResult r = Repair(soup);
   ExpectBuilds(soup);
   EXPECT_EQ(CornerPoints(soup), CornerPoints(clean));
-  const testing::SurfaceTopology a = testing::Topology(soup), b = testing::Topology(clean);
+  const SoupTopology a = TopologyOf(soup), b = TopologyOf(clean);
   EXPECT_EQ(a.vertices, b.vertices);
   EXPECT_EQ(a.edges, b.edges);
   EXPECT_EQ(a.boundary_edges, b.boundary_edges);
