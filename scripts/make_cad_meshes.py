@@ -1,0 +1,905 @@
+#!/usr/bin/python3
+"""CAD-like test meshes for femsimp (issue 12, item 7), generated, never committed.
+
+Builds parts with gmsh's OpenCASCADE kernel, meshes their surfaces (2D) in several variants,
+writes the triangle soups, then makes broken copies the way CAD exports break:
+
+  parts      bracket   L-bracket plate with holes, a filleted inner bend and rounded corners
+             flange    boolean part: disk union hub union two rib boxes, minus bore and bolt
+                       holes, hub chamfered
+             bottle    thin-walled bottle (wall 0.6 on a 40 mm body), open at the neck
+             knob      block with many small fillets and chamfers, bosses and slots (slivers)
+             sheet     open surface: a plate mid-surface with holes (FE shell model), boundary
+             assembly  four boxes and a pin glued with occ.fragment: shared faces are one set of
+                       triangles used by two volumes, so their border edges have 3 or 4 faces
+  variants   coarse    Frontal-Delaunay, size = diagonal / 25, 12 elements per 2 pi (OFF)
+             fine      Frontal-Delaunay, size = diagonal / 70, 24 elements per 2 pi (OFF;
+                       the bracket also as OBJ with one `g` group per CAD face)
+             export    MeshAdapt, size = diagonal, 24 points per circle, nothing from curvature
+                       (slivers, like a CAD tool's STL export), binary STL; the bottle's at
+                       diagonal / 20, since its 0.6 wall needs it (the diagonal-sized one is
+                       kept as bottle_export_crossing.stl: its two wall sides cross)
+             occ_stl   OpenCASCADE's own BRepMesh tessellation, as CAD tools write STL: faces
+                       triangulated apart, welded on equal float32 coordinates only; comes out
+                       with slivers below 1 degree, cracks, flipped and degenerate facets
+  broken     flipped, duplicate, degenerate (coincident vertices, repeated index, collinear
+             T-junction sliver), crack (one CAD seam unwelded), unwelded (every CAD face its
+             own vertices), unreferenced (unused and duplicated vertices), bowtie (two parts
+             welded at one vertex: non-manifold vertex); the assembly (non-manifold edges),
+             bottle_export_crossing (self-intersecting) and every occ_stl file are not clean
+
+Usage: /usr/bin/python3 scripts/make_cad_meshes.py [OUTDIR] [--only PART,...] [--check-determinism]
+OUTDIR defaults to build/cad-meshes. Writes OUTDIR/manifest.json: for each file its part,
+variant, what was broken and how many times, the measured counts (vertices, faces, boundary,
+non-manifold and misoriented edges, components, Euler characteristic, zero-area faces,
+smallest angle) and whether it is closed / manifold by construction.
+
+Deterministic: fixed gmsh options, one thread, coordinates rounded to float32 and printed with
+9 significant digits, a seeded generator for the broken copies; --check-determinism builds
+everything twice and compares the files byte for byte.
+"""
+
+import argparse
+import filecmp
+import hashlib
+import json
+import math
+import os
+import shutil
+import struct
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+import gmsh
+
+PARTS = ["bracket", "flange", "bottle", "knob", "sheet", "assembly"]
+
+# ------------------------------------------------------------------------------- geometry
+
+
+def build_bracket(occ):
+    """L-bracket: base plate and upright plate fused, inner bend filleted, holes, rounded
+    corners."""
+    base = occ.addBox(0, 0, 0, 80, 50, 8)
+    wall = occ.addBox(0, 0, 0, 8, 50, 60)
+    body, _ = occ.fuse([(3, base)], [(3, wall)])
+    occ.synchronize()
+    vol = body[0][1]
+    # Fillet the inner bend (the edge along y at x = 8, z = 8), then the plate's free corners.
+    inner = [c for _, c in gmsh.model.getEntities(1)
+             if _bbox_close(gmsh.model.getBoundingBox(1, c), (8, 0, 8, 8, 50, 8))]
+    filleted = occ.fillet([vol], inner, [6.0], removeVolume=True)
+    occ.synchronize()
+    vol = filleted[0][1]
+    corners = [c for _, c in gmsh.model.getEntities(1)
+               if _is_vertical_edge_at_x(c, 80)]
+    rounded = occ.fillet([vol], corners, [10.0], removeVolume=True)
+    occ.synchronize()
+    vol = rounded[0][1]
+    holes = []
+    for x, y in [(30, 15), (30, 35), (60, 15), (60, 35)]:
+        holes.append((3, occ.addCylinder(x, y, -1, 0, 0, 10, 4.0)))
+    for y, z in [(15, 40), (35, 40)]:
+        holes.append((3, occ.addCylinder(-1, y, z, 10, 0, 0, 5.0)))
+    slot = occ.addBox(-1, 20, 15, 10, 10, 12)
+    holes.append((3, slot))
+    out, _ = occ.cut([(3, vol)], holes)
+    occ.synchronize()
+    return [t for d, t in out if d == 3]
+
+
+def _is_vertical_edge_at_x(c, x):
+    x0, y0, z0, x1, y1, z1 = gmsh.model.getBoundingBox(1, c)
+    return abs(x0 - x) < 1e-6 and abs(x1 - x) < 1e-6 and z1 - z0 > 7 and abs(y1 - y0) < 1e-6
+
+
+def build_flange(occ):
+    """Boolean part: disk + hub + rib box, minus a bore and eight bolt holes; hub edge chamfered."""
+    disk = occ.addCylinder(0, 0, 0, 0, 0, 12, 60)
+    hub = occ.addCylinder(0, 0, 0, 0, 0, 45, 30)
+    rib1 = occ.addBox(-55, -5, 12, 110, 10, 18)
+    rib2 = occ.addBox(-5, -55, 12, 10, 110, 18)
+    body, _ = occ.fuse([(3, disk)], [(3, hub), (3, rib1), (3, rib2)])
+    occ.synchronize()
+    vol = body[0][1]
+    cutters = [(3, occ.addCylinder(0, 0, -1, 0, 0, 50, 18))]
+    for k in range(8):  # between the ribs: 22.5 degrees off a rib's axis at the closest
+        a = 2 * math.pi * (k + 0.5) / 8
+        cutters.append((3, occ.addCylinder(45 * math.cos(a), 45 * math.sin(a), -1, 0, 0, 14, 5)))
+    out, _ = occ.cut([(3, vol)], cutters)
+    occ.synchronize()
+    vol = out[0][1]
+    # Chamfer the hub's top outer circle.
+    top = [c for _, c in gmsh.model.getEntities(1)
+           if _bbox_close(gmsh.model.getBoundingBox(1, c), (-30, -30, 45, 30, 30, 45))]
+    surf = [s for _, s in gmsh.model.getEntities(2)
+            if _bbox_close(gmsh.model.getBoundingBox(2, s), (-30, -30, 45, 30, 30, 45))]
+    if top and surf:
+        out = occ.chamfer([vol], top, surf, [2.0], removeVolume=True)
+        occ.synchronize()
+    return [t for _, t in gmsh.model.getEntities(3)]
+
+
+def _bbox_close(b, ref, tol=1e-3):
+    return all(abs(p - q) < tol for p, q in zip(b, ref))
+
+
+def _bottle_solid(occ, r, z0, neck_r, top, fillet):
+    """Body cylinder of radius r from z0 to 60, shoulder cone to neck_r at 75, neck to top; the
+    bottom circle filleted."""
+    body = occ.addCylinder(0, 0, z0, 0, 0, 60 - z0, r)
+    shoulder = occ.addCone(0, 0, 60, 0, 0, 15, r, neck_r)
+    neck = occ.addCylinder(0, 0, 75, 0, 0, top - 75, neck_r)
+    fused, _ = occ.fuse([(3, body)], [(3, shoulder), (3, neck)])
+    occ.synchronize()
+    vol = fused[0][1]
+    bottom = [c for _, c in gmsh.model.getEntities(1)
+              if _bbox_close(gmsh.model.getBoundingBox(1, c), (-r, -r, z0, r, r, z0))]
+    out = occ.fillet([vol], bottom, [fillet], removeVolume=True)
+    occ.synchronize()
+    return out[0][1]
+
+
+def build_bottle(occ):
+    """Thin-walled bottle: body cylinder + shoulder cone + neck, bottom filleted, hollowed to a
+    0.6 wall (0.58 across the cone) open at the neck: the outer solid minus an inner one that
+    pokes out of the neck. (occ.addThickSolid would do it too, but its result changes from one
+    process to the next in OCC 7.6, so the meshes would not be reproducible.)"""
+    outer = _bottle_solid(occ, 20, 0, 8, 87, 3.0)
+    inner = _bottle_solid(occ, 19.4, 0.6, 7.4, 90, 2.4)
+    out, _ = occ.cut([(3, outer)], [(3, inner)])
+    occ.synchronize()
+    return [t for d, t in out if d == 3]
+
+
+def build_knob(occ):
+    """Block with many small fillets and chamfers: every edge of the block rounded (r 1),
+    four bosses with small base fillets and chamfered tops, and two slots."""
+    block = occ.addBox(0, 0, 0, 40, 30, 12)
+    occ.synchronize()
+    edges = [c for _, c in gmsh.model.getEntities(1)]
+    out = occ.fillet([block], edges, [1.0], removeVolume=True)
+    occ.synchronize()
+    vol = out[0][1]
+    bosses = []
+    for x, y in [(8, 8), (32, 8), (8, 22), (32, 22)]:
+        bosses.append((3, occ.addCylinder(x, y, 11, 0, 0, 7, 3.5)))
+    fused, _ = occ.fuse([(3, vol)], bosses)
+    occ.synchronize()
+    vol = fused[0][1]
+    # Chamfer the bosses' top circles (z = 18).
+    tops = [c for _, c in gmsh.model.getEntities(1)
+            if abs(gmsh.model.getBoundingBox(1, c)[2] - 18) < 1e-6
+            and abs(gmsh.model.getBoundingBox(1, c)[5] - 18) < 1e-6]
+    faces = [s for _, s in gmsh.model.getEntities(2)
+             if abs(gmsh.model.getBoundingBox(2, s)[2] - 18) < 1e-6
+             and abs(gmsh.model.getBoundingBox(2, s)[5] - 18) < 1e-6]
+    if tops and len(faces) == len(tops):
+        out = occ.chamfer([vol], tops, faces, [0.5] * len(tops), removeVolume=True)
+        occ.synchronize()
+        vol = out[0][1]
+    slots = [(3, occ.addBox(14, 5, 8, 12, 2, 5)), (3, occ.addBox(14, 23, 8, 12, 2, 5))]
+    out, _ = occ.cut([(3, vol)], slots)
+    occ.synchronize()
+    vol = out[0][1]
+    # Small fillets on the slot rims (edges on the top plane z = 12, inside the slots' x-range).
+    rims = []
+    for _, c in gmsh.model.getEntities(1):
+        b = gmsh.model.getBoundingBox(1, c)
+        if abs(b[2] - 12) < 1e-6 and abs(b[5] - 12) < 1e-6 and b[0] >= 13.9 and b[3] <= 26.1:
+            rims.append(c)
+    if rims:
+        try:
+            out = occ.fillet([vol], rims, [0.4], removeVolume=True)
+            occ.synchronize()
+        except Exception:  # noqa: BLE001 - a fillet OCC cannot make is left out
+            pass
+    return [t for _, t in gmsh.model.getEntities(3)]
+
+
+def build_sheet(occ):
+    """Open surface: a rounded plate mid-surface with a large hole and four small ones (a shell
+    model), split into two CAD faces along x = 50."""
+    plate = occ.addRectangle(0, 0, 0, 100, 60, roundedRadius=8)
+    cutters = [(2, occ.addDisk(50, 30, 0, 15, 15))]
+    for x, y in [(15, 15), (85, 15), (15, 45), (85, 45)]:
+        cutters.append((2, occ.addDisk(x, y, 0, 4, 4)))
+    out, _ = occ.cut([(2, plate)], cutters)
+    splitter = occ.addRectangle(50, -1, 0, 60, 62)
+    occ.fragment(out, [(2, splitter)])
+    occ.synchronize()
+    keep = (-0.5, -0.5, -0.5, 100.5, 60.5, 0.5)
+    extra = [(2, s) for _, s in gmsh.model.getEntities(2)
+             if not _inside(gmsh.model.getBoundingBox(2, s), keep)]
+    if extra:
+        occ.remove(extra, recursive=True)
+        occ.synchronize()
+    return []
+
+
+def _inside(b, box):
+    return all(b[k] >= box[k] for k in range(3)) and all(b[k] <= box[k] for k in range(3, 6))
+
+
+def build_assembly(occ):
+    """Two base plates, two blocks on them and a pin through the right block, glued with
+    occ.fragment. The x = 30 planes meet at an edge used by four faces."""
+    boxes = [occ.addBox(0, 0, 0, 30, 40, 10), occ.addBox(30, 0, 0, 30, 40, 10),
+             occ.addBox(10, 10, 10, 20, 20, 20), occ.addBox(30, 10, 10, 20, 20, 20)]
+    pin = occ.addCylinder(40, 20, 10, 0, 0, 28, 4)
+    out, _ = occ.fragment([(3, b) for b in boxes], [(3, pin)])
+    occ.synchronize()
+    return [t for d, t in out if d == 3]
+
+
+BUILDERS = {
+    "bracket": build_bracket,
+    "flange": build_flange,
+    "bottle": build_bottle,
+    "knob": build_knob,
+    "sheet": build_sheet,
+    "assembly": build_assembly,
+}
+
+# ----------------------------------------------------------------------------------- meshing
+
+# Every option is set for every variant (gmsh keeps options between meshings). MeshSizeMax is
+# the bounding-box diagonal divided by "divisor".
+VARIANTS = {
+    "coarse": {"format": "off", "divisor": 25.0, "Mesh.Algorithm": 6,
+               "Mesh.MeshSizeFromCurvature": 12, "Mesh.MinimumCirclePoints": 7,
+               "Mesh.MeshSizeExtendFromBoundary": 1},
+    "fine": {"format": "off", "divisor": 70.0, "Mesh.Algorithm": 6,
+             "Mesh.MeshSizeFromCurvature": 24, "Mesh.MinimumCirclePoints": 7,
+             "Mesh.MeshSizeExtendFromBoundary": 1},
+    # Like a CAD tool's STL export: curves cut by a fixed count per circle, faces filled with
+    # no size of their own (MeshAdapt, size = diagonal, nothing extended from the boundary).
+    "export": {"format": "stl", "divisor": 1.0, "Mesh.Algorithm": 1,
+               "Mesh.MeshSizeFromCurvature": 0, "Mesh.MinimumCirclePoints": 24,
+               "Mesh.MeshSizeExtendFromBoundary": 0},
+}
+COMMON_OPTIONS = {"Mesh.MeshSizeMin": 0.0, "Mesh.MinimumCurvePoints": 3,
+                  "Mesh.MeshSizeFactor": 1.0, "Mesh.RandomSeed": 1}
+
+
+def part_variants(part):
+    """(file variant, meshing spec, defect notes) for the meshes of one part."""
+    if part == "assembly":
+        return [(v, VARIANTS[v], []) for v in ("coarse", "fine")]
+    out = [(v, VARIANTS[v], []) for v in VARIANTS]
+    if part == "bottle":
+        # A 0.6 wall exported at the diagonal's size: the two sides' facets cross each other.
+        # The clean export keeps the facets below 8 wall thicknesses instead.
+        crossing = dict(VARIANTS["export"])
+        out[-1] = ("export", dict(crossing, divisor=20.0), [])
+        out.append(("export_crossing", crossing, [{
+            "kind": "self_intersecting",
+            "note": "thin wall (0.6) exported with facets as large as the part: inner and outer "
+                    "facets cross (the test counts the pairs with CGAL)"}]))
+    return out
+
+
+def occ_tessellation(tmpdir, diag):
+    """OpenCASCADE's own tessellation of the model (BRepMesh: what CAD tools write as STL),
+    which gmsh writes when asked for an STL file of a model without a mesh. Faces are
+    triangulated separately and vertices are welded here only where their float32 coordinates
+    are equal, as an STL reader does; what is left (slivers, near-coincident vertices, cracks
+    and T-junctions at face borders, degenerate facets) is what such exports contain."""
+    path = os.path.join(tmpdir, "occ.stl")
+    gmsh.option.setNumber("Mesh.StlLinearDeflection", 1e-3 * diag)  # chordal, in model units
+    gmsh.option.setNumber("Mesh.StlAngularDeflection", 0.5)  # radians
+    gmsh.model.mesh.clear()
+    gmsh.write(path)
+    pts = []
+    with open(path) as f:
+        for line in f:
+            t = line.split()
+            if t and t[0] == "vertex":
+                pts.append([float(x) for x in t[1:4]])
+    os.remove(path)
+    corners = np.asarray(pts, dtype=np.float64).astype(np.float32)
+    pos, inv = np.unique(corners, axis=0, return_inverse=True)
+    return pos, inv.reshape(-1, 3)
+
+
+def mesh_surfaces(spec, diag):
+    gmsh.model.mesh.clear()
+    for name, value in COMMON_OPTIONS.items():
+        gmsh.option.setNumber(name, value)
+    for name, value in spec.items():
+        if name.startswith("Mesh."):
+            gmsh.option.setNumber(name, value)
+    gmsh.option.setNumber("Mesh.MeshSizeMax", diag / spec["divisor"])
+    gmsh.model.mesh.generate(2)
+    tags, coords, _ = gmsh.model.mesh.getNodes()
+    coords = np.asarray(coords, dtype=np.float64).reshape(-1, 3)
+    index = {int(t): i for i, t in enumerate(tags)}
+    tris, groups = [], []
+    for _, s in sorted(gmsh.model.getEntities(2)):
+        types, _, nodes = gmsh.model.mesh.getElements(2, s)
+        for typ, nn in zip(types, nodes):
+            if typ != 2:
+                raise RuntimeError(f"surface {s}: element type {typ}, expected triangles")
+            t = np.asarray([index[int(n)] for n in nn], dtype=np.int64).reshape(-1, 3)
+            tris.append(t)
+            groups.append(np.full(len(t), s, dtype=np.int64))
+    tris = np.concatenate(tris)
+    groups = np.concatenate(groups)
+    # Keep referenced nodes only, numbered in order of first use.
+    order, first = np.unique(tris.ravel(), return_index=True)
+    order = order[np.argsort(first)]
+    remap = np.full(len(coords), -1, dtype=np.int64)
+    remap[order] = np.arange(len(order))
+    return coords[order].astype(np.float32), remap[tris], groups
+
+
+# ------------------------------------------------------------------------ soup measurements
+
+
+def edge_table(tris):
+    """Undirected edges (sorted pairs) with use counts, and directed edge use counts."""
+    e = np.concatenate([tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [2, 0]]])
+    und = np.sort(e, axis=1)
+    uniq, inv, counts = np.unique(und, axis=0, return_inverse=True, return_counts=True)
+    return e, uniq, inv.ravel(), counts
+
+
+def components(n_vertices, tris):
+    parent = np.arange(n_vertices)
+
+    def find(a):
+        root = a
+        while parent[root] != root:
+            root = parent[root]
+        while parent[a] != root:
+            parent[a], a = root, parent[a]
+        return root
+
+    for a, b, c in tris.tolist():
+        ra, rb, rc = find(a), find(b), find(c)
+        parent[rb] = ra
+        parent[find(rc)] = ra
+    used = np.unique(tris)
+    return len({find(int(v)) for v in used})
+
+
+def face_areas_and_angles(pos, tris):
+    p = pos.astype(np.float64)[tris]
+    a, b, c = p[:, 0], p[:, 1], p[:, 2]
+    area = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1)
+
+    def angle(u, v):
+        nu = np.linalg.norm(u, axis=1)
+        nv = np.linalg.norm(v, axis=1)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            cos = np.einsum("ij,ij->i", u, v) / (nu * nv)
+        return np.degrees(np.arccos(np.clip(np.nan_to_num(cos, nan=1.0), -1, 1)))
+
+    ang = np.stack([angle(b - a, c - a), angle(c - b, a - b), angle(a - c, b - c)], axis=1)
+    return area, ang.min(axis=1)
+
+
+def signed_volume(pos, tris):
+    p = pos.astype(np.float64)[tris]
+    return float(np.einsum("ij,ij->i", p[:, 0], np.cross(p[:, 1], p[:, 2])).sum() / 6.0)
+
+
+def measure(pos, tris):
+    e, uniq, inv, counts = edge_table(tris)
+    # Misoriented: a manifold edge whose two uses go the same way.
+    directed = np.unique(e, axis=0, return_counts=True)[1]
+    misoriented = int(np.count_nonzero(directed > 1))
+    index_degenerate = int(np.count_nonzero((tris[:, 0] == tris[:, 1]) | (tris[:, 1] == tris[:, 2])
+                                            | (tris[:, 2] == tris[:, 0])))
+    area, min_angle = face_areas_and_angles(pos, tris)
+    diag = float(np.linalg.norm(pos.max(axis=0).astype(np.float64)
+                                - pos.min(axis=0).astype(np.float64)))
+    zero_area = int(np.count_nonzero(area <= 1e-12 * diag * diag))
+    # Geometric duplicates: faces with the same vertex set (any order).
+    face_keys = np.sort(tris, axis=1)
+    duplicate = len(tris) - len(np.unique(face_keys, axis=0))
+    referenced = len(np.unique(tris))
+    coincident = len(pos) - len(np.unique(pos, axis=0))
+    m = {
+        "vertices": int(len(pos)),
+        "referenced_vertices": int(referenced),
+        "coincident_vertex_copies": int(coincident),
+        "faces": int(len(tris)),
+        "edges": int(len(uniq)),
+        "boundary_edges": int(np.count_nonzero(counts == 1)),
+        "nonmanifold_edges": int(np.count_nonzero(counts > 2)),
+        "max_faces_per_edge": int(counts.max()),
+        "misoriented_edges": misoriented,
+        "components": components(len(pos), tris),
+        "euler": int(referenced - len(uniq) + len(tris)),
+        "index_degenerate_faces": index_degenerate,
+        "zero_area_faces": zero_area,
+        "duplicate_faces": int(duplicate),
+        "min_angle_deg": round(float(np.nan_to_num(min_angle).min()), 4),
+        "faces_below_10deg": int(np.count_nonzero(min_angle < 10)),
+        "faces_below_1deg": int(np.count_nonzero(min_angle < 1)),
+        "diagonal": round(diag, 6),
+    }
+    m["closed"] = m["boundary_edges"] == 0 and m["nonmanifold_edges"] == 0
+    m["manifold_edges"] = m["nonmanifold_edges"] == 0 and misoriented == 0
+    if m["closed"]:
+        m["volume"] = round(signed_volume(pos, tris), 6)
+    return m
+
+
+def orient(pos, tris, faces=None):
+    """Consistent orientation by breadth-first search over manifold edges, outward (positive
+    volume) for a closed component. Works on the faces listed (default all); returns a copy."""
+    tris = tris.copy()
+    ids = np.arange(len(tris)) if faces is None else np.asarray(faces)
+    sub = tris[ids]
+    e = np.concatenate([sub[:, [0, 1]], sub[:, [1, 2]], sub[:, [2, 0]]])
+    owner = np.concatenate([np.arange(len(sub))] * 3)
+    und = np.sort(e, axis=1)
+    adj = {}
+    for (a, b), f in zip(und.tolist(), owner.tolist()):
+        adj.setdefault((a, b), []).append(f)
+    seen = np.zeros(len(sub), dtype=bool)
+    for start in range(len(sub)):
+        if seen[start]:
+            continue
+        seen[start] = True
+        comp, queue = [start], [start]
+        while queue:
+            f = queue.pop()
+            t = sub[f]
+            for k in range(3):
+                a, b = int(t[k]), int(t[(k + 1) % 3])
+                users = adj[(min(a, b), max(a, b))]
+                if len(users) != 2:
+                    continue
+                g = users[0] if users[1] == f else users[1]
+                if seen[g]:
+                    continue
+                u = sub[g]
+                # g must traverse (b, a): if it has (a, b), flip it.
+                for j in range(3):
+                    if int(u[j]) == a and int(u[(j + 1) % 3]) == b:
+                        sub[g] = u[[0, 2, 1]]
+                        break
+                seen[g] = True
+                comp.append(g)
+                queue.append(g)
+        if signed_volume(pos, sub[comp]) < 0:
+            sub[comp] = sub[comp][:, [0, 2, 1]]
+    tris[ids] = sub
+    return tris
+
+
+# ------------------------------------------------------------------------------------ output
+
+
+def fmt(x):
+    return f"{float(x):.9g}"
+
+
+def write_off(path, pos, tris):
+    lines = ["OFF", f"{len(pos)} {len(tris)} 0"]
+    lines += [" ".join(fmt(c) for c in p) for p in pos.tolist()]
+    lines += [f"3 {a} {b} {c}" for a, b, c in tris.tolist()]
+    with open(path, "w") as f:
+        f.write("\n".join(lines) + "\n")
+
+
+def write_obj(path, pos, tris, groups):
+    lines = ["# femsimp CAD-like test part; one group per CAD face"]
+    lines += ["v " + " ".join(fmt(c) for c in p) for p in pos.tolist()]
+    current = None
+    for (a, b, c), g in zip(tris.tolist(), groups.tolist()):
+        if g != current:
+            lines.append(f"g cad_face_{g}")
+            current = g
+        lines.append(f"f {a + 1} {b + 1} {c + 1}")
+    with open(path, "w") as f:
+        f.write("\n".join(lines) + "\n")
+
+
+def write_stl(path, pos, tris):
+    header = b"femsimp CAD-like export (binary STL)".ljust(80, b" ")
+    p = pos[tris].astype(np.float64)
+    n = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
+    ln = np.linalg.norm(n, axis=1, keepdims=True)
+    n = np.divide(n, ln, out=np.zeros_like(n), where=ln > 0)
+    rec = np.zeros(len(tris), dtype=[("n", "<f4", 3), ("v", "<f4", (3, 3)), ("attr", "<u2")])
+    rec["n"] = n.astype(np.float32)
+    rec["v"] = pos[tris]
+    with open(path, "wb") as f:
+        f.write(header)
+        f.write(struct.pack("<I", len(tris)))
+        f.write(rec.tobytes())
+
+
+def write_mesh(path, pos, tris, groups=None):
+    if path.endswith(".off"):
+        write_off(path, pos, tris)
+    elif path.endswith(".obj"):
+        write_obj(path, pos, tris, groups)
+    elif path.endswith(".stl"):
+        write_stl(path, pos, tris)
+    else:
+        raise ValueError(path)
+
+
+# ------------------------------------------------------------------------------ broken copies
+
+
+def interior_vertices(tris, groups):
+    """Vertices whose faces all lie in one CAD face (not on a seam or a boundary)."""
+    nv = int(tris.max()) + 1
+    first = np.full(nv, -1, dtype=np.int64)
+    mixed = np.zeros(nv, dtype=bool)
+    for k in range(3):
+        v = tris[:, k]
+        unset = first[v] == -1
+        first[v[unset]] = groups[unset]
+        mixed[v] |= first[v] != groups
+    _, uniq, inv, counts = edge_table(tris)
+    border = np.zeros(nv, dtype=bool)
+    border[uniq[counts != 2].ravel()] = True
+    return np.flatnonzero(~mixed & ~border & (first >= 0))
+
+
+def planar_interior_vertices(pos, tris, groups):
+    """Interior vertices of CAD faces whose fan is flat (so moving a vertex onto a neighbour
+    keeps the surface where it was)."""
+    cand = set(interior_vertices(tris, groups).tolist())
+    p = pos.astype(np.float64)[tris]
+    n = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
+    n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
+    ref = {}
+    flat = {}
+    for f, t in enumerate(tris.tolist()):
+        for v in t:
+            if v not in cand:
+                continue
+            if v not in ref:
+                ref[v] = n[f]
+                flat[v] = True
+            elif float(np.dot(ref[v], n[f])) < 1 - 1e-9:
+                flat[v] = False
+    return sorted(v for v, ok in flat.items() if ok)
+
+
+def break_flipped(rng, pos, tris, groups, count=3):
+    tris = tris.copy()
+    faces = np.sort(rng.choice(len(tris), size=count, replace=False))
+    tris[faces] = tris[faces][:, [0, 2, 1]]
+    return pos, tris, groups, [{"kind": "flipped_faces", "count": count,
+                                "faces": faces.tolist()}]
+
+
+def break_duplicate(rng, pos, tris, groups, same=4, reversed_=2):
+    faces = np.sort(rng.choice(len(tris), size=same + reversed_, replace=False))
+    extra = tris[faces].copy()
+    extra[same:] = extra[same:][:, [0, 2, 1]]
+    out = np.concatenate([tris, extra])
+    g = np.concatenate([groups, groups[faces]])
+    return pos, out, g, [
+        {"kind": "duplicate_faces", "count": same, "faces": faces[:same].tolist(),
+         "note": "same vertices, same order, appended at the end"},
+        {"kind": "duplicate_faces_reversed", "count": reversed_, "faces": faces[same:].tolist(),
+         "note": "same vertices, opposite order (a double-sided facet)"}]
+
+
+def break_degenerate(rng, pos, tris, groups):
+    """Three kinds of zero-area facets, each the way CAD exports make them:
+    coincident: a vertex of a flat CAD face moved onto a neighbour (its two shared faces
+      have two equal vertices after welding; the soup stays closed and manifold);
+    collinear: a T-junction closed by a zero-area sliver (edge a-b of one face split at its
+      midpoint m, the neighbour keeps a-b, the sliver a-b-m closes the gap; closed, manifold);
+    repeated: faces (a, a, b) appended (repeated vertex index)."""
+    pos = pos.copy()
+    tris = tris.copy()
+    notes = []
+    # coincident
+    flat = planar_interior_vertices(pos, tris, groups)
+    v = int(flat[int(rng.integers(len(flat)))])
+    f = int(np.flatnonzero((tris == v).any(axis=1))[0])
+    t = tris[f].tolist()
+    u = t[(t.index(v) + 1) % 3]
+    pos[v] = pos[u]
+    notes.append({"kind": "degenerate_coincident", "count": 2, "vertex": v, "onto": u,
+                  "coordinates": pos[v].tolist(),
+                  "note": "vertex moved onto a neighbour: the 2 faces of their edge have "
+                          "zero area"})
+    # collinear T-junction: any face f = (a, b, c) away from the moved vertex; the midpoint of
+    # a straight edge lies on the surface, so the geometry does not change.
+    away = np.flatnonzero(~np.isin(tris, [v, u]).any(axis=1))
+    f = int(away[int(rng.integers(len(away)))])
+    a, b, c = tris[f].tolist()
+    m = len(pos)
+    pos = np.concatenate([pos, ((pos[a].astype(np.float64) + pos[b]) / 2).astype(np.float32)[None]])
+    tris[f] = [a, m, c]
+    tris = np.concatenate([tris, [[m, b, c], [a, b, m]]])
+    groups = np.concatenate([groups, [groups[f], groups[f]]])
+    notes.append({"kind": "degenerate_collinear", "count": 1, "face": int(len(tris) - 1),
+                  "coordinates": pos[m].tolist(),
+                  "note": "T-junction at the midpoint of an edge, closed by a zero-area sliver"})
+    # repeated index
+    faces = np.sort(rng.choice(len(tris) - 2, size=2, replace=False))
+    extra = np.stack([tris[faces, 0], tris[faces, 0], tris[faces, 1]], axis=1)
+    tris = np.concatenate([tris, extra])
+    groups = np.concatenate([groups, groups[faces]])
+    notes.append({"kind": "degenerate_repeated_index", "count": 2,
+                  "note": "faces (a, a, b) appended: zero area, also an extra use of edge a-b"})
+    return pos, tris, groups, notes
+
+
+def seam_edges(tris, groups):
+    """Undirected manifold edges between two different CAD faces, with the pair."""
+    e, uniq, inv, counts = edge_table(tris)
+    owner = np.concatenate([np.arange(len(tris))] * 3)
+    pairs = {}
+    for k in np.flatnonzero(counts[inv] == 2):
+        pairs.setdefault(int(inv[k]), []).append(int(groups[owner[k]]))
+    out = {}
+    for edge, gs in pairs.items():
+        if len(gs) == 2 and gs[0] != gs[1]:
+            out.setdefault(tuple(sorted(gs)), []).append(tuple(uniq[edge].tolist()))
+    return out
+
+
+def break_crack(rng, pos, tris, groups):
+    """One CAD seam unwelded: the vertices along the longest seam between two CAD faces A and
+    B are duplicated (equal coordinates) and B's faces use the copies: a crack to stitch."""
+    seams = seam_edges(tris, groups)
+    (ga, gb), edges = max(seams.items(), key=lambda kv: (len(kv[1]), kv[0]))
+    verts = sorted({v for e in edges for v in e})
+    copy = {v: len(pos) + i for i, v in enumerate(verts)}
+    pos = np.concatenate([pos, pos[verts]])
+    tris = tris.copy()
+    for f in np.flatnonzero(groups == gb):
+        tris[f] = [copy.get(int(x), int(x)) for x in tris[f]]
+    return pos, tris, groups, [{
+        "kind": "crack", "count": len(edges), "cad_faces": [int(ga), int(gb)],
+        "duplicated_vertices": len(verts),
+        "note": f"seam between CAD faces {ga} and {gb} unwelded ({len(edges)} edges,"
+                f" {len(verts)} vertices duplicated with equal coordinates)"}]
+
+
+def break_unwelded(rng, pos, tris, groups):
+    """Every CAD face its own vertices (a per-face tessellation export): all seams cracked."""
+    new_pos, new_tris = [], np.empty_like(tris)
+    for g in np.unique(groups):
+        faces = np.flatnonzero(groups == g)
+        verts, inv = np.unique(tris[faces].ravel(), return_inverse=True)
+        base = sum(len(p) for p in new_pos)
+        new_tris[faces] = (inv.reshape(-1, 3) + base)
+        new_pos.append(pos[verts])
+    pos2 = np.concatenate(new_pos)
+    return pos2, new_tris, groups, [{
+        "kind": "unwelded_faces", "count": int(len(np.unique(groups))),
+        "duplicated_vertices": int(len(pos2) - len(pos)),
+        "note": "each CAD face has its own copies of its border vertices"}]
+
+
+def break_unreferenced(rng, pos, tris, groups):
+    lo, hi = pos.min(axis=0).astype(np.float64), pos.max(axis=0).astype(np.float64)
+    free = (lo + rng.random((6, 3)) * (hi - lo)).astype(np.float32)
+    dup = pos[np.sort(rng.choice(len(pos), size=6, replace=False))]
+    pos = np.concatenate([pos, free, dup])
+    return pos, tris, groups, [
+        {"kind": "unreferenced_vertices", "count": 6, "note": "random points in the bounding box"},
+        {"kind": "duplicated_unreferenced_vertices", "count": 6,
+         "note": "copies of used vertices, not used by any face"}]
+
+
+def break_bowtie(rng, pos, tris, groups):
+    """Two copies of the part welded at one vertex: the extreme vertex in direction (1,1,1) of
+    the first is the extreme vertex in direction -(1,1,1) of the translated second."""
+    s = pos.astype(np.float64).sum(axis=1)
+    hi, lo = int(np.argmax(s)), int(np.argmin(s))
+    shift = (pos[hi].astype(np.float64) - pos[lo]).astype(np.float32)
+    pos2 = pos + shift
+    assert np.array_equal(pos2[lo], pos[hi])
+    n = len(pos)
+    tris2 = tris + n
+    tris2[tris2 == lo + n] = hi
+    keep = np.ones(len(pos2), dtype=bool)
+    keep[lo] = False
+    remap = np.cumsum(keep) - 1 + n
+    tris2 = np.where(tris2 >= n, remap[np.clip(tris2 - n, 0, n - 1)], tris2)
+    pos = np.concatenate([pos, pos2[keep]])
+    return pos, np.concatenate([tris, tris2]), np.concatenate([groups, groups]), [{
+        "kind": "nonmanifold_vertex", "count": 1, "coordinates": pos[hi].tolist(),
+        "note": "two copies of the part sharing one vertex (two fans around it)"}]
+
+
+BREAKERS = {
+    "flipped": break_flipped,
+    "duplicate": break_duplicate,
+    "degenerate": break_degenerate,
+    "crack": break_crack,
+    "unwelded": break_unwelded,
+    "unreferenced": break_unreferenced,
+    "bowtie": break_bowtie,
+}
+
+# The soup as written, per kind: (closed: every edge used by exactly two faces, manifold: and
+# consistently oriented, one fan around every vertex). Checked against the measured counts.
+BROKEN_SHAPE = {
+    "flipped": (True, False),
+    "duplicate": (False, False),
+    "degenerate": (False, False),  # the repeated-index faces add uses to their edges
+    "crack": (False, True),
+    "unwelded": (False, True),
+    "unreferenced": (True, True),
+    "bowtie": (True, False),  # every edge is fine; one vertex has two fans
+}
+
+# Which broken copies of which clean file (part_variant).
+BROKEN = [
+    ("bracket_coarse", "flipped"),
+    ("knob_fine", "flipped"),
+    ("flange_coarse", "duplicate"),
+    ("bracket_coarse", "degenerate"),
+    ("knob_export", "degenerate"),
+    ("flange_coarse", "crack"),
+    ("bottle_coarse", "crack"),
+    ("bracket_coarse", "unwelded"),
+    ("knob_coarse", "unreferenced"),
+    ("bracket_coarse", "bowtie"),
+]
+
+# -------------------------------------------------------------------------------------- main
+
+
+def build_part(part):
+    gmsh.clear()
+    gmsh.model.add(part)
+    return BUILDERS[part](gmsh.model.occ)
+
+
+def generate(outdir, parts, log):
+    os.makedirs(outdir, exist_ok=True)
+    gmsh.initialize(["gmsh", "-nopopup"], readConfigFiles=False)
+    gmsh.option.setNumber("General.Terminal", 0)
+    gmsh.option.setNumber("General.NumThreads", 1)
+    gmsh.option.setNumber("Mesh.MaxNumThreads2D", 1)
+    gmsh.option.setNumber("Mesh.RandomSeed", 1)
+    gmsh.option.setNumber("Mesh.StlOneSolidPerSurface", 0)
+    gmsh.option.setNumber("Mesh.Binary", 0)
+    tmpdir = tempfile.mkdtemp()
+    manifest = {"generator": "scripts/make_cad_meshes.py", "gmsh": gmsh.GMSH_API_VERSION,
+                "files": []}
+    clean = {}
+    rng_seed = 12
+    for part in parts:
+        t0 = time.time()
+        volumes = build_part(part)
+        xmin, ymin, zmin, xmax, ymax, zmax = gmsh.model.getBoundingBox(-1, -1)
+        diag = math.dist((xmin, ymin, zmin), (xmax, ymax, zmax))
+        for variant, spec, defects in part_variants(part):
+            ext = spec["format"]
+            pos, tris, groups = mesh_surfaces(spec, diag)
+            if part == "assembly":
+                # Orient each volume's faces outwards; a shared face keeps the orientation of
+                # the first volume that owns it.
+                done = set()
+                for v in sorted(volumes):
+                    surfs = [abs(s) for _, s in gmsh.model.getBoundary([(3, v)], oriented=False)]
+                    faces = np.flatnonzero(np.isin(groups, surfs))
+                    oriented = orient(pos, tris, faces)
+                    fresh = [s for s in surfs if s not in done]
+                    sel = np.isin(groups, fresh)
+                    tris[sel] = oriented[sel]
+                    done.update(fresh)
+                note = (f"{len(volumes)} solids glued with occ.fragment: each shared face is one "
+                        "set of triangles, its border edges have 3 or 4 faces")
+                by_construction = {"closed": False, "manifold": False}
+                broken = [{"kind": "nonmanifold_edges", "note": note}]
+            else:
+                tris = orient(pos, tris)
+                by_construction = {"closed": part != "sheet", "manifold": True}
+                broken = defects
+            name = f"{part}_{variant}"
+            path = os.path.join(outdir, f"{name}.{ext}")
+            write_mesh(path, pos, tris)
+            entries = [(path, variant, ext)]
+            if part == "bracket" and variant == "fine":
+                obj = os.path.join(outdir, f"{name}_groups.obj")
+                write_obj(obj, pos, tris, groups)
+                entries.append((obj, variant + "_groups", "obj"))
+            m = measure(pos, tris)
+            if part != "assembly" and (m["closed"] != by_construction["closed"]
+                                       or not m["manifold_edges"] or m["components"] != 1
+                                       or m["zero_area_faces"] or m["duplicate_faces"]):
+                raise RuntimeError(f"{name}: not a clean part: {m}")
+            for p, var, e in entries:
+                manifest["files"].append({
+                    "file": os.path.basename(p), "part": part, "variant": var, "format": e,
+                    "clean": not broken, "broken": broken,
+                    "by_construction": by_construction, "cad_faces": int(len(np.unique(groups))),
+                    "volumes": len(volumes) if part != "sheet" else 0, "measured": m})
+            clean[name] = (pos, tris, groups)
+        pos, tris = occ_tessellation(tmpdir, diag)
+        name = f"{part}_occ_stl"
+        path = os.path.join(outdir, name + ".stl")
+        write_stl(path, pos, tris)
+        manifest["files"].append({
+            "file": os.path.basename(path), "part": part, "variant": "occ_stl", "format": "stl",
+            "clean": False, "broken": [{
+                "kind": "cad_tessellation",
+                "note": "OpenCASCADE's BRepMesh tessellation as a CAD tool exports it (faces "
+                        "triangulated separately, vertices welded only where the float32 "
+                        "coordinates are equal): slivers, cracks, near-coincident vertices"}],
+            "by_construction": {"closed": False, "manifold": False,
+                                "after_repair": "as the clean variants"},
+            "cad_faces": len(gmsh.model.getEntities(2)), "measured": measure(pos, tris)})
+        log(f"{part}: {time.time() - t0:.1f} s")
+    gmsh.finalize()
+    shutil.rmtree(tmpdir)
+    for i, (source, kind) in enumerate(BROKEN):
+        if source not in clean:
+            continue
+        rng = np.random.default_rng(rng_seed + i)
+        pos, tris, groups = clean[source]
+        pos, tris, groups, notes = BREAKERS[kind](rng, pos, tris, groups)
+        name = f"{source}_{kind}"
+        path = os.path.join(outdir, name + ".off")
+        write_off(path, pos, tris)
+        m = measure(pos, tris)
+        closed, manifold = BROKEN_SHAPE[kind]
+        if closed != m["closed"] or manifold != (m["manifold_edges"] and kind != "bowtie"):
+            raise RuntimeError(f"{name}: expected closed {closed}, manifold {manifold}: {m}")
+        manifest["files"].append({
+            "file": os.path.basename(path), "part": source.split("_")[0],
+            "variant": source.split("_")[1], "format": "off", "clean": False,
+            "source": os.path.basename(source), "broken": notes,
+            "by_construction": {
+                "closed": closed, "manifold": manifold,
+                "after_repair": "closed 2-manifold" if source.split("_")[0] != "sheet"
+                else "open 2-manifold"},
+            "measured": m})
+    for entry in manifest["files"]:
+        with open(os.path.join(outdir, entry["file"]), "rb") as f:
+            data = f.read()
+        entry["bytes"] = len(data)
+        entry["sha256"] = hashlib.sha256(data).hexdigest()
+    with open(os.path.join(outdir, "manifest.json"), "w") as f:
+        json.dump(manifest, f, indent=1, sort_keys=True)
+        f.write("\n")
+    return manifest
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("outdir", nargs="?", default="build/cad-meshes")
+    ap.add_argument("--only", default="", help="comma-separated parts (default: all)")
+    ap.add_argument("--check-determinism", action="store_true",
+                    help="generate twice and compare every file byte for byte")
+    ap.add_argument("--quiet", action="store_true")
+    args = ap.parse_args()
+    parts = [p for p in args.only.split(",") if p] or PARTS
+    for p in parts:
+        if p not in PARTS:
+            ap.error(f"unknown part {p}; parts: {', '.join(PARTS)}")
+    log = (lambda s: None) if args.quiet else (lambda s: print(s, file=sys.stderr, flush=True))
+    manifest = generate(args.outdir, parts, log)
+    for e in manifest["files"]:
+        m = e["measured"]
+        log(f"  {e['file']:38s} V {m['vertices']:7d}  F {m['faces']:7d}  "
+            f"<10deg {m['faces_below_10deg']:6d}  closed {m['closed']!s:5s}  "
+            f"{', '.join(b['kind'] for b in e['broken']) or 'clean'}")
+    if args.check_determinism:
+        with tempfile.TemporaryDirectory() as tmp:
+            generate(tmp, parts, lambda s: None)
+            names = [e["file"] for e in manifest["files"]] + ["manifest.json"]
+            _, mismatch, errors = filecmp.cmpfiles(args.outdir, tmp, names, shallow=False)
+            if mismatch or errors:
+                print(f"NOT deterministic: {mismatch + errors}", file=sys.stderr)
+                return 1
+            log(f"deterministic: {len(names)} files identical in two runs")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
