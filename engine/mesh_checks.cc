@@ -17,21 +17,22 @@ uint32_t Root(std::vector<uint32_t>& parent, uint32_t i) {
   return i;
 }
 
-double TriangleArea2(const float* a, const float* b, const float* c, double* longest2) {
+}  // namespace
+
+bool IsZeroArea(const float* a, const float* b, const float* c) {
   double u[3], w[3], e[3];
   for (int i = 0; i < 3; ++i) {
     u[i] = double(b[i]) - a[i];
     w[i] = double(c[i]) - a[i];
     e[i] = double(c[i]) - b[i];
   }
-  double cx = u[1] * w[2] - u[2] * w[1], cy = u[2] * w[0] - u[0] * w[2],
-         cz = u[0] * w[1] - u[1] * w[0];
+  const double cx = u[1] * w[2] - u[2] * w[1], cy = u[2] * w[0] - u[0] * w[2],
+               cz = u[0] * w[1] - u[1] * w[0];
   auto len2 = [](const double* v) { return v[0] * v[0] + v[1] * v[1] + v[2] * v[2]; };
-  *longest2 = std::max({len2(u), len2(w), len2(e)});
-  return std::sqrt(cx * cx + cy * cy + cz * cz);
+  const double longest2 = std::max({len2(u), len2(w), len2(e)});
+  // Twice the area against the longest edge squared: a relative test, scale-free.
+  return !(std::sqrt(cx * cx + cy * cy + cz * cz) > 1e-12 * longest2);
 }
-
-}  // namespace
 
 absl::Status CheckSoup(const RawMesh& raw) {
   if (raw.positions.size() % 3 != 0)
@@ -85,10 +86,7 @@ absl::Status CheckSoup(const RawMesh& raw) {
     if (RepeatsVertex(t))
       return absl::InvalidArgumentError(absl::StrCat("face ", f, " is degenerate: vertices (", t[0],
                                                      ", ", t[1], ", ", t[2], ") repeat an index"));
-    double longest2;
-    double area2 = TriangleArea2(&raw.positions[3 * t[0]], &raw.positions[3 * t[1]],
-                                 &raw.positions[3 * t[2]], &longest2);
-    if (!(area2 > 1e-12 * longest2))
+    if (IsZeroArea(&raw.positions[3 * t[0]], &raw.positions[3 * t[1]], &raw.positions[3 * t[2]]))
       return absl::InvalidArgumentError(
           absl::StrCat("face ", f, " (", t[0], ", ", t[1], ", ", t[2], ") has zero area"));
   }

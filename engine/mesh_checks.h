@@ -24,6 +24,10 @@ inline bool RepeatsVertex(const uint32_t* t) {
 // in range and has a non-zero area. InvalidArgument naming the first face or vertex that fails.
 absl::Status CheckSoup(const RawMesh& raw);
 
+// The zero-area test of CheckSoup (and of the repair stage, so that both decide alike): twice
+// the area at most 1e-12 of the longest edge squared.
+bool IsZeroArea(const float* a, const float* b, const float* c);
+
 // Topology of a triangle soup, counted over the vertices that faces use.
 struct SoupTopology {
   int64_t vertices = 0, edges = 0, faces = 0;

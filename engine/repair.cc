@@ -1,5 +1,7 @@
 #include "engine/repair.h"
 
+#include "engine/mesh_checks.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -18,10 +20,6 @@ namespace femsimp {
 namespace {
 
 constexpr uint32_t kNoIndex = std::numeric_limits<uint32_t>::max();
-// Mesh::Build refuses a face whose doubled area is not above this times its longest edge squared;
-// the same test, computed the same way, decides what is removed here, so that Build accepts the
-// result.
-constexpr double kZeroAreaRatio = 1e-12;
 // How many unrepairable problems an error lists before "and N more".
 constexpr size_t kMaxListedErrors = 20;
 
@@ -58,21 +56,6 @@ const KindInfo& Info(RepairKind kind) { return kKinds[static_cast<size_t>(kind)]
 
 std::string Point(const std::array<double, 3>& p) {
   return absl::StrFormat("(%.9g, %.9g, %.9g)", p[0], p[1], p[2]);
-}
-
-double TriangleArea2(const float* a, const float* b, const float* c, double* longest2) {
-  // Same arithmetic as Mesh::Build's check (engine/mesh.cc), so both decide alike.
-  double u[3], w[3], e[3];
-  for (int i = 0; i < 3; ++i) {
-    u[i] = double(b[i]) - a[i];
-    w[i] = double(c[i]) - a[i];
-    e[i] = double(c[i]) - b[i];
-  }
-  double cx = u[1] * w[2] - u[2] * w[1], cy = u[2] * w[0] - u[0] * w[2],
-         cz = u[0] * w[1] - u[1] * w[0];
-  auto len2 = [](const double* v) { return v[0] * v[0] + v[1] * v[1] + v[2] * v[2]; };
-  *longest2 = std::max({len2(u), len2(w), len2(e)});
-  return std::sqrt(cx * cx + cy * cy + cz * cz);
 }
 
 struct CellKey {
@@ -319,9 +302,7 @@ void Repairer::FilterFacets() {
       fate[f] = kRepeats;
       continue;
     }
-    double longest2;
-    const double area2 = TriangleArea2(Pos(w[0]), Pos(w[1]), Pos(w[2]), &longest2);
-    if (!(area2 > kZeroAreaRatio * longest2)) {
+    if (IsZeroArea(Pos(w[0]), Pos(w[1]), Pos(w[2]))) {
       fate[f] = kZeroArea;
       continue;
     }
