@@ -146,8 +146,8 @@ struct SimplifyResult {
 
 struct SimplifyControl {
   std::function<void(const PassStats&)> on_pass;  // called after every pass, on the caller's thread
-  // Polled between passes and every few hundred candidates inside one; true stops the job
-  // with the mesh still valid.
+  // Polled between passes and by every context every 32 candidates inside one (so from several
+  // threads at once: it must be thread-safe); true stops the job with the mesh still valid.
   std::function<bool()> cancelled;
 };
 
