@@ -136,8 +136,14 @@ starts (exit code 5) unless --drop-face-data is given.
 }
 
 absl::StatusOr<SimplifyArgs> ParseSimplifyArgs(const std::vector<std::string>& args) {
+  // Two passes: the first finds the preset, the second starts from its options, so that an
+  // option given explicitly overrides the preset wherever it stands on the line.
+  SimplifyArgs first;
+  absl::StatusOr<flags::FlagSet::Parsed> parsed = SimplifyFlags(&first).Parse(args);
+  if (!parsed.ok()) return parsed.status();
   SimplifyArgs out;
-  absl::StatusOr<flags::FlagSet::Parsed> parsed = SimplifyFlags(&out).Parse(args);
+  out.options = PresetOptions(first.options.preset);
+  parsed = SimplifyFlags(&out).Parse(args);
   if (!parsed.ok()) return parsed.status();
   const std::vector<std::string>& positional = parsed->positional;
   if (positional.size() != 2)

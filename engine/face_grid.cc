@@ -35,27 +35,40 @@ FaceGrid::Box FaceGrid::BoxOf(const DVec3* p, int n) {
 }
 
 FaceGrid::FaceGrid(const Mesh& mesh) : vertices_(mesh.vertices()), halfedges_(mesh.halfedges()) {
-  // Cells of about twice the mean edge length hold a handful of faces each.
+  Rebuild(mesh);
+}
+
+double FaceGrid::MeanEdge(const Mesh& mesh, std::vector<uint32_t>* live, DVec3* lo) const {
   double edge_sum = 0.0;
   uint64_t edges = 0;
-  DVec3 lo{1e300, 1e300, 1e300};
-  std::vector<uint32_t> live;
+  *lo = {1e300, 1e300, 1e300};
   for (uint32_t f = 0; f < mesh.face_capacity(); ++f) {
     if (mesh.IsFaceRemoved(f)) continue;
-    live.push_back(f);
+    if (live != nullptr) live->push_back(f);
     const Triangle t = FaceTriangle(f);
     for (int k = 0; k < 3; ++k) {
       edge_sum += Norm(t.p[(k + 1) % 3] - t.p[k]);
-      lo = {std::min(lo.x, t.p[k].x), std::min(lo.y, t.p[k].y), std::min(lo.z, t.p[k].z)};
+      *lo = {std::min(lo->x, t.p[k].x), std::min(lo->y, t.p[k].y), std::min(lo->z, t.p[k].z)};
     }
     edges += 3;
   }
-  cell_ = edges > 0 && edge_sum > 0 ? 2.0 * edge_sum / double(edges) : 1.0;
-  origin_ = lo;
+  return edges > 0 && edge_sum > 0 ? edge_sum / double(edges) : 0.5;
+}
+
+void FaceGrid::Refresh(const Mesh& mesh) {
+  DVec3 lo;
+  if (MeanEdge(mesh, nullptr, &lo) > 0.75 * cell_) Rebuild(mesh);
+}
+
+void FaceGrid::Rebuild(const Mesh& mesh) {
+  // Cells of about twice the mean edge length hold a handful of faces each.
+  std::vector<uint32_t> live;
+  cell_ = 2.0 * MeanEdge(mesh, &live, &origin_);
   // Large triangles among small ones (a CAD face meshed coarse next to fine fillets) would
   // each cover many cells: coarser cells until the faces cover at most 8 cells each on average.
+  uint64_t covered = 0;
   for (;;) {
-    uint64_t covered = 0;
+    covered = 0;
     for (uint32_t f : live) {
       const Triangle t = FaceTriangle(f);
       covered += static_cast<uint64_t>(std::min<int64_t>(RangeOf(BoxOf(t.p, 3)).count(), 1 << 20));
@@ -63,24 +76,19 @@ FaceGrid::FaceGrid(const Mesh& mesh) : vertices_(mesh.vertices()), halfedges_(me
     if (covered <= 8 * live.size() + 64) break;
     cell_ *= 1.5;
   }
-  // Room for four times the cells the faces overlap now: collapses lock the empty cells of
-  // their fans' boxes too, and probes stay short.
-  std::vector<uint64_t> keys;
-  keys.reserve(3 * live.size());
-  for (uint32_t f : live) {
-    const Triangle t = FaceTriangle(f);
-    ForEachCell(RangeOf(BoxOf(t.p, 3)), [&](uint64_t key) { keys.push_back(key); });
-  }
-  std::sort(keys.begin(), keys.end());
-  const uint64_t distinct = std::unique(keys.begin(), keys.end()) - keys.begin();
-  std::vector<uint64_t>().swap(keys);
-  const uint64_t capacity = std::bit_ceil(std::max<uint64_t>(1024, 4 * distinct));
-  mask_ = capacity - 1;
-  cells_ = std::make_unique<Cell[]>(capacity);
-  for (uint32_t f : live) {
-    const Triangle t = FaceTriangle(f);
-    const Box b = BoxOf(t.p, 3);
-    Move(f, b, &b);
+  // Faces share cells (a few per cell), and collapses lock the empty cells of their fans' boxes
+  // too: a table of as many slots as the faces cover, doubled while a quarter is not free.
+  for (uint64_t capacity = std::bit_ceil(std::max<uint64_t>(1024, covered));; capacity *= 2) {
+    mask_ = capacity - 1;
+    cells_ = std::make_unique<Cell[]>(capacity);
+    used_.store(0, std::memory_order_relaxed);
+    bool fits = true;
+    for (uint32_t f : live) {
+      const Triangle t = FaceTriangle(f);
+      const Box b = BoxOf(t.p, 3);
+      fits = fits && Move(f, b, &b);
+    }
+    if (fits && used_.load(std::memory_order_relaxed) * 2 <= capacity) return;
   }
 }
 
@@ -177,19 +185,25 @@ void FaceGrid::Release(std::vector<uint32_t>* held) {
   held->clear();
 }
 
-void FaceGrid::Move(uint32_t f, const Box& before, const Box* after) {
+bool FaceGrid::Move(uint32_t f, const Box& before, const Box* after) {
   ForEachCell(RangeOf(before), [&](uint64_t key) {
     const int64_t slot = Find(key);
     if (slot < 0) return;
     std::vector<uint32_t>& faces = cells_[slot].faces;
     faces.erase(std::remove(faces.begin(), faces.end(), f), faces.end());
   });
-  if (after == nullptr) return;
-  // The cells exist: at build they fit the table; later they are held.
+  if (after == nullptr) return true;
+  // After the build the cells exist: they are held.
+  bool listed = true;
   ForEachCell(RangeOf(*after), [&](uint64_t key) {
     const int64_t slot = Slot(key);
-    if (slot >= 0) cells_[slot].faces.push_back(f);
+    if (slot >= 0) {
+      cells_[slot].faces.push_back(f);
+    } else {
+      listed = false;
+    }
   });
+  return listed;
 }
 
 }  // namespace femsimp

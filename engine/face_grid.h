@@ -26,6 +26,9 @@ class FaceGrid {
  public:
   // Indexes the live faces of `mesh`, which must outlive the grid.
   explicit FaceGrid(const Mesh& mesh);
+  // Between passes (nothing held): indexes the mesh anew when its faces have grown well past
+  // the cells (as the mesh coarsens), so that a fan still covers a few cells.
+  void Refresh(const Mesh& mesh);
 
   struct Box {
     DVec3 lo, hi;
@@ -54,8 +57,8 @@ class FaceGrid {
   Triangle FaceTriangle(uint32_t f) const;
 
   // Moves face f in the index from the cells of `before` to those of `after` (both within held
-  // cells); an empty `after` removes it.
-  void Move(uint32_t f, const Box& before, const Box* after);
+  // cells); an empty `after` removes it. False when a cell of `after` had no room (build only).
+  bool Move(uint32_t f, const Box& before, const Box* after);
 
   double cell_size() const { return cell_; }
 
@@ -75,6 +78,9 @@ class FaceGrid {
       return (hi[0] - lo[0] + 1) * (hi[1] - lo[1] + 1) * (hi[2] - lo[2] + 1);
     }
   };
+  void Rebuild(const Mesh& mesh);
+  // Mean edge length of the live faces (and the live faces, and their lower corner).
+  double MeanEdge(const Mesh& mesh, std::vector<uint32_t>* live, DVec3* lo) const;
   Range RangeOf(const Box& box) const;
   template <class Visit>
   void ForEachCell(const Range& r, Visit&& visit) const {

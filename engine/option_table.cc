@@ -18,6 +18,12 @@ using C = CellOptions;
 std::vector<OptionSpec> MakeTable() {
   // clang-format off
   std::vector<OptionSpec> table = {
+      // First: the others' defaults depend on it (PresetOptions).
+      {.name = "preset", .flag = "--preset", .section = "target", .type = T::kEnum,
+       .help = "fe: safe finite-element defaults (bounded deviation and volume, no "
+               "self-intersections, slivers may only improve); paper: the paper's criteria "
+               "alone, for its benchmark; options given explicitly override the preset's",
+       .choices = {{"fe", "fe"}, {"paper", "paper"}}, .field = &S::preset},
       {.name = "ratio", .flag = "--ratio", .metavar = "R", .section = "target",
        .range = Range::ClosedOpen(0, 1), .zero_means = "none", .help = "keep R * input vertices",
        .field = &S::ratio},
@@ -47,6 +53,15 @@ std::vector<OptionSpec> MakeTable() {
        .field = &S::reconsider_every},
       {.name = "topology_only", .flag = "--topology-only", .section = "engine", .type = T::kBool,
        .help = "check topology only, no geometric criteria", .field = &S::topology_only},
+      {.name = "strict_min_angle", .flag = "--strict-min-angle", .section = "engine",
+       .type = T::kBool,
+       .help = "every new angle must reach --min-angle (the paper's form); by default a new "
+               "triangle may also be no worse than the worst it replaces, so slivers improve",
+       .field = &S::strict_min_angle},
+      {.name = "allow_self_intersections", .flag = "--allow-self-intersections",
+       .section = "fidelity", .type = T::kBool,
+       .help = "do not check new triangles against the mesh (faster; output may self-intersect)",
+       .field = &S::allow_self_intersections},
       {.name = "cost", .flag = "--cost", .section = "fidelity", .type = T::kEnum,
        .help = "what orders the candidates: discrete Gaussian curvature or the quadric error of "
                "the collapse",
@@ -67,7 +82,8 @@ std::vector<OptionSpec> MakeTable() {
        .field = &S::feature_angle_deg},
       {.name = "max_volume_change", .flag = "--max-volume-change", .metavar = "F",
        .section = "fidelity", .type = T::kFraction, .range = Range::Closed(0, 1),
-       .zero_means = "off", .help = "relative change of the enclosed volume (closed meshes)",
+       .zero_means = "off",
+       .help = "relative change of the enclosed volume (closed meshes; an open one has none)",
        .field = &S::max_volume_change},
       {.name = "max_centroid_shift", .flag = "--max-centroid-shift", .metavar = "F",
        .section = "fidelity", .type = T::kFraction, .range = Range::Closed(0, 1),

@@ -35,7 +35,7 @@ struct OptionChoice {
 using OptionField =
     std::variant<double SimplifyOptions::*, int SimplifyOptions::*, uint64_t SimplifyOptions::*,
                  bool SimplifyOptions::*, CostKind SimplifyOptions::*, Backend SimplifyOptions::*,
-                 int CellOptions::*, bool CellOptions::*>;
+                 Preset SimplifyOptions::*, int CellOptions::*, bool CellOptions::*>;
 
 struct OptionSpec {
   const char* name = "";       // snake_case; the proto field name (inside message `group` when set)

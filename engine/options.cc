@@ -42,6 +42,18 @@ const char* StopReasonName(StopReason r) {
   return "unknown";
 }
 
+SimplifyOptions PresetOptions(Preset preset) {
+  SimplifyOptions o;
+  o.preset = preset;
+  if (preset == Preset::kPaper) {
+    o.tolerance_relative = 0.0;
+    o.max_volume_change = 0.0;
+    o.strict_min_angle = true;
+    o.allow_self_intersections = true;
+  }
+  return o;
+}
+
 absl::Status ValidateOptions(const SimplifyOptions& o) {
   // Each value in its range (the table's words); the cell options only with the cell back end,
   // which is the only one that reads them.

@@ -23,6 +23,7 @@
 #include "engine/quadword.h"
 #include "engine/ring.h"
 #include "engine/simplify.h"
+#include "engine/triangle_intersection.h"
 #include "engine/vec.h"
 
 namespace femsimp {
@@ -89,6 +90,10 @@ struct CollapseProposal {
   // that needs them until the candidate is done.
   std::vector<uint32_t> held_cells;
   bool cells_acquired = false;
+  // The faces in those cells but outside V's fan, as they are while the cells are held.
+  std::vector<uint32_t> nearby_faces;
+  std::vector<Triangle> nearby;
+  std::vector<TriangleBox> nearby_boxes;
 
   uint32_t vd() const { return fan->nbr[target]; }
   // Fan face f is one of the two that contain V - Vd (and disappear).

@@ -185,10 +185,6 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
 
   // Fidelity set-up (docs/FIDELITY.md): features, tolerance, mechanical reference values.
   const bool closed = IsClosed(mesh);
-  if (options.max_volume_change > 0.0 && !closed)
-    return absl::InvalidArgumentError(
-        "max_volume_change needs a closed mesh (this one has boundary edges, so it encloses no "
-        "volume); leave it at 0 or close the surface");
   const FeatureSummary features = MarkFeatures(mesh, options.feature_angle_deg);
   result.feature_edges = features.feature_edges;
   result.corner_vertices = features.corner_vertices;
@@ -209,7 +205,7 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
   setup.mass = &mass_before;
   setup.resultants = &fields_before;
   std::optional<FaceGrid> face_grid;
-  if (options.check_self_intersections) setup.face_grid = &face_grid.emplace(mesh);
+  if (!options.allow_self_intersections) setup.face_grid = &face_grid.emplace(mesh);
   const RuleSet rules = RuleSet::Build(options, setup);
 
   WorkerPool pool(options.threads);
@@ -244,6 +240,7 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
     PassStats stats;
     stats.pass = pass;
     const bool reconsider = watch.Reconsider(pass);
+    if (face_grid && pass > 1) face_grid->Refresh(mesh);
     // Select and order: every removable vertex with its cost, in cost order.
     const std::vector<uint32_t> sorted =
         SortedCandidates(mesh, pool, *cost, reconsider, &stats.busy_seconds);

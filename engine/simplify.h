@@ -15,6 +15,12 @@ namespace femsimp {
 
 enum class Backend { kNative, kCell };
 
+// Where the options start from: kFe, the safe finite-element defaults (a plain call bounds the
+// deviation and the volume, keeps features and refuses self-intersections); kPaper, the
+// paper's criteria alone (no bounds, the strict minimum angle, no intersection check), for the
+// paper's benchmark. Options given explicitly override the preset's.
+enum class Preset { kFe, kPaper };
+
 // What orders the candidates of a pass (and, for the quadric, the collapse directions).
 enum class CostKind { kGaussianCurvature, kQuadric };
 const char* CostKindName(CostKind c);  // "gaussian_curvature", "quadric"
@@ -38,6 +44,7 @@ struct CellOptions {
 };
 
 struct SimplifyOptions {
+  Preset preset = Preset::kFe;  // what the other defaults are (PresetOptions)
   // Target: keep ratio * input vertices, or target_vertices when > 0. Neither: run until the
   // criteria stop the simplification.
   double ratio = 0.0;
@@ -55,22 +62,29 @@ struct SimplifyOptions {
   // Guaranteed two-sided (Hausdorff) deviation from the input surface, absolute and/or as a
   // fraction of the bounding-box diagonal; when both are given the smaller one applies.
   double tolerance = 0.0;
-  double tolerance_relative = 0.0;
+  double tolerance_relative = 0.005;
   // Edges whose dihedral angle exceeds this are feature edges; a feature line turning by more
   // than this at a vertex makes it a corner. 180 keeps only boundaries and group borders.
   double feature_angle_deg = 30.0;
-  double max_volume_change = 0.0;   // relative to the input volume; closed meshes only
+  // Relative to the input volume; applies to closed meshes (an open one encloses none).
+  double max_volume_change = 0.005;
   double max_centroid_shift = 0.0;  // relative to the bounding-box diagonal
   // Relative change allowed of each face field's resultant per group, measured against the
   // group's total absolute load (sum of |value| * area). Applies when the mesh has fields.
   double max_field_change = 0.01;
-  // Refuse collapses whose new triangles would intersect the mesh (engine/rules/
-  // self_intersection.cc).
-  bool check_self_intersections = false;
+  // Collapses whose new triangles would intersect the mesh are refused unless this is set
+  // (engine/rules/self_intersection.cc).
+  bool allow_self_intersections = false;
+  // Minimum angle: a new triangle must reach min_angle_deg (the paper's strict form); by
+  // default it may also be no worse than the worst triangle it replaces, so slivers improve.
+  bool strict_min_angle = false;
 
   Backend backend = Backend::kNative;
   CellOptions cell;
 };
+
+// The options of a preset, before any given explicitly.
+SimplifyOptions PresetOptions(Preset preset);
 
 // Checks every parameter's range; the message names the parameter and the allowed range.
 absl::Status ValidateOptions(const SimplifyOptions& options);

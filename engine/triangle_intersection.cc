@@ -10,15 +10,17 @@ namespace {
 // double rounding of float inputs, far below any real feature of a mesh.
 constexpr double kRelativeZero = 1e-12;
 
-int Sign(double value, double scale) {
-  if (std::fabs(value) <= kRelativeZero * scale) return 0;
+// Sign of `value`, 0 when value^2 <= kRelativeZero^2 * scale2 (scale2: the squared product of
+// the lengths involved, so no square root is taken).
+int Sign(double value, double scale2) {
+  if (value * value <= kRelativeZero * kRelativeZero * scale2) return 0;
   return value > 0 ? 1 : -1;
 }
 
 // Sign of the volume of (a, b, c, d).
 int Orient3d(const DVec3& a, const DVec3& b, const DVec3& c, const DVec3& d) {
   const DVec3 u = b - a, v = c - a, w = d - a;
-  return Sign(Dot(Cross(u, v), w), Norm(u) * Norm(v) * Norm(w));
+  return Sign(Dot(Cross(u, v), w), Dot(u, u) * Dot(v, v) * Dot(w, w));
 }
 
 struct P2 {
@@ -27,7 +29,7 @@ struct P2 {
 
 int Orient2d(const P2& a, const P2& b, const P2& c) {
   const double ux = b.x - a.x, uy = b.y - a.y, vx = c.x - a.x, vy = c.y - a.y;
-  return Sign(ux * vy - uy * vx, std::hypot(ux, uy) * std::hypot(vx, vy));
+  return Sign(ux * vy - uy * vx, (ux * ux + uy * uy) * (vx * vx + vy * vy));
 }
 
 // Drops the coordinate along which the plane with normal n is steepest.
@@ -73,20 +75,6 @@ bool CoplanarSegmentMeetsTriangle(const DVec3& p, const DVec3& q, const DVec3& a
          SegmentsMeet(p2, q2, b2, c2) || SegmentsMeet(p2, q2, c2, a2);
 }
 
-bool BoxesOverlap(const Triangle& a, const Triangle& b) {
-  const auto lo = [](const Triangle& t, double DVec3::*c) {
-    return std::min({t.p[0].*c, t.p[1].*c, t.p[2].*c});
-  };
-  const auto hi = [](const Triangle& t, double DVec3::*c) {
-    return std::max({t.p[0].*c, t.p[1].*c, t.p[2].*c});
-  };
-  for (double DVec3::*c : {&DVec3::x, &DVec3::y, &DVec3::z}) {
-    const double slack = 1e-9 * (std::fabs(hi(a, c)) + std::fabs(hi(b, c)) + 1e-30);
-    if (lo(a, c) > hi(b, c) + slack || lo(b, c) > hi(a, c) + slack) return false;
-  }
-  return true;
-}
-
 bool MeetsTriangle(const DVec3& p, const DVec3& q, const Triangle& t) {
   return SegmentMeetsTriangle(p, q, t.p[0], t.p[1], t.p[2]);
 }
@@ -95,6 +83,11 @@ bool MeetsTriangle(const DVec3& p, const DVec3& q, const Triangle& t) {
 
 bool SegmentMeetsTriangle(const DVec3& p, const DVec3& q, const DVec3& a, const DVec3& b,
                           const DVec3& c) {
+  for (double DVec3::*k : {&DVec3::x, &DVec3::y, &DVec3::z}) {
+    const double lo = std::min({a.*k, b.*k, c.*k}), hi = std::max({a.*k, b.*k, c.*k});
+    const double slack = 1e-9 * (std::fabs(lo) + std::fabs(hi));
+    if (std::max(p.*k, q.*k) < lo - slack || std::min(p.*k, q.*k) > hi + slack) return false;
+  }
   const int sp = Orient3d(a, b, c, p), sq = Orient3d(a, b, c, q);
   if (sp == sq && sp != 0) return false;
   if (sp == 0 && sq == 0) return CoplanarSegmentMeetsTriangle(p, q, a, b, c);
@@ -105,8 +98,22 @@ bool SegmentMeetsTriangle(const DVec3& p, const DVec3& q, const DVec3& a, const 
   return !(negative && positive);
 }
 
+TriangleBox::TriangleBox(const Triangle& t) {
+  lo = {std::min({t.p[0].x, t.p[1].x, t.p[2].x}), std::min({t.p[0].y, t.p[1].y, t.p[2].y}),
+        std::min({t.p[0].z, t.p[1].z, t.p[2].z})};
+  hi = {std::max({t.p[0].x, t.p[1].x, t.p[2].x}), std::max({t.p[0].y, t.p[1].y, t.p[2].y}),
+        std::max({t.p[0].z, t.p[1].z, t.p[2].z})};
+  const double slack = 1e-9 * (std::fabs(lo.x) + std::fabs(lo.y) + std::fabs(lo.z) +
+                               std::fabs(hi.x) + std::fabs(hi.y) + std::fabs(hi.z) + 1e-30);
+  lo = lo - DVec3{slack, slack, slack};
+  hi = hi + DVec3{slack, slack, slack};
+}
+
 bool TrianglesIntersect(const Triangle& a, const Triangle& b) {
-  if (!BoxesOverlap(a, b)) return false;
+  return TriangleBox(a).Overlaps(TriangleBox(b)) && OverlappingTrianglesIntersect(a, b);
+}
+
+bool OverlappingTrianglesIntersect(const Triangle& a, const Triangle& b) {
   int shared = 0, ia[3], ib[3];  // ia[k], ib[k]: corners of a and b that are the same vertex
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)

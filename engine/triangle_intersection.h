@@ -15,7 +15,19 @@ struct Triangle {
   uint32_t id[3];  // vertex ids: equal ids are shared corners
 };
 
+// A triangle's bounding box, widened by a relative slack so that touching boxes overlap.
+struct TriangleBox {
+  DVec3 lo, hi;
+  explicit TriangleBox(const Triangle& t);
+  bool Overlaps(const TriangleBox& o) const {
+    return !(lo.x > o.hi.x || o.lo.x > hi.x || lo.y > o.hi.y || o.lo.y > hi.y || lo.z > o.hi.z ||
+             o.lo.z > hi.z);
+  }
+};
+
 bool TrianglesIntersect(const Triangle& a, const Triangle& b);
+// The same, for triangles whose boxes are known to overlap.
+bool OverlappingTrianglesIntersect(const Triangle& a, const Triangle& b);
 
 // The closed segment pq meets the closed triangle abc.
 bool SegmentMeetsTriangle(const DVec3& p, const DVec3& q, const DVec3& a, const DVec3& b,

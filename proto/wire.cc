@@ -124,7 +124,7 @@ void ToProto(const SimplifyOptions& o, bool threads_given, v1::EngineOptions* ou
 
 absl::StatusOr<SimplifyOptions> FromProto(const v1::EngineOptions& in, int default_threads,
                                           int max_threads) {
-  SimplifyOptions o;
+  SimplifyOptions o = PresetOptions(in.preset() == v1::PRESET_PAPER ? Preset::kPaper : Preset::kFe);
   o.threads = default_threads;  // threads 0 (unset): the server's default
   for (const OptionSpec& spec : OptionTable()) {
     // The cell options are read only for the cell back end (backend comes first in the table).

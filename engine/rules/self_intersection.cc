@@ -3,6 +3,8 @@
 // fan the check holds until the candidate is done; on commit the fan's faces move to their new
 // cells. Near-touching counts as touching (engine/triangle_intersection.h), so a refusal errs
 // on the safe side.
+#include <algorithm>
+
 #include "engine/face_grid.h"
 #include "engine/rule.h"
 
@@ -21,14 +23,7 @@ class SelfIntersectionRule final : public CollapseRule {
   Verdict Check(RuleStage, CollapseProposal& p) const override {
     const Ring& fan = *p.fan;
     if (!p.cells_acquired) {
-      DVec3 points[kMaxRing + 2];
-      points[0] = ToD(fan.center_pos);
-      for (int i = 0; i < fan.neighbours(); ++i) points[i + 1] = ToD(fan.pos[i]);
-      const FaceGrid::Hold hold =
-          grid_->Acquire(FaceGrid::BoxOf(points, fan.neighbours() + 1), &p.held_cells);
-      if (hold == FaceGrid::Hold::kBusy) return Verdict::kConflict;
-      if (hold == FaceGrid::Hold::kFull) return Verdict::kReject;  // cannot prove it safe
-      p.cells_acquired = true;
+      if (Verdict v = HoldNeighbourhood(p); v != Verdict::kPass) return v;
     }
     Triangle fresh[kMaxRing];
     int count = 0;
@@ -39,12 +34,12 @@ class SelfIntersectionRule final : public CollapseRule {
     for (int a = 0; a < count && !hit; ++a) {
       for (int b = a + 1; b < count && !hit; ++b, ++tests)
         hit = TrianglesIntersect(fresh[a], fresh[b]);
-      grid_->ForEachFace(FaceGrid::BoxOf(fresh[a].p, 3), p.held_cells, [&](uint32_t g) {
-        if (InFan(fan, g)) return true;  // replaced by the new triangles
+      const TriangleBox box(fresh[a]);
+      for (size_t k = 0; k < p.nearby.size() && !hit; ++k) {
+        if (!box.Overlaps(p.nearby_boxes[k])) continue;
         ++tests;
-        hit = TrianglesIntersect(fresh[a], grid_->FaceTriangle(g));
-        return !hit;
-      });
+        hit = OverlappingTrianglesIntersect(fresh[a], p.nearby[k]);
+      }
     }
     p.cycles += kCyclesPerTriangleTest * tests;
     return hit ? Verdict::kReject : Verdict::kPass;
@@ -72,6 +67,42 @@ class SelfIntersectionRule final : public CollapseRule {
   }
 
  private:
+  // Holds the cells over V's fan (V and its one-ring: every direction's new triangles lie in
+  // its box) and reads the faces there once for all directions.
+  Verdict HoldNeighbourhood(CollapseProposal& p) const {
+    const Ring& fan = *p.fan;
+    DVec3 points[kMaxRing + 2];
+    points[0] = ToD(fan.center_pos);
+    for (int i = 0; i < fan.neighbours(); ++i) points[i + 1] = ToD(fan.pos[i]);
+    const FaceGrid::Box box = FaceGrid::BoxOf(points, fan.neighbours() + 1);
+    const FaceGrid::Hold hold = grid_->Acquire(box, &p.held_cells);
+    if (hold == FaceGrid::Hold::kBusy) return Verdict::kConflict;
+    if (hold == FaceGrid::Hold::kFull) return Verdict::kReject;  // cannot prove it safe
+    p.cells_acquired = true;
+    std::vector<uint32_t>& ids = p.nearby_faces;
+    ids.clear();
+    grid_->ForEachFace(box, p.held_cells, [&](uint32_t g) {
+      ids.push_back(g);
+      return true;
+    });
+    for (int f = 0; f < fan.faces; ++f) ids.push_back(FaceOf(fan.out[f]));
+    std::sort(ids.begin(), ids.end());
+    // Fan faces (listed twice now: from the cells and from the fan) are replaced by the new
+    // triangles; a face listed in several cells is read once.
+    p.nearby.clear();
+    p.nearby_boxes.clear();
+    for (size_t i = 0; i < ids.size();) {
+      size_t j = i;
+      while (j < ids.size() && ids[j] == ids[i]) ++j;
+      if (!InFan(fan, ids[i])) {
+        p.nearby.push_back(grid_->FaceTriangle(ids[i]));
+        p.nearby_boxes.emplace_back(p.nearby.back());
+      }
+      i = j;
+    }
+    return Verdict::kPass;
+  }
+
   static Triangle OldTriangle(const Ring& fan, int f) {
     const int g = (f + 1) % fan.neighbours();
     return Triangle{{ToD(fan.center_pos), ToD(fan.pos[f]), ToD(fan.pos[g])},
@@ -96,7 +127,7 @@ class SelfIntersectionRule final : public CollapseRule {
 
 std::unique_ptr<CollapseRule> MakeSelfIntersectionRule(const SimplifyOptions& o,
                                                        const RuleSetup& s) {
-  if (!o.check_self_intersections || s.face_grid == nullptr) return nullptr;
+  if (o.allow_self_intersections || s.face_grid == nullptr) return nullptr;
   return std::make_unique<SelfIntersectionRule>(s.face_grid);
 }
 

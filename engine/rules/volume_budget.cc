@@ -1,5 +1,6 @@
 // The enclosed volume of a closed mesh changes by at most max_volume_change of the input's,
-// summed over every collapse of the run (spent from the ledger under its lock).
+// summed over every collapse of the run (spent from the ledger under its lock). An open mesh
+// encloses no volume: the rule is off for it.
 #include <cmath>
 
 #include "engine/rules/mass_budget.h"
@@ -22,7 +23,7 @@ class VolumeBudgetRule final : public MassBudgetRule {
 }  // namespace
 
 std::unique_ptr<CollapseRule> MakeVolumeBudgetRule(const SimplifyOptions& o, const RuleSetup& s) {
-  if (!(o.max_volume_change > 0.0)) return nullptr;
+  if (!(o.max_volume_change > 0.0) || !s.closed) return nullptr;
   return std::make_unique<VolumeBudgetRule>(o.max_volume_change, s.closed);
 }
 

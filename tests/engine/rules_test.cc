@@ -41,6 +41,7 @@ TEST(RuleSet, RulesFollowTheOptions) {
   f.max_centroid_shift = 0.01;
   setup.tolerance = 0.5f;
   setup.fields = 1;
+  setup.closed = true;  // the volume budget applies to closed meshes only
   const MassProperties mass{1.0, {0, 0, 0}};
   const FieldResultants resultants;
   setup.mass = &mass;

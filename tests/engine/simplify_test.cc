@@ -42,7 +42,7 @@ class SimplifyOnMesh : public ::testing::TestWithParam<std::tuple<std::string, i
 
 TEST_P(SimplifyOnMesh, KeepsTopologyAndShape) {
   const auto& [name, threads, topology_only] = GetParam();
-  SimplifyOptions options;
+  SimplifyOptions options = PresetOptions(Preset::kPaper);  // the paper's criteria
   options.threads = threads;
   options.topology_only = topology_only;
   const SimplifyRun run = Simplified(name, options);

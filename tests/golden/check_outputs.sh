@@ -4,17 +4,21 @@
 # output with the recorded one. Any change to what the engine decides shows up here.
 #   check_outputs.sh FEMSIMP DATA HASHES            compare (exit 1 on any difference)
 #   check_outputs.sh FEMSIMP DATA HASHES --update   record the current outputs
-# A deliberate change of behaviour records new hashes in the same commit and says why.
+# A deliberate change of behaviour records new hashes in the same commit and says why. The
+# sets recorded before the FE defaults run with --preset paper (the old defaults).
 set -euo pipefail
 femsimp=$1 data=$2 hashes=$3 mode=${4:-check}
 declare -A option_sets=(
-  [defaults]=""
-  [topology_only]="--topology-only --ratio 0.1"
-  [quadric_tolerance]="--cost quadric --tolerance-relative 0.01"
-  [fidelity_budgets]="--tolerance 0.002 --max-centroid-shift 0.002 --feature-angle 45 --min-angle 5 --max-normal-deviation 40 --max-field-change 0.02"
-  [no_min_angle]="--min-angle 0 --max-normal-deviation 40 --ratio 0.2"
-  [cell_1spe]="--backend cell --spes 1"
-  [cell_1spe_fidelity]="--backend cell --spes 1 --min-angle 0 --cost quadric --tolerance-relative 0.005"
+  [defaults]="--preset paper"
+  [topology_only]="--preset paper --topology-only --ratio 0.1"
+  [quadric_tolerance]="--preset paper --cost quadric --tolerance-relative 0.01"
+  [fidelity_budgets]="--preset paper --tolerance 0.002 --max-centroid-shift 0.002 --feature-angle 45 --min-angle 5 --max-normal-deviation 40 --max-field-change 0.02"
+  [no_min_angle]="--preset paper --min-angle 0 --max-normal-deviation 40 --ratio 0.2"
+  [cell_1spe]="--preset paper --backend cell --spes 1"
+  [cell_1spe_fidelity]="--preset paper --backend cell --spes 1 --min-angle 0 --cost quadric --tolerance-relative 0.005"
+  [fe_defaults]=""
+  [fe_cell_1spe]="--backend cell --spes 1"
+  [fe_quadric]="--cost quadric --ratio 0.05"
 )
 meshes=(blade.off fandisk.off femur.off rotor_small.off fandisk_groups_fields.ply)
 work=$(mktemp -d)

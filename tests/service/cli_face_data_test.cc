@@ -30,7 +30,7 @@ class CliFaceDataTest : public testing::TempDirTest {
 
   int Run(std::vector<std::string> args) {
     args.insert(args.begin(), {"femsimp", "simplify"});
-    args.insert(args.end(), {"--ratio", "0.5", "--quiet", "--threads", "2"});
+    args.insert(args.end(), {"--preset", "paper", "--ratio", "0.5", "--quiet", "--threads", "2"});
     absl::StatusOr<cli::Command> cmd = cli::ParseCommandLine(args);
     EXPECT_TRUE(cmd.ok()) << cmd.status();
     return cmd.ok() ? cli::RunLocal(cmd->simplify) : -1;
