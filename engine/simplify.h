@@ -10,6 +10,7 @@
 
 #include "absl/status/statusor.h"
 #include "engine/mesh.h"
+#include "engine/repair.h"
 
 namespace femsimp {
 
@@ -70,6 +71,9 @@ struct SimplifyOptions {
 
   Backend backend = Backend::kNative;
   CellOptions cell;
+  // The repair stage before the simplification (engine/prepare.h): its mode and weld tolerance
+  // are options of the table; Simplify itself does not read them.
+  RepairOptions repair;
 };
 
 // Checks every parameter's range; the message names the parameter and the allowed range.

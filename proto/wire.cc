@@ -72,8 +72,7 @@ absl::StatusOr<std::optional<double>> ReadField(const OptionSpec& spec, const Me
       if (number == 0) return std::nullopt;
       absl::StatusOr<double> choice = ChoiceOf(spec, f, number);
       if (!choice.ok()) return choice.status();
-      v = *choice;
-      break;
+      return *choice;  // set (number != 0), even where the choice's index is 0
     }
     default:
       return absl::InternalError(absl::StrCat(spec.name, ": unexpected proto type"));
