@@ -9,6 +9,8 @@
 #include "client/args.h"
 #include "client/exit_codes.h"
 #include "client/local_run.h"
+#include "client/remote_call.h"
+#include "client/remote_run.h"
 #include "engine/io/mesh_io.h"
 #include "engine/mesh.h"
 #include "engine/mesh_checks.h"
@@ -32,7 +34,8 @@ class CliRepairTest : public testing::TempDirTest {
     input_ = WriteSoup("broken.off", testing::BrokenTorus(kN, kM));
   }
 
-  // Runs `femsimp simplify ARGS... --threads THREADS` in process; stdout and stderr captured.
+  // Runs `femsimp simplify ARGS... --threads THREADS` in process (remote with --server); stdout and
+  // stderr captured.
   int Run(std::vector<std::string> args, const char* threads = "2") {
     args.insert(args.begin(), {"femsimp", "simplify"});
     args.insert(args.end(), {"--threads", threads, "--quiet"});
@@ -41,7 +44,8 @@ class CliRepairTest : public testing::TempDirTest {
     if (!cmd.ok()) return -1;
     ::testing::internal::CaptureStdout();
     ::testing::internal::CaptureStderr();
-    const int code = cli::RunLocal(cmd->simplify);
+    const int code =
+        cmd->simplify.server.empty() ? cli::RunLocal(cmd->simplify) : cli::RunRemote(cmd->simplify);
     out_ = ::testing::internal::GetCapturedStdout();
     err_ = ::testing::internal::GetCapturedStderr();
     return code;
@@ -131,6 +135,94 @@ TEST_F(CliRepairTest, StrictModeNamesEveryDefect) {
   EXPECT_HAS(err_, "  flipped facet 10 at (");
   EXPECT_EQ(err_.find(" more "), std::string::npos) << err_;
   EXPECT_FALSE(std::filesystem::exists(Path("out.off")));
+}
+
+
+// ------------------------------------------------------------------------- through the server
+
+TEST_F(CliRepairTest, ServerRepairsAndReportsInResultAndMetrics) {
+  testing::InProcessServer s;
+  const RawMesh in = testing::BrokenTorus(kN, kM);
+  grpc::ClientContext ctx;
+  cli::RemoteOutcome out = cli::RemoteSimplify(s.stub(), ctx, testing::RatioSpec(0.5), in);
+  ASSERT_TRUE(out.status.ok()) << out.status.error_message();
+  EXPECT_TRUE(Mesh::Build(out.output).ok());
+  EXPECT_EQ(TopologyOf(out.output).boundary_edges, 0);
+  const v1::RepairReport& r = out.result.repair();
+  EXPECT_EQ(r.counts().at("welded_vertex"), 12u);
+  EXPECT_EQ(r.counts().at("stitched_edge"), 12u);
+  EXPECT_EQ(r.counts().at("flipped_facet"), 2u);
+  EXPECT_EQ(r.counts().at("duplicate_facet"), 1u);
+  EXPECT_EQ(r.counts().at("degenerate_facet"), 1u);
+  EXPECT_EQ(r.counts().at("split_vertex"), 0u);
+  EXPECT_EQ(r.weld_tolerance(), 1e-7);
+  EXPECT_NEAR(r.weld_tolerance_abs(), 1e-7 * r.diagonal(), 1e-15);
+  ASSERT_EQ(r.records_size(), 28);
+  bool flipped10 = false;
+  for (const v1::RepairRecord& rec : r.records()) {
+    EXPECT_EQ(rec.at_size(), 3);
+    flipped10 |= rec.kind() == "flipped_facet" && rec.facet() == 10;
+  }
+  EXPECT_TRUE(flipped10);
+
+  const auto metrics =
+      testing::ParseMetrics(testing::HttpGet(s.server().metrics_port(), "/metrics"));
+  EXPECT_EQ(metrics.at("femsimp_repairs_total{kind=\"flipped_facet\"}"), 2);
+  EXPECT_EQ(metrics.at("femsimp_repairs_total{kind=\"welded_vertex\"}"), 12);
+  EXPECT_EQ(metrics.count("femsimp_repairs_total{kind=\"split_vertex\"}"), 0u);
+
+  // A clean mesh: nothing changed, nothing counted.
+  grpc::ClientContext ctx2;
+  out = cli::RemoteSimplify(s.stub(), ctx2, testing::RatioSpec(0.5), testing::MakeTorus(kN, kM));
+  ASSERT_TRUE(out.status.ok()) << out.status.error_message();
+  EXPECT_EQ(out.result.repair().counts().at("flipped_facet"), 0u);
+  EXPECT_EQ(out.result.repair().records_size(), 0);
+  EXPECT_EQ(testing::ParseMetrics(testing::HttpGet(s.server().metrics_port(), "/metrics"))
+                .at("femsimp_repairs_total{kind=\"flipped_facet\"}"),
+            2);
+}
+
+TEST_F(CliRepairTest, ServerStrictModeAndSeamsAreRefusedByName) {
+  testing::InProcessServer s;
+  v1::JobSpec spec = testing::RatioSpec(0.5);
+  spec.mutable_options()->set_repair(v1::REPAIR_MODE_OFF);
+  grpc::ClientContext ctx;
+  cli::RemoteOutcome out = cli::RemoteSimplify(s.stub(), ctx, spec, testing::BrokenTorus(kN, kM));
+  EXPECT_EQ(out.status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_HAS(out.status.error_message(),
+             "invalid mesh: repair is off and the mesh has 4 defects (1 degenerate facet, 1 "
+             "duplicate facet, 2 flipped facets): degenerate facet 577 at (");
+  EXPECT_HAS(out.status.error_message(), "flipped facet 10 at (");
+
+  // Three facets on one edge: a seam, named with its coordinates and facets.
+  RawMesh hinge;
+  hinge.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1};
+  hinge.triangles = {0, 1, 2, 1, 0, 3, 0, 1, 4};
+  grpc::ClientContext ctx2;
+  out = cli::RemoteSimplify(s.stub(), ctx2, testing::RatioSpec(0.5), hinge);
+  EXPECT_EQ(out.status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_HAS(out.status.error_message(),
+             "invalid mesh: the mesh has 1 non-manifold edge (shared by 3 or more facets");
+  EXPECT_HAS(out.status.error_message(),
+             "non-manifold seams are not supported yet: edge (0, 0, "
+             "0) - (1, 0, 0) shared by facets 0, 1, 2");
+  // The same refusal locally: exit code 4.
+  ASSERT_EQ(Run({WriteSoup("hinge.off", hinge), Path("out.off")}), cli::kExitInputInvalid);
+  EXPECT_HAS(err_, "non-manifold seams are not supported yet");
+}
+
+TEST_F(CliRepairTest, RemoteRunPrintsTheServersReport) {
+  testing::InProcessServer s;
+  ASSERT_EQ(Run({input_, Path("out.off"), "--ratio", "0.5", "--server", s.address(), "--stats-json",
+                 Path("s.json")}),
+            cli::kExitOk)
+      << err_;
+  EXPECT_HAS(out_, "repair:   28 changes (weld tolerance 1e-07 of the diagonal");
+  EXPECT_HAS(out_, "  flipped_facet          2\n");
+  EXPECT_HAS(testing::ReadFileBytes(Path("s.json")), "\"flipped_facet\": 2,");
+  // Strict mode through the server: INVALID_ARGUMENT, 20 + 3.
+  EXPECT_EQ(Run({input_, Path("out.off"), "--repair", "off", "--server", s.address()}), 23);
+  EXPECT_HAS(err_, "repair is off and the mesh has 4 defects");
 }
 
 }  // namespace
