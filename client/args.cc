@@ -16,8 +16,12 @@ constexpr char kExitCodes[] = R"(Exit codes:
   0   success
   1   internal error in the client
   2   usage error: unknown option, missing or non-numeric value, value out of range
-  3   input file missing, unreadable or not a supported mesh file
-  4   input mesh invalid (non-manifold, degenerate faces, ...)
+  3   input file missing, unreadable or not a mesh file the reader can parse (syntax,
+      truncation, non-triangle faces, vertex indices beyond the file's vertices, NaN or
+      infinite coordinates), in every format alike
+  4   input mesh invalid: a defect the repair does not fix (non-manifold edges shared by 3 or
+      more faces, a non-orientable surface, nothing left after repair), or, with --repair off,
+      any defect (degenerate, duplicate or flipped faces, non-manifold vertices, ...)
   5   output mesh or --stats-json file could not be written, or OUT's format cannot hold the
       input's face groups or fields (checked before the run; see --drop-face-data)
   6   the simplification failed
@@ -47,6 +51,12 @@ flags::FlagSet SimplifyFlags(SimplifyArgs* out) {
   AddOptionFlags(set, "fidelity", o);
   set.Section("Back end:");
   AddOptionFlags(set, "backend", o);
+  set.Section("Input repair (before the simplification; every change is reported):");
+  AddOptionFlags(set, "repair", o);
+  set.Switch("--repair-details",
+             "list every repair (or, with --repair off, every defect) with its facet and "
+             "coordinates; without it the summary lists the first few (--stats-json has them all)",
+             &out->repair_details);
   set.Section("Output:");
   set.String("--stats-json", "FILE",
              "write input/output sizes, timings, options, fidelity figures and every pass as JSON",

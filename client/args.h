@@ -21,6 +21,7 @@ struct SimplifyArgs {
   int max_attempts = 5;           // remote only; calls per job, retries included (retry.h)
   bool quiet = false;             // no per-pass rows
   bool drop_face_data = false;    // write OUT without the face groups/fields its format lacks
+  bool repair_details = false;    // every repair record in the summary (else the first few)
 };
 
 struct Command {

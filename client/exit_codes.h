@@ -7,8 +7,8 @@ enum ExitCode : int {
   kExitOk = 0,
   kExitInternal = 1,         // unexpected failure inside the client
   kExitUsage = 2,            // unknown flag, missing or non-numeric value, value out of range
-  kExitInputUnreadable = 3,  // input file missing, unreadable or not a mesh file
-  kExitInputInvalid = 4,     // the mesh does not pass validation (Mesh::Build)
+  kExitInputUnreadable = 3,  // input file missing, unreadable or not a parsable mesh file
+  kExitInputInvalid = 4,     // the mesh cannot be prepared (PrepareMesh: repair, validation)
   kExitOutputFailed = 5,     // output mesh or --stats-json could not be written
   kExitEngineFailed = 6,     // the simplification itself failed
   kExitCancelled = 7,        // interrupted (SIGINT) in local mode

@@ -10,6 +10,7 @@
 #include "client/run_input.h"
 #include "engine/io/mesh_io.h"
 #include "engine/mesh.h"
+#include "engine/prepare.h"
 
 namespace femsimp::cli {
 namespace {
@@ -26,14 +27,15 @@ int RunLocal(const SimplifyArgs& args) {
   std::optional<RawMesh> raw = ReadInput(args, report, &group_names);
   if (!raw) return kExitInputUnreadable;
   if (!CheckOutputFormat(args, *raw, report)) return kExitOutputFailed;
-  absl::StatusOr<Mesh> mesh = Mesh::Build(*raw);
-  if (!mesh.ok()) {
-    std::fprintf(stderr, "femsimp: %s is not a valid mesh: %s\n", args.input.c_str(),
-                 std::string(mesh.status().message()).c_str());
+  absl::StatusOr<PreparedMesh> prepared = PrepareMesh(*std::move(raw), RepairOptionsFor(args));
+  *raw = RawMesh();  // the engine's arrays are the only copy from here on
+  if (!prepared.ok()) {
+    PrintInvalidInput(args, prepared.status());
     return kExitInputInvalid;
   }
+  Mesh* mesh = &prepared->mesh;
+  report.repair = std::move(prepared->report);
   report.load_seconds = SecondsSince(t0);
-  *raw = RawMesh();  // the engine's arrays are the only copy from here on
 
   // Ctrl-C stops the engine within a pass; the partly simplified mesh is still written.
   std::signal(SIGINT, OnSigint);

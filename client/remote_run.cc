@@ -162,6 +162,7 @@ int RunRemote(const SimplifyArgs& args) {
   SimplifyResult figures;
   wire::FidelityFromProto(r, &figures);
   report.fidelity = FidelityFigures::Of(figures);
+  report.repair = wire::RepairFromProto(r.repair());
   if (args.options.backend == Backend::kNative && r.contexts() > 0)
     report.options.threads = r.contexts();  // what the server actually ran with
 

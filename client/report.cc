@@ -123,7 +123,55 @@ std::string FaceDataJson(const RunReport& r) {
   return s;
 }
 
+std::string RepairJson(const RunReport& r) {
+  const RepairReport& rep = r.repair;
+  std::string counts;
+  for (size_t k = 0; k < kNumRepairKinds; ++k)
+    absl::StrAppend(&counts, k ? ", " : "", JsonString(RepairKindName(static_cast<RepairKind>(k))),
+                    ": ", rep.counts[k]);
+  std::string s = absl::StrCat(
+      "{\"mode\": ", JsonString(r.options.repair.mode == RepairMode::kOn ? "on" : "off"),
+      ", \"changes\": ", rep.num_changes(), ", \"counts\": {", counts,
+      "}, \"weld_tolerance\": ", JsonNumber(rep.weld_tolerance_relative),
+      ", \"weld_tolerance_abs\": ", JsonNumber(rep.weld_tolerance_absolute),
+      ", \"diagonal\": ", JsonNumber(rep.diagonal), ", \"records\": [");
+  for (size_t i = 0; i < rep.records.size(); ++i) {
+    const RepairRecord& rec = rep.records[i];
+    absl::StrAppend(&s, i ? "," : "", "\n    {\"kind\": ", JsonString(RepairKindName(rec.kind)),
+                    ", \"facet\": ", rec.facet, ", \"vertex\": ", rec.vertex, ", \"at\": [",
+                    JsonNumber(rec.at[0]), ", ", JsonNumber(rec.at[1]), ", ", JsonNumber(rec.at[2]),
+                    "], \"detail\": ", JsonString(rec.detail), "}");
+  }
+  absl::StrAppend(&s, rep.records.empty() ? "]}" : "\n  ]}");
+  return s;
+}
+
 }  // namespace
+
+std::string RepairSummary(const RepairReport& r, size_t max_records) {
+  const size_t changes = r.num_changes();
+  if (changes == 0) return "repair:   no changes\n";
+  std::string s = absl::StrFormat(
+      "repair:   %u change%s (weld tolerance %.3g of the diagonal = %.3g)\n", changes,
+      changes == 1 ? "" : "s", r.weld_tolerance_relative, r.weld_tolerance_absolute);
+  for (size_t k = 0; k < kNumRepairKinds; ++k)
+    if (r.counts[k] > 0)
+      absl::StrAppend(&s, absl::StrFormat("  %-22s %u\n",
+                                          RepairKindName(static_cast<RepairKind>(k)), r.counts[k]));
+  size_t listed = 0;
+  for (const RepairRecord& rec : r.records) {
+    if (listed == max_records) break;
+    absl::StrAppend(&s, "  ", rec.ToString(), "\n");
+    ++listed;
+  }
+  size_t recorded = 0;
+  for (size_t k = 0; k < kNumRepairKinds; ++k) recorded += r.counts[k];
+  if (recorded > listed)
+    absl::StrAppend(
+        &s, "  ... ", recorded - listed,
+        " more (--repair-details lists them, --stats-json has them under \"repair\")\n");
+  return s;
+}
 
 FidelityFigures FidelityFigures::Of(const SimplifyResult& r) {
   FidelityFigures f;
@@ -166,6 +214,8 @@ std::string Summary(const RunReport& r) {
       "vertices: %u -> %u (%.1f%%)\nfaces:    %u -> %u (%.1f%%)\npasses:   %u, stop reason: %s\n",
       r.input_vertices, r.output_vertices, pct(r.output_vertices, r.input_vertices), r.input_faces,
       r.output_faces, pct(r.output_faces, r.input_faces), r.passes.size(), r.stop_reason);
+  absl::StrAppend(&s, RepairSummary(r.repair, r.repair_details ? r.repair.records.size()
+                                                               : kSummaryRepairRecords));
   const FidelityFigures& f = r.fidelity;
   absl::StrAppend(&s, "fidelity: ",
                   f.tolerance_abs > 0 ? absl::StrFormat("deviation bound %g (tolerance %g)",
@@ -211,7 +261,8 @@ std::string ReportJson(const RunReport& r) {
       ",\n  \"write_seconds\": ", JsonNumber(r.write_seconds),
       ",\n  \"stop_reason\": ", JsonString(r.stop_reason),
       ",\n  \"modeled_cycles\": ", r.modeled_cycles, ",\n  \"options\": ", OptionsJson(r.options),
-      ",\n  \"fidelity\": ", FidelityJson(r.fidelity), ",\n  \"face_data\": ", FaceDataJson(r));
+      ",\n  \"fidelity\": ", FidelityJson(r.fidelity), ",\n  \"face_data\": ", FaceDataJson(r),
+      ",\n  \"repair\": ", RepairJson(r));
   if (!r.server.empty())
     absl::StrAppend(&s, ",\n  \"remote\": {\"server\": ", JsonString(r.server),
                     ", \"job_id\": ", JsonString(r.job_id),

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "absl/status/status.h"
+#include "engine/repair.h"
 #include "engine/simplify.h"
 
 namespace femsimp::cli {
@@ -41,13 +42,24 @@ struct RunReport {
   uint64_t face_groups = 0;
   std::vector<std::string> face_fields;
   std::string dropped_face_data;
+  // What the repair stage changed (local: PrepareMesh; remote: the server's Result); with
+  // repair_details every record in the summary, else the first kSummaryRepairRecords.
+  RepairReport repair;
+  bool repair_details = false;
 };
+
+inline constexpr size_t kSummaryRepairRecords = 5;
+// Records kept per kind for the summary and --stats-json (the counts are always complete).
+inline constexpr size_t kReportRepairRecordsPerKind = 10000;
 
 // Column header and one row per pass of the progress table (cache column for the cell back end).
 std::string PassTableHeader(Backend backend);
 std::string PassTableRow(const PassStats& p, Backend backend);
 // Vertices/faces in and out, timings, stop reason; several lines.
 std::string Summary(const RunReport& r);
+// The repair lines of the summary: the changes with the weld tolerance, one line per kind with
+// its count, then up to max_records records (facet, coordinates, what changed).
+std::string RepairSummary(const RepairReport& r, size_t max_records);
 // The --stats-json document.
 std::string ReportJson(const RunReport& r);
 absl::Status WriteTextFile(const std::string& path, const std::string& text);

@@ -4,7 +4,9 @@
 #include <string>
 #include <unordered_set>
 
+#include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
+#include "absl/strings/str_replace.h"
 #include "client/exit_codes.h"
 #include "engine/io/mesh_io.h"
 
@@ -16,6 +18,7 @@ RunReport StartReport(const SimplifyArgs& args) {
   report.output_path = args.output;
   report.options = args.options;
   report.server = args.server;
+  report.repair_details = args.repair_details;
   return report;
 }
 
@@ -80,6 +83,26 @@ int FinishRun(const SimplifyArgs& args, RawMesh& output, const GroupNames& group
     }
   }
   return kExitOk;
+}
+
+RepairOptions RepairOptionsFor(const SimplifyArgs& args) {
+  RepairOptions o = args.options.repair;
+  o.max_records_per_kind = kReportRepairRecordsPerKind;
+  return o;
+}
+
+void PrintInvalidInput(const SimplifyArgs& args, const absl::Status& status) {
+  // One defect per line: the list after the strict mode's counts, its items apart.
+  std::string text(status.message());
+  if (const size_t at = text.find("): ");
+      absl::StartsWith(text, "repair is off") && at != std::string::npos)
+    text.replace(at, 3, "):\n  ");
+  std::fprintf(stderr, "femsimp: %s is not a valid mesh: %s\n", args.input.c_str(),
+               absl::StrReplaceAll(text, {{"; ", ";\n  "}}).c_str());
+  if (args.options.repair.mode == RepairMode::kOff)
+    std::fprintf(stderr,
+                 "femsimp: repair is off (--repair off); with --repair on (the default) "
+                 "femsimp repairs what it can and reports every change\n");
 }
 
 double SecondsSince(std::chrono::steady_clock::time_point t0) {

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <optional>
 
+#include "absl/status/status.h"
 #include "client/args.h"
 #include "client/report.h"
 #include "engine/io/face_data.h"
@@ -30,6 +31,15 @@ bool CheckOutputFormat(const SimplifyArgs& args, const RawMesh& input, RunReport
 // kExitOk, or kExitOutputFailed after printing why.
 int FinishRun(const SimplifyArgs& args, RawMesh& output, const GroupNames& group_names,
               RunReport& report);
+
+// The repair options of a run: the table's (mode, weld tolerance), with the records the report
+// keeps per kind (kReportRepairRecordsPerKind: the summary lists the first few, --repair-details
+// and --stats-json all of them).
+RepairOptions RepairOptionsFor(const SimplifyArgs& args);
+
+// An input that failed PrepareMesh (exit code kExitInputInvalid): the message on stderr, one
+// defect per line.
+void PrintInvalidInput(const SimplifyArgs& args, const absl::Status& status);
 
 double SecondsSince(std::chrono::steady_clock::time_point t0);
 

@@ -13,6 +13,10 @@ namespace {
 using T = OptionType;
 using S = SimplifyOptions;
 using C = CellOptions;
+using R = RepairOptions;
+
+// An enum row's value is the choice's index, which must be the engine enum's value.
+static_assert(static_cast<int>(RepairMode::kOff) == 0 && static_cast<int>(RepairMode::kOn) == 1);
 
 // The defaults are SimplifyOptions' own (simplify.h): the table reads them.
 std::vector<OptionSpec> MakeTable() {
@@ -93,6 +97,16 @@ std::vector<OptionSpec> MakeTable() {
        .section = "fidelity", .type = T::kFraction, .range = Range::OpenClosed(0, 1),
        .help = "relative change of each face field's resultant per face group",
        .field = &S::max_field_change},
+      {.name = "repair", .flag = "--repair", .section = "repair", .type = T::kEnum,
+       .help = "on: weld coincident vertices, remove degenerate and duplicate facets, orient, "
+               "split non-manifold vertices, and report every change; off (strict): refuse a "
+               "mesh with any such defect, naming each",
+       .choices = {{"off", "off"}, {"on", "on"}}, .field = &R::mode},
+      {.name = "weld_tolerance", .flag = "--weld-tolerance", .metavar = "F", .section = "repair",
+       .type = T::kFraction, .range = Range::Closed(0, 0.01),
+       .unit = "of the bounding-box diagonal",
+       .help = "repair: vertices closer than this are welded into one (0: exact duplicates only)",
+       .field = &R::weld_tolerance},
       {.name = "backend", .flag = "--backend", .section = "backend", .type = T::kEnum,
        .help = "shared-memory threads or the emulated Cell BE",
        .choices = {{"native", "native"}, {"cell", "cell"}}, .field = &S::backend},
@@ -127,6 +141,10 @@ auto& Ref(V SimplifyOptions::*member, O& o) {
 template <typename V, typename O>
 auto& Ref(V CellOptions::*member, O& o) {
   return o.cell.*member;
+}
+template <typename V, typename O>
+auto& Ref(V RepairOptions::*member, O& o) {
+  return o.repair.*member;
 }
 
 template <typename V>

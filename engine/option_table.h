@@ -31,18 +31,20 @@ struct OptionChoice {
   const char* cli_name;  // on the command line; `name` is accepted too
 };
 
-// Where the value lives in SimplifyOptions.
+// Where the value lives in SimplifyOptions (or its CellOptions, or its RepairOptions).
 using OptionField =
     std::variant<double SimplifyOptions::*, int SimplifyOptions::*, uint64_t SimplifyOptions::*,
                  bool SimplifyOptions::*, CostKind SimplifyOptions::*, Backend SimplifyOptions::*,
-                 Preset SimplifyOptions::*, int CellOptions::*, bool CellOptions::*>;
+                 Preset SimplifyOptions::*, int CellOptions::*, bool CellOptions::*,
+                 RepairMode RepairOptions::*, double RepairOptions::*>;
 
 struct OptionSpec {
   const char* name = "";       // snake_case; the proto field name (inside message `group` when set)
   const char* group = "";      // "" or "cell": EngineOptions.cell / SimplifyOptions::cell
   const char* flag = nullptr;  // "--min-angle"; nullptr: not on the command line
   const char* metavar = "";    // "D"; enums and bools: none (enums show their CLI names)
-  const char* section = "";    // where --help lists it: "target", "engine", "fidelity", "backend"
+  const char* section = "";    // where --help lists it: "target", "engine", "fidelity", "backend",
+                               // "repair"
   OptionType type = OptionType::kReal;
   double default_value = 0;     // SimplifyOptions'; enums: the choice's index; bools: 0 or 1
   Range range = {};             // numbers only

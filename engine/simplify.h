@@ -10,6 +10,7 @@
 
 #include "absl/status/statusor.h"
 #include "engine/mesh.h"
+#include "engine/repair.h"
 
 namespace femsimp {
 
@@ -81,6 +82,9 @@ struct SimplifyOptions {
 
   Backend backend = Backend::kNative;
   CellOptions cell;
+  // The repair stage before the simplification (engine/prepare.h): its mode and weld tolerance
+  // are options of the table; Simplify itself does not read them.
+  RepairOptions repair;
 };
 
 // The options of a preset, before any given explicitly.

@@ -72,8 +72,7 @@ absl::StatusOr<std::optional<double>> ReadField(const OptionSpec& spec, const Me
       if (number == 0) return std::nullopt;
       absl::StatusOr<double> choice = ChoiceOf(spec, f, number);
       if (!choice.ok()) return choice.status();
-      v = *choice;
-      break;
+      return *choice;  // set (number != 0), even where the choice's index is 0
     }
     default:
       return absl::InternalError(absl::StrCat(spec.name, ": unexpected proto type"));
@@ -205,6 +204,43 @@ PassStats FromProto(const v1::Progress& in) {
     p.modeled_pass_cycles = in.modeled_pass_cycles();
   }
   return p;
+}
+
+void RepairToProto(const RepairReport& r, v1::RepairReport* out) {
+  for (size_t k = 0; k < kNumRepairKinds; ++k)
+    if (IsRepairChange(static_cast<RepairKind>(k)))
+      (*out->mutable_counts())[RepairKindName(static_cast<RepairKind>(k))] = r.counts[k];
+  for (const RepairRecord& rec : r.records) {
+    v1::RepairRecord* m = out->add_records();
+    m->set_kind(RepairKindName(rec.kind));
+    m->set_facet(rec.facet);
+    m->set_vertex(rec.vertex);
+    for (double x : rec.at) m->add_at(x);
+    m->set_detail(rec.detail);
+  }
+  out->set_weld_tolerance(r.weld_tolerance_relative);
+  out->set_weld_tolerance_abs(r.weld_tolerance_absolute);
+  out->set_diagonal(r.diagonal);
+}
+
+RepairReport RepairFromProto(const v1::RepairReport& in) {
+  RepairReport r;
+  for (size_t k = 0; k < kNumRepairKinds; ++k) {
+    const RepairKind kind = static_cast<RepairKind>(k);
+    if (auto it = in.counts().find(RepairKindName(kind)); it != in.counts().end())
+      r.counts[k] = it->second;
+    for (const v1::RepairRecord& m : in.records()) {
+      if (m.kind() != RepairKindName(kind)) continue;
+      RepairRecord rec{
+          .kind = kind, .facet = m.facet(), .vertex = m.vertex(), .detail = m.detail()};
+      for (int i = 0; i < 3 && i < m.at_size(); ++i) rec.at[i] = m.at(i);
+      r.records.push_back(std::move(rec));
+    }
+  }
+  r.weld_tolerance_relative = in.weld_tolerance();
+  r.weld_tolerance_absolute = in.weld_tolerance_abs();
+  r.diagonal = in.diagonal();
+  return r;
 }
 
 void FidelityToProto(const SimplifyResult& r, v1::Result* out) {

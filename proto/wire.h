@@ -39,6 +39,10 @@ PassStats FromProto(const v1::Progress& in);
 void FidelityToProto(const SimplifyResult& r, v1::Result* out);
 void FidelityFromProto(const v1::Result& in, SimplifyResult* out);
 
+// The repair report of a result, both ways (kinds by their names, RepairKindName).
+void RepairToProto(const RepairReport& r, v1::RepairReport* out);
+RepairReport RepairFromProto(const v1::RepairReport& in);
+
 // Face field names of a spec or result: at most kMaxFaceFields, distinct, 1 to 64 bytes each.
 // `where` prefixes the message, e.g. "spec: face_field_names".
 inline constexpr size_t kMaxFieldNameBytes = 64;

@@ -97,6 +97,10 @@ Metrics::Metrics()
                       .Name("femsimp_rejections_total")
                       .Help("Candidates given up, by criterion")
                       .Register(*registry_)),
+      repairs_(prometheus::BuildCounter()
+                   .Name("femsimp_repairs_total")
+                   .Help("Changes the repair stage made to uploaded meshes, by kind")
+                   .Register(*registry_)),
       cache_hits_(prometheus::BuildCounter()
                       .Name("femsimp_cell_cache_hits_total")
                       .Help("Cell back end: software cache hits")
@@ -165,6 +169,13 @@ void Metrics::PassFinished(Backend backend, const PassStats& p) {
     cache_hits_.Increment(static_cast<double>(p.cell->cache_hits));
     cache_misses_.Increment(static_cast<double>(p.cell->cache_misses));
   }
+}
+
+void Metrics::Repaired(const RepairReport& report) {
+  for (size_t k = 0; k < kNumRepairKinds; ++k)
+    if (report.counts[k] > 0)
+      repairs_.Add({{"kind", RepairKindName(static_cast<RepairKind>(k))}})
+          .Increment(static_cast<double>(report.counts[k]));
 }
 
 void Metrics::JobCompleted(Backend backend, int contexts, double job_seconds, double queue_seconds,

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "absl/status/status.h"
+#include "engine/repair.h"
 #include "engine/simplify.h"
 #include "grpcpp/support/status.h"
 #include "prometheus/counter.h"
@@ -35,6 +36,8 @@ class Metrics {
   void SetQueueDepth(size_t waiting);
   void SetRunning(int running);
   void PassFinished(Backend backend, const PassStats& p);
+  // The repair stage's changes to an uploaded mesh, per kind (femsimp_repairs_total{kind}).
+  void Repaired(const RepairReport& report);
   void JobCompleted(Backend backend, int contexts, double job_seconds, double queue_seconds,
                     const SimplifyResult& r);
 
@@ -56,6 +59,7 @@ class Metrics {
   prometheus::Counter& faces_out_;
   prometheus::Family<prometheus::Counter>& lock_conflicts_;
   prometheus::Family<prometheus::Counter>& rejections_;
+  prometheus::Family<prometheus::Counter>& repairs_;
   prometheus::Counter& cache_hits_;
   prometheus::Counter& cache_misses_;
   prometheus::Family<prometheus::Histogram>& speedup_;

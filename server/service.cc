@@ -5,6 +5,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "engine/mesh.h"
+#include "engine/prepare.h"
 #include "proto/wire.h"
 #include "server/log.h"
 #include "server/request_reader.h"
@@ -40,6 +41,25 @@ Job::Clock::time_point NextWake(const grpc::ServerContext* ctx) {
   const auto to_deadline = ctx->deadline() - std::chrono::system_clock::now();
   if (to_deadline >= kPoll || to_deadline <= decltype(to_deadline)::zero()) return poll;
   return Job::Clock::now() + std::chrono::duration_cast<Job::Clock::duration>(to_deadline);
+}
+
+// The repair options of a job: its own (mode, weld tolerance). A strict refusal names only the
+// first few defects of each kind: its message travels in the status trailer, whose size gRPC
+// bounds (8 KiB by default).
+RepairOptions ServerRepairOptions(const Job& job) {
+  RepairOptions o = job.options().repair;
+  if (o.mode == RepairMode::kOff) o.max_records_per_kind = 5;
+  return o;
+}
+
+// A status message kept well under the trailer limit.
+std::string Bounded(std::string message) {
+  constexpr size_t kMaxMessageBytes = 6000;
+  if (message.size() > kMaxMessageBytes) {
+    message.resize(kMaxMessageBytes);
+    message += " ... (cut; run femsimp locally with --repair-details for the full list)";
+  }
+  return message;
 }
 
 }  // namespace
@@ -114,23 +134,27 @@ grpc::Status SimplifierService::RunJob(grpc::ServerContext* ctx, Stream* stream,
     release();
     return ToGrpc(raw.status());
   }
-  absl::StatusOr<Mesh> mesh = Mesh::Build(*raw);
+  absl::StatusOr<PreparedMesh> prepared = PrepareMesh(*std::move(raw), ServerRepairOptions(*job));
   *raw = RawMesh();
-  if (!mesh.ok()) {
+  if (!prepared.ok()) {
     release();
     return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
-                        absl::StrCat("invalid mesh: ", mesh.status().message()));
+                        Bounded(absl::StrCat("invalid mesh: ", prepared.status().message())));
   }
-  job->Enqueue(*std::move(mesh));
+  metrics_.Repaired(prepared->report);
+  LogLine(absl::StrCat("job ", job->id(), " ", prepared->report.Summary()));
+  RepairReport repair = std::move(prepared->report);
+  job->Enqueue(std::move(prepared->mesh));
   reserved = false;
   if (!queue_.PushReserved(job))
     return grpc::Status(grpc::StatusCode::UNAVAILABLE, "server is shutting down");
   UpdateQueueGauge();
-  return Follow(ctx, stream, job);
+  return Follow(ctx, stream, job, repair);
 }
 
 grpc::Status SimplifierService::Follow(grpc::ServerContext* ctx, Stream* stream,
-                                       const std::shared_ptr<Job>& job) {
+                                       const std::shared_ptr<Job>& job,
+                                       const RepairReport& repair) {
   size_t sent_passes = 0;
   int last_position = -2;
   bool client_gone = false, cancel_seen = false;
@@ -190,6 +214,7 @@ grpc::Status SimplifierService::Follow(grpc::ServerContext* ctx, Stream* stream,
   m->set_contexts(job->contexts());
   for (const FaceField& field : output.mesh.face_fields) m->add_face_field_names(field.name);
   wire::FidelityToProto(r, m);
+  wire::RepairToProto(repair, m->mutable_repair());
   if (!stream->Write(resp)) return grpc::Status(grpc::StatusCode::CANCELLED, "client went away");
   bool ok = true;
   wire::ForEachChunk(output.mesh, [&](v1::MeshChunk& chunk) {

@@ -40,10 +40,11 @@ class SimplifierService final : public v1::Simplifier::Service {
                       grpc::ServerReaderWriter<v1::SimplifyResponse, v1::SimplifyRequest>* stream,
                       const std::shared_ptr<Job>& job, class RequestReader& reader,
                       const v1::JobSpec& spec);
-  // Streams progress until the job is done; cancels it when the client goes away.
+  // Streams progress until the job is done, then the Result (with the upload's repair report)
+  // and the output; cancels the job when the client goes away.
   grpc::Status Follow(grpc::ServerContext* ctx,
                       grpc::ServerReaderWriter<v1::SimplifyResponse, v1::SimplifyRequest>* stream,
-                      const std::shared_ptr<Job>& job);
+                      const std::shared_ptr<Job>& job, const RepairReport& repair);
   void UpdateQueueGauge();
 
   const ServerConfig& config_;

@@ -16,9 +16,10 @@ namespace femsimp {
 const std::vector<std::string>& SupportedMeshExtensions();
 
 // Reads OFF, OBJ, STL (ascii or binary) or PLY into an indexed triangle soup. File-level
-// problems (missing, unreadable, truncated, unknown extension, non-triangle faces, ...) come
-// back as errors naming the file, the problem and where (mesh_readers.h). Indices in range and
-// topology are checked later by Mesh::Build (engine/mesh_checks.h).
+// problems (missing, unreadable, truncated, unknown extension, non-triangle faces, indices beyond
+// the file's vertices, non-finite coordinates, ...) come back as errors naming the file, the
+// problem and where (mesh_readers.h). Geometric and topological defects are left to the repair
+// stage (engine/prepare.h) and validation (Mesh::Build, engine/mesh_checks.h).
 // Face groups come from OBJ and PLY files, face fields from PLY files; group_names, when given,
 // receives the OBJ group names that are not derived from the id.
 absl::StatusOr<RawMesh> ReadMeshFile(const std::string& path, GroupNames* group_names = nullptr);

@@ -19,7 +19,6 @@
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
-#include "engine/mesh_checks.h"
 
 namespace femsimp {
 namespace {
@@ -123,8 +122,14 @@ absl::Status AddPosition(const std::vector<absl::string_view>& tok, size_t first
   return absl::OkStatus();
 }
 
-// Whether a vertex index fits the soup's 32 bits (Mesh::Build checks that it names a vertex).
+// Whether a vertex index fits the soup's 32 bits (whether it names a vertex is checked once the
+// vertex count is known).
 bool FitsIndex(int64_t i) { return i >= 0 && i <= int64_t{std::numeric_limits<uint32_t>::max()}; }
+
+absl::Status OutOfRange(size_t face, absl::string_view where, int64_t index, int64_t vertices) {
+  return Bad("face ", face, where, " references vertex ", index, " but the file has ", vertices,
+             " vertices");
+}
 
 absl::Status Polygon(size_t face, size_t corners, absl::string_view where) {
   return Bad("face ", face, where, " has ", corners, " vertices: ", kTrianglesOnly);
@@ -165,9 +170,14 @@ absl::Status ParseOffBinary(absl::string_view rest, absl::string_view key, Readi
   RawMesh& mesh = out->file.mesh;
   mesh.positions.resize(3 * size_t(nv));
   const char* p = rest.data() + 12;
-  // Non-finite coordinates are left to Mesh::Build, as they always were for binary OFF.
   for (size_t v = 0; v < nv; ++v, p += vertex_bytes)
-    for (int i = 0; i < 3; ++i) mesh.positions[3 * v + i] = LoadBytes<float>(p + 4 * i, swap);
+    for (int i = 0; i < 3; ++i) {
+      const float x = LoadBytes<float>(p + 4 * i, swap);
+      if (!std::isfinite(x))
+        return Bad("vertex ", v, " (byte ", p - rest.data(), " after the header): coordinate ", i,
+                   " = ", x, " is not a finite float");
+      mesh.positions[3 * v + i] = x;
+    }
   mesh.triangles.reserve(3 * size_t(nf));
   for (size_t f = 0; f < nf; ++f) {
     const std::string where = absl::StrCat(" (byte ", p - rest.data(), " after the header)");
@@ -180,6 +190,7 @@ absl::Status ParseOffBinary(absl::string_view rest, absl::string_view key, Readi
     for (int i = 1; i <= 3; ++i) {
       const int32_t idx = LoadBytes<int32_t>(p + 4 * i, swap);
       if (idx < 0) return Bad("face ", f, where, " has a negative vertex index ", idx);
+      if (uint32_t(idx) >= nv) return OutOfRange(f, where, uint32_t(idx), nv);
       mesh.triangles.push_back(uint32_t(idx));
     }
     p += 16;
@@ -237,6 +248,7 @@ absl::Status ParseOff(absl::string_view data, Reading* out) {
         return Bad("face ", f, where(), ": cannot parse '", tok[i], "' as a vertex index");
       if (idx < 0) return Bad("face ", f, where(), " has a negative vertex index ", idx);
       if (!FitsIndex(idx)) return Bad("face ", f, where(), ": vertex index ", idx, " is too large");
+      if (idx >= nv) return OutOfRange(f, where(), idx, nv);
       mesh.triangles.push_back(uint32_t(idx));
     }
   }
@@ -686,16 +698,17 @@ absl::Status ParsePly(absl::string_view data, Reading* out) {
   return absl::OkStatus();
 }
 
-// The one check of a loaded soup that the readers make (mesh_readers.h): an OBJ face or STL
-// facet that repeats a corner.
-absl::Status CheckCornersDistinct(absl::string_view ext, const Reading& parsed) {
+// After parsing, for the formats whose faces may name vertices the reader has not seen yet (OBJ)
+// or whose vertex count the faces do not follow (PLY): every index names a vertex of the file.
+absl::Status CheckIndicesInRange(const Reading& parsed) {
   const RawMesh& mesh = parsed.file.mesh;
-  for (size_t f = 0; f < mesh.num_faces(); ++f) {
-    if (!RepeatsVertex(&mesh.triangles[3 * f])) continue;
+  const size_t nv = mesh.num_vertices();
+  for (size_t c = 0; c < mesh.triangles.size(); ++c) {
+    if (mesh.triangles[c] < nv) continue;
+    const size_t f = c / 3;
     const size_t line = f < parsed.face_lines.size() ? parsed.face_lines[f] : 0;
-    const std::string where = line ? absl::StrCat(" (line ", line, ")") : "";
-    if (ext == ".obj") return Bad("face ", f, where, " is degenerate: it repeats a vertex index");
-    return Bad("facet ", f, where, " is degenerate: two of its corners coincide");
+    return OutOfRange(f, line ? absl::StrCat(" (line ", line, ")") : "", mesh.triangles[c],
+                      int64_t(nv));
   }
   return absl::OkStatus();
 }
@@ -716,7 +729,7 @@ absl::StatusOr<ParsedMeshFile> ParseMeshFile(absl::string_view ext, absl::string
   } else {
     s = Bad("no reader for extension '", ext, "'");
   }
-  if (s.ok() && (ext == ".obj" || ext == ".stl")) s = CheckCornersDistinct(ext, parsed);
+  if (s.ok()) s = CheckIndicesInRange(parsed);
   if (!s.ok()) return s;
   return std::move(parsed.file);
 }

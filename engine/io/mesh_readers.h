@@ -2,12 +2,12 @@
 // (ASCII or binary) or PLY (ASCII, binary little- or big-endian) file yields the triangle soup
 // with its face groups and fields (face_data.h says which format holds what).
 //
-// A reader refuses what the file cannot mean, and says where: a number it cannot parse, a
-// coordinate that is not a finite float, a face that is not a triangle, a negative index, a file
-// that ends before its header says. What the loaded soup must hold to be simplified (indices in
-// range, no degenerate, duplicate or non-manifold face) is checked afterwards by Mesh::Build
-// (engine/mesh_checks.h), with one exception kept from the readers femsimp used before: an OBJ
-// face or STL facet that repeats a corner is refused here, naming its line.
+// A reader refuses what makes the file unreadable, and says where: a number it cannot parse, a
+// coordinate that is not a finite float, a face that is not a triangle, a negative vertex index
+// or one beyond the file's vertices, a file that ends before its header says. Geometric and
+// topological defects (degenerate, duplicate, flipped or non-manifold faces) are not the
+// reader's business: they reach the soup as they are, for the repair stage (engine/repair.h) or,
+// with repair off, for validation (Mesh::Build, engine/mesh_checks.h) to report.
 //
 // Results are those of OpenMesh 9's readers, which femsimp used before: coordinates parsed as a
 // C++ stream parses a float (binary values of another type converted to float); STL facets share

@@ -1,5 +1,8 @@
-// Every class of bad input: file-level problems fail in ReadMeshFile, topology problems pass
-// through it unchanged and fail in Mesh::Build. Each case checks the code and the message.
+// Every class of bad input: what makes the file unreadable (syntax, truncation, indices beyond
+// the file's vertices, non-finite numbers) fails in ReadMeshFile, in every format alike;
+// geometric and topological defects (degenerate, duplicate, flipped, non-manifold faces) pass
+// through it unchanged, in every format alike, and fail in Mesh::Build (the repair stage,
+// tests/engine/repair_test.cc, fixes them). Each case checks the code and the message.
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -206,15 +209,41 @@ TEST_F(BadInputTest, NegativeIndex) {
                   "relative index '-3' points before the first vertex");
 }
 
-// ------------------------------------------------------------------------- topology
-
 TEST_F(BadInputTest, IndexOutOfRange) {
-  ExpectBuildError(Off("r.off", kSquare, {"3 0 1 2", "3 0 2 7"}),
-                   "face 1 references vertex 7 but the mesh has 4 vertices");
-  ExpectBuildError(Write("r.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 9\n"),
-                   "face 0 references vertex 8 but the mesh has 3 vertices");
+  ExpectReadError(Off("r.off", kSquare, {"3 0 1 2", "3 0 2 7"}), kInvalid,
+                  "face 1 (line 8) references vertex 7 but the file has 4 vertices");
+  ExpectReadError(Write("r.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 9\n"), kInvalid,
+                  "face 0 (line 4) references vertex 8 but the file has 3 vertices");
+  ExpectReadError(Write("r.ply",
+                        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                        "property float y\nproperty float z\nelement face 1\n"
+                        "property list uchar int vertex_indices\nend_header\n"
+                        "0 0 0\n1 0 0\n1 1 0\n3 0 1 5\n"),
+                  kInvalid, "face 0 references vertex 5 but the file has 3 vertices");
+  RawMesh tet = testing::PreciseTetrahedron();
+  tet.triangles[5] = 9;
+  ExpectReadError(Write("r_bin.off", BinaryOff(tet)), kInvalid,
+                  "face 1 (byte 76 after the header) references vertex 9 but the file has 4 "
+                  "vertices");
+  // OBJ faces may name vertices defined after them.
+  absl::StatusOr<RawMesh> forward =
+      ReadMeshFile(Write("fwd.obj", "f 1 2 3\nv 0 0 0\nv 1 0 0\nv 1 1 0\n"));
+  ASSERT_TRUE(forward.ok()) << forward.status();
+  EXPECT_EQ(forward->num_faces(), 1u);
 }
 
+TEST_F(BadInputTest, NonFiniteBinaryOffCoordinate) {
+  RawMesh tet = testing::PreciseTetrahedron();
+  tet.positions[4] = std::numeric_limits<float>::quiet_NaN();
+  ExpectReadError(Write("nan_bin.off", BinaryOff(tet)), kInvalid,
+                  "vertex 1 (byte 24 after the header): coordinate 1 = nan is not a finite float");
+}
+
+// ------------------------------------------------------------------------- topology
+
+// Degenerate faces are a defect of the mesh, not of the file: every reader passes them on (an
+// STL facet with two equal corners too, after its corners became vertices), and validation
+// refuses them with their face number.
 TEST_F(BadInputTest, DegenerateFace) {
   ExpectBuildError(Off("d.off", kSquare, {"3 0 1 2", "3 0 2 2"}),
                    "face 1 is degenerate: vertices (0, 2, 2) repeat an index");
@@ -224,13 +253,12 @@ TEST_F(BadInputTest, DegenerateFace) {
                          "property list uchar int vertex_indices\nend_header\n"
                          "0 0 0\n1 0 0\n1 1 0\n3 0 1 0\n"),
                    "face 0 is degenerate");
-  // OBJ faces and STL facets that repeat a corner are refused by the reader, with their line.
-  ExpectReadError(Write("d.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\nf 1 3 -1\n"), kInvalid,
-                  "face 1 (line 5) is degenerate: it repeats a vertex index");
-  ExpectReadError(Write("d.stl",
-                        "solid d\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
-                        "vertex 0 0 0\nendloop\nendfacet\nendsolid d\n"),
-                  kInvalid, "facet 0 (line 6) is degenerate: two of its corners coincide");
+  ExpectBuildError(Write("d.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\nf 1 3 -1\n"),
+                   "face 1 is degenerate: vertices (0, 2, 2) repeat an index");
+  ExpectBuildError(Write("d.stl",
+                         "solid d\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
+                         "vertex 0 0 0\nendloop\nendfacet\nendsolid d\n"),
+                   "face 0 is degenerate: vertices (0, 1, 0) repeat an index");
 }
 
 TEST_F(BadInputTest, ZeroAreaFace) {

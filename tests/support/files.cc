@@ -6,6 +6,8 @@
 #include <fstream>
 #include <iterator>
 
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
 #include "engine/io/mesh_io.h"
 
 namespace femsimp::testing {
@@ -33,6 +35,38 @@ void TempDirTest::SetUp() {
 
 void TempDirTest::TearDown() {
   if (!HasFailure()) std::filesystem::remove_all(dir_);  // keep the files of a failing test
+}
+
+std::string TempDirTest::WriteSoup(const std::string& name, const RawMesh& m) {
+  const std::string ext = name.substr(name.rfind('.'));
+  const auto point = [&](uint32_t v) {
+    return absl::StrFormat("%.9g %.9g %.9g", m.positions[3 * v], m.positions[3 * v + 1],
+                           m.positions[3 * v + 2]);
+  };
+  std::string s;
+  if (ext == ".stl") {
+    s = "solid soup\n";
+    for (size_t f = 0; f < m.num_faces(); ++f) {
+      s += "facet normal 0 0 0\nouter loop\n";
+      for (int k = 0; k < 3; ++k) s += absl::StrCat("vertex ", point(m.triangles[3 * f + k]), "\n");
+      s += "endloop\nendfacet\n";
+    }
+    return Write(name, s + "endsolid soup\n");
+  }
+  if (ext == ".off") s = absl::StrCat("OFF\n", m.num_vertices(), " ", m.num_faces(), " 0\n");
+  if (ext == ".ply")
+    s = absl::StrCat("ply\nformat ascii 1.0\nelement vertex ", m.num_vertices(),
+                     "\nproperty float x\nproperty float y\nproperty float z\nelement face ",
+                     m.num_faces(), "\nproperty list uchar int vertex_indices\nend_header\n");
+  for (uint32_t v = 0; v < m.num_vertices(); ++v)
+    s += absl::StrCat(ext == ".obj" ? "v " : "", point(v), "\n");
+  for (size_t f = 0; f < m.num_faces(); ++f) {
+    const uint32_t* t = &m.triangles[3 * f];
+    const uint32_t base = ext == ".obj" ? 1 : 0;
+    s += absl::StrCat(ext == ".obj" ? "f" : "3", " ", t[0] + base, " ", t[1] + base, " ",
+                      t[2] + base, "\n");
+  }
+  return Write(name, s);
 }
 
 std::string TempDirTest::Write(const std::string& name, const std::string& contents) {

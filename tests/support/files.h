@@ -23,6 +23,9 @@ class TempDirTest : public ::testing::Test {
   // Writes `contents` (text or bytes) to `name` in the directory and returns its path.
   std::string Write(const std::string& name, const std::string& contents);
   std::string Path(const std::string& name) const { return dir_ + "/" + name; }
+  // Writes the soup as it is, defects included (the library's writers refuse some), as text in
+  // the format of the name's extension (.off, .obj, .stl, .ply); returns its path.
+  std::string WriteSoup(const std::string& name, const RawMesh& mesh);
 
   std::string dir_;
 };

@@ -77,6 +77,25 @@ RawMesh MakeTorus(int n, int m, double R, double r) {
   return mesh;
 }
 
+RawMesh BrokenTorus(int n, int m) {
+  RawMesh mesh = MakeTorus(n, m);
+  const uint32_t copies = uint32_t(mesh.num_vertices());
+  mesh.positions.insert(mesh.positions.end(), mesh.positions.begin(),
+                        mesh.positions.begin() + 3 * m);
+  for (size_t c = 6 * size_t(n - 1) * m; c < mesh.triangles.size(); ++c)
+    if (mesh.triangles[c] < uint32_t(m)) mesh.triangles[c] += copies;
+  for (size_t f : {3, 10}) std::swap(mesh.triangles[3 * f + 1], mesh.triangles[3 * f + 2]);
+  const uint32_t a = mesh.triangles[0], b = mesh.triangles[1], c = mesh.triangles[2];
+  mesh.triangles.insert(mesh.triangles.end(), {a, b, c, a, b, a});
+  return mesh;
+}
+
+BrokenTorusRepairs BrokenTorusRepairsOf(int m) {
+  BrokenTorusRepairs r;
+  r.welded = r.stitched = size_t(m);
+  return r;
+}
+
 RawMesh WithGroupsAndFields(RawMesh mesh) {
   const size_t nf = mesh.num_faces();
   mesh.face_groups.resize(nf);

@@ -22,6 +22,18 @@ RawMesh PreciseTetrahedron();
 // Closed torus of n * m vertices and 2nm faces (a valid closed 2-manifold), radii R and r.
 RawMesh MakeTorus(int n, int m, double R = 3.0, double r = 1.0);
 
+// A torus (MakeTorus(n, m)) as a careless export writes it, for the repair stage end to end:
+// facets 3 and 10 flipped; a crack: the faces of the last ring (i = n - 1) use their own copies
+// of ring 0's m vertices (same coordinates, appended); then a copy of facet 0 (a duplicate) and a
+// facet that repeats a vertex (degenerate) appended. Repair gives back MakeTorus(n, m)'s surface:
+// BrokenTorusRepairsOf(m) lists the changes per kind.
+RawMesh BrokenTorus(int n, int m);
+struct BrokenTorusRepairs {
+  size_t flipped = 2, duplicate = 1, degenerate = 1;
+  size_t welded, stitched;  // m each
+};
+BrokenTorusRepairs BrokenTorusRepairsOf(int m);
+
 // Adds four face groups (ids 10..13, consecutive runs of faces: bands of a torus) and two face
 // fields constant per group, "pressure" = 1000 + group and "heat_flux" = -group / 2, so that
 // every surviving face of a simplified mesh can be checked against its group.

@@ -1,0 +1,229 @@
+// Repair end to end: `femsimp simplify` on broken inputs (flipped, duplicate and degenerate
+// facets, a crack) locally and through the in-process server, strict mode (--repair off), and
+// the server's Result and metrics.
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "client/args.h"
+#include "client/exit_codes.h"
+#include "client/local_run.h"
+#include "client/remote_call.h"
+#include "client/remote_run.h"
+#include "engine/io/mesh_io.h"
+#include "engine/mesh.h"
+#include "engine/mesh_checks.h"
+#include "gtest/gtest.h"
+#include "tests/service/test_util.h"
+#include "tests/support/files.h"
+
+namespace femsimp {
+namespace {
+
+constexpr int kN = 24, kM = 12;
+
+#define EXPECT_HAS(text, part)                                                                 \
+  EXPECT_NE(std::string(text).find(part), std::string::npos) << "'" << (part) << "' not in:\n" \
+                                                             << (text)
+
+class CliRepairTest : public testing::TempDirTest {
+ protected:
+  void SetUp() override {
+    TempDirTest::SetUp();
+    input_ = WriteSoup("broken.off", testing::BrokenTorus(kN, kM));
+  }
+
+  // Runs `femsimp simplify ARGS... --threads THREADS` in process (remote with --server); stdout and
+  // stderr captured.
+  int Run(std::vector<std::string> args, const char* threads = "2") {
+    args.insert(args.begin(), {"femsimp", "simplify"});
+    args.insert(args.end(), {"--threads", threads, "--quiet"});
+    absl::StatusOr<cli::Command> cmd = cli::ParseCommandLine(args);
+    EXPECT_TRUE(cmd.ok()) << cmd.status();
+    if (!cmd.ok()) return -1;
+    ::testing::internal::CaptureStdout();
+    ::testing::internal::CaptureStderr();
+    const int code =
+        cmd->simplify.server.empty() ? cli::RunLocal(cmd->simplify) : cli::RunRemote(cmd->simplify);
+    out_ = ::testing::internal::GetCapturedStdout();
+    err_ = ::testing::internal::GetCapturedStderr();
+    return code;
+  }
+
+  std::string input_, out_, err_;
+};
+
+TEST_F(CliRepairTest, BrokenInputIsRepairedAndReported) {
+  ASSERT_EQ(Run({input_, Path("out.off"), "--ratio", "0.5", "--stats-json", Path("s.json")}),
+            cli::kExitOk)
+      << err_;
+  absl::StatusOr<RawMesh> out = ReadMeshFile(Path("out.off"));
+  ASSERT_TRUE(out.ok()) << out.status();
+  ASSERT_TRUE(Mesh::Build(*out).ok());
+  const SoupTopology t = TopologyOf(*out);
+  EXPECT_EQ(t.boundary_edges, 0);  // the crack is closed
+  const testing::BrokenTorusRepairs want = testing::BrokenTorusRepairsOf(kM);
+  // One line per kind with its count, then the first records with facet and coordinates.
+  EXPECT_HAS(out_, "repair:   " +
+                       std::to_string(want.welded + want.stitched + want.flipped + want.duplicate +
+                                      want.degenerate) +
+                       " changes (weld tolerance 1e-07 of the diagonal");
+  EXPECT_HAS(out_, "  welded_vertex          12\n");
+  EXPECT_HAS(out_, "  stitched_edge          12\n");
+  EXPECT_HAS(out_, "  degenerate_facet       1\n");
+  EXPECT_HAS(out_, "  duplicate_facet        1\n");
+  EXPECT_HAS(out_, "  flipped_facet          2\n");
+  EXPECT_HAS(out_, "  welded vertex 288 (facet ");
+  EXPECT_HAS(out_, " more (--repair-details lists them");
+  // --stats-json: counts per kind, the tolerance, every record.
+  const std::string json = testing::ReadFileBytes(Path("s.json"));
+  EXPECT_HAS(json,
+             "\"repair\": {\"mode\": \"on\", \"changes\": 28, \"counts\": {\"welded_vertex\": "
+             "12, \"stitched_edge\": 12, \"degenerate_facet\": 1, \"duplicate_facet\": 1, "
+             "\"flipped_facet\": 2,");
+  EXPECT_HAS(json, "\"weld_tolerance\": 1e-07");
+  EXPECT_HAS(json, "{\"kind\": \"flipped_facet\", \"facet\": 10, ");
+  EXPECT_HAS(json, "\"repair\": \"on\", \"weld_tolerance\": 1e-07");  // the options
+  size_t records = 0;
+  for (size_t at = json.find("{\"kind\": "); at != std::string::npos;
+       at = json.find("{\"kind\": ", at + 1))
+    ++records;
+  EXPECT_EQ(records, 28u);
+
+  // --repair-details lists every record in the summary.
+  ASSERT_EQ(Run({input_, Path("out2.off"), "--ratio", "0.5", "--repair-details"}), cli::kExitOk);
+  EXPECT_HAS(out_, "flipped facet 3 at (");
+  EXPECT_HAS(out_, "flipped facet 10 at (");
+  EXPECT_EQ(out_.find(" more (--repair-details"), std::string::npos) << out_;
+}
+
+TEST_F(CliRepairTest, EveryFormatIsRepairedAlike) {
+  // A degenerate STL facet (two equal corners) or OBJ face is the repair's business, not a read
+  // error: every format gives the same report.
+  for (const char* ext : {".obj", ".stl", ".ply"}) {
+    const std::string in = WriteSoup(std::string("broken") + ext, testing::BrokenTorus(kN, kM));
+    ASSERT_EQ(Run({in, Path("out.off"), "--ratio", "0.5"}), cli::kExitOk) << ext << ": " << err_;
+    EXPECT_HAS(out_, "  degenerate_facet       1\n");
+    EXPECT_HAS(out_, "  duplicate_facet        1\n");
+    EXPECT_HAS(out_, "  flipped_facet          2\n");
+  }
+}
+
+TEST_F(CliRepairTest, CleanInputIsUnchanged) {
+  ASSERT_TRUE(WriteMeshFile(Path("torus.off"), testing::MakeTorus(kN, kM)).ok());
+  // One thread: the same input gives the same output (repair on and off).
+  ASSERT_EQ(Run({Path("torus.off"), Path("a.off"), "--ratio", "0.5"}, "1"), cli::kExitOk);
+  EXPECT_HAS(out_, "repair:   no changes\n");
+  ASSERT_EQ(Run({Path("torus.off"), Path("b.off"), "--ratio", "0.5", "--repair", "off"}, "1"),
+            cli::kExitOk);
+  EXPECT_TRUE(testing::ReadFileBytes(Path("a.off")) == testing::ReadFileBytes(Path("b.off")));
+}
+
+TEST_F(CliRepairTest, StrictModeNamesEveryDefect) {
+  ASSERT_EQ(Run({input_, Path("out.off"), "--repair", "off"}), cli::kExitInputInvalid);
+  EXPECT_HAS(err_, "is not a valid mesh: repair is off and the mesh has ");
+  // Every defect, each with its kind, facet and coordinates.
+  // Every defect validation refuses, each with its kind, facet and coordinates (a crack is an
+  // open boundary, which a valid mesh may have: strict mode leaves it).
+  EXPECT_HAS(err_,
+             "the mesh has 4 defects (1 degenerate facet, 1 duplicate facet, 2 flipped "
+             "facets):\n");
+  EXPECT_HAS(err_, "  degenerate facet 577 at (3.95456775, 0.345092058, 0): repeats a vertex");
+  EXPECT_HAS(err_, "  duplicate facet 576 at (");
+  EXPECT_HAS(err_, "  flipped facet 3 at (");
+  EXPECT_HAS(err_, "  flipped facet 10 at (");
+  EXPECT_EQ(err_.find(" more "), std::string::npos) << err_;
+  EXPECT_FALSE(std::filesystem::exists(Path("out.off")));
+}
+
+
+// ------------------------------------------------------------------------- through the server
+
+TEST_F(CliRepairTest, ServerRepairsAndReportsInResultAndMetrics) {
+  testing::InProcessServer s;
+  const RawMesh in = testing::BrokenTorus(kN, kM);
+  grpc::ClientContext ctx;
+  cli::RemoteOutcome out = cli::RemoteSimplify(s.stub(), ctx, testing::RatioSpec(0.5), in);
+  ASSERT_TRUE(out.status.ok()) << out.status.error_message();
+  EXPECT_TRUE(Mesh::Build(out.output).ok());
+  EXPECT_EQ(TopologyOf(out.output).boundary_edges, 0);
+  const v1::RepairReport& r = out.result.repair();
+  EXPECT_EQ(r.counts().at("welded_vertex"), 12u);
+  EXPECT_EQ(r.counts().at("stitched_edge"), 12u);
+  EXPECT_EQ(r.counts().at("flipped_facet"), 2u);
+  EXPECT_EQ(r.counts().at("duplicate_facet"), 1u);
+  EXPECT_EQ(r.counts().at("degenerate_facet"), 1u);
+  EXPECT_EQ(r.counts().at("split_vertex"), 0u);
+  EXPECT_EQ(r.weld_tolerance(), 1e-7);
+  EXPECT_NEAR(r.weld_tolerance_abs(), 1e-7 * r.diagonal(), 1e-15);
+  ASSERT_EQ(r.records_size(), 28);
+  bool flipped10 = false;
+  for (const v1::RepairRecord& rec : r.records()) {
+    EXPECT_EQ(rec.at_size(), 3);
+    flipped10 |= rec.kind() == "flipped_facet" && rec.facet() == 10;
+  }
+  EXPECT_TRUE(flipped10);
+
+  const auto metrics =
+      testing::ParseMetrics(testing::HttpGet(s.server().metrics_port(), "/metrics"));
+  EXPECT_EQ(metrics.at("femsimp_repairs_total{kind=\"flipped_facet\"}"), 2);
+  EXPECT_EQ(metrics.at("femsimp_repairs_total{kind=\"welded_vertex\"}"), 12);
+  EXPECT_EQ(metrics.count("femsimp_repairs_total{kind=\"split_vertex\"}"), 0u);
+
+  // A clean mesh: nothing changed, nothing counted.
+  grpc::ClientContext ctx2;
+  out = cli::RemoteSimplify(s.stub(), ctx2, testing::RatioSpec(0.5), testing::MakeTorus(kN, kM));
+  ASSERT_TRUE(out.status.ok()) << out.status.error_message();
+  EXPECT_EQ(out.result.repair().counts().at("flipped_facet"), 0u);
+  EXPECT_EQ(out.result.repair().records_size(), 0);
+  EXPECT_EQ(testing::ParseMetrics(testing::HttpGet(s.server().metrics_port(), "/metrics"))
+                .at("femsimp_repairs_total{kind=\"flipped_facet\"}"),
+            2);
+}
+
+TEST_F(CliRepairTest, ServerStrictModeAndSeamsAreRefusedByName) {
+  testing::InProcessServer s;
+  v1::JobSpec spec = testing::RatioSpec(0.5);
+  spec.mutable_options()->set_repair(v1::REPAIR_MODE_OFF);
+  grpc::ClientContext ctx;
+  cli::RemoteOutcome out = cli::RemoteSimplify(s.stub(), ctx, spec, testing::BrokenTorus(kN, kM));
+  EXPECT_EQ(out.status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_HAS(out.status.error_message(),
+             "invalid mesh: repair is off and the mesh has 4 defects (1 degenerate facet, 1 "
+             "duplicate facet, 2 flipped facets): degenerate facet 577 at (");
+  EXPECT_HAS(out.status.error_message(), "flipped facet 10 at (");
+
+  // Three facets on one edge: a seam, named with its coordinates and facets.
+  RawMesh hinge;
+  hinge.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1};
+  hinge.triangles = {0, 1, 2, 1, 0, 3, 0, 1, 4};
+  grpc::ClientContext ctx2;
+  out = cli::RemoteSimplify(s.stub(), ctx2, testing::RatioSpec(0.5), hinge);
+  EXPECT_EQ(out.status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_HAS(out.status.error_message(),
+             "invalid mesh: the mesh has 1 non-manifold edge (shared by 3 or more facets");
+  EXPECT_HAS(out.status.error_message(),
+             "non-manifold seams are not supported yet: edge (0, 0, "
+             "0) - (1, 0, 0) shared by facets 0, 1, 2");
+  // The same refusal locally: exit code 4.
+  ASSERT_EQ(Run({WriteSoup("hinge.off", hinge), Path("out.off")}), cli::kExitInputInvalid);
+  EXPECT_HAS(err_, "non-manifold seams are not supported yet");
+}
+
+TEST_F(CliRepairTest, RemoteRunPrintsTheServersReport) {
+  testing::InProcessServer s;
+  ASSERT_EQ(Run({input_, Path("out.off"), "--ratio", "0.5", "--server", s.address(), "--stats-json",
+                 Path("s.json")}),
+            cli::kExitOk)
+      << err_;
+  EXPECT_HAS(out_, "repair:   28 changes (weld tolerance 1e-07 of the diagonal");
+  EXPECT_HAS(out_, "  flipped_facet          2\n");
+  EXPECT_HAS(testing::ReadFileBytes(Path("s.json")), "\"flipped_facet\": 2,");
+  // Strict mode through the server: INVALID_ARGUMENT, 20 + 3.
+  EXPECT_EQ(Run({input_, Path("out.off"), "--repair", "off", "--server", s.address()}), 23);
+  EXPECT_HAS(err_, "repair is off and the mesh has 4 defects");
+}
+
+}  // namespace
+}  // namespace femsimp
