@@ -227,7 +227,9 @@ void ExpectSeamsKept(const SeamRun& run, bool reduces = true) {
   ASSERT_TRUE(SplitSeams(sheets).ok());
   absl::StatusOr<Mesh> rebuilt = Mesh::Build(sheets);
   EXPECT_TRUE(rebuilt.ok()) << rebuilt.status();
-  if (reduces) EXPECT_LT(run.output.num_vertices(), run.input.num_vertices());
+  if (reduces) {
+    EXPECT_LT(run.output.num_vertices(), run.input.num_vertices());
+  }
   EXPECT_EQ(run.output.num_faces(), run.result.output_faces);
 }
 
@@ -409,6 +411,16 @@ TEST(Seams, CadAssembly) {
     SimplifyOptions options;
     options.tolerance_relative = 0.005;
     const SeamRun run = RunWithSeams(*input, options);
+    SimplifyOptions cell = Reduce(0.1);
+    cell.backend = Backend::kCell;
+    cell.cell.spes = 4;
+    for (const SimplifyOptions& other : {Reduce(0.1), cell}) {
+      const SeamRun reduced = RunWithSeams(*input, other);
+      ExpectSeamsKept(reduced, name != std::string("assembly_occ_stl.stl"));
+      std::printf("%s, ratio 0.1 (%s): V -> %zu\n", name,
+                  other.backend == Backend::kCell ? "cell, 4 SPEs" : "native",
+                  reduced.output.num_vertices());
+    }
     // OpenCASCADE's own tessellation has only seam vertices and CAD corners: nothing to remove.
     ExpectSeamsKept(run, /*reduces=*/name != std::string("assembly_occ_stl.stl"));
     std::printf("%s: V %zu -> %zu, F %zu -> %zu, %zu seam edges, %zu seam vertices, %zu copies\n",
