@@ -57,7 +57,7 @@ FeatureSummary MarkFeatures(Mesh& mesh, double feature_angle_deg) {
   std::atomic<uint32_t>* status = mesh.status();
   for (uint32_t v = 0; v < mesh.vertex_capacity(); ++v) {
     const uint32_t s = status[v].load(std::memory_order_relaxed);
-    if (s == kRemoved) continue;
+    if (s == kRemoved || mesh.IsLocked(v)) continue;  // locked: kFixed since Build, not a corner
     if (s == kFixed) status[v].store(kRemovable, std::memory_order_relaxed);  // re-marked below
     bool corner = GatherRing(port, v, ring) != RingResult::kOk;  // too wide: leave it alone
     if (!corner) {

@@ -91,6 +91,17 @@ absl::StatusOr<Mesh> Mesh::Build(const RawMesh& raw) {
     q.out = start;
     mesh.status_[v].store(kRemovable, std::memory_order_relaxed);
   }
+  if (!raw.locked_vertices.empty()) {
+    mesh.locked_.assign(nv, 0);
+    for (const uint32_t v : raw.locked_vertices) {
+      if (v >= nv)
+        return absl::InvalidArgumentError(
+            absl::StrCat("locked vertex ", v, " out of range (", nv, " vertices)"));
+      if (mesh.status_[v].load(std::memory_order_relaxed) == kRemoved) continue;  // unused
+      mesh.locked_[v] = 1;
+      mesh.status_[v].store(kFixed, std::memory_order_relaxed);
+    }
+  }
   if (!raw.face_fields.empty()) {
     mesh.EnsureFaceAttrs();
     for (size_t i = 0; i < raw.face_fields.size(); ++i) {
@@ -110,14 +121,17 @@ void Mesh::EnsureQuadrics() {
   if (quadrics_.empty()) quadrics_.assign(vertex_capacity(), QuadricQ{});
 }
 
-RawMesh Mesh::ToRaw() const {
+RawMesh Mesh::ToRaw(std::vector<uint32_t>* vertex_ids) const {
   RawMesh raw;
   std::vector<uint32_t> remap(vertices_.size(), kNone);
   uint32_t next = 0;
+  if (vertex_ids != nullptr) vertex_ids->clear();
   for (uint32_t v = 0; v < vertices_.size(); ++v) {
     if (IsRemoved(v)) continue;
     remap[v] = next++;
     raw.positions.insert(raw.positions.end(), {vertices_[v].x, vertices_[v].y, vertices_[v].z});
+    if (vertex_ids != nullptr) vertex_ids->push_back(v);
+    if (IsLocked(v)) raw.locked_vertices.push_back(remap[v]);
   }
   bool any_group = false;
   for (const std::string& name : field_names_) raw.face_fields.push_back({name, {}});

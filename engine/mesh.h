@@ -17,14 +17,20 @@ class Mesh {
  public:
   // Validates the soup (finite coordinates, indices in range, no degenerate, duplicate or
   // non-manifold faces, consistent orientation, not empty) and builds the half-edges.
-  // Errors name the problem and the first face or vertex where it occurs.
+  // Errors name the problem and the first face or vertex where it occurs. raw.locked_vertices
+  // (in range; unused ones are ignored) start kFixed and stay so (IsLocked).
   static absl::StatusOr<Mesh> Build(const RawMesh& raw);
 
   Mesh(Mesh&&) = default;
   Mesh& operator=(Mesh&&) = default;
 
-  // The surviving vertices and faces, compacted, with their face groups and fields.
-  RawMesh ToRaw() const;
+  // The surviving vertices and faces, compacted, with their face groups and fields, and the
+  // locked vertices in the new numbering. `vertex_ids`, when given, receives for each output
+  // vertex its index in this mesh (= in the RawMesh it was built from).
+  RawMesh ToRaw(std::vector<uint32_t>* vertex_ids = nullptr) const;
+
+  // A vertex of RawMesh::locked_vertices: kFixed from Build on, whatever features are marked.
+  bool IsLocked(uint32_t v) const { return !locked_.empty() && locked_[v] != 0; }
 
   // Per-face side quadwords (error bound, field values): allocated by Build when the input has
   // fields, or on demand when a tolerance is tracked (errors start at 0: the input itself).
@@ -64,6 +70,7 @@ class Mesh {
   std::vector<FaceAttrQ> face_attrs_;
   std::vector<std::string> field_names_;
   std::vector<QuadricQ> quadrics_;
+  std::vector<uint8_t> locked_;  // per vertex, empty when none is locked
 };
 
 }  // namespace femsimp

@@ -23,6 +23,10 @@ struct RawMesh {
   std::vector<uint32_t> triangles;     // three vertex indices per face, counter-clockwise
   std::vector<uint32_t> face_groups;   // empty, or one group id per face
   std::vector<FaceField> face_fields;  // at most kMaxFaceFields
+  // Vertices the simplification must leave exactly where they are: never removed, never moved
+  // (a neighbour may still collapse onto one). Mesh::Build marks them; Mesh::ToRaw lists the
+  // survivors in its numbering. Seams of assemblies (engine/seams.h) are kept this way.
+  std::vector<uint32_t> locked_vertices{};
 
   size_t num_vertices() const { return positions.size() / 3; }
   size_t num_faces() const { return triangles.size() / 3; }

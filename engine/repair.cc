@@ -15,6 +15,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
+#include "engine/union_find.h"
 
 namespace femsimp {
 namespace {
@@ -65,27 +66,6 @@ struct CellKey {
   friend H AbslHashValue(H h, const CellKey& k) {
     return H::combine(std::move(h), k.x, k.y, k.z);
   }
-};
-
-class UnionFind {
- public:
-  explicit UnionFind(size_t n) : parent_(n) {
-    for (size_t i = 0; i < n; ++i) parent_[i] = static_cast<uint32_t>(i);
-  }
-  uint32_t Find(uint32_t x) {
-    while (parent_[x] != x) x = parent_[x] = parent_[parent_[x]];
-    return x;
-  }
-  // The smaller root wins, so that roots do not depend on the order of the unions.
-  void Union(uint32_t a, uint32_t b) {
-    a = Find(a);
-    b = Find(b);
-    if (a < b) parent_[b] = a;
-    if (b < a) parent_[a] = b;
-  }
-
- private:
-  std::vector<uint32_t> parent_;
 };
 
 class Repairer {
