@@ -64,8 +64,12 @@ int RunLocal(const SimplifyArgs& args) {
   report.passes = std::move(result->passes);
   report.fidelity = FidelityFigures::Of(*result);
 
-  RawMesh out = mesh->ToRaw();
-  if (int code = FinishRun(args, out, group_names, report); code != kExitOk) return code;
+  absl::StatusOr<RawMesh> out = OutputMesh(*mesh, prepared->seam_map);
+  if (!out.ok()) {
+    std::fprintf(stderr, "femsimp: %s\n", out.status().ToString().c_str());
+    return kExitEngineFailed;
+  }
+  if (int code = FinishRun(args, *out, group_names, report); code != kExitOk) return code;
   return g_interrupted.load() ? kExitCancelled : kExitOk;
 }
 

@@ -18,20 +18,6 @@ std::string PointText(const std::array<float, 3>& p) {
   return absl::StrFormat("(%g, %g, %g)", p[0], p[1], p[2]);
 }
 
-absl::Status SeamsNotSupported(const std::vector<SeamEdge>& seams) {
-  std::vector<std::string> listed;
-  for (size_t i = 0; i < seams.size() && i < kMaxListed; ++i)
-    listed.push_back(absl::StrCat("edge ", PointText(seams[i].pa), " - ", PointText(seams[i].pb),
-                                  " shared by facets ", absl::StrJoin(seams[i].facets, ", ")));
-  if (seams.size() > kMaxListed)
-    listed.push_back(absl::StrCat("and ", seams.size() - kMaxListed, " more"));
-  return absl::InvalidArgumentError(absl::StrCat(
-      "the mesh has ", seams.size(), " non-manifold edge", seams.size() == 1 ? "" : "s",
-      " (shared by 3 or more facets, e.g. parts of an assembly sharing a face); non-manifold "
-      "seams are not supported yet: ",
-      absl::StrJoin(listed, "; ")));
-}
-
 // Defects the repair leaves in place other than seams (a non-orientable component), named by
 // their records.
 absl::Status DefectsLeft(const RepairReport& report) {
@@ -50,14 +36,32 @@ absl::StatusOr<PreparedMesh> PrepareMesh(RawMesh raw, const RepairOptions& optio
   if (repaired->report.num_defects_left() > repaired->report.count(RepairKind::kSeamEdge))
     return DefectsLeft(repaired->report);
 
-  // HOOK (locked seams): this is the one place where a mesh with seams would be split along
-  // repaired->seams into manifold pieces before Mesh::Build, and the pieces' seam vertices
-  // locked and rejoined after the simplification. Until then a seam is refused here.
-  if (!repaired->seams.empty()) return SeamsNotSupported(repaired->seams);
-
+  // Parts of an assembly that share faces or edges: cut into manifold sheets along the seams,
+  // whose vertices are locked and joined again by OutputMesh.
+  SeamMap seam_map;
+  if (!repaired->seams.empty()) {
+    absl::StatusOr<SeamMap> split = SplitSeams(raw);
+    if (!split.ok()) return split.status();
+    seam_map = *std::move(split);
+  }
   absl::StatusOr<Mesh> mesh = Mesh::Build(raw);
   if (!mesh.ok()) return mesh.status();
-  return PreparedMesh{*std::move(mesh), std::move(repaired->report), std::move(repaired->seams)};
+  return PreparedMesh{*std::move(mesh), std::move(repaired->report), std::move(repaired->seams),
+                      std::move(seam_map)};
+}
+
+absl::StatusOr<RawMesh> OutputMesh(const Mesh& mesh, const SeamMap& seams) {
+  if (seams.empty()) return mesh.ToRaw();
+  std::vector<uint32_t> ids;
+  RawMesh out = mesh.ToRaw(&ids);
+  absl::StatusOr<RejoinReport> rejoined = RejoinSeams(out, ids, seams);
+  if (!rejoined.ok()) return rejoined.status();
+  if (!rejoined->conforming())
+    return absl::FailedPreconditionError(
+        absl::StrCat("the seams did not stay conforming (", rejoined->changed_seams.size(),
+                     " changed, ", rejoined->new_seams.size(), " new, ",
+                     rejoined->missing_seam_vertices, " seam vertices missing)"));
+  return out;
 }
 
 }  // namespace femsimp

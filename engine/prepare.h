@@ -2,7 +2,8 @@
 // take: Load → Repair → Build.
 //
 //   RawMesh (reader or upload) ──► RepairMesh (on: repair and report; off: strict check that
-//   refuses naming every defect) ──► [seams: not supported yet] ──► Mesh::Build ──► PreparedMesh
+//   refuses naming every defect) ──► SplitSeams (assemblies: sheets with locked seam vertices)
+//   ──► Mesh::Build ──► PreparedMesh ──► Simplify ──► OutputMesh (seams rejoined)
 #pragma once
 
 #include <vector>
@@ -11,6 +12,7 @@
 #include "engine/mesh.h"
 #include "engine/raw_mesh.h"
 #include "engine/repair.h"
+#include "engine/seams.h"
 
 namespace femsimp {
 
@@ -18,8 +20,9 @@ struct PreparedMesh {
   Mesh mesh;
   // What the repair stage changed (empty in strict mode, where nothing may be changed).
   RepairReport report;
-  // The non-manifold edges kept as seams; empty until seams are supported (see PrepareMesh).
+  // The non-manifold edges kept as seams, and how the mesh was split along them.
   std::vector<SeamEdge> seams;
+  SeamMap seam_map;
 };
 
 // Repairs `raw` (options.mode kOn) or checks it strictly (kOff), then builds the engine's mesh.
@@ -28,11 +31,14 @@ struct PreparedMesh {
 //    occurrence by facet;
 //  - strict mode: every defect, by kind, facet and coordinates (options.max_records_per_kind
 //    per kind, then "and N more");
-//  - non-manifold edges (3 or more facets on one edge): not supported yet, each seam named by
-//    its end points and facets;
 //  - a component no orientation makes consistent (a Möbius-like surface), by facet.
 // A mesh with nothing to repair is built exactly as Mesh::Build builds it (byte-identical
 // output).
 absl::StatusOr<PreparedMesh> PrepareMesh(RawMesh raw, const RepairOptions& options);
+
+// The simplified mesh as the user's input stands for it: compacted, and the sheets of an
+// assembly joined again at their seams. FailedPrecondition if a seam did not stay conforming
+// (the seam vertices are locked, so this means a bug, never a silently wrong output).
+absl::StatusOr<RawMesh> OutputMesh(const Mesh& mesh, const SeamMap& seams);
 
 }  // namespace femsimp

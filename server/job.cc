@@ -23,7 +23,7 @@ int Job::contexts() const {
 
 bool Job::done() const { return IsEnded(state_); }
 
-void Job::Enqueue(Mesh input) {
+void Job::Enqueue(PreparedMesh input) {
   {
     std::lock_guard<std::mutex> lock(mu_);
     if (done()) return;
@@ -83,8 +83,8 @@ void Job::Close(const grpc::Status& status) {
   cv_.notify_all();
 }
 
-std::optional<Mesh> Job::Start() {
-  std::optional<Mesh> input;
+std::optional<PreparedMesh> Job::Start() {
+  std::optional<PreparedMesh> input;
   {
     std::lock_guard<std::mutex> lock(mu_);
     if (done()) return std::nullopt;

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "engine/mesh.h"
+#include "engine/prepare.h"
 #include "engine/simplify.h"
 #include "femsimp/v1/femsimp.pb.h"
 #include "grpcpp/support/status.h"
@@ -54,7 +55,7 @@ class Job {
 
   // --- The handler ---
   // The upload is complete: the job waits in the queue, holding its input.
-  void Enqueue(Mesh input);
+  void Enqueue(PreparedMesh input);
   // What changed since the handler last looked.
   struct Update {
     std::vector<PassStats> passes;  // passes after the first `seen`
@@ -81,7 +82,7 @@ class Job {
   // --- The runner ---
   // A worker takes the job: kRunning, and the input handed over. nullopt when the job ended
   // while it waited (cancelled out of the queue, shutdown).
-  std::optional<Mesh> Start();
+  std::optional<PreparedMesh> Start();
   void AddPass(const PassStats& pass);  // wakes the handler
   void Succeed(const SimplifyResult& result, RawMesh output);
   // Ends the job; false (and nothing changes) when it had ended already. The input goes.
@@ -116,7 +117,7 @@ class Job {
   mutable std::condition_variable cv_;  // signalled on every change below
   // Guarded by mu_:
   JobState state_ = JobState::kUploading;
-  std::optional<Mesh> input_;  // from Enqueue until Start (or the end)
+  std::optional<PreparedMesh> input_;  // from Enqueue until Start (or the end)
   std::vector<PassStats> passes_;
   std::optional<SimplifyResult> result_;
   RawMesh output_;

@@ -30,8 +30,9 @@ void JobRunner::Work() {
 }
 
 void JobRunner::Run(const std::shared_ptr<Job>& job) {
-  std::optional<Mesh> mesh = job->Start();
-  if (!mesh) return;  // ended while queued (cancelled, shutdown)
+  std::optional<PreparedMesh> input = job->Start();
+  if (!input) return;  // ended while queued (cancelled, shutdown)
+  Mesh* mesh = &input->mesh;
   const double queued = job->queued_seconds();
   if (job->cancelled()) {  // cancelled between Pop and Start
     job->FinishCancelled();
@@ -64,8 +65,16 @@ void JobRunner::Run(const std::shared_ptr<Job>& job) {
     status = job->cancel_status();
   }
   RawMesh output;
-  if (result.ok() && status.ok()) output = mesh->ToRaw();
-  mesh.reset();  // the engine's arrays go before the next job starts
+  if (result.ok() && status.ok()) {
+    absl::StatusOr<RawMesh> out = OutputMesh(*mesh, input->seam_map);
+    if (out.ok()) {
+      output = *std::move(out);
+    } else {
+      status = ToGrpc(out.status());
+      result = out.status();
+    }
+  }
+  input.reset();  // the engine's arrays go before the next job starts
   // Metrics before the job ends: a client that saw its job end then sees it counted.
   if (result.ok() && status.ok())
     metrics_.JobCompleted(o.backend, job->contexts(), result->engine_seconds, queued, *result);

@@ -144,7 +144,7 @@ grpc::Status SimplifierService::RunJob(grpc::ServerContext* ctx, Stream* stream,
   metrics_.Repaired(prepared->report);
   LogLine(absl::StrCat("job ", job->id(), " ", prepared->report.Summary()));
   RepairReport repair = std::move(prepared->report);
-  job->Enqueue(std::move(prepared->mesh));
+  job->Enqueue(*std::move(prepared));
   reserved = false;
   if (!queue_.PushReserved(job))
     return grpc::Status(grpc::StatusCode::UNAVAILABLE, "server is shutting down");

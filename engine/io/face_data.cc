@@ -183,6 +183,64 @@ std::string ObjText(const RawMesh& mesh, const GroupNames& names) {
   return s;
 }
 
+std::string OffText(const RawMesh& mesh) {
+  std::string s = absl::StrCat("OFF\n", mesh.num_vertices(), " ", mesh.num_faces(), " 0\n");
+  for (size_t v = 0; v < mesh.num_vertices(); ++v) {
+    for (int k = 0; k < 3; ++k) {
+      if (k) s += ' ';
+      AppendFloat(&s, mesh.positions[3 * v + k]);
+    }
+    s += '\n';
+  }
+  for (size_t f = 0; f < mesh.num_faces(); ++f)
+    absl::StrAppend(&s, "3 ", mesh.triangles[3 * f], " ", mesh.triangles[3 * f + 1], " ",
+                    mesh.triangles[3 * f + 2], "\n");
+  return s;
+}
+
+std::string StlBytes(const RawMesh& mesh, bool binary) {
+  const auto corner = [&](size_t f, int k) {
+    const float* p = &mesh.positions[3 * mesh.triangles[3 * f + k]];
+    return std::array<float, 3>{p[0], p[1], p[2]};
+  };
+  const auto normal = [&](size_t f) {
+    const auto a = corner(f, 0), b = corner(f, 1), c = corner(f, 2);
+    const double u[3] = {double(b[0]) - a[0], double(b[1]) - a[1], double(b[2]) - a[2]};
+    const double w[3] = {double(c[0]) - a[0], double(c[1]) - a[1], double(c[2]) - a[2]};
+    double n[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+    const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    for (double& x : n) x = len > 0 ? x / len : 0.0;
+    return std::array<float, 3>{float(n[0]), float(n[1]), float(n[2])};
+  };
+  std::string s;
+  if (binary) {
+    static constexpr char kHeader[] = "femsimp binary STL";
+    s.assign(80, '\0');
+    std::copy(kHeader, kHeader + sizeof(kHeader) - 1, s.begin());
+    AppendLittleEndian(&s, static_cast<uint32_t>(mesh.num_faces()));
+    for (size_t f = 0; f < mesh.num_faces(); ++f) {
+      for (float x : normal(f)) AppendLittleEndian(&s, x);
+      for (int k = 0; k < 3; ++k)
+        for (float x : corner(f, k)) AppendLittleEndian(&s, x);
+      AppendLittleEndian(&s, uint16_t{0});
+    }
+    return s;
+  }
+  s = "solid femsimp\n";
+  for (size_t f = 0; f < mesh.num_faces(); ++f) {
+    s += "facet normal";
+    for (float x : normal(f)) (s += ' ', AppendFloat(&s, x));
+    s += "\nouter loop\n";
+    for (int k = 0; k < 3; ++k) {
+      s += "vertex";
+      for (float x : corner(f, k)) (s += ' ', AppendFloat(&s, x));
+      s += '\n';
+    }
+    s += "endloop\nendfacet\n";
+  }
+  return s + "endsolid femsimp\n";
+}
+
 std::string PlyBytes(const RawMesh& mesh, bool binary) {
   const size_t nv = mesh.num_vertices(), nf = mesh.num_faces();
   const bool groups = !mesh.face_groups.empty();

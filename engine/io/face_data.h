@@ -1,6 +1,5 @@
 // Face groups and face fields in mesh files: which format holds what, the naming rules shared by
-// the readers (mesh_readers.cc) and the writers, and femsimp's own OBJ and PLY writers (OpenMesh's
-// OBJ writer writes no groups, and its PLY writer stores face properties only from a mesh kernel).
+// the readers (mesh_readers.cc) and the writers, and femsimp's writers of the four formats.
 //
 //   format  face groups                               face fields
 //   OBJ     `g NAME` statements                        -
@@ -72,6 +71,9 @@ void DropUnheldFaceData(absl::string_view ext, RawMesh* mesh);
 // and field properties.
 std::string ObjText(const RawMesh& mesh, const GroupNames& names);
 std::string PlyBytes(const RawMesh& mesh, bool binary);
+// OFF as text (shortest exact floats); STL binary (little-endian) or ASCII, normals computed.
+std::string OffText(const RawMesh& mesh);
+std::string StlBytes(const RawMesh& mesh, bool binary);
 
 // What the writers need beyond a well-formed soup: finite field values; for PLY, field names
 // that read back as fields (IsPlyFieldName, no blanks); for OBJ, group names on one line.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -13,7 +14,6 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
 #include "engine/io/mesh_readers.h"
-#include "engine/io/openmesh.h"
 
 namespace femsimp {
 namespace {
@@ -21,7 +21,6 @@ namespace {
 namespace fs = std::filesystem;
 
 // A float needs 9 significant digits to survive a text round trip exactly (max_digits10).
-constexpr std::streamsize kTextPrecision = 9;
 
 std::string LowerExtension(const std::string& path) {
   return absl::AsciiStrToLower(fs::path(path).extension().string());
@@ -90,46 +89,26 @@ absl::Status WriteMesh(const std::string& path, const RawMesh& mesh, bool binary
     return absl::NotFoundError(
         absl::StrCat(path, ": directory '", parent.string(), "' does not exist"));
 
-  // Only a valid mesh is written, in every format: OpenMesh's mesh builder refuses what is
-  // non-manifold or degenerate (and its writers would drop such faces).
-  OpenMesh::TriMesh_ArrayKernelT<> om;
-  om.reserve(nv, 3 * nf / 2, nf);
-  for (size_t v = 0; v < nv; ++v)
-    om.add_vertex(OpenMesh::Vec3f(mesh.positions[3 * v], mesh.positions[3 * v + 1],
-                                  mesh.positions[3 * v + 2]));
+  // Indices must be in range; anything else is written as it is (the output of an assembly
+  // keeps its seams, edges of three or more faces; tests write broken files on purpose).
   for (size_t f = 0; f < nf; ++f) {
     const uint32_t* t = &mesh.triangles[3 * f];
     if (t[0] >= nv || t[1] >= nv || t[2] >= nv)
       return absl::InvalidArgumentError(
           absl::StrCat(path, ": face ", f, " references a vertex past ", nv));
-    if (!om.add_face(om.vertex_handle(t[0]), om.vertex_handle(t[1]), om.vertex_handle(t[2]))
-             .is_valid())
-      return absl::InvalidArgumentError(
-          absl::StrCat(path, ": face ", f, " (", t[0], ", ", t[1], ", ", t[2],
-                       ") is non-manifold or degenerate; only a valid mesh can be written"));
   }
 
-  if (ext == ".obj" || ext == ".ply") {
-    const std::string bytes = ext == ".obj" ? ObjText(mesh, group_names) : PlyBytes(mesh, binary);
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    if (!out) return OpenFailure(path);
-    out.write(bytes.data(), std::streamsize(bytes.size()));
-    out.close();
-    if (!out)
-      return absl::DataLossError(
-          absl::StrCat(path, ": write failed after opening (", bytes.size(), " bytes)"));
-    return absl::OkStatus();
-  }
-
-  // OpenMesh's writers only return false; open the file first to report why it fails.
-  {
-    std::ofstream probe(path, std::ios::binary | std::ios::trunc);
-    if (!probe) return OpenFailure(path);
-  }
-  OpenMesh::IO::Options options;
-  if (binary && ext == ".stl") options += OpenMesh::IO::Options::Binary;
-  if (!OpenMesh::IO::write_mesh(om, path, options, kTextPrecision))
-    return absl::InternalError(absl::StrCat(path, ": OpenMesh's ", ext, " writer failed"));
+  const std::string bytes = ext == ".obj"   ? ObjText(mesh, group_names)
+                            : ext == ".ply" ? PlyBytes(mesh, binary)
+                            : ext == ".off" ? OffText(mesh)
+                                            : StlBytes(mesh, binary);
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (!out) return OpenFailure(path);
+  out.write(bytes.data(), std::streamsize(bytes.size()));
+  out.close();
+  if (!out)
+    return absl::DataLossError(
+        absl::StrCat(path, ": write failed after opening (", bytes.size(), " bytes)"));
   return absl::OkStatus();
 }
 

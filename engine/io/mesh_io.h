@@ -1,6 +1,6 @@
 // Mesh files in and out, chosen by file extension. Every format is read by femsimp's own readers
-// in one pass (mesh_readers.h); OFF and STL are written by OpenMesh's writers, OBJ and PLY with
-// their face groups and fields by femsimp's own (face_data.h says which format holds what).
+// in one pass (mesh_readers.h) and written by femsimp's own writers (face_data.h: which format
+// holds face groups and fields), which hold any soup, the seams of an assembly included.
 #pragma once
 
 #include <string>

@@ -14,6 +14,7 @@
 #include "engine/io/mesh_io.h"
 #include "engine/mesh.h"
 #include "engine/mesh_checks.h"
+#include "engine/seams.h"
 #include "gtest/gtest.h"
 #include "tests/service/test_util.h"
 #include "tests/support/files.h"
@@ -137,7 +138,6 @@ TEST_F(CliRepairTest, StrictModeNamesEveryDefect) {
   EXPECT_FALSE(std::filesystem::exists(Path("out.off")));
 }
 
-
 // ------------------------------------------------------------------------- through the server
 
 TEST_F(CliRepairTest, ServerRepairsAndReportsInResultAndMetrics) {
@@ -182,7 +182,7 @@ TEST_F(CliRepairTest, ServerRepairsAndReportsInResultAndMetrics) {
             2);
 }
 
-TEST_F(CliRepairTest, ServerStrictModeAndSeamsAreRefusedByName) {
+TEST_F(CliRepairTest, ServerStrictModeIsRefusedByNameAndSeamsAreKept) {
   testing::InProcessServer s;
   v1::JobSpec spec = testing::RatioSpec(0.5);
   spec.mutable_options()->set_repair(v1::REPAIR_MODE_OFF);
@@ -194,21 +194,17 @@ TEST_F(CliRepairTest, ServerStrictModeAndSeamsAreRefusedByName) {
              "duplicate facet, 2 flipped facets): degenerate facet 577 at (");
   EXPECT_HAS(out.status.error_message(), "flipped facet 10 at (");
 
-  // Three facets on one edge: a seam, named with its coordinates and facets.
+  // Three facets on one edge (a seam of an assembly): kept, as the same non-manifold edge.
   RawMesh hinge;
   hinge.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1};
   hinge.triangles = {0, 1, 2, 1, 0, 3, 0, 1, 4};
   grpc::ClientContext ctx2;
   out = cli::RemoteSimplify(s.stub(), ctx2, testing::RatioSpec(0.5), hinge);
-  EXPECT_EQ(out.status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
-  EXPECT_HAS(out.status.error_message(),
-             "invalid mesh: the mesh has 1 non-manifold edge (shared by 3 or more facets");
-  EXPECT_HAS(out.status.error_message(),
-             "non-manifold seams are not supported yet: edge (0, 0, "
-             "0) - (1, 0, 0) shared by facets 0, 1, 2");
-  // The same refusal locally: exit code 4.
-  ASSERT_EQ(Run({WriteSoup("hinge.off", hinge), Path("out.off")}), cli::kExitInputInvalid);
-  EXPECT_HAS(err_, "non-manifold seams are not supported yet");
+  ASSERT_TRUE(out.status.ok()) << out.status.error_message();
+  EXPECT_EQ(out.output.num_faces(), 3u);
+  EXPECT_EQ(NonManifoldEdges(out.output), (std::vector<EdgeUse>{{0, 1, 3}}));
+  // The same locally.
+  ASSERT_EQ(Run({WriteSoup("hinge.off", hinge), Path("out.off")}), cli::kExitOk) << err_;
 }
 
 TEST_F(CliRepairTest, RemoteRunPrintsTheServersReport) {
