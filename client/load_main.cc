@@ -20,8 +20,8 @@
 #include "client/retry.h"
 #include "common/flags.h"
 #include "engine/io/mesh_io.h"
-#include "engine/option_flags.h"
 #include "engine/mesh_checks.h"
+#include "engine/option_flags.h"
 #include "proto/wire.h"
 
 namespace {

@@ -60,6 +60,8 @@ int RunLocal(const SimplifyArgs& args) {
   report.engine_seconds = result->engine_seconds;
   report.busy_seconds = result->busy_seconds;
   report.stop_reason = StopReasonName(result->stop_reason);
+  if (result->limiting_rule != Reject::kCount)
+    report.limiting_rule = RejectName(result->limiting_rule);
   report.modeled_cycles = result->modeled_cycles;
   report.passes = std::move(result->passes);
   report.fidelity = FidelityFigures::Of(*result);

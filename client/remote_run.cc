@@ -158,6 +158,7 @@ int RunRemote(const SimplifyArgs& args) {
   report.busy_seconds = r.busy_seconds();
   report.queue_seconds = r.queue_seconds();
   report.stop_reason = r.stop_reason();
+  report.limiting_rule = r.limiting_rule();
   report.modeled_cycles = r.modeled_cycles();
   SimplifyResult figures;
   wire::FidelityFromProto(r, &figures);

@@ -210,10 +210,16 @@ std::string Summary(const RunReport& r) {
   auto pct = [](uint64_t out, uint64_t in) {
     return in ? 100.0 * static_cast<double>(out) / static_cast<double>(in) : 0.0;
   };
+  // Why it stopped, in words: no valid collapse left, and which rule refused the most.
+  const std::string why =
+      r.limiting_rule.empty()
+          ? r.stop_reason
+          : absl::StrCat(r.stop_reason, " (no valid collapse left; refused most by ",
+                         r.limiting_rule, ")");
   std::string s = absl::StrFormat(
       "vertices: %u -> %u (%.1f%%)\nfaces:    %u -> %u (%.1f%%)\npasses:   %u, stop reason: %s\n",
       r.input_vertices, r.output_vertices, pct(r.output_vertices, r.input_vertices), r.input_faces,
-      r.output_faces, pct(r.output_faces, r.input_faces), r.passes.size(), r.stop_reason);
+      r.output_faces, pct(r.output_faces, r.input_faces), r.passes.size(), why);
   absl::StrAppend(&s, RepairSummary(r.repair, r.repair_details ? r.repair.records.size()
                                                                : kSummaryRepairRecords));
   const FidelityFigures& f = r.fidelity;
@@ -260,6 +266,7 @@ std::string ReportJson(const RunReport& r) {
       ",\n  \"load_seconds\": ", JsonNumber(r.load_seconds),
       ",\n  \"write_seconds\": ", JsonNumber(r.write_seconds),
       ",\n  \"stop_reason\": ", JsonString(r.stop_reason),
+      ",\n  \"limiting_rule\": ", JsonString(r.limiting_rule),
       ",\n  \"modeled_cycles\": ", r.modeled_cycles, ",\n  \"options\": ", OptionsJson(r.options),
       ",\n  \"fidelity\": ", FidelityJson(r.fidelity), ",\n  \"face_data\": ", FaceDataJson(r),
       ",\n  \"repair\": ", RepairJson(r));

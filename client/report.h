@@ -32,6 +32,7 @@ struct RunReport {
   double transfer_seconds = 0.0;  // remote: whole RPC, upload to last chunk
   double queue_seconds = 0.0;     // remote: waiting in the server's queue
   std::string stop_reason;
+  std::string limiting_rule;   // the rule that refused most in the last pass (no_progress)
   std::string server, job_id;  // remote only
   int attempts = 0;            // remote only: calls made, retries included
   uint64_t modeled_cycles = 0;

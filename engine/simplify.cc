@@ -274,6 +274,13 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
       break;
     }
   }
+  if (result.stop_reason == StopReason::kNoProgress || result.stop_reason == StopReason::kMaxPasses)
+    for (auto p = result.passes.rbegin(); p != result.passes.rend(); ++p) {
+      const auto most = std::max_element(p->rejections.begin(), p->rejections.end());
+      if (*most == 0) continue;
+      result.limiting_rule = static_cast<Reject>(most - p->rejections.begin());
+      break;
+    }
   result.output_vertices = mesh.CountLiveVertices();
   result.output_faces = mesh.CountLiveFaces();
   result.deviation_bound = MaxDeviationBound(mesh);

@@ -147,6 +147,9 @@ struct SimplifyResult {
   double engine_seconds = 0.0;
   double busy_seconds = 0.0;
   StopReason stop_reason = StopReason::kNoProgress;
+  // When no valid collapse was left (no_progress, max_passes): the rule that refused the most
+  // candidates in the last pass that refused any — what limits the run (kCount: none).
+  Reject limiting_rule = Reject::kCount;
   std::vector<PassStats> passes;
   // Cell back end: modeled speedup needs the one-SPE time, so only the cycle totals are kept.
   uint64_t modeled_cycles = 0;

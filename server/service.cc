@@ -208,6 +208,7 @@ grpc::Status SimplifierService::Follow(grpc::ServerContext* ctx, Stream* stream,
   m->set_busy_seconds(r.busy_seconds);
   m->set_queue_seconds(output.queue_seconds);
   m->set_stop_reason(StopReasonName(r.stop_reason));
+  if (r.limiting_rule != Reject::kCount) m->set_limiting_rule(RejectName(r.limiting_rule));
   m->set_passes(static_cast<uint32_t>(r.passes.size()));
   m->set_modeled_cycles(r.modeled_cycles);
   m->set_has_face_groups(!output.mesh.face_groups.empty());
