@@ -20,7 +20,13 @@ uint64_t Mix(uint64_t k) {
 }
 
 uint32_t LoadWord(const uint32_t& w) {
-  return std::atomic_ref<const uint32_t>(w).load(std::memory_order_relaxed);
+  return std::atomic_ref<uint32_t>(const_cast<uint32_t&>(w)).load(std::memory_order_relaxed);
+}
+
+// Positions never change during a pass, but the cell back end's DMA puts rewrite a vertex's
+// whole quadword (with its `out` word) as atomic stores: read them atomically too.
+double LoadCoordinate(const float& c) {
+  return std::atomic_ref<float>(const_cast<float&>(c)).load(std::memory_order_relaxed);
 }
 
 }  // namespace
@@ -98,7 +104,7 @@ Triangle FaceGrid::FaceTriangle(uint32_t f) const {
     const uint32_t v = LoadWord(halfedges_[3 * f + k].target);
     const VertexQ& q = vertices_[v];
     t.id[k] = v;
-    t.p[k] = {q.x, q.y, q.z};
+    t.p[k] = {LoadCoordinate(q.x), LoadCoordinate(q.y), LoadCoordinate(q.z)};
   }
   return t;
 }
