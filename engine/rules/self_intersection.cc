@@ -85,10 +85,9 @@ class SelfIntersectionRule final : public CollapseRule {
       ids.push_back(g);
       return true;
     });
-    for (int f = 0; f < fan.faces; ++f) ids.push_back(FaceOf(fan.out[f]));
     std::sort(ids.begin(), ids.end());
-    // Fan faces (listed twice now: from the cells and from the fan) are replaced by the new
-    // triangles; a face listed in several cells is read once.
+    // A face listed in several cells is read once; the fan's faces are replaced by the new
+    // triangles.
     p.nearby.clear();
     p.nearby_boxes.clear();
     for (size_t i = 0; i < ids.size();) {

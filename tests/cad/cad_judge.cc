@@ -18,11 +18,6 @@
 // --repaired-input: IN is a broken soup that femsimp repaired before simplifying (cracks stitched,
 // non-manifold vertices split): the figures the repair changes by design (Euler characteristic,
 // components, boundary edges and loops) are reported but not judged; everything else is.
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
-#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
-#include <CGAL/Polygon_mesh_processing/self_intersections.h>
-#include <CGAL/Surface_mesh.h>
 
 #include <array>
 #include <chrono>
@@ -44,30 +39,6 @@
 namespace femsimp {
 namespace {
 
-using K = CGAL::Exact_predicates_inexact_constructions_kernel;
-using Point = K::Point_3;
-using SurfaceMesh = CGAL::Surface_mesh<Point>;
-namespace PMP = CGAL::Polygon_mesh_processing;
-
-// Pairs of faces that intersect other than along a shared edge or vertex. The soup is oriented
-// first (which duplicates non-manifold vertices), as the judge's SelfIntersects does.
-long SelfIntersectingPairs(const RawMesh& mesh) {
-  std::vector<Point> points;
-  points.reserve(mesh.num_vertices());
-  for (size_t v = 0; v < mesh.num_vertices(); ++v)
-    points.emplace_back(mesh.positions[3 * v], mesh.positions[3 * v + 1],
-                        mesh.positions[3 * v + 2]);
-  std::vector<std::array<size_t, 3>> faces(mesh.num_faces());
-  for (size_t f = 0; f < faces.size(); ++f)
-    faces[f] = {mesh.triangles[3 * f], mesh.triangles[3 * f + 1], mesh.triangles[3 * f + 2]};
-  PMP::orient_polygon_soup(points, faces);
-  SurfaceMesh sm;
-  PMP::polygon_soup_to_polygon_mesh(points, faces, sm);
-  std::vector<std::pair<SurfaceMesh::Face_index, SurfaceMesh::Face_index>> pairs;
-  PMP::self_intersections(sm, std::back_inserter(pairs));
-  return static_cast<long>(pairs.size());
-}
-
 struct Measured {
   judge::Topology topology;
   long self_intersecting_pairs = 0;
@@ -78,7 +49,7 @@ struct Measured {
 Measured Measure(const RawMesh& mesh) {
   Measured m;
   m.topology = judge::ComputeTopology(mesh);
-  m.self_intersecting_pairs = SelfIntersectingPairs(mesh);
+  m.self_intersecting_pairs = static_cast<long>(judge::SelfIntersectingPairs(mesh));
   if (m.topology.closed_manifold()) m.volume = judge::SolidProperties(mesh).volume;
   m.area = judge::SurfaceProperties(mesh).area;
   m.groups = judge::GroupIds(mesh).size();

@@ -222,6 +222,12 @@ std::map<uint32_t, Hausdorff> GroupHausdorffDistances(const RawMesh& a, const Ra
 
 bool SelfIntersects(const RawMesh& mesh) { return PMP::does_self_intersect(ToSurfaceMesh(mesh)); }
 
+size_t SelfIntersectingPairs(const RawMesh& mesh) {
+  std::vector<std::pair<SurfaceMesh::Face_index, SurfaceMesh::Face_index>> pairs;
+  PMP::self_intersections(ToSurfaceMesh(mesh), std::back_inserter(pairs));
+  return pairs.size();
+}
+
 Topology ComputeTopology(const RawMesh& m) {
   Topology t;
   const uint32_t nv = static_cast<uint32_t>(m.num_vertices());

@@ -62,6 +62,8 @@ std::map<uint32_t, Hausdorff> GroupHausdorffDistances(const RawMesh& a, const Ra
 // True if two faces that do not share a vertex or an edge intersect, or two that share one
 // intersect elsewhere. Non-manifold soups are split into manifold pieces first.
 bool SelfIntersects(const RawMesh& mesh);
+// How many pairs of faces intersect other than along a shared edge or vertex.
+size_t SelfIntersectingPairs(const RawMesh& mesh);
 
 struct Topology {
   long vertices = 0, edges = 0, faces = 0;  // referenced vertices only
