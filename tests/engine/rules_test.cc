@@ -97,6 +97,27 @@ TEST(Rules, MinAngleJudgesTheNewTriangles) {
   }
 }
 
+// V almost on neighbour 0: its fan holds two slivers. Collapsing it onto neighbour 0 fans the
+// hexagon from there (smallest angle 30 degrees): below a 45-degree threshold, so the strict rule
+// refuses; no worse than the slivers it replaces, so the relaxed (default) rule accepts.
+TEST(Rules, RelaxedMinAngleLetsSliversImprove) {
+  Ring fan = RegularFan(6);
+  fan.center_pos = {0.98f, 0.0f, 0.0f};
+  CollapseProposal p;
+  p.fan = &fan;
+  p.target = 0;
+  p.geometry.Build(fan, 0);
+  for (bool strict : {true, false}) {
+    SimplifyOptions o;
+    o.min_angle_deg = 45;
+    o.strict_min_angle = strict;
+    const RuleSet set = RuleSet::Build(o, RuleSetup{});
+    EXPECT_EQ(Only(set, RuleStage::kShape, Reject::kMinAngle).Check(RuleStage::kShape, p),
+              strict ? Verdict::kReject : Verdict::kPass)
+        << (strict ? "strict" : "relaxed");
+  }
+}
+
 TEST(Rules, DegenerateAndFoldOverAcceptAFlatFanCollapse) {
   const Ring fan = RegularFan(6);
   CollapseProposal p;

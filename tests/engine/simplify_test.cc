@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <set>
 #include <tuple>
@@ -128,6 +129,30 @@ TEST(Simplify, PassLimitAndProgressCallback) {
   ASSERT_TRUE(r.ok());
   EXPECT_EQ(seen, (std::vector<int>{1, 2}));
   EXPECT_EQ(r->stop_reason, StopReason::kMaxPasses);
+}
+
+// With the FE defaults femur stops when no collapse within the bounds is left, and says which
+// rule refused the most; a run that reaches its target names none.
+TEST(Simplify, StopNamesTheLimitingRule) {
+  const RawMesh raw = LoadTestMesh("femur.off");
+  absl::StatusOr<Mesh> mesh = Mesh::Build(raw);
+  ASSERT_TRUE(mesh.ok());
+  absl::StatusOr<SimplifyResult> r = Simplify(*mesh, SimplifyOptions{});
+  ASSERT_TRUE(r.ok()) << r.status();
+  EXPECT_EQ(r->stop_reason, StopReason::kNoProgress);
+  ASSERT_NE(r->limiting_rule, Reject::kCount);
+  uint64_t most = 0;
+  for (uint64_t n : r->passes.back().rejections) most = std::max(most, n);
+  EXPECT_EQ(r->passes.back().rejections[static_cast<int>(r->limiting_rule)], most);
+
+  absl::StatusOr<Mesh> again = Mesh::Build(raw);
+  ASSERT_TRUE(again.ok());
+  SimplifyOptions to_target;
+  to_target.ratio = 0.9;
+  r = Simplify(*again, to_target);
+  ASSERT_TRUE(r.ok());
+  EXPECT_EQ(r->stop_reason, StopReason::kTargetReached);
+  EXPECT_EQ(r->limiting_rule, Reject::kCount);
 }
 
 TEST(Simplify, CancellationStopsWithAValidMesh) {
