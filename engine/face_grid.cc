@@ -84,7 +84,11 @@ void FaceGrid::Rebuild(const Mesh& mesh) {
   }
   // Faces share cells (a few per cell), and collapses lock the empty cells of their fans' boxes
   // too: a table of as many slots as the faces cover, doubled while a quarter is not free.
-  for (uint64_t capacity = std::bit_ceil(std::max<uint64_t>(1024, covered));; capacity *= 2) {
+  Fill(live, covered);
+}
+
+void FaceGrid::Fill(const std::vector<uint32_t>& live, uint64_t min_capacity) {
+  for (uint64_t capacity = std::bit_ceil(std::max<uint64_t>(1024, min_capacity));; capacity *= 2) {
     mask_ = capacity - 1;
     cells_ = std::make_unique<Cell[]>(capacity);
     used_.store(0, std::memory_order_relaxed);
@@ -96,6 +100,39 @@ void FaceGrid::Rebuild(const Mesh& mesh) {
     }
     if (fits && used_.load(std::memory_order_relaxed) * 2 <= capacity) return;
   }
+}
+
+void FaceGrid::EnsureRoom(const Mesh& mesh) {
+  if (used_.load(std::memory_order_relaxed) * 2 <= mask_ + 1) return;
+  std::vector<uint32_t> live;
+  for (uint32_t f = 0; f < mesh.face_capacity(); ++f)
+    if (!mesh.IsFaceRemoved(f)) live.push_back(f);
+  Fill(live, 2 * (mask_ + 1));
+}
+
+bool FaceGrid::Claim(const Box& box, uint64_t ticket, std::vector<uint32_t>* slots) {
+  const Range r = RangeOf(box);
+  if (r.count() > kMaxCellsPerBox) return false;
+  bool room = true;
+  ForEachCell(r, [&](uint64_t key) {
+    const int64_t slot = room ? Slot(key) : -1;
+    if (slot < 0) {
+      room = false;
+      return;
+    }
+    std::atomic<uint64_t>& best = cells_[slot].ticket;
+    uint64_t current = best.load(std::memory_order_relaxed);
+    while (ticket < current && !best.compare_exchange_weak(current, ticket)) {
+    }
+    slots->push_back(static_cast<uint32_t>(slot));
+  });
+  return room;
+}
+
+bool FaceGrid::Claimed(const uint32_t* first, const uint32_t* last, uint64_t ticket) const {
+  for (; first != last; ++first)
+    if (cells_[*first].ticket.load(std::memory_order_relaxed) != ticket) return false;
+  return true;
 }
 
 Triangle FaceGrid::FaceTriangle(uint32_t f) const {

@@ -42,6 +42,17 @@ class FaceGrid {
   Hold Acquire(const Box& box, std::vector<uint32_t>* held);
   void Release(std::vector<uint32_t>* held);
 
+  // Deterministic rounds (engine/rounds.h) reserve the cells a collapse will hold before any
+  // collapse of the round runs: every cell overlapping `box` keeps the smallest ticket offered
+  // (an atomic minimum), and the slots are appended to *slots. False when the box spans too
+  // many cells or the table is full (the rule will refuse that collapse anyway).
+  bool Claim(const Box& box, uint64_t ticket, std::vector<uint32_t>* slots);
+  // Whether every slot in [first, last) still holds `ticket`.
+  bool Claimed(const uint32_t* first, const uint32_t* last, uint64_t ticket) const;
+  // Between rounds: a table more than half full is rebuilt larger, so that the cells a round
+  // creates never run out of room (a full table would make refusals depend on timing).
+  void EnsureRoom(const Mesh& mesh);
+
   // Calls visit(face) for every face listed in the held cells that overlap `box` (a face may
   // come more than once); stops early when visit returns false.
   template <class Visit>
@@ -69,7 +80,8 @@ class FaceGrid {
   struct Cell {
     std::atomic<uint64_t> key{kEmpty};  // packed cell coordinates + 1
     std::atomic<uint32_t> locked{0};
-    std::vector<uint32_t> faces;  // guarded by `locked`
+    std::atomic<uint64_t> ticket{~uint64_t{0}};  // the best claim so far (Claim)
+    std::vector<uint32_t> faces;                 // guarded by `locked`
   };
 
   struct Range {
@@ -79,6 +91,8 @@ class FaceGrid {
     }
   };
   void Rebuild(const Mesh& mesh);
+  // Indexes the live faces with cells of the current size in a table of at least min_capacity.
+  void Fill(const std::vector<uint32_t>& live, uint64_t min_capacity);
   // Mean edge length of the live faces (and the live faces, and their lower corner).
   double MeanEdge(const Mesh& mesh, std::vector<uint32_t>* live, DVec3* lo) const;
   Range RangeOf(const Box& box) const;
