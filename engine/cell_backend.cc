@@ -16,6 +16,10 @@ namespace {
 // and one comparison-and-move of the PPE's sequential sort.
 constexpr uint64_t kCostCyclesPerVertex = 400;
 constexpr uint64_t kSortCyclesPerElementLevel = 8;
+// Deterministic rounds (engine/rounds.h): each candidate's fan box (its one-ring walk, as for
+// the cost) is one more SPE run, parallel over the SPEs; choosing the winners (a sort of the
+// boxes and a sweep) is PPE work, like the pass's sort.
+constexpr uint64_t kFanBoxCyclesPerCandidate = 400;
 constexpr size_t kSoftwareThreadStack = 48 * 1024;
 
 CellPassCounters ToPassCounters(const cellsim::SpeCounters& c) {
@@ -44,12 +48,22 @@ class CellBackend final : public RemovalBackend {
   absl::Status RunRemoval(const RemovalPhase& phase, PassStats& stats) override {
     const int n = runtime_->num_spes();
     runtime_->ResetCounters();
-    // PPE: the sequential sort of the removable vertices.
-    const double sorted = static_cast<double>(phase.sorted);
-    const uint64_t sort_cycles = static_cast<uint64_t>(
-        sorted * std::max(1.0, std::log2(std::max(2.0, sorted))) * kSortCyclesPerElementLevel);
-    // SPEs: the cost of every vertex, split evenly.
-    const uint64_t cost_cycles = kCostCyclesPerVertex * mesh_.vertex_capacity() / n;
+    uint64_t sort_cycles = 0, cost_cycles = 0, claim_cycles = 0;
+    if (phase.pass_start) {
+      // PPE: the sequential sort of the removable vertices.
+      const double sorted = static_cast<double>(phase.sorted);
+      sort_cycles = static_cast<uint64_t>(sorted * std::max(1.0, std::log2(std::max(2.0, sorted))) *
+                                          kSortCyclesPerElementLevel);
+      // SPEs: the cost of every vertex, split evenly.
+      cost_cycles = kCostCyclesPerVertex * mesh_.vertex_capacity() / n;
+    }
+    if (phase.claimed > 0) {
+      const double claimed = static_cast<double>(phase.claimed);
+      claim_cycles = kFanBoxCyclesPerCandidate * phase.claimed / n +
+                     cellsim::CostModel{}.spe_run_overhead_cycles;
+      sort_cycles += static_cast<uint64_t>(
+          claimed * std::max(1.0, std::log2(std::max(2.0, claimed))) * kSortCyclesPerElementLevel);
+    }
 
     std::vector<std::vector<uint32_t>> lists(n);
     for (size_t i = 0; i < phase.count; ++i) lists[i % n].push_back(phase.candidates[i]);
@@ -59,6 +73,7 @@ class CellBackend final : public RemovalBackend {
     absl::Status status = runtime_->Run(
         [&](cellsim::SpeContext& spe) {
           KernelStats& kstats = per_spe[spe.index()];
+          if (phase.fresh_caches) spe.cache().InvalidateAll();
           absl::Status s = spe.RunThreads(options_.spe_threads, [&](cellsim::SpeContext& ctx, int) {
             // The port and the kernel (rings, geometry, put buffers) live on this software
             // thread's stack, i.e. in the local store.
@@ -79,18 +94,20 @@ class CellBackend final : public RemovalBackend {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (!status.ok()) return status;
 
-    CellPassCounters total;
+    // A pass may run as several phases (deterministic rounds): the counters add up.
+    if (!stats.cell) stats.cell.emplace();
+    stats.cell_per_spe.resize(n);
     for (int i = 0; i < n; ++i) {
       AddKernelStats(per_spe[i], stats);
       CellPassCounters p = ToPassCounters(runtime_->spe(i).counters());
       p.stale_reread = per_spe[i].stale_reread;
       p.stale_skipped = per_spe[i].inconsistent;
-      total += p;
-      stats.cell_per_spe.push_back(p);
+      *stats.cell += p;
+      stats.cell_per_spe[i] += p;
     }
-    stats.cell = total;
-    stats.ppe_cycles = sort_cycles;
-    stats.modeled_pass_cycles = cost_cycles + sort_cycles + runtime_->last_run_cycles();
+    stats.ppe_cycles += sort_cycles;
+    stats.modeled_pass_cycles +=
+        cost_cycles + sort_cycles + claim_cycles + runtime_->last_run_cycles();
     // Host threads run the SPEs; their summed time is the measured parallel work.
     stats.busy_seconds += wall * std::min(n, static_cast<int>(std::thread::hardware_concurrency()));
     return absl::OkStatus();

@@ -102,37 +102,19 @@ void FaceGrid::Fill(const std::vector<uint32_t>& live, uint64_t min_capacity) {
   }
 }
 
-void FaceGrid::EnsureRoom(const Mesh& mesh) {
-  if (used_.load(std::memory_order_relaxed) * 2 <= mask_ + 1) return;
+void FaceGrid::EndRound(const Mesh& mesh) {
+  deferred_ = false;
+  std::sort(pending_.begin(), pending_.end(),
+            [](const PendingMove& a, const PendingMove& b) { return a.face < b.face; });
+  bool listed = true;
+  for (const PendingMove& m : pending_)
+    listed = listed && Move(m.face, m.before, m.removed ? nullptr : &m.after);
+  pending_.clear();
+  if (listed) return;
   std::vector<uint32_t> live;
   for (uint32_t f = 0; f < mesh.face_capacity(); ++f)
     if (!mesh.IsFaceRemoved(f)) live.push_back(f);
   Fill(live, 2 * (mask_ + 1));
-}
-
-bool FaceGrid::Claim(const Box& box, uint64_t ticket, std::vector<uint32_t>* slots) {
-  const Range r = RangeOf(box);
-  if (r.count() > kMaxCellsPerBox) return false;
-  bool room = true;
-  ForEachCell(r, [&](uint64_t key) {
-    const int64_t slot = room ? Slot(key) : -1;
-    if (slot < 0) {
-      room = false;
-      return;
-    }
-    std::atomic<uint64_t>& best = cells_[slot].ticket;
-    uint64_t current = best.load(std::memory_order_relaxed);
-    while (ticket < current && !best.compare_exchange_weak(current, ticket)) {
-    }
-    slots->push_back(static_cast<uint32_t>(slot));
-  });
-  return room;
-}
-
-bool FaceGrid::Claimed(const uint32_t* first, const uint32_t* last, uint64_t ticket) const {
-  for (; first != last; ++first)
-    if (cells_[*first].ticket.load(std::memory_order_relaxed) != ticket) return false;
-  return true;
 }
 
 Triangle FaceGrid::FaceTriangle(uint32_t f) const {
@@ -200,6 +182,12 @@ int64_t FaceGrid::Slot(uint64_t key) {
 FaceGrid::Hold FaceGrid::Acquire(const Box& box, std::vector<uint32_t>* held) {
   const Range r = RangeOf(box);
   if (r.count() > kMaxCellsPerBox) return Hold::kFull;
+  if (deferred_) {
+    ForEachCell(r, [&](uint64_t key) {
+      if (const int64_t slot = Find(key); slot >= 0) held->push_back(static_cast<uint32_t>(slot));
+    });
+    return Hold::kHeld;
+  }
   const size_t first = held->size();
   Hold result = Hold::kHeld;
   ForEachCell(r, [&](uint64_t key) {
@@ -224,11 +212,17 @@ FaceGrid::Hold FaceGrid::Acquire(const Box& box, std::vector<uint32_t>* held) {
 }
 
 void FaceGrid::Release(std::vector<uint32_t>* held) {
-  for (uint32_t slot : *held) cells_[slot].locked.store(0, std::memory_order_release);
+  if (!deferred_)
+    for (uint32_t slot : *held) cells_[slot].locked.store(0, std::memory_order_release);
   held->clear();
 }
 
 bool FaceGrid::Move(uint32_t f, const Box& before, const Box* after) {
+  if (deferred_) {
+    std::lock_guard<std::mutex> lock(pending_mu_);
+    pending_.push_back({f, after == nullptr, before, after == nullptr ? before : *after});
+    return true;
+  }
   ForEachCell(RangeOf(before), [&](uint64_t key) {
     const int64_t slot = Find(key);
     if (slot < 0) return;

@@ -14,6 +14,7 @@
 #include <atomic>
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <vector>
 
 #include "engine/mesh.h"
@@ -42,16 +43,13 @@ class FaceGrid {
   Hold Acquire(const Box& box, std::vector<uint32_t>* held);
   void Release(std::vector<uint32_t>* held);
 
-  // Deterministic rounds (engine/rounds.h) reserve the cells a collapse will hold before any
-  // collapse of the round runs: every cell overlapping `box` keeps the smallest ticket offered
-  // (an atomic minimum), and the slots are appended to *slots. False when the box spans too
-  // many cells or the table is full (the rule will refuse that collapse anyway).
-  bool Claim(const Box& box, uint64_t ticket, std::vector<uint32_t>* slots);
-  // Whether every slot in [first, last) still holds `ticket`.
-  bool Claimed(const uint32_t* first, const uint32_t* last, uint64_t ticket) const;
-  // Between rounds: a table more than half full is rebuilt larger, so that the cells a round
-  // creates never run out of room (a full table would make refusals depend on timing).
-  void EnsureRoom(const Mesh& mesh);
+  // Deterministic rounds (engine/rounds.h): the collapses of a round have disjoint fan boxes,
+  // so they need no cell locks, and the index stays as it was at the round's start while they
+  // run: Acquire only finds the cells (it never locks or creates one), Release forgets them,
+  // and Move is recorded. EndRound applies the moves in face order (a face moves at most once
+  // a round) and indexes the mesh anew in a larger table if a new cell found no room.
+  void BeginRound() { deferred_ = true; }
+  void EndRound(const Mesh& mesh);
 
   // Calls visit(face) for every face listed in the held cells that overlap `box` (a face may
   // come more than once); stops early when visit returns false.
@@ -80,8 +78,7 @@ class FaceGrid {
   struct Cell {
     std::atomic<uint64_t> key{kEmpty};  // packed cell coordinates + 1
     std::atomic<uint32_t> locked{0};
-    std::atomic<uint64_t> ticket{~uint64_t{0}};  // the best claim so far (Claim)
-    std::vector<uint32_t> faces;                 // guarded by `locked`
+    std::vector<uint32_t> faces;  // guarded by `locked`
   };
 
   struct Range {
@@ -115,6 +112,15 @@ class FaceGrid {
   uint64_t mask_ = 0;
   std::unique_ptr<Cell[]> cells_;
   std::atomic<uint64_t> used_{0};
+  // Deterministic rounds: the moves recorded while the index is read only.
+  struct PendingMove {
+    uint32_t face;
+    bool removed;
+    Box before, after;
+  };
+  bool deferred_ = false;
+  std::mutex pending_mu_;
+  std::vector<PendingMove> pending_;  // guarded by pending_mu_
 };
 
 }  // namespace femsimp

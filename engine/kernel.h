@@ -102,7 +102,7 @@ class RemovalKernel final : private NeighbourhoodReader {
       if (fidelity != Verdict::kPass) continue;
       if (!budget_.Reserve()) return GiveUp(v, Outcome::kBudgetSpent);
       Reject refused = Reject::kCount;
-      if (!rules_.SpendBudgets(proposal_.delta, &refused)) {
+      if (!rules_.SpendBudgets(ring_.center, proposal_.delta, &refused)) {
         budget_.Unreserve();
         Note(RuleStage::kBudget, refused);
         continue;

@@ -1,5 +1,6 @@
 #include "engine/mechanics.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace femsimp {
@@ -197,17 +198,48 @@ MechanicsLedger::MechanicsLedger(const MassProperties& input, const FieldResulta
   for (DVec3& f : force_spent_) f = {0, 0, 0};
 }
 
-bool MechanicsLedger::TryCommit(const CollapseDelta& delta,
+bool MechanicsLedger::TryCommit(uint32_t v, const CollapseDelta& delta, const CollapseDelta& judged,
                                 absl::FunctionRef<bool(const LedgerView&)> within) {
   std::lock_guard<std::mutex> lock(mu_);
   // A delta without a measured mass change adds zeros.
   MassProperties spent = spent_;
-  spent.measure += delta.mass.measure;
-  spent.moment += delta.mass.moment;
+  spent.measure += judged.mass.measure;
+  spent.moment += judged.mass.moment;
   if (!within(LedgerView{input_, spent, fields_, force_spent_})) return false;
-  spent_ = spent;
-  for (int i = 0; i < delta.entries; ++i) force_spent_[delta.slot[i]] += delta.force[i];
+  if (in_round_)
+    round_deltas_.emplace_back(v, delta);
+  else
+    Add(delta);
   return true;
+}
+
+void MechanicsLedger::Add(const CollapseDelta& delta) {
+  spent_.measure += delta.mass.measure;
+  spent_.moment += delta.mass.moment;
+  for (int i = 0; i < delta.entries; ++i) force_spent_[delta.slot[i]] += delta.force[i];
+}
+
+void MechanicsLedger::BeginRound(size_t winners) {
+  in_round_ = true;
+  round_scale_ = static_cast<double>(std::max<size_t>(1, winners));
+  round_deltas_.clear();
+}
+
+void MechanicsLedger::EndRound() {
+  std::sort(round_deltas_.begin(), round_deltas_.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (const auto& [v, delta] : round_deltas_) Add(delta);
+  round_deltas_.clear();
+  in_round_ = false;
+  round_scale_ = 1.0;
+}
+
+CollapseDelta Scaled(const CollapseDelta& delta, double s) {
+  CollapseDelta out = delta;
+  out.mass.measure *= s;
+  out.mass.moment = s * out.mass.moment;
+  for (int i = 0; i < out.entries; ++i) out.force[i] = s * out.force[i];
+  return out;
 }
 
 }  // namespace femsimp

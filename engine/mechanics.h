@@ -82,16 +82,33 @@ class MechanicsLedger {
  public:
   MechanicsLedger(const MassProperties& input, const FieldResultants& fields);
 
-  // Spends the delta if `within` accepts the totals it would leave; otherwise changes nothing
-  // and returns false.
-  bool TryCommit(const CollapseDelta& delta, absl::FunctionRef<bool(const LedgerView&)> within);
+  // Spends the delta of V's collapse if `within` accepts the totals that `judged` would leave;
+  // otherwise changes nothing and returns false. Outside rounds `judged` is the delta itself.
+  bool TryCommit(uint32_t v, const CollapseDelta& delta, const CollapseDelta& judged,
+                 absl::FunctionRef<bool(const LedgerView&)> within);
+
+  // Deterministic rounds (engine/rounds.h): until EndRound, every collapse is judged against
+  // the totals at the round's start with its delta scaled by `winners` (round_scale()), and
+  // the accepted deltas are added at EndRound in vertex order, so that the totals do not depend
+  // on the order the collapses ran in.
+  void BeginRound(size_t winners);
+  void EndRound();
+  double round_scale() const { return round_scale_; }
 
  private:
+  void Add(const CollapseDelta& delta);  // under mu_
+
   const MassProperties input_;
   const FieldResultants fields_;
   std::mutex mu_;
   MassProperties spent_;            // guarded by mu_
   std::vector<DVec3> force_spent_;  // guarded by mu_
+  double round_scale_ = 1.0;        // set between rounds only
+  bool in_round_ = false;
+  std::vector<std::pair<uint32_t, CollapseDelta>> round_deltas_;  // guarded by mu_
 };
+
+// The delta times s (the deterministic rounds judge a collapse by its share of the round).
+CollapseDelta Scaled(const CollapseDelta& delta, double s);
 
 }  // namespace femsimp

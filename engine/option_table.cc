@@ -55,6 +55,11 @@ std::vector<OptionSpec> MakeTable() {
        .section = "engine", .type = T::kInt, .range = Range::Closed(1, 1000000),
        .help = "retry vertices that failed a criterion every Nth pass",
        .field = &S::reconsider_every},
+      {.name = "schedule", .flag = "--schedule", .section = "engine", .type = T::kEnum,
+       .help = "deterministic: collapses run in rounds of non-interacting neighbourhoods, so the "
+               "output is the same for any thread or SPE count; free: the paper's lock races "
+               "(outputs vary between runs with more than one context)",
+       .choices = {{"deterministic", "deterministic"}, {"free", "free"}}, .field = &S::schedule},
       {.name = "topology_only", .flag = "--topology-only", .section = "engine", .type = T::kBool,
        .help = "check topology only, no geometric criteria", .field = &S::topology_only},
       {.name = "strict_min_angle", .flag = "--strict-min-angle", .section = "engine",

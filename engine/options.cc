@@ -50,6 +50,7 @@ SimplifyOptions PresetOptions(Preset preset) {
     o.max_volume_change = 0.0;
     o.strict_min_angle = true;
     o.allow_self_intersections = true;
+    o.schedule = Schedule::kFree;
   }
   return o;
 }

@@ -36,6 +36,10 @@ struct RemovalPhase {
   RemovalBudget* budget;
   std::atomic<bool>* stop;                 // set on cancellation or a spent budget
   const std::function<bool()>* cancelled;  // thread-safe: every context polls it
+  // Deterministic rounds (engine/rounds.h) run a pass as several removal phases.
+  bool pass_start = true;     // the first of its pass (the cell model charges cost and sort)
+  size_t claimed = 0;         // candidates whose claims the round checked (cell model)
+  bool fresh_caches = false;  // nothing cached may predate the last phase's writes
 
   bool Stopped() const {
     return stop->load(std::memory_order_relaxed) || budget->stop.load(std::memory_order_relaxed);

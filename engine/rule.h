@@ -189,9 +189,17 @@ class RuleSet {
   void Release(CollapseProposal& p) const {
     for (const CollapseRule* r : stateful_) r->Release(p);
   }
-  // Spends the collapse's delta from the ledger if every budget rule accepts; otherwise sets
-  // *refused to the first that does not and spends nothing.
-  bool SpendBudgets(const CollapseDelta& delta, Reject* refused) const;
+  // Spends the delta of V's collapse from the ledger if every budget rule accepts; otherwise
+  // sets *refused to the first that does not and spends nothing.
+  bool SpendBudgets(uint32_t v, const CollapseDelta& delta, Reject* refused) const;
+  // Deterministic rounds (engine/rounds.h): the ledger judges the round's collapses by their
+  // share of it (MechanicsLedger::BeginRound). No-ops without budget rules.
+  void BeginRound(size_t winners) const {
+    if (ledger_) ledger_->BeginRound(winners);
+  }
+  void EndRound() const {
+    if (ledger_) ledger_->EndRound();
+  }
 
  private:
   static int StageIndex(RuleStage s);

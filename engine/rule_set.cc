@@ -50,12 +50,14 @@ Verdict RuleSet::Check(RuleStage s, CollapseProposal& p, Reject* refused) const 
   return Verdict::kPass;
 }
 
-bool RuleSet::SpendBudgets(const CollapseDelta& delta, Reject* refused) const {
+bool RuleSet::SpendBudgets(uint32_t v, const CollapseDelta& delta, Reject* refused) const {
   const std::vector<const CollapseRule*>& budget = stage(RuleStage::kBudget);
   if (budget.empty() || (delta.entries == 0 && !tracks_mass_)) return true;
-  return ledger_->TryCommit(delta, [&](const LedgerView& totals) {
+  const double scale = ledger_->round_scale();
+  const CollapseDelta judged = scale == 1.0 ? delta : Scaled(delta, scale);
+  return ledger_->TryCommit(v, delta, judged, [&](const LedgerView& totals) {
     for (const CollapseRule* rule : budget)
-      if (!rule->WithinBudget(totals, delta)) {
+      if (!rule->WithinBudget(totals, judged)) {
         *refused = rule->reason();
         return false;
       }

@@ -17,6 +17,7 @@
 #include "engine/port.h"
 #include "engine/quadric.h"
 #include "engine/removal_backend.h"
+#include "engine/rounds.h"
 #include "engine/rule.h"
 #include "engine/worker_pool.h"
 
@@ -32,18 +33,35 @@ double Since(Clock::time_point t) {
 }
 
 // Costs are >= 0, so their float bits order like the values; the vertex id breaks ties, which
-// makes the order (and a one-context run) deterministic.
-uint64_t PackKey(float cost, uint32_t v) {
+// makes the order (and a one-context run) deterministic. With `scatter` (deterministic rounds)
+// costs are bucketed to 1/16 of an octave and ties broken by a bijective scramble of the id:
+// a smooth cost field orders vertices along its level lines (a torus ring by ring, a plane
+// by id), and a round's window of such neighbours would mostly overlap itself.
+constexpr uint32_t kScatter = 0x9E3779B1u;  // odd, so multiplying by it is a bijection mod 2^32
+constexpr int kBucketDroppedBits = 19;      // of the float's 23 mantissa bits
+constexpr uint32_t InverseMod32(uint32_t a) {
+  uint32_t x = a;  // Newton's iteration doubles the correct low bits each step
+  for (int i = 0; i < 5; ++i) x *= 2u - a * x;
+  return x;
+}
+static_assert(kScatter * InverseMod32(kScatter) == 1u);
+
+uint64_t PackKey(float cost, uint32_t v, bool scatter) {
   uint32_t bits;
   std::memcpy(&bits, &cost, sizeof bits);
-  return (uint64_t{bits} << 32) | v;
+  if (scatter) bits &= ~((uint32_t{1} << kBucketDroppedBits) - 1);
+  return (uint64_t{bits} << 32) | (scatter ? v * kScatter : v);
+}
+uint32_t UnpackVertex(uint64_t key, bool scatter) {
+  const uint32_t low = static_cast<uint32_t>(key);
+  return scatter ? low * InverseMod32(kScatter) : low;
 }
 
 // Computes the cost of every removable vertex (resetting not-removable ones first on
 // reconsideration passes) and sorts them: each context sorts its slice, then slices are merged
 // pairwise in parallel. Returns the vertex ids in cost order.
 std::vector<uint32_t> SortedCandidates(Mesh& mesh, WorkerPool& pool, const VertexCost& cost,
-                                       bool reconsider, double* busy_seconds) {
+                                       bool reconsider, bool scatter, double* busy_seconds) {
   const int n = pool.size();
   const uint32_t nv = mesh.vertex_capacity();
   std::vector<std::vector<uint64_t>> slices(n);
@@ -66,7 +84,7 @@ std::vector<uint32_t> SortedCandidates(Mesh& mesh, WorkerPool& pool, const Verte
       const float c_v = GatherRing(port, v, ring) == RingResult::kOk
                             ? cost.Cost(ring)
                             : std::numeric_limits<float>::max();
-      keys.push_back(PackKey(c_v, v));
+      keys.push_back(PackKey(c_v, v, scatter));
     }
     std::sort(keys.begin(), keys.end());
     busy[c] = Since(start);
@@ -85,7 +103,7 @@ std::vector<uint32_t> SortedCandidates(Mesh& mesh, WorkerPool& pool, const Verte
   }
   for (double b : busy) *busy_seconds += b;
   std::vector<uint32_t> ids(slices[0].size());
-  for (size_t i = 0; i < ids.size(); ++i) ids[i] = static_cast<uint32_t>(slices[0][i]);
+  for (size_t i = 0; i < ids.size(); ++i) ids[i] = UnpackVertex(slices[0][i], scatter);
   return ids;
 }
 
@@ -225,6 +243,10 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
     backend = MakeNativeBackend(mesh, kernel, pool);
   }
 
+  std::optional<RoundScheduler> rounds;
+  if (options.schedule == Schedule::kDeterministic)
+    rounds.emplace(mesh, pool, face_grid ? &*face_grid : nullptr, rules);
+
   result.stop_reason = StopReason::kMaxPasses;
   ProgressWatch watch(options.reconsider_every);
   for (int pass = 1; pass <= options.max_passes; ++pass) {
@@ -243,7 +265,7 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
     if (face_grid && pass > 1) face_grid->Refresh(mesh);
     // Select and order: every removable vertex with its cost, in cost order.
     const std::vector<uint32_t> sorted =
-        SortedCandidates(mesh, pool, *cost, reconsider, &stats.busy_seconds);
+        SortedCandidates(mesh, pool, *cost, reconsider, rounds.has_value(), &stats.busy_seconds);
     // The lowest-cost share are this pass's candidates, split over the contexts.
     stats.candidates = static_cast<uint64_t>(
         std::ceil(options.candidate_fraction * static_cast<double>(sorted.size())));
@@ -254,7 +276,10 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
                        sorted.size(), &budget,
                        &stop,         control.cancelled ? &control.cancelled : &no_cancel};
     // Remove: each context runs the kernel on its candidates.
-    if (absl::Status s = backend->RunRemoval(phase, stats); !s.ok()) return s;
+    if (absl::Status s =
+            rounds ? rounds->RunPass(*backend, phase, stats) : backend->RunRemoval(phase, stats);
+        !s.ok())
+      return s;
     result.modeled_cycles += stats.modeled_pass_cycles;
     stats.vertices_left = static_cast<uint64_t>(budget.alive.load());
     stats.seconds = Since(pass_start);

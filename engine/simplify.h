@@ -22,6 +22,11 @@ enum class Backend { kNative, kCell };
 // paper's benchmark. Options given explicitly override the preset's.
 enum class Preset { kFe, kPaper };
 
+// How the contexts share a pass (engine/rounds.h): kDeterministic, in rounds of collapses that
+// cannot interact (the output does not depend on timing or the context count); kFree, the
+// paper's scheme (every context takes its candidates as it reaches them; lock races decide).
+enum class Schedule { kDeterministic, kFree };
+
 // What orders the candidates of a pass (and, for the quadric, the collapse directions).
 enum class CostKind { kGaussianCurvature, kQuadric };
 const char* CostKindName(CostKind c);  // "gaussian_curvature", "quadric"
@@ -56,6 +61,7 @@ struct SimplifyOptions {
   double candidate_fraction = 0.9;
   int max_passes = 100;
   int reconsider_every = 3;  // not-removable vertices become candidates again every Nth pass
+  Schedule schedule = Schedule::kDeterministic;
   bool topology_only = false;
   CostKind cost = CostKind::kGaussianCurvature;
 
@@ -127,6 +133,7 @@ struct PassStats {
   uint64_t removed = 0;
   uint64_t lock_conflicts = 0;  // a vertex of the one-ring was locked by another context
   uint64_t inconsistent = 0;    // ring did not close or referenced a removed element
+  uint64_t rounds = 0;          // deterministic schedule: rounds of non-interacting collapses
   std::array<uint64_t, static_cast<int>(Reject::kCount)> rejections{};
   uint64_t vertices_left = 0;
   double seconds = 0.0;       // wall time of the pass

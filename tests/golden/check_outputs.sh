@@ -5,7 +5,8 @@
 #   check_outputs.sh FEMSIMP DATA HASHES            compare (exit 1 on any difference)
 #   check_outputs.sh FEMSIMP DATA HASHES --update   record the current outputs
 # A deliberate change of behaviour records new hashes in the same commit and says why. The
-# sets recorded before the FE defaults run with --preset paper (the old defaults).
+# sets recorded before the FE defaults run with --preset paper (the old defaults). The fe sets
+# changed with the deterministic schedule (rounds, bucketed costs with scattered ties).
 set -euo pipefail
 femsimp=$1 data=$2 hashes=$3 mode=${4:-check}
 declare -A option_sets=(
@@ -19,7 +20,14 @@ declare -A option_sets=(
   [fe_defaults]=""
   [fe_cell_1spe]="--backend cell --spes 1"
   [fe_quadric]="--cost quadric --ratio 0.05"
+  [fe_threads3]="--threads 3"
+  [fe_cell_4spe]="--backend cell --spes 4 --spe-threads 2"
+  [fe_quadric_cell_3spe]="--cost quadric --ratio 0.05 --backend cell --spes 3"
 )
+# The deterministic schedule (the fe preset's) gives one output for any thread or SPE count and
+# either back end: these sets must equal the one-thread native set named after them.
+declare -A same_as=([fe_threads3]=fe_defaults [fe_cell_4spe]=fe_defaults
+  [fe_quadric_cell_3spe]=fe_quadric)
 meshes=(blade.off fandisk.off femur.off rotor_small.off fandisk_groups_fields.ply)
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -35,6 +43,16 @@ for name in $(printf '%s\n' "${!option_sets[@]}" | sort); do
       exit 1
     fi
     echo "$name $mesh $(sha256sum "$out" | cut -d' ' -f1)" >>"$actual"
+  done
+done
+for name in "${!same_as[@]}"; do
+  for mesh in "${meshes[@]}"; do
+    mine=$(awk -v n="$name" -v m="$mesh" '$1 == n && $2 == m {print $3}' "$actual")
+    theirs=$(awk -v n="${same_as[$name]}" -v m="$mesh" '$1 == n && $2 == m {print $3}' "$actual")
+    if [ "$mine" != "$theirs" ]; then
+      echo "$name $mesh differs from ${same_as[$name]} $mesh: the schedule is not deterministic" >&2
+      exit 1
+    fi
   done
 done
 if [ "$mode" = --update ]; then

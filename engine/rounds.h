@@ -1,0 +1,62 @@
+// Deterministic rounds (option schedule = deterministic): the candidates of a pass run in rounds
+// of collapses that cannot interact, so the output depends on the input and the options only —
+// not on timing, and not on the number of threads or SPEs.
+//
+// A round takes a window of the pass's candidates in cost order (the losers of the last round
+// first, then fresh ones) and
+//   1. reads, in parallel, each candidate's fan and its bounding box (V and its one-ring):
+//      everything its collapse can lock, write or create lies in that box;
+//   2. picks the winners greedily in cost order: a candidate wins unless its box overlaps the
+//      box of a better-ranked winner (touching counts; with a vertex target, only as many
+//      winners as removals remain). The others come back next round;
+//   3. the winners run the kernel on the back end. Disjoint boxes mean disjoint locked sets, so
+//      no lock conflict occurs, and what one reads is never written by another (kernel.h: a
+//      collapse writes only quadwords of faces with two vertices in its locked set), so each
+//      outcome is the one it would have against the mesh at the start of the round. Their new
+//      triangles lie in disjoint boxes, so they cannot meet each other; the face index is read
+//      only, its updates applied after the round in face order (FaceGrid::BeginRound). The
+//      budget rules judge each winner against the round's starting totals with its change
+//      scaled by the number of winners (MechanicsLedger::BeginRound): the round's total change
+//      is then the mean of points within the budget, which is within it (the budgets are
+//      convex), and the totals are summed in vertex order after the round.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "absl/status/status.h"
+#include "engine/face_grid.h"
+#include "engine/mesh.h"
+#include "engine/removal_backend.h"
+#include "engine/rule.h"
+#include "engine/worker_pool.h"
+
+namespace femsimp {
+
+class RoundScheduler {
+ public:
+  // grid: the self-intersection rule's index, or nullptr when that rule is off.
+  RoundScheduler(Mesh& mesh, WorkerPool& pool, FaceGrid* grid, const RuleSet& rules);
+
+  // Runs the pass's candidates (phase.candidates[0, phase.count)) to the end in rounds.
+  absl::Status RunPass(RemovalBackend& backend, const RemovalPhase& phase, PassStats& stats);
+
+ private:
+  // Boxes of the window's candidates (in parallel); `live[k]` false: no longer removable.
+  void ReadFans(const RemovalPhase& phase);
+  // Marks the winners in window order; returns how many.
+  size_t PickWinners(int64_t room);
+
+  Mesh& mesh_;
+  WorkerPool& pool_;
+  FaceGrid* grid_;
+  const RuleSet& rules_;
+  // Per window entry (reused between rounds).
+  std::vector<uint32_t> window_;
+  std::vector<FaceGrid::Box> box_;
+  std::vector<uint8_t> live_, open_, won_;
+  std::vector<uint32_t> by_x_;
+  std::vector<std::pair<uint32_t, uint32_t>> overlaps_;  // (earlier, later) window entries
+};
+
+}  // namespace femsimp
