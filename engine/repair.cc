@@ -38,6 +38,8 @@ constexpr KindInfo kKinds[kNumRepairKinds] = {
     {"stitched_edge", "stitched edge", "stitched edges", "stitched", "edge", "edges", ""},
     {"degenerate_facet", "degenerate facet", "degenerate facets", "removed", "degenerate facet",
      "degenerate facets", ""},
+    {"split_edge", "split edge", "split edges", "split", "edge at a T-junction",
+     "edges at T-junctions", ""},
     {"duplicate_facet", "duplicate facet", "duplicate facets", "removed", "duplicate facet",
      "duplicate facets", ""},
     {"flipped_facet", "flipped facet", "flipped facets", "flipped", "facet", "facets", ""},
@@ -113,6 +115,7 @@ class Repairer {
   absl::Status CheckInput() const;
   void Weld();
   void FilterFacets();
+  void CloseTJunctions();
   void BuildEdges();
   void Orient();
   void SplitVertices();
@@ -136,6 +139,8 @@ class Repairer {
   // half-edge 3k + i running from corner i to corner i + 1 of kept face k (before flips).
   std::vector<uint32_t> ebeg_, ehe_, edge_of_;
   std::vector<uint32_t> copy_of_;  // split copy i is a copy of input vertex copy_of_[i]
+  // Zero-area facets with three distinct vertices (kOn), for CloseTJunctions to remove.
+  std::vector<uint32_t> slivers_;
 };
 
 absl::Status Repairer::CheckInput() const {
@@ -324,8 +329,12 @@ void Repairer::FilterFacets() {
                             " (vertices ", o[0], ", ", o[1], ", ", o[2], ")");
       });
     } else if (fate[f] == kZeroArea) {
-      Record(RepairKind::kDegenerateFacet, f, -1, Centroid(w),
-             "zero area (its corners lie on a line)");
+      if (strict_) {
+        Record(RepairKind::kDegenerateFacet, f, -1, Centroid(w),
+               "zero area (its corners lie on a line)");
+      } else {
+        slivers_.push_back(f);  // recorded with what became of its T-junction
+      }
     } else if (fate[f] != kKeep) {
       const uint32_t* first = &t[3 * size_t(fate[f])];
       const uint32_t w0 = rep_[first[0]], w1 = rep_[first[1]];
@@ -342,6 +351,218 @@ void Repairer::FilterFacets() {
       orig_.insert(orig_.end(), o, o + 3);
     }
   }
+}
+
+// Removes the zero-area facets with three distinct vertices, first splitting at the middle
+// vertex the facets across the longest edge of those that close a T-junction (repair.h). Runs on
+// the kept facets before the edges are built; only when there are such slivers, so a mesh
+// without any is not touched.
+void Repairer::CloseTJunctions() {
+  if (slivers_.empty()) return;
+  auto key = [](uint32_t u, uint32_t v) {
+    return u < v ? uint64_t(u) << 32 | v : uint64_t(v) << 32 | u;
+  };
+  auto dist2 = [&](uint32_t u, uint32_t v) {
+    double d = 0;
+    for (int k = 0; k < 3; ++k)
+      d += (double(Pos(u)[k]) - Pos(v)[k]) * (double(Pos(u)[k]) - Pos(v)[k]);
+    return d;
+  };
+  enum class Fate { kPending, kCopy, kRemoved, kSplit, kLeftOpen };
+  struct Sliver {
+    uint32_t facet, a, b, t, ot;  // input facet; working vertices, t's input vertex
+    Fate fate = Fate::kPending;
+    uint32_t other = kNoIndex;    // kCopy: the sliver it copies
+    std::vector<uint32_t> split;  // kSplit: the input facets split
+    std::string why;              // kLeftOpen: why not
+  };
+  std::vector<Sliver> slivers;
+  slivers.reserve(slivers_.size());
+  absl::flat_hash_map<std::array<uint32_t, 3>, uint32_t> first;  // vertex set -> first sliver
+  absl::flat_hash_map<uint64_t, uint32_t> on_edge;               // edge -> pending slivers using it
+  for (uint32_t f : slivers_) {
+    const uint32_t* o = &in_.triangles[3 * size_t(f)];
+    const uint32_t w[3] = {rep_[o[0]], rep_[o[1]], rep_[o[2]]};
+    // The longest edge runs from corner i + 1 to i + 2; corner i is the T vertex.
+    int i = 0;
+    double best = -1;
+    for (int j = 0; j < 3; ++j)
+      if (const double d = dist2(w[(j + 1) % 3], w[(j + 2) % 3]); d > best) {
+        best = d;
+        i = j;
+      }
+    Sliver s;
+    s.facet = f;
+    s.a = w[(i + 1) % 3];
+    s.b = w[(i + 2) % 3];
+    s.t = w[i];
+    s.ot = o[i];
+    std::array<uint32_t, 3> sorted = {w[0], w[1], w[2]};
+    std::sort(sorted.begin(), sorted.end());
+    if (auto [it, fresh] = first.try_emplace(sorted, uint32_t(slivers.size())); !fresh) {
+      s.fate = Fate::kCopy;  // a second copy would keep its edges looking shared
+      s.other = slivers[it->second].facet;
+    } else {
+      for (uint64_t e : {key(s.a, s.b), key(s.a, s.t), key(s.t, s.b)}) ++on_edge[e];
+    }
+    slivers.push_back(std::move(s));
+  }
+
+  // Kept facets by vertex: the input's in one array, those a split gave a vertex in `gained`.
+  const uint32_t nk0 = static_cast<uint32_t>(kept_.size());
+  std::vector<uint32_t> start(nv_ + 1, 0), by_vertex(tri_.size());
+  for (uint32_t v : tri_) ++start[v + 1];
+  for (size_t v = 0; v < nv_; ++v) start[v + 1] += start[v];
+  {
+    std::vector<uint32_t> fill(start.begin(), start.end() - 1);
+    for (uint32_t c = 0; c < tri_.size(); ++c) by_vertex[fill[tri_[c]]++] = c / 3;
+  }
+  absl::flat_hash_map<uint32_t, std::vector<uint32_t>> gained;
+  auto has = [&](uint32_t k, uint32_t v) {
+    return tri_[3 * k] == v || tri_[3 * k + 1] == v || tri_[3 * k + 2] == v;
+  };
+  // The kept facets on edge u-v now (a split takes a vertex out of a facet: filtered here).
+  auto facets_on = [&](uint32_t u, uint32_t v) {
+    std::vector<uint32_t> found;
+    for (uint32_t i = start[u]; i < start[u + 1]; ++i)
+      if (has(by_vertex[i], u) && has(by_vertex[i], v)) found.push_back(by_vertex[i]);
+    if (auto it = gained.find(u); it != gained.end())
+      for (uint32_t k : it->second)
+        if (has(k, u) && has(k, v)) found.push_back(k);
+    std::sort(found.begin(), found.end());
+    found.erase(std::unique(found.begin(), found.end()), found.end());
+    return found;
+  };
+  auto uses = [&](uint32_t u, uint32_t v) {  // facets and pending slivers on edge u-v
+    auto it = on_edge.find(key(u, v));
+    return facets_on(u, v).size() + (it == on_edge.end() ? 0 : it->second);
+  };
+  // Facet order: a half goes right after the facet it was split from (its first half).
+  std::vector<uint32_t> after(nk0, kNoIndex);
+  size_t splits = 0;
+
+  // Decides and applies sliver s's fate; s is the only pending sliver on its longest edge.
+  auto close = [&](Sliver& s) {
+    for (uint64_t e : {key(s.a, s.b), key(s.a, s.t), key(s.t, s.b)}) --on_edge[e];
+    const std::vector<uint32_t> across = facets_on(s.a, s.b);
+    // Nothing across, or no facet beyond its short edges: removing it opens nothing.
+    if (across.empty() || uses(s.a, s.t) + uses(s.t, s.b) == 0) {
+      s.fate = Fate::kRemoved;
+      return;
+    }
+    struct Split {
+      uint32_t k, x, y, c, corner;  // facet (x, y, c), corner of x in it
+    };
+    std::vector<Split> plan;
+    auto is_long_edge = [&](uint32_t u, uint32_t v) {
+      return (u == s.a && v == s.b) || (u == s.b && v == s.a);
+    };
+    for (uint32_t k : across) {
+      uint32_t j = 0;  // the corner where edge a-b starts, in either direction
+      while (!is_long_edge(tri_[3 * k + j], tri_[3 * k + (j + 1) % 3])) ++j;
+      const Split p{k, tri_[3 * k + j], tri_[3 * k + (j + 1) % 3], tri_[3 * k + (j + 2) % 3],
+                    3 * k + j};
+      if (IsZeroArea(Pos(p.x), Pos(s.t), Pos(p.c)) || IsZeroArea(Pos(s.t), Pos(p.y), Pos(p.c))) {
+        s.fate = Fate::kLeftOpen;
+        s.why = absl::StrCat("splitting facet ", kept_[k], " there would give a zero-area facet");
+        return;
+      }
+      if (uses(s.t, p.c) > 0) {
+        s.fate = Fate::kLeftOpen;
+        s.why = absl::StrCat("splitting facet ", kept_[k], " there would add an edge to vertex ",
+                             orig_[3 * k + (j + 2) % 3], " that exists already");
+        return;
+      }
+      plan.push_back(p);
+    }
+    s.fate = Fate::kSplit;
+    for (const Split& p : plan) {
+      const uint32_t j = p.corner - 3 * p.k, cy = 3 * p.k + (j + 1) % 3;
+      const uint32_t ox = orig_[p.corner], oy = orig_[cy], oc = orig_[3 * p.k + (j + 2) % 3];
+      // First half in place, its corners where they were with y's taken by t: (x, t, c); the
+      // second, (t, y, c), right after it.
+      tri_[cy] = s.t;
+      orig_[cy] = s.ot;
+      const uint32_t n = static_cast<uint32_t>(kept_.size());
+      kept_.push_back(kept_[p.k]);
+      tri_.insert(tri_.end(), {s.t, p.y, p.c});
+      orig_.insert(orig_.end(), {s.ot, oy, oc});
+      after.push_back(after[p.k]);
+      after[p.k] = n;
+      gained[s.t].push_back(p.k);
+      for (uint32_t v : {s.t, p.y, p.c}) gained[v].push_back(n);
+      Record(RepairKind::kSplitEdge, kept_[p.k], s.ot, PosD(s.t), [&] {
+        const uint32_t* h = &orig_[3 * p.k];
+        return absl::StrCat("edge from vertex ", ox, " to vertex ", oy, " split at vertex ", s.ot,
+                            " (a T-junction closed by zero-area facet ", s.facet, "): facets (",
+                            h[0], ", ", h[1], ", ", h[2], ") and (", s.ot, ", ", oy, ", ", oc, ")");
+      });
+      s.split.push_back(kept_[p.k]);
+      ++splits;
+    }
+  };
+
+  // In input order; a sliver whose longest edge another pending sliver uses waits for it.
+  std::vector<uint32_t> queue;
+  absl::flat_hash_map<uint64_t, std::vector<uint32_t>> waiting;  // longest edge -> slivers
+  for (uint32_t i = 0; i < slivers.size(); ++i)
+    if (slivers[i].fate == Fate::kPending) queue.push_back(i);
+  for (size_t qi = 0; qi < queue.size(); ++qi) {
+    Sliver& s = slivers[queue[qi]];
+    if (on_edge[key(s.a, s.b)] > 1) {
+      waiting[key(s.a, s.b)].push_back(queue[qi]);
+      continue;
+    }
+    close(s);
+    for (uint64_t e : {key(s.a, s.b), key(s.a, s.t), key(s.t, s.b)})
+      if (auto it = waiting.find(e); it != waiting.end() && on_edge[e] <= 1) {
+        queue.insert(queue.end(), it->second.begin(), it->second.end());
+        waiting.erase(it);
+      }
+  }
+  for (Sliver& s : slivers)
+    if (s.fate == Fate::kPending) {  // slivers facing each other across their longest edges
+      s.fate = Fate::kLeftOpen;
+      s.why = "the other facets on its longest edge have zero area too";
+    }
+
+  for (const Sliver& s : slivers) {
+    const uint32_t* o = &in_.triangles[3 * size_t(s.facet)];
+    const uint32_t w[3] = {rep_[o[0]], rep_[o[1]], rep_[o[2]]};
+    Record(RepairKind::kDegenerateFacet, s.facet, -1, Centroid(w), [&] {
+      std::string text = "zero area (its corners lie on a line)";
+      switch (s.fate) {
+        case Fate::kCopy:
+          absl::StrAppend(&text, "; same vertices as facet ", s.other);
+          break;
+        case Fate::kSplit:
+          absl::StrAppend(&text, "; closed a T-junction at vertex ", s.ot, ": split facet",
+                          s.split.size() == 1 ? " " : "s ", absl::StrJoin(s.split, ", "), " there");
+          break;
+        case Fate::kLeftOpen:
+          absl::StrAppend(&text, "; the T-junction at vertex ", s.ot, " is left open: ", s.why);
+          break;
+        default:
+          break;
+      }
+      return text;
+    });
+  }
+  if (splits == 0) return;
+  // Facets in order, each split one's halves where it was.
+  std::vector<uint32_t> kept, tri, orig;
+  kept.reserve(kept_.size());
+  tri.reserve(tri_.size());
+  orig.reserve(orig_.size());
+  for (uint32_t k0 = 0; k0 < nk0; ++k0)
+    for (uint32_t k = k0; k != kNoIndex; k = after[k]) {
+      kept.push_back(kept_[k]);
+      tri.insert(tri.end(), &tri_[3 * k], &tri_[3 * k] + 3);
+      orig.insert(orig.end(), &orig_[3 * k], &orig_[3 * k] + 3);
+    }
+  kept_ = std::move(kept);
+  tri_ = std::move(tri);
+  orig_ = std::move(orig);
 }
 
 // Groups half-edges by undirected edge: a counting sort by the lower vertex, then a sort of each
@@ -690,6 +911,7 @@ absl::StatusOr<RepairResult> Repairer::Run(RawMesh& mesh) {
   if (kept_.empty())
     return absl::InvalidArgumentError(absl::StrCat("mesh is empty after repair: all ", nf_,
                                                    " facets were degenerate or duplicates"));
+  if (!strict_) CloseTJunctions();
   BuildEdges();
   Orient();
   SplitVertices();
@@ -741,6 +963,9 @@ std::string RepairRecord::ToString() const {
     case RepairKind::kUnreferencedVertex:
       absl::StrAppend(&s, " ", vertex);
       if (facet >= 0) absl::StrAppend(&s, " (facet ", facet, ")");
+      break;
+    case RepairKind::kSplitEdge:
+      absl::StrAppend(&s, " of facet ", facet);
       break;
     case RepairKind::kDegenerateFacet:
     case RepairKind::kDuplicateFacet:

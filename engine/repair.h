@@ -38,6 +38,7 @@ enum class RepairKind : int {
   kWeldedVertex,        // merged into a coincident vertex (within the weld tolerance)
   kStitchedEdge,        // two boundary edges joined into one by the weld (a crack closed)
   kDegenerateFacet,     // removed: repeats a vertex (after welding) or has zero area
+  kSplitEdge,           // a facet's edge split at the T vertex of a zero-area sliver it faced
   kDuplicateFacet,      // removed: same three vertices as an earlier facet, either orientation
   kFlippedFacet,        // turned to agree with its component (or with the outward orientation)
   kReversedComponent,   // a closed component that was inside out (its facets are also listed)
@@ -102,10 +103,21 @@ struct RepairResult {
 };
 
 // Repairs `mesh` in place (kOn) in this order: weld coincident vertices; remove degenerate, then
-// duplicate facets; orient each component consistently (outward when closed); split non-manifold
-// vertices; drop unreferenced vertices. Faces keep their input order, groups and fields; kept
-// vertices keep their order, split copies are appended. A mesh with nothing to repair comes back
-// untouched (byte-identical) with an empty report. Non-manifold edges are kept and reported.
+// duplicate facets; close T-junctions; orient each component consistently (outward when closed);
+// split non-manifold vertices; drop unreferenced vertices. Faces keep their input order, groups
+// and fields; kept vertices keep their order, split copies are appended. A mesh with nothing to
+// repair comes back untouched (byte-identical) with an empty report. Non-manifold edges are kept
+// and reported.
+//
+// T-junctions: a zero-area facet (a, t, b) with three distinct vertices, t between a and b, that
+// shares an edge a-t or t-b with another facet closes a T-junction; removing it alone would open
+// a crack along a-b. So each facet (a, b, c) across its longest edge a-b is split at t into
+// (a, t, c) and (t, b, c) (its orientation, group and field values), both in its place, first
+// then second (a half split again is replaced in place the same way), and the sliver is removed.
+// Slivers along one edge (a chain, sharing middle vertices) are taken one after another, each
+// once no other sliver is left on its longest edge. A split that would make a zero-area facet or
+// an edge that already exists is not made: the sliver is then only removed, and its record says
+// why the T-junction stays open.
 //
 // Errors (InvalidArgument, the mesh untouched): what no repair can fix (indices out of range,
 // referenced non-finite coordinates, inconsistent array sizes, empty input or output), each

@@ -27,10 +27,7 @@ TOLERANCE_RELATIVE = 0.005
 MAX_VOLUME_CHANGE = 0.005
 # Broken copies the repair stage does not yet give back as their clean source: accepted and
 # judged, their judge failures recorded in the table but not counted. Each is a known gap.
-KNOWN_REPAIR_GAPS = {
-    "degenerate_collinear": "removing the zero-area sliver of a T-junction leaves the T-junction "
-                            "open (repair does not split the long edge at the T vertex)",
-}
+KNOWN_REPAIR_GAPS = {}
 # Broken copies whose repaired surface is not their source's (two copies sharing a vertex).
 NOT_THE_SOURCE = {"nonmanifold_vertex"}
 

@@ -223,6 +223,157 @@ TEST(Repair, DegenerateFacetsGroupsAndFieldsFollow) {
   EXPECT_EQ(r.facet_origin[4], 6u);
 }
 
+// Cube facet 4 (0, 1, 5) split at T vertices on its edge (0, 1) into a fan: (0, t0, 5),
+// (t0, t1, 5), ..., (tn, 1, 5), the vertices t appended at the given x on y = z = 0. Facet 9
+// (0, 3, 1) keeps the whole edge: the zero-area slivers appended by the caller close the gap.
+RawMesh TJunctionCube(std::initializer_list<float> xs) {
+  RawMesh m = Cube();
+  NumberFacets(m);
+  std::vector<uint32_t> fan = {0};
+  for (float x : xs) {
+    fan.push_back(static_cast<uint32_t>(m.num_vertices()));
+    m.positions.insert(m.positions.end(), {x, 0, 0});
+  }
+  fan.push_back(1);
+  m.triangles[3 * 4 + 1] = fan[1];
+  for (size_t i = 1; i + 1 < fan.size(); ++i) {
+    AppendFacet(m, {fan[i], fan[i + 1], 5});
+    m.face_groups.push_back(104);
+    m.face_fields[0].values.push_back(2.f);
+  }
+  return m;
+}
+
+// A facet with a group and field value of its own (a sliver's: none survives repair).
+void AppendNumberedFacet(RawMesh& m, std::initializer_list<uint32_t> t, int group = -1) {
+  AppendFacet(m, t);
+  m.face_groups.push_back(group);
+  m.face_fields[0].values.push_back(-1.f);
+}
+
+void ExpectClosedCube(const RawMesh& m) {
+  ExpectBuilds(m);
+  const SoupTopology topology = TopologyOf(m);
+  EXPECT_EQ(topology.boundary_edges, 0);
+  EXPECT_EQ(topology.components, 1);
+  EXPECT_EQ(topology.euler(), TopologyOf(Cube()).euler());
+  EXPECT_NEAR(SignedVolume(m), 1.0, 1e-6);
+}
+
+TEST(Repair, TJunctionSliverSplitsTheFacetAcross) {
+  RawMesh m = TJunctionCube({0.5f});  // facets 0-11, 12 = (8, 1, 5)
+  AppendNumberedFacet(m, {0, 1, 8});  // facet 13
+  const SoupTopology input = TopologyOf(m);
+  EXPECT_EQ(input.boundary_edges, 0);  // closed and manifold with the sliver
+  RepairResult r = Repair(m);
+  ExpectClosedCube(m);
+  EXPECT_EQ(TopologyOf(m).euler(), input.euler());
+  EXPECT_EQ(r.report.count(RepairKind::kDegenerateFacet), 1u) << r.report.Details();
+  EXPECT_EQ(r.report.count(RepairKind::kSplitEdge), 1u);
+  EXPECT_EQ(r.report.num_changes(), 2u) << r.report.Details();
+  EXPECT_HAS(Records(r.report, RepairKind::kDegenerateFacet),
+             "degenerate facet 13 at (0.5, 0, 0): zero area (its corners lie on a line); closed "
+             "a T-junction at vertex 8: split facet 9 there");
+  EXPECT_HAS(Records(r.report, RepairKind::kSplitEdge),
+             "split edge of facet 9 at (0.5, 0, 0): edge from vertex 1 to vertex 0 split at "
+             "vertex 8 (a T-junction closed by zero-area facet 13): facets (8, 3, 1) and "
+             "(8, 0, 3)");
+  ASSERT_EQ(r.report.records.size(), 2u);
+  EXPECT_EQ(r.report.records[1].kind, RepairKind::kSplitEdge);
+  EXPECT_EQ(r.report.records[1].facet, 9);
+  EXPECT_EQ(r.report.records[1].vertex, 8);
+  EXPECT_HAS(r.report.Summary(), "removed 1 degenerate facet, split 1 edge at a T-junction");
+  // Facet 9's halves in its place, with its group and field value; no point moved.
+  EXPECT_EQ(r.facet_origin, (std::vector<uint32_t>{0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 9, 10, 11, 12}));
+  EXPECT_EQ(std::vector<uint32_t>(m.triangles.begin() + 27, m.triangles.begin() + 33),
+            (std::vector<uint32_t>{8, 3, 1, 8, 0, 3}));
+  EXPECT_EQ(m.face_groups[9], 109);
+  EXPECT_EQ(m.face_groups[10], 109);
+  EXPECT_EQ(m.face_fields[0].values[10], 4.5f);
+  EXPECT_EQ(r.vertex_origin, (std::vector<uint32_t>{0, 1, 2, 3, 4, 5, 6, 7, 8}));
+
+  // Strict mode names the sliver and changes nothing.
+  RawMesh strict_mesh = TJunctionCube({0.5f});
+  AppendNumberedFacet(strict_mesh, {0, 1, 8});
+  const RawMesh before = strict_mesh;
+  RepairOptions strict;
+  strict.mode = RepairMode::kOff;
+  absl::StatusOr<RepairResult> refused = RepairMesh(strict_mesh, strict);
+  ASSERT_FALSE(refused.ok());
+  ExpectSameMesh(strict_mesh, before);
+  const std::string message(refused.status().message());
+  EXPECT_HAS(message, "repair is off and the mesh has 1 defect (1 degenerate facet)");
+  EXPECT_HAS(message, "degenerate facet 13 at (0.5, 0, 0): zero area");
+  EXPECT_HAS_NOT(message, "split");
+}
+
+TEST(Repair, ChainsOfTJunctionSliversAlongOneEdge) {
+  // Two T vertices on edge (0, 1): 8 at x = 0.25, 9 at 0.5. Two slivers close the gap, either
+  // nested on the long edge (A: (0, 1, 8) then (8, 1, 9)) or along it ((0, 9, 8) then (0, 1, 9)),
+  // in either order: the second waits until the first has split facet 9.
+  struct Chain {
+    std::initializer_list<uint32_t> first, second;
+  };
+  for (const Chain& chain : {Chain{{0, 1, 8}, {8, 1, 9}}, Chain{{0, 9, 8}, {0, 1, 9}}})
+    for (bool reversed : {false, true}) {
+      SCOPED_TRACE(reversed);
+      RawMesh m = TJunctionCube({0.25f, 0.5f});  // facets 0-11, 12 and 13 the fan
+      AppendNumberedFacet(m, reversed ? chain.second : chain.first);
+      AppendNumberedFacet(m, reversed ? chain.first : chain.second);
+      const int64_t euler = TopologyOf(m).euler();
+      RepairResult r = Repair(m);
+      ExpectClosedCube(m);
+      EXPECT_EQ(TopologyOf(m).euler(), euler);
+      EXPECT_EQ(r.report.count(RepairKind::kDegenerateFacet), 2u) << r.report.Details();
+      EXPECT_EQ(r.report.count(RepairKind::kSplitEdge), 2u) << r.report.Details();
+      EXPECT_EQ(r.report.num_changes(), 4u) << r.report.Details();
+      const std::string splits = Records(r.report, RepairKind::kSplitEdge);
+      EXPECT_HAS(splits, "split edge of facet 9 at (0.25, 0, 0)");
+      EXPECT_HAS(splits, "split edge of facet 9 at (0.5, 0, 0)");
+      EXPECT_HAS_NOT(Records(r.report, RepairKind::kDegenerateFacet), "left open");
+      // Facet 9 became three facets, in its place.
+      EXPECT_EQ(r.facet_origin,
+                (std::vector<uint32_t>{0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 9, 9, 10, 11, 12, 13}));
+      for (size_t f = 9; f < 12; ++f) EXPECT_EQ(m.face_groups[f], 109);
+    }
+}
+
+TEST(Repair, UnsafeTJunctionSplitsFallBackToRemovingTheSliver) {
+  // Both sides of edge (0, 1) have a T vertex (8 in facet 4's fan, 9 in facet 9's), and each
+  // side's sliver has the other as its only neighbour across the edge: no split is safe, both
+  // slivers are removed and the zero-area hole between them stays open, but manifold.
+  RawMesh m = TJunctionCube({0.5f});                     // facets 0-11, 12 = (8, 1, 5)
+  m.positions.insert(m.positions.end(), {0.75f, 0, 0});  // vertex 9
+  m.triangles[3 * 9 + 2] = 9;                            // facet 9: (0, 3, 9)
+  AppendNumberedFacet(m, {9, 3, 1}, 109);                // facet 13: the rest of facet 9
+  AppendNumberedFacet(m, {0, 1, 8});                     // facet 14
+  AppendNumberedFacet(m, {1, 0, 9});                     // facet 15
+  RepairResult r = Repair(m);
+  ExpectBuilds(m);
+  EXPECT_EQ(TopologyOf(m).boundary_edges, 4);
+  EXPECT_EQ(r.report.count(RepairKind::kSplitEdge), 0u) << r.report.Details();
+  EXPECT_EQ(r.report.count(RepairKind::kDegenerateFacet), 2u);
+  const std::string records = Records(r.report, RepairKind::kDegenerateFacet);
+  EXPECT_HAS(records,
+             "degenerate facet 14 at (0.5, 0, 0): zero area (its corners lie on a line); the "
+             "T-junction at vertex 8 is left open: the other facets on its longest edge have "
+             "zero area too");
+  EXPECT_HAS(records, "degenerate facet 15 at");
+
+  // A split that would add an edge that exists already (here 8-3, of an extra facet) is not
+  // made either.
+  m = TJunctionCube({0.5f});
+  AppendNumberedFacet(m, {3, 8, 6});  // facet 13: not a sliver, its edge 3-8 is in the way
+  AppendNumberedFacet(m, {0, 1, 8});  // facet 14
+  r = Repair(m);
+  ExpectBuilds(m);
+  EXPECT_EQ(r.report.count(RepairKind::kSplitEdge), 0u) << r.report.Details();
+  EXPECT_HAS(Records(r.report, RepairKind::kDegenerateFacet),
+             "degenerate facet 14 at (0.5, 0, 0): zero area (its corners lie on a line); the "
+             "T-junction at vertex 8 is left open: splitting facet 9 there would add an edge to "
+             "vertex 3 that exists already");
+}
+
 // The bottom quad uses its own copies (8, 9) of vertices 0 and 1: the edges (0, 1), (0, 2) and
 // (1, 3) are each open twice.
 RawMesh CrackedCube(float offset) {

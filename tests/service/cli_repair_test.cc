@@ -81,8 +81,8 @@ TEST_F(CliRepairTest, BrokenInputIsRepairedAndReported) {
   const std::string json = testing::ReadFileBytes(Path("s.json"));
   EXPECT_HAS(json,
              "\"repair\": {\"mode\": \"on\", \"changes\": 28, \"counts\": {\"welded_vertex\": "
-             "12, \"stitched_edge\": 12, \"degenerate_facet\": 1, \"duplicate_facet\": 1, "
-             "\"flipped_facet\": 2,");
+             "12, \"stitched_edge\": 12, \"degenerate_facet\": 1, \"split_edge\": 0, "
+             "\"duplicate_facet\": 1, \"flipped_facet\": 2,");
   EXPECT_HAS(json, "\"weld_tolerance\": 1e-07");
   EXPECT_HAS(json, "{\"kind\": \"flipped_facet\", \"facet\": 10, ");
   EXPECT_HAS(json, "\"repair\": \"on\", \"weld_tolerance\": 1e-07");  // the options
@@ -155,6 +155,7 @@ TEST_F(CliRepairTest, ServerRepairsAndReportsInResultAndMetrics) {
   EXPECT_EQ(r.counts().at("duplicate_facet"), 1u);
   EXPECT_EQ(r.counts().at("degenerate_facet"), 1u);
   EXPECT_EQ(r.counts().at("split_vertex"), 0u);
+  EXPECT_EQ(r.counts().at("split_edge"), 0u);  // every kind of change, 0 included
   EXPECT_EQ(r.weld_tolerance(), 1e-7);
   EXPECT_NEAR(r.weld_tolerance_abs(), 1e-7 * r.diagonal(), 1e-15);
   ASSERT_EQ(r.records_size(), 28);
