@@ -57,6 +57,9 @@ RemoteOutcome RemoteSimplify(v1::Simplifier::Stub& stub, grpc::ClientContext& ct
         out.job_id = resp.accepted().job_id();
         if (callbacks.on_accepted) callbacks.on_accepted(resp.accepted());
         break;
+      case v1::SimplifyResponse::kRepair:
+        if (callbacks.on_repair) callbacks.on_repair(resp.repair());
+        break;
       case v1::SimplifyResponse::kQueueUpdate:
         if (callbacks.on_queue_update) callbacks.on_queue_update(resp.queue_update());
         break;

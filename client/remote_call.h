@@ -17,6 +17,7 @@ struct RemoteCallbacks {
   std::function<void(const v1::Accepted&)> on_accepted;
   std::function<void(const v1::QueueUpdate&)> on_queue_update;
   std::function<void(const v1::Progress&)> on_progress;
+  std::function<void(const v1::RepairReport&)> on_repair;  // the upload repaired, not queued yet
 };
 
 struct RemoteOutcome {

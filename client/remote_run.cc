@@ -99,6 +99,11 @@ int RunRemote(const SimplifyArgs& args) {
     if (!args.quiet && !tty) std::printf("%s\n", PassTableHeader(args.options.backend).c_str());
     std::fflush(stdout);
   };
+  cb.on_repair = [&](const v1::RepairReport& r) {
+    if (args.quiet) return;
+    std::printf("repaired by the server: %s\n", wire::RepairFromProto(r).Summary().c_str());
+    std::fflush(stdout);
+  };
   cb.on_queue_update = [&](const v1::QueueUpdate& q) {
     if (args.quiet) return;
     if (tty) {

@@ -14,10 +14,6 @@ namespace {
 // gRPC status too, whose size is bounded).
 constexpr size_t kMaxListed = 20;
 
-std::string PointText(const std::array<float, 3>& p) {
-  return absl::StrFormat("(%g, %g, %g)", p[0], p[1], p[2]);
-}
-
 // Defects the repair leaves in place other than seams (a non-orientable component), named by
 // their records.
 absl::Status DefectsLeft(const RepairReport& report) {

@@ -43,6 +43,7 @@ void RoundScheduler::ReadFans(const RemovalPhase& phase) {
     Ring ring;
     DVec3 points[kMaxRing + 2];
     for (size_t k = m * c / n; k < m * (c + 1) / n; ++k) {
+      if (k % kCancelPollInterval == 0 && (phase.Stopped() || phase.PollCancelled())) return;
       const uint32_t v = phase.candidates[window_[k]];
       if (port.LoadStatus(v) != kRemovable) continue;
       live_[k] = 1;
@@ -122,6 +123,7 @@ absl::Status RoundScheduler::RunPass(RemovalBackend& backend, const RemovalPhase
     if (room <= 0) break;
     const auto start = std::chrono::steady_clock::now();
     ReadFans(phase);
+    if (phase.Stopped()) break;
     const size_t live = static_cast<size_t>(std::count(live_.begin(), live_.end(), 1));
     const size_t won = PickWinners(room);
     if (2 * won < live)

@@ -144,6 +144,14 @@ grpc::Status SimplifierService::RunJob(grpc::ServerContext* ctx, Stream* stream,
   metrics_.Repaired(prepared->report);
   LogLine(absl::StrCat("job ", job->id(), " ", prepared->report.Summary()));
   RepairReport repair = std::move(prepared->report);
+  {
+    v1::SimplifyResponse resp;
+    wire::RepairToProto(repair, resp.mutable_repair());
+    if (!stream->Write(resp)) {
+      release();
+      return ClientEnded(ctx, "after the upload");
+    }
+  }
   job->Enqueue(*std::move(prepared));
   reserved = false;
   if (!queue_.PushReserved(job))

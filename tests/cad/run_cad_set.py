@@ -5,7 +5,8 @@ every output independently (cad_judge), repair, simplify and judge every broken 
 write a markdown table.
 
 Fails (exit 1) when the generator fails or is not deterministic, when femsimp fails on a clean
-part or its output fails a judge check, when two 1-thread runs differ, when femsimp refuses a
+part or its output fails a judge check, when two 1-thread runs differ or a run with 2 threads
+or on the cell back end with 4 SPEs gives another output, when femsimp refuses a
 broken copy without a non-manifold edge (repair is on by default) or its output fails the judge
 (against the clean source where the repaired copy is the source's surface; KNOWN_REPAIR_GAPS are
 reported, not counted), or when it refuses an assembly (seams are kept, locked). Exit 77 (skip)
@@ -146,14 +147,22 @@ def main():
             row["repeatable"] = sha256(dst) == sha256(again)
             if not row["repeatable"]:
                 failures.append(f"{entry['file']}: two 1-thread runs differ")
-            # Issue 12, item 6 (not a failure yet): three 2-thread runs, byte-identical?
-            two = ["--threads", "2"] + fargs[2:]  # fargs starts with --threads 1
-            hashes = set()
-            for k in range(3):
-                path = f"{dst}.t2_{k}{os.path.splitext(dst)[1]}"
-                run_femsimp(args.femsimp, src, path, two)
-                hashes.add(sha256(path))
-            row["two_threads_identical"] = len(hashes) == 1
+            # Deterministic (issue 12, item 6): three runs with 2 threads and three on the cell
+            # back end with 4 SPEs give the 1-thread output, byte for byte.
+            rest = fargs[2:]  # fargs starts with --threads 1
+            variants = {"2 threads": ["--threads", "2"] + rest,
+                        "cell, 4 SPEs": ["--backend", "cell", "--spes", "4"] + rest}
+            row["deterministic"] = True
+            for name, vargs in variants.items():
+                for k in range(3):
+                    path = f"{dst}.{name.replace(' ', '').replace(',', '_')}_{k}" \
+                           f"{os.path.splitext(dst)[1]}"
+                    run_femsimp(args.femsimp, src, path, vargs)
+                    if sha256(path) != sha256(dst):
+                        row["deterministic"] = False
+                        failures.append(f"{entry['file']}: run {k + 1} with {name} differs "
+                                        "from the 1-thread output")
+                        break
         else:
             broken_rows.append(row)
             # Repair (issue 12, item 1): every broken copy is accepted and repaired, and its
@@ -200,12 +209,12 @@ def make_table(meshes, clean_rows, broken_rows):
         f"parts, no self-intersections); every output judged by "
         "tests/cad/cad_judge (CGAL). Hausdorff: two-sided, certified lower bound within 1 % of "
         "the tolerance, in % of the bounding-box diagonal. Self-int.: intersecting face pairs, "
-        "input -> output. Seconds: femsimp wall time (read, simplify, write). 2 threads ×3: "
-        "whether three runs with `--threads 2` gave byte-identical outputs (issue 12, item 6; "
-        "recorded, not required yet).",
+        "input -> output. Seconds: femsimp wall time (read, simplify, write). Same ×6: three "
+        "runs with `--threads 2` and three with `--backend cell --spes 4` gave the 1-thread "
+        "output byte for byte (required).",
         "",
         "| part | variant | V in | V out | reduction | Hausdorff / diag | volume change | "
-        "self-int. | min angle in | seconds | 2 threads ×3 | judged |",
+        "self-int. | min angle in | seconds | same ×6 | judged |",
         "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---|---|",
     ]
     reductions = []
@@ -227,7 +236,7 @@ def make_table(meshes, clean_rows, broken_rows):
             f"{pct(j['hausdorff_over_diagonal'])} | {volume} | "
             f"{j['self_intersections_in']} -> {j['self_intersections_out']} | "
             f"{e['measured']['min_angle_deg']:.2g}° | {row['seconds']:.2f} | "
-            f"{'identical' if row.get('two_threads_identical') else 'differ'} | {verdict} |")
+            f"{'yes' if row.get('deterministic') else '**no**'} | {verdict} |")
     if reductions:
         reductions.sort()
         median = reductions[len(reductions) // 2] if len(reductions) % 2 else \

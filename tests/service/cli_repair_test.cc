@@ -2,9 +2,12 @@
 // facets, a crack) locally and through the in-process server, strict mode (--repair off), and
 // the server's Result and metrics.
 
+#include <algorithm>
 #include <filesystem>
 #include <string>
 #include <vector>
+
+#include <google/protobuf/util/message_differencer.h>
 
 #include "client/args.h"
 #include "client/exit_codes.h"
@@ -144,8 +147,22 @@ TEST_F(CliRepairTest, ServerRepairsAndReportsInResultAndMetrics) {
   testing::InProcessServer s;
   const RawMesh in = testing::BrokenTorus(kN, kM);
   grpc::ClientContext ctx;
-  cli::RemoteOutcome out = cli::RemoteSimplify(s.stub(), ctx, testing::RatioSpec(0.5), in);
+  // The stream carries the report once the upload is repaired, before any pass.
+  std::vector<std::string> stream;
+  v1::RepairReport streamed;
+  cli::RemoteCallbacks cb;
+  cb.on_repair = [&](const v1::RepairReport& r) {
+    stream.push_back("repair");
+    streamed = r;
+  };
+  cb.on_progress = [&](const v1::Progress&) { stream.push_back("progress"); };
+  cli::RemoteOutcome out =
+      cli::RemoteSimplify(s.stub(), ctx, testing::RatioSpec(0.5), in, cb, true);
   ASSERT_TRUE(out.status.ok()) << out.status.error_message();
+  ASSERT_GE(stream.size(), 2u);
+  EXPECT_EQ(stream.front(), "repair");
+  EXPECT_EQ(std::count(stream.begin(), stream.end(), "repair"), 1);
+  EXPECT_TRUE(google::protobuf::util::MessageDifferencer::Equals(streamed, out.result.repair()));
   EXPECT_TRUE(Mesh::Build(out.output).ok());
   EXPECT_EQ(TopologyOf(out.output).boundary_edges, 0);
   const v1::RepairReport& r = out.result.repair();
