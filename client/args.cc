@@ -19,9 +19,10 @@ constexpr char kExitCodes[] = R"(Exit codes:
   3   input file missing, unreadable or not a mesh file the reader can parse (syntax,
       truncation, non-triangle faces, vertex indices beyond the file's vertices, NaN or
       infinite coordinates), in every format alike
-  4   input mesh invalid: a defect the repair does not fix (non-manifold edges shared by 3 or
-      more faces, a non-orientable surface, nothing left after repair), or, with --repair off,
-      any defect (degenerate, duplicate or flipped faces, non-manifold vertices, ...)
+  4   input mesh invalid: a defect the repair does not fix (a non-orientable surface, nothing
+      left after repair), or, with --repair off, any defect (degenerate, duplicate or flipped
+      faces, non-manifold vertices and edges, ...); edges shared by 3 or more faces (the seams
+      of an assembly) are kept, locked
   5   output mesh or --stats-json file could not be written, or OUT's format cannot hold the
       input's face groups or fields (checked before the run; see --drop-face-data)
   6   the simplification failed
