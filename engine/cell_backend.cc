@@ -66,7 +66,8 @@ class CellBackend final : public RemovalBackend {
     }
 
     std::vector<std::vector<uint32_t>> lists(n);
-    for (size_t i = 0; i < phase.count; ++i) lists[i % n].push_back(phase.candidates[i]);
+    for (size_t i = 0; i < phase.count; ++i)
+      lists[phase.blocks ? i * n / phase.count : i % n].push_back(phase.candidates[i]);
     std::vector<std::span<const uint32_t>> spans(lists.begin(), lists.end());
     std::vector<KernelStats> per_spe(n);
     const auto start = std::chrono::steady_clock::now();

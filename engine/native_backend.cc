@@ -32,11 +32,13 @@ class NativeBackend final : public RemovalBackend {
       NativePort port(mesh_);
       RemovalKernel<NativePort> kernel(port, *kernel_.rules, kernel_.quadric, *phase.budget,
                                        per_context[c]);
-      size_t next = c;
+      const size_t step = phase.blocks ? 1 : n;
+      size_t next = phase.blocks ? phase.count * c / n : c;
+      const size_t end = phase.blocks ? phase.count * (c + 1) / n : phase.count;
       RunCandidates(kernel, phase, [&]() -> std::optional<uint32_t> {
-        if (next >= phase.count) return std::nullopt;
+        if (next >= end) return std::nullopt;
         const uint32_t v = phase.candidates[next];
-        next += n;
+        next += step;
         return v;
       });
       busy[c] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -1,5 +1,6 @@
 // A back end runs the removal phase of a pass: the sorted candidates, split uniformly over its
-// contexts (candidate i goes to context i mod N, so every context works in cost order), each
+// contexts (candidate i goes to context i mod N, so every context works in cost order; or in
+// contiguous blocks, RemovalPhase::blocks), each
 // context running the one candidate loop (RunCandidates) through the back end's memory port.
 // The back end supplies memory access (the port), locking (the port's status words) and
 // scheduling (threads, or SPEs and their software threads); the loop and the kernel are shared.
@@ -40,6 +41,9 @@ struct RemovalPhase {
   bool pass_start = true;     // the first of its pass (the cell model charges cost and sort)
   size_t claimed = 0;         // candidates whose claims the round checked (cell model)
   bool fresh_caches = false;  // nothing cached may predate the last phase's writes
+  // Each context takes a contiguous block of the candidates instead of every N-th one: the
+  // rounds hand over their winners by vertex number, so a block is close in memory.
+  bool blocks = false;
 
   bool Stopped() const {
     return stop->load(std::memory_order_relaxed) || budget->stop.load(std::memory_order_relaxed);

@@ -37,13 +37,20 @@ void RoundScheduler::ReadFans(const RemovalPhase& phase) {
   const size_t m = window_.size();
   box_.resize(m);
   live_.assign(m, 0);
+  // Read in vertex order, for locality (the window is in cost order, scattered over the mesh).
+  by_vertex_.resize(m);
+  for (uint32_t k = 0; k < m; ++k) by_vertex_[k] = k;
+  std::sort(by_vertex_.begin(), by_vertex_.end(), [&](uint32_t a, uint32_t b) {
+    return phase.candidates[window_[a]] < phase.candidates[window_[b]];
+  });
   const int n = pool_.size();
   pool_.Run([&](int c) {
     NativePort port(mesh_);
     Ring ring;
     DVec3 points[kMaxRing + 2];
-    for (size_t k = m * c / n; k < m * (c + 1) / n; ++k) {
-      if (k % kCancelPollInterval == 0 && (phase.Stopped() || phase.PollCancelled())) return;
+    for (size_t i = m * c / n; i < m * (c + 1) / n; ++i) {
+      if (i % kCancelPollInterval == 0 && (phase.Stopped() || phase.PollCancelled())) return;
+      const uint32_t k = by_vertex_[i];
       const uint32_t v = phase.candidates[window_[k]];
       if (port.LoadStatus(v) != kRemovable) continue;
       live_[k] = 1;
@@ -137,6 +144,8 @@ absl::Status RoundScheduler::RunPass(RemovalBackend& backend, const RemovalPhase
       else if (live_[k])
         losers.push_back(window_[k]);
     }
+    // Their outcomes do not depend on the order they run in: by vertex number, for locality.
+    std::sort(winners.begin(), winners.end());
     stats.busy_seconds +=
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     RemovalPhase round = phase;
@@ -145,6 +154,7 @@ absl::Status RoundScheduler::RunPass(RemovalBackend& backend, const RemovalPhase
     round.pass_start = first;
     round.claimed = window_.size();
     round.fresh_caches = true;
+    round.blocks = true;
     rules_.BeginRound(winners.size());
     if (grid_ != nullptr) grid_->BeginRound();
     absl::Status s = backend.RunRemoval(round, stats);

@@ -55,7 +55,7 @@ class RoundScheduler {
   std::vector<uint32_t> window_;
   std::vector<FaceGrid::Box> box_;
   std::vector<uint8_t> live_, open_, won_;
-  std::vector<uint32_t> by_x_;
+  std::vector<uint32_t> by_x_, by_vertex_;
   std::vector<std::pair<uint32_t, uint32_t>> overlaps_;  // (earlier, later) window entries
 };
 
