@@ -26,7 +26,11 @@ bool Overlap(const FaceGrid::Box& a, const FaceGrid::Box& b) {
          a.lo.z <= b.hi.z && b.lo.z <= a.hi.z;
 }
 
-double Axis(const DVec3& p, int axis) { return axis == 0 ? p.x : axis == 1 ? p.y : p.z; }
+// Cell coordinates of PickWinners' grid, mixed into one key (collisions only cost a box test).
+uint64_t CellKey(int64_t x, int64_t y, int64_t z) {
+  return static_cast<uint64_t>(x) * 0x9E3779B97F4A7C15ULL ^
+         static_cast<uint64_t>(y) * 0xC2B2AE3D27D4EB4FULL ^ static_cast<uint64_t>(z);
+}
 
 }  // namespace
 
@@ -72,42 +76,73 @@ void RoundScheduler::ReadFans(const RemovalPhase& phase) {
 
 size_t RoundScheduler::PickWinners(int64_t room) {
   const size_t m = window_.size();
-  // Overlapping pairs by a sweep along the axis the boxes spread most along (fewest pairs
-  // overlap there only).
-  by_x_.clear();
-  DVec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
-  for (uint32_t k = 0; k < m; ++k) {
+  // Winners' boxes are listed in a hashed grid whose cells are about twice the typical box, so
+  // a box meets a few cells and each cell few winners; a box over more cells than kMaxCells is
+  // checked against every winner instead (rare: a fan much larger than the rest).
+  constexpr int64_t kMaxCells = 64;
+  extent_.clear();
+  DVec3 origin{1e300, 1e300, 1e300};
+  for (size_t k = 0; k < m; ++k) {
     if (!live_[k]) continue;
-    by_x_.push_back(k);
-    lo = {std::min(lo.x, box_[k].lo.x), std::min(lo.y, box_[k].lo.y), std::min(lo.z, box_[k].lo.z)};
-    hi = {std::max(hi.x, box_[k].lo.x), std::max(hi.y, box_[k].lo.y), std::max(hi.z, box_[k].lo.z)};
+    const DVec3 d = box_[k].hi - box_[k].lo;
+    extent_.push_back(std::max({d.x, d.y, d.z}));
+    origin = {std::min(origin.x, box_[k].lo.x), std::min(origin.y, box_[k].lo.y),
+              std::min(origin.z, box_[k].lo.z)};
   }
-  const DVec3 spread = hi - lo;
-  const int axis = spread.x >= spread.y && spread.x >= spread.z ? 0 : spread.y >= spread.z ? 1 : 2;
-  std::sort(by_x_.begin(), by_x_.end(), [&](uint32_t a, uint32_t b) {
-    const double la = Axis(box_[a].lo, axis), lb = Axis(box_[b].lo, axis);
-    return la < lb || (la == lb && a < b);
-  });
-  overlaps_.clear();
-  for (size_t a = 0; a < by_x_.size(); ++a) {
-    const FaceGrid::Box& box = box_[by_x_[a]];
-    const double end = Axis(box.hi, axis);
-    for (size_t b = a + 1; b < by_x_.size() && Axis(box_[by_x_[b]].lo, axis) <= end; ++b)
-      if (Overlap(box, box_[by_x_[b]]))
-        overlaps_.emplace_back(std::min(by_x_[a], by_x_[b]), std::max(by_x_[a], by_x_[b]));
-  }
-  std::sort(overlaps_.begin(), overlaps_.end());
-  // Greedy in cost order: a winner blocks every later candidate its box overlaps.
   won_.assign(m, 0);
-  open_ = live_;  // 1: no better-ranked winner overlaps it
-  size_t winners = 0;
-  for (size_t k = 0, e = 0; k < m; ++k) {
-    if (open_[k] && static_cast<int64_t>(winners) < room) {
-      won_[k] = 1;
-      ++winners;
+  if (extent_.empty()) return 0;
+  std::nth_element(extent_.begin(), extent_.begin() + extent_.size() / 2, extent_.end());
+  const double cell = std::max(2.0 * extent_[extent_.size() / 2], 1e-300);
+  const auto range = [&](const FaceGrid::Box& b, int64_t lo[3], int64_t hi[3]) {
+    const double l[3] = {b.lo.x - origin.x, b.lo.y - origin.y, b.lo.z - origin.z};
+    const double h[3] = {b.hi.x - origin.x, b.hi.y - origin.y, b.hi.z - origin.z};
+    int64_t count = 1;
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = static_cast<int64_t>(std::floor(l[a] / cell));
+      hi[a] = static_cast<int64_t>(std::floor(std::min(h[a] / cell, 1e15)));
+      count *= hi[a] - lo[a] + 1;
+      if (count > kMaxCells) return false;
     }
-    for (; e < overlaps_.size() && overlaps_[e].first == k; ++e)
-      if (won_[k]) open_[overlaps_[e].second] = 0;
+    return true;
+  };
+  cell_head_.clear();
+  listed_.clear();  // (winner, next listing in the same cell)
+  big_.clear();
+  size_t winners = 0;
+  int64_t lo[3] = {}, hi[3] = {};
+  for (uint32_t k = 0; k < m && static_cast<int64_t>(winners) < room; ++k) {
+    if (!live_[k]) continue;
+    const FaceGrid::Box& box = box_[k];
+    const bool small = range(box, lo, hi);
+    bool blocked = false;
+    for (uint32_t w : big_) blocked = blocked || Overlap(box, box_[w]);
+    if (!small) {
+      for (size_t i = 0; i < winners && !blocked; ++i) blocked = Overlap(box, box_[order_[i]]);
+    } else {
+      for (int64_t x = lo[0]; x <= hi[0] && !blocked; ++x)
+        for (int64_t y = lo[1]; y <= hi[1] && !blocked; ++y)
+          for (int64_t z = lo[2]; z <= hi[2] && !blocked; ++z) {
+            const auto it = cell_head_.find(CellKey(x, y, z));
+            for (uint32_t e = it == cell_head_.end() ? kNone : it->second; e != kNone && !blocked;
+                 e = listed_[e].second)
+              blocked = Overlap(box, box_[listed_[e].first]);
+          }
+    }
+    if (blocked) continue;
+    won_[k] = 1;
+    if (order_.size() <= winners) order_.resize(winners + 1);
+    order_[winners++] = k;
+    if (!small) {
+      big_.push_back(k);
+      continue;
+    }
+    for (int64_t x = lo[0]; x <= hi[0]; ++x)
+      for (int64_t y = lo[1]; y <= hi[1]; ++y)
+        for (int64_t z = lo[2]; z <= hi[2]; ++z) {
+          auto [it, fresh] = cell_head_.try_emplace(CellKey(x, y, z), kNone);
+          listed_.emplace_back(k, it->second);
+          it->second = static_cast<uint32_t>(listed_.size() - 1);
+        }
   }
   return winners;
 }

@@ -7,8 +7,9 @@
 //   1. reads, in parallel, each candidate's fan and its bounding box (V and its one-ring):
 //      everything its collapse can lock, write or create lies in that box;
 //   2. picks the winners greedily in cost order: a candidate wins unless its box overlaps the
-//      box of a better-ranked winner (touching counts; with a vertex target, only as many
-//      winners as removals remain). The others come back next round;
+//      box of a better-ranked winner (touching counts; found through a hashed grid of the
+//      winners' boxes; with a vertex target, only as many winners as removals remain). The
+//      others come back next round;
 //   3. the winners run the kernel on the back end. Disjoint boxes mean disjoint locked sets, so
 //      no lock conflict occurs, and what one reads is never written by another (kernel.h: a
 //      collapse writes only quadwords of faces with two vertices in its locked set), so each
@@ -24,6 +25,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "absl/container/flat_hash_map.h"
 #include "absl/status/status.h"
 #include "engine/face_grid.h"
 #include "engine/mesh.h"
@@ -55,8 +57,12 @@ class RoundScheduler {
   std::vector<uint32_t> window_;
   std::vector<FaceGrid::Box> box_;
   std::vector<uint8_t> live_, open_, won_;
-  std::vector<uint32_t> by_x_, by_vertex_;
-  std::vector<std::pair<uint32_t, uint32_t>> overlaps_;  // (earlier, later) window entries
+  std::vector<uint32_t> by_vertex_;
+  // PickWinners: box extents, the winners so far, and a hashed grid of their boxes.
+  std::vector<double> extent_;
+  std::vector<uint32_t> order_, big_;
+  absl::flat_hash_map<uint64_t, uint32_t> cell_head_;  // cell -> its last listing
+  std::vector<std::pair<uint32_t, uint32_t>> listed_;  // (winner, previous listing in the cell)
 };
 
 }  // namespace femsimp
