@@ -23,6 +23,12 @@ int Orient3d(const DVec3& a, const DVec3& b, const DVec3& c, const DVec3& d) {
   return Sign(Dot(Cross(u, v), w), Dot(u, u) * Dot(v, v) * Dot(w, w));
 }
 
+// Orient3d(t.p[0], t.p[1], t.p[2], d): the side of t's plane d lies on.
+int PlaneSide(const PreparedTriangle& t, const DVec3& d) {
+  const DVec3 w = d - t.t.p[0];
+  return Sign(Dot(t.normal, w), t.scale2 * Dot(w, w));
+}
+
 struct P2 {
   double x, y;
 };
@@ -51,62 +57,131 @@ bool OnSegment(const P2& p, const P2& a, const P2& b) {
          p.y <= std::max(a.y, b.y);
 }
 
-// Closed 2D segments.
-bool SegmentsMeet(const P2& p, const P2& q, const P2& a, const P2& b) {
-  const int o1 = Orient2d(p, q, a), o2 = Orient2d(p, q, b);
-  const int o3 = Orient2d(a, b, p), o4 = Orient2d(a, b, q);
-  if (o1 * o2 < 0 && o3 * o4 < 0) return true;
-  return (o1 == 0 && OnSegment(a, p, q)) || (o2 == 0 && OnSegment(b, p, q)) ||
-         (o3 == 0 && OnSegment(p, a, b)) || (o4 == 0 && OnSegment(q, a, b));
+// Signs on both sides of zero among s[0..2]: a point outside a triangle (either orientation).
+bool Mixed(const int s[3]) {
+  const bool negative = s[0] < 0 || s[1] < 0 || s[2] < 0;
+  const bool positive = s[0] > 0 || s[1] > 0 || s[2] > 0;
+  return negative && positive;
 }
 
-// Closed 2D triangle (either orientation).
-bool InTriangle(const P2& p, const P2& a, const P2& b, const P2& c) {
-  const int s1 = Orient2d(a, b, p), s2 = Orient2d(b, c, p), s3 = Orient2d(c, a, p);
-  const bool negative = s1 < 0 || s2 < 0 || s3<0, positive = s1> 0 || s2 > 0 || s3 > 0;
-  return !(negative && positive);
+// Closed 2D segment pq against the closed 2D triangle c[0..2] (either orientation): p or q in
+// the triangle, or pq meeting one of its closed edges. Each orientation is computed once,
+// though the point tests and the edge tests share them.
+bool SegmentMeetsTriangle2d(const P2& p, const P2& q, const P2 c[3]) {
+  int side_p[3], side_q[3];  // side_p[i]: Orient2d(c[i], c[i + 1], p)
+  for (int i = 0; i < 3; ++i) side_p[i] = Orient2d(c[i], c[(i + 1) % 3], p);
+  if (!Mixed(side_p)) return true;
+  for (int i = 0; i < 3; ++i) side_q[i] = Orient2d(c[i], c[(i + 1) % 3], q);
+  if (!Mixed(side_q)) return true;
+  int line[3];  // line[i]: Orient2d(p, q, c[i])
+  for (int i = 0; i < 3; ++i) line[i] = Orient2d(p, q, c[i]);
+  for (int i = 0; i < 3; ++i) {  // closed segments pq and c[i] c[i + 1]
+    const P2 &a = c[i], &b = c[(i + 1) % 3];
+    const int o1 = line[i], o2 = line[(i + 1) % 3], o3 = side_p[i], o4 = side_q[i];
+    if (o1 * o2 < 0 && o3 * o4 < 0) return true;
+    if ((o1 == 0 && OnSegment(a, p, q)) || (o2 == 0 && OnSegment(b, p, q)) ||
+        (o3 == 0 && OnSegment(p, a, b)) || (o4 == 0 && OnSegment(q, a, b)))
+      return true;
+  }
+  return false;
 }
 
+// Segment pq in the plane of triangle abc (normal n = Cross(b - a, c - a)).
 bool CoplanarSegmentMeetsTriangle(const DVec3& p, const DVec3& q, const DVec3& a, const DVec3& b,
-                                  const DVec3& c) {
-  const Projection flat(Cross(b - a, c - a));
-  const P2 p2 = flat(p), q2 = flat(q), a2 = flat(a), b2 = flat(b), c2 = flat(c);
-  return InTriangle(p2, a2, b2, c2) || InTriangle(q2, a2, b2, c2) || SegmentsMeet(p2, q2, a2, b2) ||
-         SegmentsMeet(p2, q2, b2, c2) || SegmentsMeet(p2, q2, c2, a2);
+                                  const DVec3& c, const DVec3& n) {
+  const Projection flat(n);
+  const P2 corners[3] = {flat(a), flat(b), flat(c)};
+  return SegmentMeetsTriangle2d(flat(p), flat(q), corners);
 }
 
-bool MeetsTriangle(const DVec3& p, const DVec3& q, const Triangle& t) {
-  return SegmentMeetsTriangle(p, q, t.p[0], t.p[1], t.p[2]);
+// The line pq crosses the plane of abc inside the segment: it meets the triangle iff it passes
+// on the same side of all three edges (or along one).
+bool CrossingMeetsTriangle(const DVec3& p, const DVec3& q, const DVec3& a, const DVec3& b,
+                           const DVec3& c) {
+  // Orient3d(p, q, x, y) for the edges xy of abc, sharing q - p and the corners' offsets.
+  const DVec3 u = q - p, da = a - p, db = b - p, dc = c - p;
+  const double uu = Dot(u, u), aa = Dot(da, da), bb = Dot(db, db), cc = Dot(dc, dc);
+  const int s[3] = {Sign(Dot(Cross(u, da), db), uu * aa * bb),
+                    Sign(Dot(Cross(u, db), dc), uu * bb * cc),
+                    Sign(Dot(Cross(u, dc), da), uu * cc * aa)};
+  return !Mixed(s);
+}
+
+// Whether pq reaches t's box along every axis (SegmentMeetsTriangle's first rejection).
+bool Reaches(const DVec3& p, const DVec3& q, const PreparedTriangle& t) {
+  return !(std::max(p.x, q.x) < t.reach_lo[0] || std::min(p.x, q.x) > t.reach_hi[0] ||
+           std::max(p.y, q.y) < t.reach_lo[1] || std::min(p.y, q.y) > t.reach_hi[1] ||
+           std::max(p.z, q.z) < t.reach_lo[2] || std::min(p.z, q.z) > t.reach_hi[2]);
+}
+
+// SegmentMeetsTriangle(p, q, t's corners), given the sides of p and q of t's plane.
+bool SegmentMeets(const DVec3& p, const DVec3& q, int sp, int sq, const PreparedTriangle& t) {
+  if (sp == sq && sp != 0) return false;
+  const DVec3* c = t.t.p;
+  if (sp == 0 && sq == 0) return CoplanarSegmentMeetsTriangle(p, q, c[0], c[1], c[2], t.normal);
+  return CrossingMeetsTriangle(p, q, c[0], c[1], c[2]);
+}
+
+bool SegmentMeets(const DVec3& p, const DVec3& q, const PreparedTriangle& t) {
+  return Reaches(p, q, t) && SegmentMeets(p, q, PlaneSide(t, p), PlaneSide(t, q), t);
+}
+
+// Neither triangle shares a corner with the other: they meet iff an edge of one meets the
+// other. The side of each corner of one of the other's plane serves two edges: computed once.
+bool DisjointCornersIntersect(const PreparedTriangle& a, const PreparedTriangle& b) {
+  int side_a[3], side_b[3];  // side_a[k]: a's corner k of b's plane; side_b[k]: b's of a's
+  for (int k = 0; k < 3; ++k) side_a[k] = PlaneSide(b, a.t.p[k]);
+  // All of a strictly on one side of b's plane: no edge of either meets the other (each edge
+  // of a has both ends on that side; the edges of b are tested on the same numbers below).
+  const bool a_apart = side_a[0] != 0 && side_a[0] == side_a[1] && side_a[1] == side_a[2];
+  for (int k = 0; k < 3; ++k) side_b[k] = PlaneSide(a, b.t.p[k]);
+  const bool b_apart = side_b[0] != 0 && side_b[0] == side_b[1] && side_b[1] == side_b[2];
+  if (a_apart && b_apart) return false;
+  for (int k = 0; k < 3; ++k) {
+    const int l = (k + 1) % 3;
+    if (!a_apart && Reaches(a.t.p[k], a.t.p[l], b) &&
+        SegmentMeets(a.t.p[k], a.t.p[l], side_a[k], side_a[l], b))
+      return true;
+    if (!b_apart && Reaches(b.t.p[k], b.t.p[l], a) &&
+        SegmentMeets(b.t.p[k], b.t.p[l], side_b[k], side_b[l], a))
+      return true;
+  }
+  return false;
 }
 
 }  // namespace
 
 bool SegmentMeetsTriangle(const DVec3& p, const DVec3& q, const DVec3& a, const DVec3& b,
                           const DVec3& c) {
-  for (double DVec3::*k : {&DVec3::x, &DVec3::y, &DVec3::z}) {
-    const double lo = std::min({a.*k, b.*k, c.*k}), hi = std::max({a.*k, b.*k, c.*k});
-    const double slack = 1e-9 * (std::fabs(lo) + std::fabs(hi));
-    if (std::max(p.*k, q.*k) < lo - slack || std::min(p.*k, q.*k) > hi + slack) return false;
-  }
-  const int sp = Orient3d(a, b, c, p), sq = Orient3d(a, b, c, q);
-  if (sp == sq && sp != 0) return false;
-  if (sp == 0 && sq == 0) return CoplanarSegmentMeetsTriangle(p, q, a, b, c);
-  // The line pq crosses the plane inside the segment: inside the triangle iff pq passes on the
-  // same side of all three edges (or along one).
-  const int s1 = Orient3d(p, q, a, b), s2 = Orient3d(p, q, b, c), s3 = Orient3d(p, q, c, a);
-  const bool negative = s1 < 0 || s2 < 0 || s3<0, positive = s1> 0 || s2 > 0 || s3 > 0;
-  return !(negative && positive);
+  return SegmentMeets(p, q, PreparedTriangle(Triangle{{a, b, c}, {0, 0, 0}}));
 }
 
-TriangleBox::TriangleBox(const Triangle& t) {
-  lo = {std::min({t.p[0].x, t.p[1].x, t.p[2].x}), std::min({t.p[0].y, t.p[1].y, t.p[2].y}),
-        std::min({t.p[0].z, t.p[1].z, t.p[2].z})};
-  hi = {std::max({t.p[0].x, t.p[1].x, t.p[2].x}), std::max({t.p[0].y, t.p[1].y, t.p[2].y}),
-        std::max({t.p[0].z, t.p[1].z, t.p[2].z})};
+TriangleBox::TriangleBox(const DVec3& min, const DVec3& max) : lo(min), hi(max) {
   const double slack = 1e-9 * (std::fabs(lo.x) + std::fabs(lo.y) + std::fabs(lo.z) +
                                std::fabs(hi.x) + std::fabs(hi.y) + std::fabs(hi.z) + 1e-30);
   lo = lo - DVec3{slack, slack, slack};
   hi = hi + DVec3{slack, slack, slack};
+}
+
+TriangleBox::TriangleBox(const Triangle& t)
+    : TriangleBox(
+          DVec3{std::min({t.p[0].x, t.p[1].x, t.p[2].x}), std::min({t.p[0].y, t.p[1].y, t.p[2].y}),
+                std::min({t.p[0].z, t.p[1].z, t.p[2].z})},
+          DVec3{std::max({t.p[0].x, t.p[1].x, t.p[2].x}), std::max({t.p[0].y, t.p[1].y, t.p[2].y}),
+                std::max({t.p[0].z, t.p[1].z, t.p[2].z})}) {}
+
+PreparedTriangle::PreparedTriangle(const Triangle& triangle) : t(triangle), box(triangle) {
+  const DVec3 u = t.p[1] - t.p[0], v = t.p[2] - t.p[0];
+  normal = Cross(u, v);
+  scale2 = Dot(u, u) * Dot(v, v);
+  int axis = 0;
+  for (double DVec3::*k : {&DVec3::x, &DVec3::y, &DVec3::z}) {
+    const double lo = std::min({t.p[0].*k, t.p[1].*k, t.p[2].*k});
+    const double hi = std::max({t.p[0].*k, t.p[1].*k, t.p[2].*k});
+    const double slack = 1e-9 * (std::fabs(lo) + std::fabs(hi));
+    reach_lo[axis] = lo - slack;
+    reach_hi[axis++] = hi + slack;
+  }
 }
 
 bool TrianglesIntersect(const Triangle& a, const Triangle& b) {
@@ -114,6 +189,11 @@ bool TrianglesIntersect(const Triangle& a, const Triangle& b) {
 }
 
 bool OverlappingTrianglesIntersect(const Triangle& a, const Triangle& b) {
+  return OverlappingTrianglesIntersect(PreparedTriangle(a), PreparedTriangle(b));
+}
+
+bool OverlappingTrianglesIntersect(const PreparedTriangle& pa, const PreparedTriangle& pb) {
+  const Triangle &a = pa.t, &b = pb.t;
   int shared = 0, ia[3], ib[3];  // ia[k], ib[k]: corners of a and b that are the same vertex
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
@@ -135,14 +215,11 @@ bool OverlappingTrianglesIntersect(const Triangle& a, const Triangle& b) {
   if (shared == 1) {
     // Beyond the shared corner, they meet iff the edge opposite it in one meets the other.
     const int i = ia[0], j = ib[0];
-    return MeetsTriangle(a.p[(i + 1) % 3], a.p[(i + 2) % 3], b) ||
-           MeetsTriangle(b.p[(j + 1) % 3], b.p[(j + 2) % 3], a);
+    return SegmentMeets(a.p[(i + 1) % 3], a.p[(i + 2) % 3], pb) ||
+           SegmentMeets(b.p[(j + 1) % 3], b.p[(j + 2) % 3], pa);
   }
   // Two triangles that meet have an edge of one meeting the other.
-  for (int k = 0; k < 3; ++k)
-    if (MeetsTriangle(a.p[k], a.p[(k + 1) % 3], b) || MeetsTriangle(b.p[k], b.p[(k + 1) % 3], a))
-      return true;
-  return false;
+  return DisjointCornersIntersect(pa, pb);
 }
 
 }  // namespace femsimp
