@@ -44,8 +44,8 @@ FaceGrid::FaceGrid(const Mesh& mesh) : vertices_(mesh.vertices()), halfedges_(me
   Rebuild(mesh);
 }
 
-double FaceGrid::MeanEdge(const Mesh& mesh, std::vector<uint32_t>* live, DVec3* lo) const {
-  double edge_sum = 0.0;
+double FaceGrid::MeanEdge(const Mesh& mesh, std::vector<uint32_t>* live, DVec3* lo) {
+  double edge_sum = 0.0, magnitude = 0.0;
   uint64_t edges = 0;
   *lo = {1e300, 1e300, 1e300};
   for (uint32_t f = 0; f < mesh.face_capacity(); ++f) {
@@ -55,13 +55,28 @@ double FaceGrid::MeanEdge(const Mesh& mesh, std::vector<uint32_t>* live, DVec3* 
     for (int k = 0; k < 3; ++k) {
       edge_sum += Norm(t.p[(k + 1) % 3] - t.p[k]);
       *lo = {std::min(lo->x, t.p[k].x), std::min(lo->y, t.p[k].y), std::min(lo->z, t.p[k].z)};
+      magnitude =
+          std::max({magnitude, std::fabs(t.p[k].x), std::fabs(t.p[k].y), std::fabs(t.p[k].z)});
     }
     edges += 3;
   }
+  magnitude_ = magnitude;
+  tracked_length_.store(edge_sum, std::memory_order_relaxed);
+  tracked_faces_.store(static_cast<int64_t>(edges / 3), std::memory_order_relaxed);
   return edges > 0 && edge_sum > 0 ? edge_sum / double(edges) : 0.5;
 }
 
+void FaceGrid::Track(double length_change, int64_t face_change) {
+  tracked_length_.fetch_add(length_change, std::memory_order_relaxed);
+  tracked_faces_.fetch_add(face_change, std::memory_order_relaxed);
+}
+
 void FaceGrid::Refresh(const Mesh& mesh) {
+  // The tracked mean differs from the measured one by rounding only (below 1e-6 relative even
+  // for a billion faces): the mesh is measured only when the mean may reach the threshold.
+  const double length = tracked_length_.load(std::memory_order_relaxed);
+  const int64_t faces = tracked_faces_.load(std::memory_order_relaxed);
+  if (faces > 0 && length > 0 && length / (3.0 * double(faces)) < 0.75 * cell_ * (1 - 1e-4)) return;
   DVec3 lo;
   if (MeanEdge(mesh, nullptr, &lo) > 0.75 * cell_) Rebuild(mesh);
 }
@@ -95,8 +110,7 @@ void FaceGrid::Fill(const std::vector<uint32_t>& live, uint64_t min_capacity) {
     bool fits = true;
     for (uint32_t f : live) {
       const Triangle t = FaceTriangle(f);
-      const Box b = BoxOf(t.p, 3);
-      fits = fits && Move(f, b, &b);
+      fits = fits && Insert(f, BoxOf(t.p, 3));
     }
     if (fits && used_.load(std::memory_order_relaxed) * 2 <= capacity) return;
   }
@@ -228,24 +242,79 @@ void FaceGrid::Release(std::vector<uint32_t>* held) {
   held->clear();
 }
 
+FaceGrid::Listing FaceGrid::ListingIn(uint32_t f, const Box& box, const Range& r, int64_t x,
+                                      int64_t y, int64_t z) const {
+  Listing l{f, {}, {}};
+  const double lo[3] = {box.lo.x, box.lo.y, box.lo.z}, hi[3] = {box.hi.x, box.hi.y, box.hi.z};
+  const int64_t c[3] = {x, y, z};
+  for (int a = 0; a < 3; ++a) {
+    l.lo[a] = QuantizeDown(CellUnits(lo[a], a) - double(c[a]));
+    l.hi[a] = QuantizeUp(CellUnits(hi[a], a) - double(c[a]));
+    // Already so (the origin is the mesh's lower corner), but the visit relies on it.
+    l.lo[a] = c[a] == r.lo[a] ? std::max<int16_t>(l.lo[a], 0) : std::min<int16_t>(l.lo[a], -1);
+  }
+  return l;
+}
+
+bool FaceGrid::Insert(uint32_t f, const Box& box) {
+  const Range r = RangeOf(box);
+  bool listed = true;
+  for (int64_t x = r.lo[0]; x <= r.hi[0]; ++x)
+    for (int64_t y = r.lo[1]; y <= r.hi[1]; ++y)
+      for (int64_t z = r.lo[2]; z <= r.hi[2]; ++z) {
+        const int64_t slot = Slot(Key(x, y, z));
+        if (slot >= 0) {
+          cells_[slot].faces.push_back(ListingIn(f, box, r, x, y, z));
+        } else {
+          listed = false;
+        }
+      }
+  return listed;
+}
+
 bool FaceGrid::Move(uint32_t f, const Box& before, const Box* after) {
-  ForEachCell(RangeOf(before), [&](uint64_t key) {
-    const int64_t slot = Find(key);
-    if (slot < 0) return;
-    std::vector<uint32_t>& faces = cells_[slot].faces;
-    faces.erase(std::remove(faces.begin(), faces.end(), f), faces.end());
-  });
-  if (after == nullptr) return true;
+  // A face keeps most of its cells when a corner moves: it leaves some, enters some, and its
+  // listing is rewritten in the rest (list order does not matter).
+  const Range from = RangeOf(before);
+  const Range to = after != nullptr ? RangeOf(*after) : Range{{1, 1, 1}, {0, 0, 0}};
+  const auto in = [](const Range& r, int64_t x, int64_t y, int64_t z) {
+    return r.lo[0] <= x && x <= r.hi[0] && r.lo[1] <= y && y <= r.hi[1] && r.lo[2] <= z &&
+           z <= r.hi[2];
+  };
   // After the build the cells exist: they are held.
   bool listed = true;
-  ForEachCell(RangeOf(*after), [&](uint64_t key) {
-    const int64_t slot = Slot(key);
+  const auto enter = [&](int64_t x, int64_t y, int64_t z) {
+    const int64_t slot = Slot(Key(x, y, z));
     if (slot >= 0) {
-      cells_[slot].faces.push_back(f);
+      cells_[slot].faces.push_back(ListingIn(f, *after, to, x, y, z));
     } else {
       listed = false;
     }
-  });
+  };
+  for (int64_t x = from.lo[0]; x <= from.hi[0]; ++x)
+    for (int64_t y = from.lo[1]; y <= from.hi[1]; ++y)
+      for (int64_t z = from.lo[2]; z <= from.hi[2]; ++z) {
+        const bool stays = in(to, x, y, z);
+        const int64_t slot = Find(Key(x, y, z));
+        std::vector<Listing>* faces = slot >= 0 ? &cells_[slot].faces : nullptr;
+        const auto it = faces == nullptr
+                            ? std::vector<Listing>::iterator{}
+                            : std::find_if(faces->begin(), faces->end(),
+                                           [f](const Listing& l) { return l.face == f; });
+        if (faces == nullptr || it == faces->end()) {
+          if (stays) enter(x, y, z);
+        } else if (stays) {
+          *it = ListingIn(f, *after, to, x, y, z);
+        } else {
+          *it = faces->back();
+          faces->pop_back();
+        }
+      }
+  if (after == nullptr) return true;
+  for (int64_t x = to.lo[0]; x <= to.hi[0]; ++x)
+    for (int64_t y = to.lo[1]; y <= to.hi[1]; ++y)
+      for (int64_t z = to.lo[2]; z <= to.hi[2]; ++z)
+        if (!in(from, x, y, z)) enter(x, y, z);
   return listed;
 }
 

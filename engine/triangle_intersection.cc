@@ -170,7 +170,8 @@ TriangleBox::TriangleBox(const Triangle& t)
           DVec3{std::max({t.p[0].x, t.p[1].x, t.p[2].x}), std::max({t.p[0].y, t.p[1].y, t.p[2].y}),
                 std::max({t.p[0].z, t.p[1].z, t.p[2].z})}) {}
 
-PreparedTriangle::PreparedTriangle(const Triangle& triangle) : t(triangle), box(triangle) {
+PreparedTriangle::PreparedTriangle(const Triangle& triangle, const TriangleBox& its_box)
+    : t(triangle), box(its_box) {
   const DVec3 u = t.p[1] - t.p[0], v = t.p[2] - t.p[0];
   normal = Cross(u, v);
   scale2 = Dot(u, u) * Dot(v, v);
