@@ -17,6 +17,14 @@ int Sign(double value, double scale2) {
   return value > 0 ? 1 : -1;
 }
 
+// The corners' minima and maxima per axis.
+void Extent(const Triangle& t, DVec3* min, DVec3* max) {
+  *min = {std::min({t.p[0].x, t.p[1].x, t.p[2].x}), std::min({t.p[0].y, t.p[1].y, t.p[2].y}),
+          std::min({t.p[0].z, t.p[1].z, t.p[2].z})};
+  *max = {std::max({t.p[0].x, t.p[1].x, t.p[2].x}), std::max({t.p[0].y, t.p[1].y, t.p[2].y}),
+          std::max({t.p[0].z, t.p[1].z, t.p[2].z})};
+}
+
 // Sign of the volume of (a, b, c, d).
 int Orient3d(const DVec3& a, const DVec3& b, const DVec3& c, const DVec3& d) {
   const DVec3 u = b - a, v = c - a, w = d - a;
@@ -64,15 +72,17 @@ bool Mixed(const int s[3]) {
   return negative && positive;
 }
 
-// Closed 2D segment pq against the closed 2D triangle c[0..2] (either orientation): p or q in
-// the triangle, or pq meeting one of its closed edges. Each orientation is computed once,
-// though the point tests and the edge tests share them.
-bool SegmentMeetsTriangle2d(const P2& p, const P2& q, const P2 c[3]) {
-  int side_p[3], side_q[3];  // side_p[i]: Orient2d(c[i], c[i + 1], p)
-  for (int i = 0; i < 3; ++i) side_p[i] = Orient2d(c[i], c[(i + 1) % 3], p);
-  if (!Mixed(side_p)) return true;
-  for (int i = 0; i < 3; ++i) side_q[i] = Orient2d(c[i], c[(i + 1) % 3], q);
-  if (!Mixed(side_q)) return true;
+// side[i] = Orient2d(c[i], c[i + 1], p): p's side of each edge of the 2D triangle c.
+void EdgeSides(const P2 c[3], const P2& p, int side[3]) {
+  for (int i = 0; i < 3; ++i) side[i] = Orient2d(c[i], c[(i + 1) % 3], p);
+}
+
+// Closed 2D segment pq against the closed 2D triangle c (either orientation), given the sides
+// of p and q of its edges (EdgeSides): p or q in the triangle, or pq meeting one of its closed
+// edges. The point tests and the edge tests share those orientations.
+bool SegmentMeetsTriangle2d(const P2& p, const P2& q, const P2 c[3], const int side_p[3],
+                            const int side_q[3]) {
+  if (!Mixed(side_p) || !Mixed(side_q)) return true;
   int line[3];  // line[i]: Orient2d(p, q, c[i])
   for (int i = 0; i < 3; ++i) line[i] = Orient2d(p, q, c[i]);
   for (int i = 0; i < 3; ++i) {  // closed segments pq and c[i] c[i + 1]
@@ -91,7 +101,12 @@ bool CoplanarSegmentMeetsTriangle(const DVec3& p, const DVec3& q, const DVec3& a
                                   const DVec3& c, const DVec3& n) {
   const Projection flat(n);
   const P2 corners[3] = {flat(a), flat(b), flat(c)};
-  return SegmentMeetsTriangle2d(flat(p), flat(q), corners);
+  const P2 p2 = flat(p), q2 = flat(q);
+  int side_p[3], side_q[3];
+  EdgeSides(corners, p2, side_p);
+  if (!Mixed(side_p)) return true;
+  EdgeSides(corners, q2, side_q);
+  return SegmentMeetsTriangle2d(p2, q2, corners, side_p, side_q);
 }
 
 // The line pq crosses the plane of abc inside the segment: it meets the triangle iff it passes
@@ -126,27 +141,47 @@ bool SegmentMeets(const DVec3& p, const DVec3& q, const PreparedTriangle& t) {
   return Reaches(p, q, t) && SegmentMeets(p, q, PlaneSide(t, p), PlaneSide(t, q), t);
 }
 
+// SegmentMeets for each edge of s against t, given the sides of s's corners of t's plane. In
+// the plane, the sides of s's corners of t's edges serve two edges each: computed once.
+bool EdgesMeet(const PreparedTriangle& s, const int side[3], const PreparedTriangle& t) {
+  Projection flat(t.normal);
+  P2 corners[3], s2[3];
+  int sides2[3][3];
+  bool flat_ready = false, sides2_ready[3] = {false, false, false};
+  for (int k = 0; k < 3; ++k) {
+    const int l = (k + 1) % 3;
+    const DVec3 &p = s.t.p[k], &q = s.t.p[l];
+    if (!Reaches(p, q, t) || (side[k] == side[l] && side[k] != 0)) continue;
+    if (side[k] != 0 || side[l] != 0) {
+      if (CrossingMeetsTriangle(p, q, t.t.p[0], t.t.p[1], t.t.p[2])) return true;
+      continue;
+    }
+    if (!flat_ready) {
+      for (int i = 0; i < 3; ++i) corners[i] = flat(t.t.p[i]);
+      flat_ready = true;
+    }
+    for (const int m : {k, l}) {
+      if (sides2_ready[m]) continue;
+      s2[m] = flat(s.t.p[m]);
+      EdgeSides(corners, s2[m], sides2[m]);
+      sides2_ready[m] = true;
+    }
+    if (SegmentMeetsTriangle2d(s2[k], s2[l], corners, sides2[k], sides2[l])) return true;
+  }
+  return false;
+}
+
 // Neither triangle shares a corner with the other: they meet iff an edge of one meets the
 // other. The side of each corner of one of the other's plane serves two edges: computed once.
 bool DisjointCornersIntersect(const PreparedTriangle& a, const PreparedTriangle& b) {
   int side_a[3], side_b[3];  // side_a[k]: a's corner k of b's plane; side_b[k]: b's of a's
   for (int k = 0; k < 3; ++k) side_a[k] = PlaneSide(b, a.t.p[k]);
-  // All of a strictly on one side of b's plane: no edge of either meets the other (each edge
-  // of a has both ends on that side; the edges of b are tested on the same numbers below).
-  const bool a_apart = side_a[0] != 0 && side_a[0] == side_a[1] && side_a[1] == side_a[2];
   for (int k = 0; k < 3; ++k) side_b[k] = PlaneSide(a, b.t.p[k]);
+  // Corners all strictly on one side: none of the triangle's edges meets the other (each has
+  // both ends there), so its edges need no test.
+  const bool a_apart = side_a[0] != 0 && side_a[0] == side_a[1] && side_a[1] == side_a[2];
   const bool b_apart = side_b[0] != 0 && side_b[0] == side_b[1] && side_b[1] == side_b[2];
-  if (a_apart && b_apart) return false;
-  for (int k = 0; k < 3; ++k) {
-    const int l = (k + 1) % 3;
-    if (!a_apart && Reaches(a.t.p[k], a.t.p[l], b) &&
-        SegmentMeets(a.t.p[k], a.t.p[l], side_a[k], side_a[l], b))
-      return true;
-    if (!b_apart && Reaches(b.t.p[k], b.t.p[l], a) &&
-        SegmentMeets(b.t.p[k], b.t.p[l], side_b[k], side_b[l], a))
-      return true;
-  }
-  return false;
+  return (!a_apart && EdgesMeet(a, side_a, b)) || (!b_apart && EdgesMeet(b, side_b, a));
 }
 
 }  // namespace
@@ -163,25 +198,24 @@ TriangleBox::TriangleBox(const DVec3& min, const DVec3& max) : lo(min), hi(max) 
   hi = hi + DVec3{slack, slack, slack};
 }
 
-TriangleBox::TriangleBox(const Triangle& t)
-    : TriangleBox(
-          DVec3{std::min({t.p[0].x, t.p[1].x, t.p[2].x}), std::min({t.p[0].y, t.p[1].y, t.p[2].y}),
-                std::min({t.p[0].z, t.p[1].z, t.p[2].z})},
-          DVec3{std::max({t.p[0].x, t.p[1].x, t.p[2].x}), std::max({t.p[0].y, t.p[1].y, t.p[2].y}),
-                std::max({t.p[0].z, t.p[1].z, t.p[2].z})}) {}
+TriangleBox::TriangleBox(const Triangle& t) {
+  DVec3 min, max;
+  Extent(t, &min, &max);
+  *this = TriangleBox(min, max);
+}
 
-PreparedTriangle::PreparedTriangle(const Triangle& triangle, const TriangleBox& its_box)
-    : t(triangle), box(its_box) {
+PreparedTriangle::PreparedTriangle(const Triangle& triangle) : t(triangle) {
+  DVec3 min, max;
+  Extent(t, &min, &max);
+  box = TriangleBox(min, max);
   const DVec3 u = t.p[1] - t.p[0], v = t.p[2] - t.p[0];
   normal = Cross(u, v);
   scale2 = Dot(u, u) * Dot(v, v);
-  int axis = 0;
-  for (double DVec3::*k : {&DVec3::x, &DVec3::y, &DVec3::z}) {
-    const double lo = std::min({t.p[0].*k, t.p[1].*k, t.p[2].*k});
-    const double hi = std::max({t.p[0].*k, t.p[1].*k, t.p[2].*k});
-    const double slack = 1e-9 * (std::fabs(lo) + std::fabs(hi));
-    reach_lo[axis] = lo - slack;
-    reach_hi[axis++] = hi + slack;
+  const double lo[3] = {min.x, min.y, min.z}, hi[3] = {max.x, max.y, max.z};
+  for (int a = 0; a < 3; ++a) {
+    const double slack = 1e-9 * (std::fabs(lo[a]) + std::fabs(hi[a]));
+    reach_lo[a] = lo[a] - slack;
+    reach_hi[a] = hi[a] + slack;
   }
 }
 

@@ -39,9 +39,7 @@ struct PreparedTriangle {
   double reach_lo[3];  // per axis: a segment below this (or above reach_hi) misses the triangle
   double reach_hi[3];
   PreparedTriangle() = default;
-  explicit PreparedTriangle(const Triangle& triangle)
-      : PreparedTriangle(triangle, TriangleBox(triangle)) {}
-  PreparedTriangle(const Triangle& triangle, const TriangleBox& its_box);
+  explicit PreparedTriangle(const Triangle& triangle);
 };
 
 bool TrianglesIntersect(const Triangle& a, const Triangle& b);

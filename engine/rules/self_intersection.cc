@@ -110,10 +110,11 @@ class SelfIntersectionRule final : public CollapseRule {
                              reach.hi + DVec3{face_slack, face_slack, face_slack}};
     grid_->ForEachFaceNear(box, p.held_cells, near, [&](uint32_t g) {
       if (InFan(fan, g)) return;
-      const Triangle t = grid_->FaceTriangle(g);
-      const TriangleBox face_box(t);
-      if (!face_box.Overlaps(reach)) return;
-      p.nearby.emplace_back(t, face_box);
+      p.nearby.emplace_back(grid_->FaceTriangle(g));
+      if (!p.nearby.back().box.Overlaps(reach)) {
+        p.nearby.pop_back();
+        return;
+      }
       p.nearby_faces.push_back(g);
     });
     return Verdict::kPass;
