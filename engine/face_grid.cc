@@ -160,16 +160,20 @@ Triangle FaceGrid::FaceTriangle(uint32_t f) const {
   return t;
 }
 
-FaceGrid::Range FaceGrid::RangeOf(const Box& box) const {
-  Range r;
+FaceGrid::Span FaceGrid::SpanOf(const Box& box) const {
+  Span s;
   const double lo[3] = {box.lo.x - origin_.x, box.lo.y - origin_.y, box.lo.z - origin_.z};
   const double hi[3] = {box.hi.x - origin_.x, box.hi.y - origin_.y, box.hi.z - origin_.z};
+  constexpr double kLimit = static_cast<double>(kAxisLimit);
   for (int a = 0; a < 3; ++a) {
-    // A point on a cell border belongs to both cells, so touching boxes share a cell.
-    r.lo[a] = std::clamp<int64_t>(static_cast<int64_t>(std::floor(lo[a] / cell_)), 0, kAxisLimit);
-    r.hi[a] = std::clamp<int64_t>(static_cast<int64_t>(std::floor(hi[a] / cell_)), 0, kAxisLimit);
+    s.lo[a] = lo[a] / cell_;
+    s.hi[a] = hi[a] / cell_;
+    // A point on a cell border belongs to both cells, so touching boxes share a cell. (Clamped
+    // before the floor: the same cells, and the floor stays in range.)
+    s.range.lo[a] = std::clamp<int64_t>(Floor(std::clamp(s.lo[a], -1.0, kLimit)), 0, kAxisLimit);
+    s.range.hi[a] = std::clamp<int64_t>(Floor(std::clamp(s.hi[a], -1.0, kLimit)), 0, kAxisLimit);
   }
-  return r;
+  return s;
 }
 
 uint64_t FaceGrid::Key(int64_t x, int64_t y, int64_t z) const {
@@ -242,29 +246,29 @@ void FaceGrid::Release(std::vector<uint32_t>* held) {
   held->clear();
 }
 
-FaceGrid::Listing FaceGrid::ListingIn(uint32_t f, const Box& box, const Range& r, int64_t x,
-                                      int64_t y, int64_t z) const {
+FaceGrid::Listing FaceGrid::ListingIn(uint32_t f, const Span& s, int64_t x, int64_t y, int64_t z) {
   Listing l{f, {}, {}};
-  const double lo[3] = {box.lo.x, box.lo.y, box.lo.z}, hi[3] = {box.hi.x, box.hi.y, box.hi.z};
   const int64_t c[3] = {x, y, z};
   for (int a = 0; a < 3; ++a) {
-    l.lo[a] = QuantizeDown(CellUnits(lo[a], a) - double(c[a]));
-    l.hi[a] = QuantizeUp(CellUnits(hi[a], a) - double(c[a]));
+    l.lo[a] = QuantizeDown(s.lo[a] - double(c[a]));
+    l.hi[a] = QuantizeUp(s.hi[a] - double(c[a]));
     // Already so (the origin is the mesh's lower corner), but the visit relies on it.
-    l.lo[a] = c[a] == r.lo[a] ? std::max<int16_t>(l.lo[a], 0) : std::min<int16_t>(l.lo[a], -1);
+    l.lo[a] =
+        c[a] == s.range.lo[a] ? std::max<int16_t>(l.lo[a], 0) : std::min<int16_t>(l.lo[a], -1);
   }
   return l;
 }
 
 bool FaceGrid::Insert(uint32_t f, const Box& box) {
-  const Range r = RangeOf(box);
+  const Span span = SpanOf(box);
+  const Range& r = span.range;
   bool listed = true;
   for (int64_t x = r.lo[0]; x <= r.hi[0]; ++x)
     for (int64_t y = r.lo[1]; y <= r.hi[1]; ++y)
       for (int64_t z = r.lo[2]; z <= r.hi[2]; ++z) {
         const int64_t slot = Slot(Key(x, y, z));
         if (slot >= 0) {
-          cells_[slot].faces.push_back(ListingIn(f, box, r, x, y, z));
+          cells_[slot].faces.push_back(ListingIn(f, span, x, y, z));
         } else {
           listed = false;
         }
@@ -276,7 +280,13 @@ bool FaceGrid::Move(uint32_t f, const Box& before, const Box* after) {
   // A face keeps most of its cells when a corner moves: it leaves some, enters some, and its
   // listing is rewritten in the rest (list order does not matter).
   const Range from = RangeOf(before);
-  const Range to = after != nullptr ? RangeOf(*after) : Range{{1, 1, 1}, {0, 0, 0}};
+  Span span;
+  if (after != nullptr) {
+    span = SpanOf(*after);
+  } else {
+    span.range = Range{{1, 1, 1}, {0, 0, 0}};  // no cells
+  }
+  const Range& to = span.range;
   const auto in = [](const Range& r, int64_t x, int64_t y, int64_t z) {
     return r.lo[0] <= x && x <= r.hi[0] && r.lo[1] <= y && y <= r.hi[1] && r.lo[2] <= z &&
            z <= r.hi[2];
@@ -286,7 +296,7 @@ bool FaceGrid::Move(uint32_t f, const Box& before, const Box* after) {
   const auto enter = [&](int64_t x, int64_t y, int64_t z) {
     const int64_t slot = Slot(Key(x, y, z));
     if (slot >= 0) {
-      cells_[slot].faces.push_back(ListingIn(f, *after, to, x, y, z));
+      cells_[slot].faces.push_back(ListingIn(f, span, x, y, z));
     } else {
       listed = false;
     }
@@ -304,7 +314,7 @@ bool FaceGrid::Move(uint32_t f, const Box& before, const Box* after) {
         if (faces == nullptr || it == faces->end()) {
           if (stays) enter(x, y, z);
         } else if (stays) {
-          *it = ListingIn(f, *after, to, x, y, z);
+          *it = ListingIn(f, span, x, y, z);
         } else {
           *it = faces->back();
           faces->pop_back();

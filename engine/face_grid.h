@@ -13,7 +13,6 @@
 
 #include <algorithm>
 #include <atomic>
-#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -78,21 +77,18 @@ class FaceGrid {
   void ForEachFaceNear(const Box& box, const std::vector<uint32_t>& held, const Box& near,
                        Visit&& visit) const {
     const Range r = RangeOf(box);
-    const double near_lo[3] = {CellUnits(near.lo.x, 0), CellUnits(near.lo.y, 1),
-                               CellUnits(near.lo.z, 2)};
-    const double near_hi[3] = {CellUnits(near.hi.x, 0), CellUnits(near.hi.y, 1),
-                               CellUnits(near.hi.z, 2)};
+    const Span n = SpanOf(near);
     const uint32_t* slot = held.data();
     int16_t lo[3], hi[3];  // `near` in the units of the cell's listings
     for (int64_t x = r.lo[0]; x <= r.hi[0]; ++x) {
-      lo[0] = QuantizeDown(near_lo[0] - double(x));
-      hi[0] = QuantizeUp(near_hi[0] - double(x));
+      lo[0] = QuantizeDown(n.lo[0] - double(x));
+      hi[0] = QuantizeUp(n.hi[0] - double(x));
       for (int64_t y = r.lo[1]; y <= r.hi[1]; ++y) {
-        lo[1] = QuantizeDown(near_lo[1] - double(y));
-        hi[1] = QuantizeUp(near_hi[1] - double(y));
+        lo[1] = QuantizeDown(n.lo[1] - double(y));
+        hi[1] = QuantizeUp(n.hi[1] - double(y));
         for (int64_t z = r.lo[2]; z <= r.hi[2]; ++z, ++slot) {
-          lo[2] = QuantizeDown(near_lo[2] - double(z));
-          hi[2] = QuantizeUp(near_hi[2] - double(z));
+          lo[2] = QuantizeDown(n.lo[2] - double(z));
+          hi[2] = QuantizeUp(n.hi[2] - double(z));
           // A listing's lo is negative on an axis iff the face's cells begin before this cell:
           // the first held cell of the face's cells begins them, or begins the held block.
           const bool first[3] = {x == r.lo[0], y == r.lo[1], z == r.lo[2]};
@@ -126,14 +122,14 @@ class FaceGrid {
   static constexpr uint64_t kEmpty = 0;
   static constexpr int kMaxCellsPerBox = 1024;
 
-  // A face listed in a cell, with its box in sixteenths of a cell from the cell's lower corner,
+  // A face listed in a cell, with its box in 1/256ths of a cell from the cell's lower corner,
   // rounded outwards and clamped (enough to pass over faces far from a collapse without reading
   // them); lo is negative on an axis iff the face's cells begin before this one.
   struct Listing {
     uint32_t face;
     int16_t lo[3], hi[3];
   };
-  static constexpr double kListingSteps = 16;
+  static constexpr double kListingSteps = 256;  // a power of two: cells * steps is exact
 
   struct Cell {
     std::atomic<uint64_t> key{kEmpty};  // packed cell coordinates + 1
@@ -151,27 +147,33 @@ class FaceGrid {
   void Rebuild(const Mesh& mesh);
   // Lists face f in the cells of `box`; false when one had no room.
   bool Insert(uint32_t f, const Box& box);
-  // Face f's listing in cell (x, y, z), for its box `box` covering cells r.
-  Listing ListingIn(uint32_t f, const Box& box, const Range& r, int64_t x, int64_t y,
-                    int64_t z) const;
-  // A coordinate along `axis` in cells from the origin, as RangeOf computes it (so that the
-  // rounding agrees: RangeOf's cell is its floor).
-  double CellUnits(double c, int axis) const {
-    return (c - (axis == 0 ? origin_.x : axis == 1 ? origin_.y : origin_.z)) / cell_;
+  // A box in cell units from the origin (its lower corner's cell is the floor), and the cells
+  // it covers.
+  struct Span {
+    double lo[3], hi[3];
+    Range range;
+  };
+  Span SpanOf(const Box& box) const;
+  Range RangeOf(const Box& box) const { return SpanOf(box).range; }
+  // Face f's listing in cell (x, y, z), for its box's span s.
+  static Listing ListingIn(uint32_t f, const Span& s, int64_t x, int64_t y, int64_t z);
+  // floor(t) for t within [-2^62, 2^62] (std::floor is a library call here).
+  static int64_t Floor(double t) {
+    const int64_t i = static_cast<int64_t>(t);
+    return i - (static_cast<double>(i) > t);
   }
   // Cells from a cell's lower corner to listing units, rounded down or up and clamped.
   static int16_t QuantizeDown(double cells) {
-    return static_cast<int16_t>(std::clamp(std::floor(cells * kListingSteps), -32768.0, 32767.0));
+    return static_cast<int16_t>(Floor(std::clamp(cells * kListingSteps, -32768.0, 32767.0)));
   }
   static int16_t QuantizeUp(double cells) {
-    return static_cast<int16_t>(std::clamp(std::ceil(cells * kListingSteps), -32768.0, 32767.0));
+    return static_cast<int16_t>(-Floor(std::clamp(-cells * kListingSteps, -32767.0, 32768.0)));
   }
   // Indexes the live faces with cells of the current size in a table of at least min_capacity.
   void Fill(const std::vector<uint32_t>& live, uint64_t min_capacity);
   // Mean edge length of the live faces (and the live faces, and their lower corner).
   // Records the sum and the faces as the tracked ones.
   double MeanEdge(const Mesh& mesh, std::vector<uint32_t>* live, DVec3* lo);
-  Range RangeOf(const Box& box) const;
   template <class Visit>
   void ForEachCell(const Range& r, Visit&& visit) const {
     for (int64_t x = r.lo[0]; x <= r.hi[0]; ++x)
