@@ -44,8 +44,8 @@ FaceGrid::FaceGrid(const Mesh& mesh) : vertices_(mesh.vertices()), halfedges_(me
   Rebuild(mesh);
 }
 
-double FaceGrid::MeanEdge(const Mesh& mesh, std::vector<uint32_t>* live, DVec3* lo) const {
-  double edge_sum = 0.0;
+double FaceGrid::MeanEdge(const Mesh& mesh, std::vector<uint32_t>* live, DVec3* lo) {
+  double edge_sum = 0.0, magnitude = 0.0;
   uint64_t edges = 0;
   *lo = {1e300, 1e300, 1e300};
   for (uint32_t f = 0; f < mesh.face_capacity(); ++f) {
@@ -55,13 +55,28 @@ double FaceGrid::MeanEdge(const Mesh& mesh, std::vector<uint32_t>* live, DVec3* 
     for (int k = 0; k < 3; ++k) {
       edge_sum += Norm(t.p[(k + 1) % 3] - t.p[k]);
       *lo = {std::min(lo->x, t.p[k].x), std::min(lo->y, t.p[k].y), std::min(lo->z, t.p[k].z)};
+      magnitude =
+          std::max({magnitude, std::fabs(t.p[k].x), std::fabs(t.p[k].y), std::fabs(t.p[k].z)});
     }
     edges += 3;
   }
+  magnitude_ = magnitude;
+  tracked_length_.store(edge_sum, std::memory_order_relaxed);
+  tracked_faces_.store(static_cast<int64_t>(edges / 3), std::memory_order_relaxed);
   return edges > 0 && edge_sum > 0 ? edge_sum / double(edges) : 0.5;
 }
 
+void FaceGrid::Track(double length_change, int64_t face_change) {
+  tracked_length_.fetch_add(length_change, std::memory_order_relaxed);
+  tracked_faces_.fetch_add(face_change, std::memory_order_relaxed);
+}
+
 void FaceGrid::Refresh(const Mesh& mesh) {
+  // The tracked mean differs from the measured one by rounding only (below 1e-6 relative even
+  // for a billion faces): the mesh is measured only when the mean may reach the threshold.
+  const double length = tracked_length_.load(std::memory_order_relaxed);
+  const int64_t faces = tracked_faces_.load(std::memory_order_relaxed);
+  if (faces > 0 && length > 0 && length / (3.0 * double(faces)) < 0.75 * cell_ * (1 - 1e-4)) return;
   DVec3 lo;
   if (MeanEdge(mesh, nullptr, &lo) > 0.75 * cell_) Rebuild(mesh);
 }
@@ -95,8 +110,7 @@ void FaceGrid::Fill(const std::vector<uint32_t>& live, uint64_t min_capacity) {
     bool fits = true;
     for (uint32_t f : live) {
       const Triangle t = FaceTriangle(f);
-      const Box b = BoxOf(t.p, 3);
-      fits = fits && Move(f, b, &b);
+      fits = fits && Insert(f, BoxOf(t.p, 3));
     }
     if (fits && used_.load(std::memory_order_relaxed) * 2 <= capacity) return;
   }
@@ -110,7 +124,7 @@ void FaceGrid::EndRound(const Mesh& mesh) {
   for (const PendingMove& m : pending_)
     listed = listed && Move(m.face, m.before, m.removed ? nullptr : &m.after);
   pending_.clear();
-  if (listed) return;
+  if (listed && used_.load(std::memory_order_relaxed) * 2 <= mask_ + 1) return;
   std::vector<uint32_t> live;
   for (uint32_t f = 0; f < mesh.face_capacity(); ++f)
     if (!mesh.IsFaceRemoved(f)) live.push_back(f);
@@ -128,16 +142,20 @@ Triangle FaceGrid::FaceTriangle(uint32_t f) const {
   return t;
 }
 
-FaceGrid::Range FaceGrid::RangeOf(const Box& box) const {
-  Range r;
+FaceGrid::Span FaceGrid::SpanOf(const Box& box) const {
+  Span s;
   const double lo[3] = {box.lo.x - origin_.x, box.lo.y - origin_.y, box.lo.z - origin_.z};
   const double hi[3] = {box.hi.x - origin_.x, box.hi.y - origin_.y, box.hi.z - origin_.z};
+  constexpr double kLimit = static_cast<double>(kAxisLimit);
   for (int a = 0; a < 3; ++a) {
-    // A point on a cell border belongs to both cells, so touching boxes share a cell.
-    r.lo[a] = std::clamp<int64_t>(static_cast<int64_t>(std::floor(lo[a] / cell_)), 0, kAxisLimit);
-    r.hi[a] = std::clamp<int64_t>(static_cast<int64_t>(std::floor(hi[a] / cell_)), 0, kAxisLimit);
+    s.lo[a] = lo[a] / cell_;
+    s.hi[a] = hi[a] / cell_;
+    // A point on a cell border belongs to both cells, so touching boxes share a cell. (Clamped
+    // before the floor: the same cells, and the floor stays in range.)
+    s.range.lo[a] = std::clamp<int64_t>(Floor(std::clamp(s.lo[a], -1.0, kLimit)), 0, kAxisLimit);
+    s.range.hi[a] = std::clamp<int64_t>(Floor(std::clamp(s.hi[a], -1.0, kLimit)), 0, kAxisLimit);
   }
-  return r;
+  return s;
 }
 
 uint64_t FaceGrid::Key(int64_t x, int64_t y, int64_t z) const {
@@ -182,12 +200,6 @@ int64_t FaceGrid::Slot(uint64_t key) {
 FaceGrid::Hold FaceGrid::Acquire(const Box& box, std::vector<uint32_t>* held) {
   const Range r = RangeOf(box);
   if (r.count() > kMaxCellsPerBox) return Hold::kFull;
-  if (deferred_) {
-    ForEachCell(r, [&](uint64_t key) {
-      if (const int64_t slot = Find(key); slot >= 0) held->push_back(static_cast<uint32_t>(slot));
-    });
-    return Hold::kHeld;
-  }
   const size_t first = held->size();
   Hold result = Hold::kHeld;
   ForEachCell(r, [&](uint64_t key) {
@@ -196,6 +208,8 @@ FaceGrid::Hold FaceGrid::Acquire(const Box& box, std::vector<uint32_t>* held) {
     uint32_t expected = 0;
     if (slot < 0) {
       result = Hold::kFull;
+    } else if (deferred_) {
+      held->push_back(static_cast<uint32_t>(slot));
     } else if (!cells_[slot].locked.compare_exchange_strong(expected, 1,
                                                             std::memory_order_acquire)) {
       result = Hold::kBusy;
@@ -204,7 +218,7 @@ FaceGrid::Hold FaceGrid::Acquire(const Box& box, std::vector<uint32_t>* held) {
     }
   });
   if (result != Hold::kHeld) {
-    for (size_t i = first; i < held->size(); ++i)
+    for (size_t i = first; i < held->size() && !deferred_; ++i)
       cells_[(*held)[i]].locked.store(0, std::memory_order_release);
     held->resize(first);
   }
@@ -217,29 +231,90 @@ void FaceGrid::Release(std::vector<uint32_t>* held) {
   held->clear();
 }
 
+FaceGrid::Listing FaceGrid::ListingIn(uint32_t f, const Span& s, int64_t x, int64_t y, int64_t z) {
+  Listing l{f, {}, {}};
+  const int64_t c[3] = {x, y, z};
+  for (int a = 0; a < 3; ++a) {
+    l.lo[a] = QuantizeDown(s.lo[a] - double(c[a]));
+    l.hi[a] = QuantizeUp(s.hi[a] - double(c[a]));
+    // Already so (the origin is the mesh's lower corner), but the visit relies on it.
+    l.lo[a] =
+        c[a] == s.range.lo[a] ? std::max<int16_t>(l.lo[a], 0) : std::min<int16_t>(l.lo[a], -1);
+  }
+  return l;
+}
+
+bool FaceGrid::Insert(uint32_t f, const Box& box) {
+  const Span span = SpanOf(box);
+  const Range& r = span.range;
+  bool listed = true;
+  for (int64_t x = r.lo[0]; x <= r.hi[0]; ++x)
+    for (int64_t y = r.lo[1]; y <= r.hi[1]; ++y)
+      for (int64_t z = r.lo[2]; z <= r.hi[2]; ++z) {
+        const int64_t slot = Slot(Key(x, y, z));
+        if (slot >= 0) {
+          cells_[slot].faces.push_back(ListingIn(f, span, x, y, z));
+        } else {
+          listed = false;
+        }
+      }
+  return listed;
+}
+
 bool FaceGrid::Move(uint32_t f, const Box& before, const Box* after) {
   if (deferred_) {
     std::lock_guard<std::mutex> lock(pending_mu_);
     pending_.push_back({f, after == nullptr, before, after == nullptr ? before : *after});
     return true;
   }
-  ForEachCell(RangeOf(before), [&](uint64_t key) {
-    const int64_t slot = Find(key);
-    if (slot < 0) return;
-    std::vector<uint32_t>& faces = cells_[slot].faces;
-    faces.erase(std::remove(faces.begin(), faces.end(), f), faces.end());
-  });
-  if (after == nullptr) return true;
+  // A face keeps most of its cells when a corner moves: it leaves some, enters some, and its
+  // listing is rewritten in the rest (list order does not matter).
+  const Range from = RangeOf(before);
+  Span span;
+  if (after != nullptr) {
+    span = SpanOf(*after);
+  } else {
+    span.range = Range{{1, 1, 1}, {0, 0, 0}};  // no cells
+  }
+  const Range& to = span.range;
+  const auto in = [](const Range& r, int64_t x, int64_t y, int64_t z) {
+    return r.lo[0] <= x && x <= r.hi[0] && r.lo[1] <= y && y <= r.hi[1] && r.lo[2] <= z &&
+           z <= r.hi[2];
+  };
   // After the build the cells exist: they are held.
   bool listed = true;
-  ForEachCell(RangeOf(*after), [&](uint64_t key) {
-    const int64_t slot = Slot(key);
+  const auto enter = [&](int64_t x, int64_t y, int64_t z) {
+    const int64_t slot = Slot(Key(x, y, z));
     if (slot >= 0) {
-      cells_[slot].faces.push_back(f);
+      cells_[slot].faces.push_back(ListingIn(f, span, x, y, z));
     } else {
       listed = false;
     }
-  });
+  };
+  for (int64_t x = from.lo[0]; x <= from.hi[0]; ++x)
+    for (int64_t y = from.lo[1]; y <= from.hi[1]; ++y)
+      for (int64_t z = from.lo[2]; z <= from.hi[2]; ++z) {
+        const bool stays = in(to, x, y, z);
+        const int64_t slot = Find(Key(x, y, z));
+        std::vector<Listing>* faces = slot >= 0 ? &cells_[slot].faces : nullptr;
+        const auto it = faces == nullptr
+                            ? std::vector<Listing>::iterator{}
+                            : std::find_if(faces->begin(), faces->end(),
+                                           [f](const Listing& l) { return l.face == f; });
+        if (faces == nullptr || it == faces->end()) {
+          if (stays) enter(x, y, z);
+        } else if (stays) {
+          *it = ListingIn(f, span, x, y, z);
+        } else {
+          *it = faces->back();
+          faces->pop_back();
+        }
+      }
+  if (after == nullptr) return true;
+  for (int64_t x = to.lo[0]; x <= to.hi[0]; ++x)
+    for (int64_t y = to.lo[1]; y <= to.hi[1]; ++y)
+      for (int64_t z = to.lo[2]; z <= to.hi[2]; ++z)
+        if (!in(from, x, y, z)) enter(x, y, z);
   return listed;
 }
 

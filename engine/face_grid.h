@@ -11,6 +11,7 @@
 // both hold their cells: one gives its candidate up as a lock conflict.
 #pragma once
 
+#include <algorithm>
 #include <atomic>
 #include <cstdint>
 #include <memory>
@@ -28,8 +29,12 @@ class FaceGrid {
   // Indexes the live faces of `mesh`, which must outlive the grid.
   explicit FaceGrid(const Mesh& mesh);
   // Between passes (nothing held): indexes the mesh anew when its faces have grown well past
-  // the cells (as the mesh coarsens), so that a fan still covers a few cells.
+  // the cells (as the mesh coarsens), so that a fan still covers a few cells. It measures the
+  // mesh only when the edge lengths its users report (Track) say it may have to.
   void Refresh(const Mesh& mesh);
+  // What a commit changed: the sum over the live faces of their three edge lengths, and their
+  // number.
+  void Track(double length_change, int64_t face_change);
 
   struct Box {
     DVec3 lo, hi;
@@ -44,10 +49,11 @@ class FaceGrid {
   void Release(std::vector<uint32_t>* held);
 
   // Deterministic rounds (engine/rounds.h): the collapses of a round have disjoint fan boxes,
-  // so they need no cell locks, and the index stays as it was at the round's start while they
-  // run: Acquire only finds the cells (it never locks or creates one), Release forgets them,
+  // so they need no cell locks, and the lists stay as they were at the round's start while
+  // they run: Acquire finds (or creates) the cells without locking them, Release forgets them,
   // and Move is recorded. EndRound applies the moves in face order (a face moves at most once
-  // a round) and indexes the mesh anew in a larger table if a new cell found no room.
+  // a round), indexes the mesh anew if a new cell found no room, and grows a table more than
+  // half full, so that a round never finds it full (that would make refusals depend on timing).
   void BeginRound() { deferred_ = true; }
   void EndRound(const Mesh& mesh);
 
@@ -57,8 +63,44 @@ class FaceGrid {
   void ForEachFace(const Box& box, const std::vector<uint32_t>& held, Visit&& visit) const {
     for (uint32_t slot : held) {
       if (!Overlaps(cells_[slot].key.load(std::memory_order_relaxed), box)) continue;
-      for (uint32_t f : cells_[slot].faces)
-        if (!visit(f)) return;
+      for (const Listing& l : cells_[slot].faces)
+        if (!visit(l.face)) return;
+    }
+  }
+
+  // Calls visit(face) once for every face listed in the cells that Acquire(box, held) locked
+  // (`held` as it left it) whose box may overlap `near`: every face whose box overlaps it comes,
+  // and a few more (the cells keep the boxes rounded outwards). No sort and no lookup: the
+  // cells' lists are read in order, and a face comes from the first held cell it is listed in.
+  template <class Visit>
+  void ForEachFaceNear(const Box& box, const std::vector<uint32_t>& held, const Box& near,
+                       Visit&& visit) const {
+    const Range r = RangeOf(box);
+    const Span n = SpanOf(near);
+    const uint32_t* slot = held.data();
+    int16_t lo[3], hi[3];  // `near` in the units of the cell's listings
+    for (int64_t x = r.lo[0]; x <= r.hi[0]; ++x) {
+      lo[0] = QuantizeDown(n.lo[0] - double(x));
+      hi[0] = QuantizeUp(n.hi[0] - double(x));
+      for (int64_t y = r.lo[1]; y <= r.hi[1]; ++y) {
+        lo[1] = QuantizeDown(n.lo[1] - double(y));
+        hi[1] = QuantizeUp(n.hi[1] - double(y));
+        for (int64_t z = r.lo[2]; z <= r.hi[2]; ++z, ++slot) {
+          lo[2] = QuantizeDown(n.lo[2] - double(z));
+          hi[2] = QuantizeUp(n.hi[2] - double(z));
+          // A listing's lo is negative on an axis iff the face's cells begin before this cell:
+          // the first held cell of the face's cells begins them, or begins the held block.
+          const bool first[3] = {x == r.lo[0], y == r.lo[1], z == r.lo[2]};
+          for (const Listing& l : cells_[*slot].faces) {
+            if (l.lo[0] > hi[0] || l.hi[0] < lo[0] || l.lo[1] > hi[1] || l.hi[1] < lo[1] ||
+                l.lo[2] > hi[2] || l.hi[2] < lo[2])
+              continue;
+            if ((l.lo[0] >= 0 || first[0]) && (l.lo[1] >= 0 || first[1]) &&
+                (l.lo[2] >= 0 || first[2]))
+              visit(l.face);
+          }
+        }
+      }
     }
   }
 
@@ -67,18 +109,31 @@ class FaceGrid {
 
   // Moves face f in the index from the cells of `before` to those of `after` (both within held
   // cells); an empty `after` removes it. False when a cell of `after` had no room (build only).
+  // `before` must be the box f was last listed with.
   bool Move(uint32_t f, const Box& before, const Box* after);
 
   double cell_size() const { return cell_; }
+  // The largest coordinate magnitude of the live faces' corners when last measured: positions
+  // never change, and faces only ever join those vertices.
+  double magnitude() const { return magnitude_; }
 
  private:
   static constexpr uint64_t kEmpty = 0;
   static constexpr int kMaxCellsPerBox = 1024;
 
+  // A face listed in a cell, with its box in 1/256ths of a cell from the cell's lower corner,
+  // rounded outwards and clamped (enough to pass over faces far from a collapse without reading
+  // them); lo is negative on an axis iff the face's cells begin before this one.
+  struct Listing {
+    uint32_t face;
+    int16_t lo[3], hi[3];
+  };
+  static constexpr double kListingSteps = 256;  // a power of two: cells * steps is exact
+
   struct Cell {
     std::atomic<uint64_t> key{kEmpty};  // packed cell coordinates + 1
     std::atomic<uint32_t> locked{0};
-    std::vector<uint32_t> faces;  // guarded by `locked`
+    std::vector<Listing> faces;  // guarded by `locked`
   };
 
   struct Range {
@@ -88,11 +143,35 @@ class FaceGrid {
     }
   };
   void Rebuild(const Mesh& mesh);
+  // Lists face f in the cells of `box`; false when one had no room.
+  bool Insert(uint32_t f, const Box& box);
+  // A box in cell units from the origin (its lower corner's cell is the floor), and the cells
+  // it covers.
+  struct Span {
+    double lo[3], hi[3];
+    Range range;
+  };
+  Span SpanOf(const Box& box) const;
+  Range RangeOf(const Box& box) const { return SpanOf(box).range; }
+  // Face f's listing in cell (x, y, z), for its box's span s.
+  static Listing ListingIn(uint32_t f, const Span& s, int64_t x, int64_t y, int64_t z);
+  // floor(t) for t within [-2^62, 2^62] (std::floor is a library call here).
+  static int64_t Floor(double t) {
+    const int64_t i = static_cast<int64_t>(t);
+    return i - (static_cast<double>(i) > t);
+  }
+  // Cells from a cell's lower corner to listing units, rounded down or up and clamped.
+  static int16_t QuantizeDown(double cells) {
+    return static_cast<int16_t>(Floor(std::clamp(cells * kListingSteps, -32768.0, 32767.0)));
+  }
+  static int16_t QuantizeUp(double cells) {
+    return static_cast<int16_t>(-Floor(std::clamp(-cells * kListingSteps, -32767.0, 32768.0)));
+  }
   // Indexes the live faces with cells of the current size in a table of at least min_capacity.
   void Fill(const std::vector<uint32_t>& live, uint64_t min_capacity);
   // Mean edge length of the live faces (and the live faces, and their lower corner).
-  double MeanEdge(const Mesh& mesh, std::vector<uint32_t>* live, DVec3* lo) const;
-  Range RangeOf(const Box& box) const;
+  // Records the sum and the faces as the tracked ones.
+  double MeanEdge(const Mesh& mesh, std::vector<uint32_t>* live, DVec3* lo);
   template <class Visit>
   void ForEachCell(const Range& r, Visit&& visit) const {
     for (int64_t x = r.lo[0]; x <= r.hi[0]; ++x)
@@ -109,10 +188,11 @@ class FaceGrid {
   const HalfEdgeQ* halfedges_;
   DVec3 origin_{};
   double cell_ = 1.0;
+  double magnitude_ = 0.0;
   uint64_t mask_ = 0;
   std::unique_ptr<Cell[]> cells_;
   std::atomic<uint64_t> used_{0};
-  // Deterministic rounds: the moves recorded while the index is read only.
+  // Deterministic rounds: the moves recorded while the lists are read only.
   struct PendingMove {
     uint32_t face;
     bool removed;
@@ -120,7 +200,9 @@ class FaceGrid {
   };
   bool deferred_ = false;
   std::mutex pending_mu_;
-  std::vector<PendingMove> pending_;  // guarded by pending_mu_
+  std::vector<PendingMove> pending_;         // guarded by pending_mu_
+  std::atomic<double> tracked_length_{0.0};  // see Track
+  std::atomic<int64_t> tracked_faces_{0};
 };
 
 }  // namespace femsimp

@@ -90,10 +90,10 @@ struct CollapseProposal {
   // that needs them until the candidate is done.
   std::vector<uint32_t> held_cells;
   bool cells_acquired = false;
-  // The faces in those cells but outside V's fan, as they are while the cells are held.
+  // The faces in those cells but outside V's fan that some new triangle of any direction could
+  // meet (by their boxes), as they are while the cells are held, and their ids.
   std::vector<uint32_t> nearby_faces;
-  std::vector<Triangle> nearby;
-  std::vector<TriangleBox> nearby_boxes;
+  std::vector<PreparedTriangle> nearby;
 
   uint32_t vd() const { return fan->nbr[target]; }
   // Fan face f is one of the two that contain V - Vd (and disappear).

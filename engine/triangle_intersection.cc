@@ -17,10 +17,24 @@ int Sign(double value, double scale2) {
   return value > 0 ? 1 : -1;
 }
 
+// The corners' minima and maxima per axis.
+void Extent(const Triangle& t, DVec3* min, DVec3* max) {
+  *min = {std::min({t.p[0].x, t.p[1].x, t.p[2].x}), std::min({t.p[0].y, t.p[1].y, t.p[2].y}),
+          std::min({t.p[0].z, t.p[1].z, t.p[2].z})};
+  *max = {std::max({t.p[0].x, t.p[1].x, t.p[2].x}), std::max({t.p[0].y, t.p[1].y, t.p[2].y}),
+          std::max({t.p[0].z, t.p[1].z, t.p[2].z})};
+}
+
 // Sign of the volume of (a, b, c, d).
 int Orient3d(const DVec3& a, const DVec3& b, const DVec3& c, const DVec3& d) {
   const DVec3 u = b - a, v = c - a, w = d - a;
   return Sign(Dot(Cross(u, v), w), Dot(u, u) * Dot(v, v) * Dot(w, w));
+}
+
+// Orient3d(t.p[0], t.p[1], t.p[2], d): the side of t's plane d lies on.
+int PlaneSide(const PreparedTriangle& t, const DVec3& d) {
+  const DVec3 w = d - t.t.p[0];
+  return Sign(Dot(t.normal, w), t.scale2 * Dot(w, w));
 }
 
 struct P2 {
@@ -51,62 +65,158 @@ bool OnSegment(const P2& p, const P2& a, const P2& b) {
          p.y <= std::max(a.y, b.y);
 }
 
-// Closed 2D segments.
-bool SegmentsMeet(const P2& p, const P2& q, const P2& a, const P2& b) {
-  const int o1 = Orient2d(p, q, a), o2 = Orient2d(p, q, b);
-  const int o3 = Orient2d(a, b, p), o4 = Orient2d(a, b, q);
-  if (o1 * o2 < 0 && o3 * o4 < 0) return true;
-  return (o1 == 0 && OnSegment(a, p, q)) || (o2 == 0 && OnSegment(b, p, q)) ||
-         (o3 == 0 && OnSegment(p, a, b)) || (o4 == 0 && OnSegment(q, a, b));
+// Signs on both sides of zero among s[0..2]: a point outside a triangle (either orientation).
+bool Mixed(const int s[3]) {
+  const bool negative = s[0] < 0 || s[1] < 0 || s[2] < 0;
+  const bool positive = s[0] > 0 || s[1] > 0 || s[2] > 0;
+  return negative && positive;
 }
 
-// Closed 2D triangle (either orientation).
-bool InTriangle(const P2& p, const P2& a, const P2& b, const P2& c) {
-  const int s1 = Orient2d(a, b, p), s2 = Orient2d(b, c, p), s3 = Orient2d(c, a, p);
-  const bool negative = s1 < 0 || s2 < 0 || s3<0, positive = s1> 0 || s2 > 0 || s3 > 0;
-  return !(negative && positive);
+// side[i] = Orient2d(c[i], c[i + 1], p): p's side of each edge of the 2D triangle c.
+void EdgeSides(const P2 c[3], const P2& p, int side[3]) {
+  for (int i = 0; i < 3; ++i) side[i] = Orient2d(c[i], c[(i + 1) % 3], p);
 }
 
+// Closed 2D segment pq against the closed 2D triangle c (either orientation), given the sides
+// of p and q of its edges (EdgeSides): p or q in the triangle, or pq meeting one of its closed
+// edges. The point tests and the edge tests share those orientations.
+bool SegmentMeetsTriangle2d(const P2& p, const P2& q, const P2 c[3], const int side_p[3],
+                            const int side_q[3]) {
+  if (!Mixed(side_p) || !Mixed(side_q)) return true;
+  int line[3];  // line[i]: Orient2d(p, q, c[i])
+  for (int i = 0; i < 3; ++i) line[i] = Orient2d(p, q, c[i]);
+  for (int i = 0; i < 3; ++i) {  // closed segments pq and c[i] c[i + 1]
+    const P2 &a = c[i], &b = c[(i + 1) % 3];
+    const int o1 = line[i], o2 = line[(i + 1) % 3], o3 = side_p[i], o4 = side_q[i];
+    if (o1 * o2 < 0 && o3 * o4 < 0) return true;
+    if ((o1 == 0 && OnSegment(a, p, q)) || (o2 == 0 && OnSegment(b, p, q)) ||
+        (o3 == 0 && OnSegment(p, a, b)) || (o4 == 0 && OnSegment(q, a, b)))
+      return true;
+  }
+  return false;
+}
+
+// Segment pq in the plane of triangle abc (normal n = Cross(b - a, c - a)).
 bool CoplanarSegmentMeetsTriangle(const DVec3& p, const DVec3& q, const DVec3& a, const DVec3& b,
-                                  const DVec3& c) {
-  const Projection flat(Cross(b - a, c - a));
-  const P2 p2 = flat(p), q2 = flat(q), a2 = flat(a), b2 = flat(b), c2 = flat(c);
-  return InTriangle(p2, a2, b2, c2) || InTriangle(q2, a2, b2, c2) || SegmentsMeet(p2, q2, a2, b2) ||
-         SegmentsMeet(p2, q2, b2, c2) || SegmentsMeet(p2, q2, c2, a2);
+                                  const DVec3& c, const DVec3& n) {
+  const Projection flat(n);
+  const P2 corners[3] = {flat(a), flat(b), flat(c)};
+  const P2 p2 = flat(p), q2 = flat(q);
+  int side_p[3], side_q[3];
+  EdgeSides(corners, p2, side_p);
+  if (!Mixed(side_p)) return true;
+  EdgeSides(corners, q2, side_q);
+  return SegmentMeetsTriangle2d(p2, q2, corners, side_p, side_q);
 }
 
-bool MeetsTriangle(const DVec3& p, const DVec3& q, const Triangle& t) {
-  return SegmentMeetsTriangle(p, q, t.p[0], t.p[1], t.p[2]);
+// The line pq crosses the plane of abc inside the segment: it meets the triangle iff it passes
+// on the same side of all three edges (or along one).
+bool CrossingMeetsTriangle(const DVec3& p, const DVec3& q, const DVec3& a, const DVec3& b,
+                           const DVec3& c) {
+  // Orient3d(p, q, x, y) for the edges xy of abc, sharing q - p and the corners' offsets.
+  const DVec3 u = q - p, da = a - p, db = b - p, dc = c - p;
+  const double uu = Dot(u, u), aa = Dot(da, da), bb = Dot(db, db), cc = Dot(dc, dc);
+  const int s[3] = {Sign(Dot(Cross(u, da), db), uu * aa * bb),
+                    Sign(Dot(Cross(u, db), dc), uu * bb * cc),
+                    Sign(Dot(Cross(u, dc), da), uu * cc * aa)};
+  return !Mixed(s);
+}
+
+// Whether pq reaches t's box along every axis (SegmentMeetsTriangle's first rejection).
+bool Reaches(const DVec3& p, const DVec3& q, const PreparedTriangle& t) {
+  return !(std::max(p.x, q.x) < t.reach_lo[0] || std::min(p.x, q.x) > t.reach_hi[0] ||
+           std::max(p.y, q.y) < t.reach_lo[1] || std::min(p.y, q.y) > t.reach_hi[1] ||
+           std::max(p.z, q.z) < t.reach_lo[2] || std::min(p.z, q.z) > t.reach_hi[2]);
+}
+
+// SegmentMeetsTriangle(p, q, t's corners), given the sides of p and q of t's plane.
+bool SegmentMeets(const DVec3& p, const DVec3& q, int sp, int sq, const PreparedTriangle& t) {
+  if (sp == sq && sp != 0) return false;
+  const DVec3* c = t.t.p;
+  if (sp == 0 && sq == 0) return CoplanarSegmentMeetsTriangle(p, q, c[0], c[1], c[2], t.normal);
+  return CrossingMeetsTriangle(p, q, c[0], c[1], c[2]);
+}
+
+bool SegmentMeets(const DVec3& p, const DVec3& q, const PreparedTriangle& t) {
+  return Reaches(p, q, t) && SegmentMeets(p, q, PlaneSide(t, p), PlaneSide(t, q), t);
+}
+
+// SegmentMeets for each edge of s against t, given the sides of s's corners of t's plane. In
+// the plane, the sides of s's corners of t's edges serve two edges each: computed once.
+bool EdgesMeet(const PreparedTriangle& s, const int side[3], const PreparedTriangle& t) {
+  Projection flat(t.normal);
+  P2 corners[3], s2[3];
+  int sides2[3][3];
+  bool flat_ready = false, sides2_ready[3] = {false, false, false};
+  for (int k = 0; k < 3; ++k) {
+    const int l = (k + 1) % 3;
+    const DVec3 &p = s.t.p[k], &q = s.t.p[l];
+    if (!Reaches(p, q, t) || (side[k] == side[l] && side[k] != 0)) continue;
+    if (side[k] != 0 || side[l] != 0) {
+      if (CrossingMeetsTriangle(p, q, t.t.p[0], t.t.p[1], t.t.p[2])) return true;
+      continue;
+    }
+    if (!flat_ready) {
+      for (int i = 0; i < 3; ++i) corners[i] = flat(t.t.p[i]);
+      flat_ready = true;
+    }
+    for (const int m : {k, l}) {
+      if (sides2_ready[m]) continue;
+      s2[m] = flat(s.t.p[m]);
+      EdgeSides(corners, s2[m], sides2[m]);
+      sides2_ready[m] = true;
+    }
+    if (SegmentMeetsTriangle2d(s2[k], s2[l], corners, sides2[k], sides2[l])) return true;
+  }
+  return false;
+}
+
+// Neither triangle shares a corner with the other: they meet iff an edge of one meets the
+// other. The side of each corner of one of the other's plane serves two edges: computed once.
+bool DisjointCornersIntersect(const PreparedTriangle& a, const PreparedTriangle& b) {
+  int side_a[3], side_b[3];  // side_a[k]: a's corner k of b's plane; side_b[k]: b's of a's
+  for (int k = 0; k < 3; ++k) side_a[k] = PlaneSide(b, a.t.p[k]);
+  for (int k = 0; k < 3; ++k) side_b[k] = PlaneSide(a, b.t.p[k]);
+  // Corners all strictly on one side: none of the triangle's edges meets the other (each has
+  // both ends there), so its edges need no test.
+  const bool a_apart = side_a[0] != 0 && side_a[0] == side_a[1] && side_a[1] == side_a[2];
+  const bool b_apart = side_b[0] != 0 && side_b[0] == side_b[1] && side_b[1] == side_b[2];
+  return (!a_apart && EdgesMeet(a, side_a, b)) || (!b_apart && EdgesMeet(b, side_b, a));
 }
 
 }  // namespace
 
 bool SegmentMeetsTriangle(const DVec3& p, const DVec3& q, const DVec3& a, const DVec3& b,
                           const DVec3& c) {
-  for (double DVec3::*k : {&DVec3::x, &DVec3::y, &DVec3::z}) {
-    const double lo = std::min({a.*k, b.*k, c.*k}), hi = std::max({a.*k, b.*k, c.*k});
-    const double slack = 1e-9 * (std::fabs(lo) + std::fabs(hi));
-    if (std::max(p.*k, q.*k) < lo - slack || std::min(p.*k, q.*k) > hi + slack) return false;
-  }
-  const int sp = Orient3d(a, b, c, p), sq = Orient3d(a, b, c, q);
-  if (sp == sq && sp != 0) return false;
-  if (sp == 0 && sq == 0) return CoplanarSegmentMeetsTriangle(p, q, a, b, c);
-  // The line pq crosses the plane inside the segment: inside the triangle iff pq passes on the
-  // same side of all three edges (or along one).
-  const int s1 = Orient3d(p, q, a, b), s2 = Orient3d(p, q, b, c), s3 = Orient3d(p, q, c, a);
-  const bool negative = s1 < 0 || s2 < 0 || s3<0, positive = s1> 0 || s2 > 0 || s3 > 0;
-  return !(negative && positive);
+  return SegmentMeets(p, q, PreparedTriangle(Triangle{{a, b, c}, {0, 0, 0}}));
 }
 
-TriangleBox::TriangleBox(const Triangle& t) {
-  lo = {std::min({t.p[0].x, t.p[1].x, t.p[2].x}), std::min({t.p[0].y, t.p[1].y, t.p[2].y}),
-        std::min({t.p[0].z, t.p[1].z, t.p[2].z})};
-  hi = {std::max({t.p[0].x, t.p[1].x, t.p[2].x}), std::max({t.p[0].y, t.p[1].y, t.p[2].y}),
-        std::max({t.p[0].z, t.p[1].z, t.p[2].z})};
+TriangleBox::TriangleBox(const DVec3& min, const DVec3& max) : lo(min), hi(max) {
   const double slack = 1e-9 * (std::fabs(lo.x) + std::fabs(lo.y) + std::fabs(lo.z) +
                                std::fabs(hi.x) + std::fabs(hi.y) + std::fabs(hi.z) + 1e-30);
   lo = lo - DVec3{slack, slack, slack};
   hi = hi + DVec3{slack, slack, slack};
+}
+
+TriangleBox::TriangleBox(const Triangle& t) {
+  DVec3 min, max;
+  Extent(t, &min, &max);
+  *this = TriangleBox(min, max);
+}
+
+PreparedTriangle::PreparedTriangle(const Triangle& triangle) : t(triangle) {
+  DVec3 min, max;
+  Extent(t, &min, &max);
+  box = TriangleBox(min, max);
+  const DVec3 u = t.p[1] - t.p[0], v = t.p[2] - t.p[0];
+  normal = Cross(u, v);
+  scale2 = Dot(u, u) * Dot(v, v);
+  const double lo[3] = {min.x, min.y, min.z}, hi[3] = {max.x, max.y, max.z};
+  for (int a = 0; a < 3; ++a) {
+    const double slack = 1e-9 * (std::fabs(lo[a]) + std::fabs(hi[a]));
+    reach_lo[a] = lo[a] - slack;
+    reach_hi[a] = hi[a] + slack;
+  }
 }
 
 bool TrianglesIntersect(const Triangle& a, const Triangle& b) {
@@ -114,6 +224,11 @@ bool TrianglesIntersect(const Triangle& a, const Triangle& b) {
 }
 
 bool OverlappingTrianglesIntersect(const Triangle& a, const Triangle& b) {
+  return OverlappingTrianglesIntersect(PreparedTriangle(a), PreparedTriangle(b));
+}
+
+bool OverlappingTrianglesIntersect(const PreparedTriangle& pa, const PreparedTriangle& pb) {
+  const Triangle &a = pa.t, &b = pb.t;
   int shared = 0, ia[3], ib[3];  // ia[k], ib[k]: corners of a and b that are the same vertex
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
@@ -135,14 +250,11 @@ bool OverlappingTrianglesIntersect(const Triangle& a, const Triangle& b) {
   if (shared == 1) {
     // Beyond the shared corner, they meet iff the edge opposite it in one meets the other.
     const int i = ia[0], j = ib[0];
-    return MeetsTriangle(a.p[(i + 1) % 3], a.p[(i + 2) % 3], b) ||
-           MeetsTriangle(b.p[(j + 1) % 3], b.p[(j + 2) % 3], a);
+    return SegmentMeets(a.p[(i + 1) % 3], a.p[(i + 2) % 3], pb) ||
+           SegmentMeets(b.p[(j + 1) % 3], b.p[(j + 2) % 3], pa);
   }
   // Two triangles that meet have an edge of one meeting the other.
-  for (int k = 0; k < 3; ++k)
-    if (MeetsTriangle(a.p[k], a.p[(k + 1) % 3], b) || MeetsTriangle(b.p[k], b.p[(k + 1) % 3], a))
-      return true;
-  return false;
+  return DisjointCornersIntersect(pa, pb);
 }
 
 }  // namespace femsimp

@@ -18,16 +18,34 @@ struct Triangle {
 // A triangle's bounding box, widened by a relative slack so that touching boxes overlap.
 struct TriangleBox {
   DVec3 lo, hi;
+  TriangleBox() = default;
   explicit TriangleBox(const Triangle& t);
+  // The same box from the triangle's exact corner minima and maxima.
+  TriangleBox(const DVec3& min, const DVec3& max);
   bool Overlaps(const TriangleBox& o) const {
     return !(lo.x > o.hi.x || o.lo.x > hi.x || lo.y > o.hi.y || o.lo.y > hi.y || lo.z > o.hi.z ||
              o.lo.z > hi.z);
   }
 };
 
+// A triangle with what every test against it derives from it alone, computed once: a triangle
+// is tested against dozens of others per collapse. The tests below compute exactly what the
+// plain ones compute (the same operations in the same order), only not again.
+struct PreparedTriangle {
+  Triangle t;
+  TriangleBox box;
+  DVec3 normal;        // Cross(p1 - p0, p2 - p0), unnormalised
+  double scale2;       // |p1 - p0|^2 |p2 - p0|^2, the scale of the orientation test
+  double reach_lo[3];  // per axis: a segment below this (or above reach_hi) misses the triangle
+  double reach_hi[3];
+  PreparedTriangle() = default;
+  explicit PreparedTriangle(const Triangle& triangle);
+};
+
 bool TrianglesIntersect(const Triangle& a, const Triangle& b);
 // The same, for triangles whose boxes are known to overlap.
 bool OverlappingTrianglesIntersect(const Triangle& a, const Triangle& b);
+bool OverlappingTrianglesIntersect(const PreparedTriangle& a, const PreparedTriangle& b);
 
 // The closed segment pq meets the closed triangle abc.
 bool SegmentMeetsTriangle(const DVec3& p, const DVec3& q, const DVec3& a, const DVec3& b,

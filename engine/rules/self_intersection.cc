@@ -4,6 +4,7 @@
 // cells. Near-touching counts as touching (engine/triangle_intersection.h), so a refusal errs
 // on the safe side.
 #include <algorithm>
+#include <cmath>
 
 #include "engine/face_grid.h"
 #include "engine/rule.h"
@@ -25,21 +26,35 @@ class SelfIntersectionRule final : public CollapseRule {
     if (!p.cells_acquired) {
       if (Verdict v = HoldNeighbourhood(p); v != Verdict::kPass) return v;
     }
-    Triangle fresh[kMaxRing];
+    PreparedTriangle fresh[kMaxRing];
     int count = 0;
     for (int f = 0; f < fan.faces; ++f)
-      if (!p.IsDeleted(f)) fresh[count++] = NewTriangle(p, f);
+      if (!p.IsDeleted(f)) fresh[count++] = PreparedTriangle(NewTriangle(p, f));
+    // The cell back end's cycle model charges every pair tested (boxes overlapping, for the
+    // faces nearby) up to the first hit, in the order new triangle by new triangle, nearby
+    // faces by id: counted so whatever order they are tested in.
     uint32_t tests = 0;
     bool hit = false;
     for (int a = 0; a < count && !hit; ++a) {
       for (int b = a + 1; b < count && !hit; ++b, ++tests)
-        hit = TrianglesIntersect(fresh[a], fresh[b]);
-      const TriangleBox box(fresh[a]);
-      for (size_t k = 0; k < p.nearby.size() && !hit; ++k) {
-        if (!box.Overlaps(p.nearby_boxes[k])) continue;
-        ++tests;
-        hit = OverlappingTrianglesIntersect(fresh[a], p.nearby[k]);
+        hit = fresh[a].box.Overlaps(fresh[b].box) &&
+              OverlappingTrianglesIntersect(fresh[a], fresh[b]);
+      if (hit) break;
+      uint32_t first_hit = kNone;  // the smallest id of a face fresh[a] meets
+      uint32_t overlapping = 0;
+      for (size_t k = 0; k < p.nearby.size(); ++k) {
+        if (!fresh[a].box.Overlaps(p.nearby[k].box)) continue;
+        ++overlapping;
+        if (p.nearby_faces[k] < first_hit && OverlappingTrianglesIntersect(fresh[a], p.nearby[k]))
+          first_hit = p.nearby_faces[k];
       }
+      if (first_hit != kNone) {
+        hit = true;
+        overlapping = 0;
+        for (size_t k = 0; k < p.nearby.size(); ++k)
+          overlapping += p.nearby_faces[k] <= first_hit && fresh[a].box.Overlaps(p.nearby[k].box);
+      }
+      tests += overlapping;
     }
     p.cycles += kCyclesPerTriangleTest * tests;
     return hit ? Verdict::kReject : Verdict::kPass;
@@ -47,18 +62,24 @@ class SelfIntersectionRule final : public CollapseRule {
 
   void Commit(CollapseProposal& p) const override {
     const Ring& fan = *p.fan;
+    double length_change = 0;
+    int64_t face_change = 0;
     for (int f = 0; f < fan.faces; ++f) {
       const Triangle before = OldTriangle(fan, f);
       const FaceGrid::Box old_box = FaceGrid::BoxOf(before.p, 3);
       const uint32_t face = FaceOf(fan.out[f]);
+      length_change -= Perimeter(before);
       if (p.IsDeleted(f)) {
         grid_->Move(face, old_box, nullptr);
+        --face_change;
       } else {
         const Triangle after = NewTriangle(p, f);
         const FaceGrid::Box new_box = FaceGrid::BoxOf(after.p, 3);
         grid_->Move(face, old_box, &new_box);
+        length_change += Perimeter(after);
       }
     }
+    grid_->Track(length_change, face_change);
   }
 
   void Release(CollapseProposal& p) const override {
@@ -68,7 +89,8 @@ class SelfIntersectionRule final : public CollapseRule {
 
  private:
   // Holds the cells over V's fan (V and its one-ring: every direction's new triangles lie in
-  // its box) and reads the faces there once for all directions.
+  // its box) and reads the faces there once for all directions: those whose boxes could
+  // overlap a new triangle's.
   Verdict HoldNeighbourhood(CollapseProposal& p) const {
     const Ring& fan = *p.fan;
     DVec3 points[kMaxRing + 2];
@@ -79,27 +101,39 @@ class SelfIntersectionRule final : public CollapseRule {
     if (hold == FaceGrid::Hold::kBusy) return Verdict::kConflict;
     if (hold == FaceGrid::Hold::kFull) return Verdict::kReject;  // cannot prove it safe
     p.cells_acquired = true;
-    std::vector<uint32_t>& ids = p.nearby_faces;
-    ids.clear();
-    grid_->ForEachFace(box, p.held_cells, [&](uint32_t g) {
-      ids.push_back(g);
-      return true;
-    });
-    std::sort(ids.begin(), ids.end());
-    // A face listed in several cells is read once; the fan's faces are replaced by the new
-    // triangles.
+    const TriangleBox reach = NewTrianglesReach(fan, points + 1);
     p.nearby.clear();
-    p.nearby_boxes.clear();
-    for (size_t i = 0; i < ids.size();) {
-      size_t j = i;
-      while (j < ids.size() && ids[j] == ids[i]) ++j;
-      if (!InFan(fan, ids[i])) {
-        p.nearby.push_back(grid_->FaceTriangle(ids[i]));
-        p.nearby_boxes.emplace_back(p.nearby.back());
+    p.nearby_faces.clear();
+    // The cells list the faces' plain boxes: widened by the most any face's box is widened.
+    const double face_slack = 12e-9 * grid_->magnitude() + 1e-30;
+    const FaceGrid::Box near{reach.lo - DVec3{face_slack, face_slack, face_slack},
+                             reach.hi + DVec3{face_slack, face_slack, face_slack}};
+    grid_->ForEachFaceNear(box, p.held_cells, near, [&](uint32_t g) {
+      if (InFan(fan, g)) return;
+      p.nearby.emplace_back(grid_->FaceTriangle(g));
+      if (!p.nearby.back().box.Overlaps(reach)) {
+        p.nearby.pop_back();
+        return;
       }
-      i = j;
-    }
+      p.nearby_faces.push_back(g);
+    });
     return Verdict::kPass;
+  }
+
+  // A box that holds the (widened) box of every new triangle of every direction: they use the
+  // one-ring's points only. A new triangle's slack is 1e-9 times the sum of the magnitudes of
+  // its box's six coordinates, at most twice the ring's largest magnitudes per axis; this one's
+  // is twice that, and rounding is monotonic.
+  static TriangleBox NewTrianglesReach(const Ring& fan, const DVec3* ring) {
+    const FaceGrid::Box b = FaceGrid::BoxOf(ring, fan.neighbours());
+    const double magnitude = std::max(std::fabs(b.lo.x), std::fabs(b.hi.x)) +
+                             std::max(std::fabs(b.lo.y), std::fabs(b.hi.y)) +
+                             std::max(std::fabs(b.lo.z), std::fabs(b.hi.z));
+    const double slack = 4e-9 * magnitude + 1e-30;
+    TriangleBox reach;
+    reach.lo = b.lo - DVec3{slack, slack, slack};
+    reach.hi = b.hi + DVec3{slack, slack, slack};
+    return reach;
   }
 
   static Triangle OldTriangle(const Ring& fan, int f) {
@@ -112,6 +146,9 @@ class SelfIntersectionRule final : public CollapseRule {
     t.p[0] = ToD(p.fan->pos[p.target]);
     t.id[0] = p.vd();
     return t;
+  }
+  static double Perimeter(const Triangle& t) {
+    return Norm(t.p[1] - t.p[0]) + Norm(t.p[2] - t.p[1]) + Norm(t.p[0] - t.p[2]);
   }
   static bool InFan(const Ring& fan, uint32_t face) {
     for (int f = 0; f < fan.faces; ++f)
