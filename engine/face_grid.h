@@ -56,6 +56,12 @@ class FaceGrid {
   // half full, so that a round never finds it full (that would make refusals depend on timing).
   void BeginRound() { deferred_ = true; }
   void EndRound(const Mesh& mesh);
+  // A cancelled run ends in the middle of a round: the recorded moves are dropped (applying
+  // them would only delay the end), and the index no longer matches the mesh.
+  void AbandonRound() {
+    deferred_ = false;
+    pending_.clear();
+  }
 
   // Calls visit(face) for every face listed in the held cells that overlap `box` (a face may
   // come more than once); stops early when visit returns false.

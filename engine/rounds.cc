@@ -14,7 +14,7 @@ namespace {
 // candidates win: halved when fewer than half do (its candidates crowd each other), doubled
 // when more than 80 % do. It follows the rounds' outcomes only, never the context count.
 constexpr size_t kFirstWindowShare = 64;
-constexpr size_t kLargestWindowShare = 8;
+constexpr size_t kLargestWindowShare = 32;  // and short rounds answer a cancel sooner
 constexpr size_t kMinWindow = 256;
 
 // Boxes are widened by this much relative to their coordinates, so that two winners' new
@@ -74,7 +74,7 @@ void RoundScheduler::ReadFans(const RemovalPhase& phase) {
   });
 }
 
-size_t RoundScheduler::PickWinners(int64_t room) {
+size_t RoundScheduler::PickWinners(const RemovalPhase& phase, int64_t room) {
   const size_t m = window_.size();
   // Winners' boxes are listed in a hashed grid whose cells are about twice the typical box, so
   // a box meets a few cells and each cell few winners; a box over more cells than kMaxCells is
@@ -111,6 +111,7 @@ size_t RoundScheduler::PickWinners(int64_t room) {
   size_t winners = 0;
   int64_t lo[3] = {}, hi[3] = {};
   for (uint32_t k = 0; k < m && static_cast<int64_t>(winners) < room; ++k) {
+    if (k % 1024 == 0 && phase.PollCancelled()) return winners;
     if (!live_[k]) continue;
     const FaceGrid::Box& box = box_[k];
     const bool small = range(box, lo, hi);
@@ -167,7 +168,8 @@ absl::Status RoundScheduler::RunPass(RemovalBackend& backend, const RemovalPhase
     ReadFans(phase);
     if (phase.Stopped()) break;
     const size_t live = static_cast<size_t>(std::count(live_.begin(), live_.end(), 1));
-    const size_t won = PickWinners(room);
+    const size_t won = PickWinners(phase, room);
+    if (phase.Stopped()) break;
     if (2 * won < live)
       window_size = std::max(kMinWindow, window_size / 2);
     else if (5 * won > 4 * live)
@@ -193,7 +195,11 @@ absl::Status RoundScheduler::RunPass(RemovalBackend& backend, const RemovalPhase
     rules_.BeginRound(winners.size());
     if (grid_ != nullptr) grid_->BeginRound();
     absl::Status s = backend.RunRemoval(round, stats);
-    if (grid_ != nullptr) grid_->EndRound(mesh_);
+    // A cancelled run stops here, and the face index is not used again.
+    if (grid_ != nullptr && phase.Stopped())
+      grid_->AbandonRound();
+    else if (grid_ != nullptr)
+      grid_->EndRound(mesh_);
     rules_.EndRound();
     if (!s.ok()) return s;
     ++stats.rounds;

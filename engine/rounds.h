@@ -47,7 +47,7 @@ class RoundScheduler {
   // Boxes of the window's candidates (in parallel); `live[k]` false: no longer removable.
   void ReadFans(const RemovalPhase& phase);
   // Marks the winners in window order; returns how many.
-  size_t PickWinners(int64_t room);
+  size_t PickWinners(const RemovalPhase& phase, int64_t room);
 
   Mesh& mesh_;
   WorkerPool& pool_;
