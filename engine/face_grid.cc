@@ -142,18 +142,26 @@ Triangle FaceGrid::FaceTriangle(uint32_t f) const {
   return t;
 }
 
+void FaceGrid::PrefetchCorners(uint32_t f) const {
+  for (int k = 0; k < 3; ++k)
+    __builtin_prefetch(&vertices_[LoadWord(halfedges_[3 * f + k].target)]);
+}
+
 FaceGrid::Span FaceGrid::SpanOf(const Box& box) const {
   Span s;
   const double lo[3] = {box.lo.x - origin_.x, box.lo.y - origin_.y, box.lo.z - origin_.z};
   const double hi[3] = {box.hi.x - origin_.x, box.hi.y - origin_.y, box.hi.z - origin_.z};
-  constexpr double kLimit = static_cast<double>(kAxisLimit);
+  // Far beyond the cells' coordinates, so that the clamp below changes no cell.
+  constexpr double kFar = double(int64_t{1} << 40);
+  constexpr double kSteps = double(1 << kListingBits);
   for (int a = 0; a < 3; ++a) {
-    s.lo[a] = lo[a] / cell_;
-    s.hi[a] = hi[a] / cell_;
-    // A point on a cell border belongs to both cells, so touching boxes share a cell. (Clamped
-    // before the floor: the same cells, and the floor stays in range.)
-    s.range.lo[a] = std::clamp<int64_t>(Floor(std::clamp(s.lo[a], -1.0, kLimit)), 0, kAxisLimit);
-    s.range.hi[a] = std::clamp<int64_t>(Floor(std::clamp(s.hi[a], -1.0, kLimit)), 0, kAxisLimit);
+    s.lo[a] = Floor(std::clamp(lo[a] / cell_ * kSteps, -kFar, kFar));
+    s.hi[a] = -Floor(std::clamp(-(hi[a] / cell_) * kSteps, -kFar, kFar));
+    // The cell of a coordinate is the floor of its units over the steps (an arithmetic shift
+    // floors). A point on a cell border belongs to both cells, so touching boxes share a cell.
+    s.range.lo[a] = std::clamp<int64_t>(s.lo[a] >> kListingBits, 0, kAxisLimit);
+    s.range.hi[a] =
+        std::clamp<int64_t>(Floor(std::clamp(hi[a] / cell_, -kFar, kFar)), 0, kAxisLimit);
   }
   return s;
 }
@@ -221,7 +229,10 @@ FaceGrid::Hold FaceGrid::Acquire(const Box& box, std::vector<uint32_t>* held) {
     for (size_t i = first; i < held->size() && !deferred_; ++i)
       cells_[(*held)[i]].locked.store(0, std::memory_order_release);
     held->resize(first);
+    return result;
   }
+  // The holder reads the cells' lists next: fetch them all at once rather than one by one.
+  for (size_t i = first; i < held->size(); ++i) __builtin_prefetch(cells_[(*held)[i]].faces.data());
   return result;
 }
 
@@ -235,8 +246,8 @@ FaceGrid::Listing FaceGrid::ListingIn(uint32_t f, const Span& s, int64_t x, int6
   Listing l{f, {}, {}};
   const int64_t c[3] = {x, y, z};
   for (int a = 0; a < 3; ++a) {
-    l.lo[a] = QuantizeDown(s.lo[a] - double(c[a]));
-    l.hi[a] = QuantizeUp(s.hi[a] - double(c[a]));
+    l.lo[a] = Relative(s.lo[a], c[a]);
+    l.hi[a] = Relative(s.hi[a], c[a]);
     // Already so (the origin is the mesh's lower corner), but the visit relies on it.
     l.lo[a] =
         c[a] == s.range.lo[a] ? std::max<int16_t>(l.lo[a], 0) : std::min<int16_t>(l.lo[a], -1);

@@ -86,14 +86,14 @@ class FaceGrid {
     const uint32_t* slot = held.data();
     int16_t lo[3], hi[3];  // `near` in the units of the cell's listings
     for (int64_t x = r.lo[0]; x <= r.hi[0]; ++x) {
-      lo[0] = QuantizeDown(n.lo[0] - double(x));
-      hi[0] = QuantizeUp(n.hi[0] - double(x));
+      lo[0] = Relative(n.lo[0], x);
+      hi[0] = Relative(n.hi[0], x);
       for (int64_t y = r.lo[1]; y <= r.hi[1]; ++y) {
-        lo[1] = QuantizeDown(n.lo[1] - double(y));
-        hi[1] = QuantizeUp(n.hi[1] - double(y));
+        lo[1] = Relative(n.lo[1], y);
+        hi[1] = Relative(n.hi[1], y);
         for (int64_t z = r.lo[2]; z <= r.hi[2]; ++z, ++slot) {
-          lo[2] = QuantizeDown(n.lo[2] - double(z));
-          hi[2] = QuantizeUp(n.hi[2] - double(z));
+          lo[2] = Relative(n.lo[2], z);
+          hi[2] = Relative(n.hi[2], z);
           // A listing's lo is negative on an axis iff the face's cells begin before this cell:
           // the first held cell of the face's cells begins them, or begins the held block.
           const bool first[3] = {x == r.lo[0], y == r.lo[1], z == r.lo[2]};
@@ -112,6 +112,13 @@ class FaceGrid {
 
   // The corners of face f as they are in the mesh now (f must be in a held cell).
   Triangle FaceTriangle(uint32_t f) const;
+  // Hints that FaceTriangle(f) comes soon: its half-edges, or (once those are at hand) its
+  // corners' vertices.
+  void Prefetch(uint32_t f) const {
+    __builtin_prefetch(&halfedges_[3 * f]);
+    __builtin_prefetch(&halfedges_[3 * f + 2]);  // 48 bytes may span two cache lines
+  }
+  void PrefetchCorners(uint32_t f) const;
 
   // Moves face f in the index from the cells of `before` to those of `after` (both within held
   // cells); an empty `after` removes it. False when a cell of `after` had no room (build only).
@@ -134,7 +141,7 @@ class FaceGrid {
     uint32_t face;
     int16_t lo[3], hi[3];
   };
-  static constexpr double kListingSteps = 256;  // a power of two: cells * steps is exact
+  static constexpr int kListingBits = 8;
 
   struct Cell {
     std::atomic<uint64_t> key{kEmpty};  // packed cell coordinates + 1
@@ -151,10 +158,11 @@ class FaceGrid {
   void Rebuild(const Mesh& mesh);
   // Lists face f in the cells of `box`; false when one had no room.
   bool Insert(uint32_t f, const Box& box);
-  // A box in cell units from the origin (its lower corner's cell is the floor), and the cells
-  // it covers.
+  // A box in listing units from the origin (its corners' coordinates in cells, as RangeOf has
+  // always computed them, times 2^kListingBits: exact; rounded down and up), and the cells it
+  // covers (the floors of those coordinates).
   struct Span {
-    double lo[3], hi[3];
+    int64_t lo[3], hi[3];
     Range range;
   };
   Span SpanOf(const Box& box) const;
@@ -166,12 +174,9 @@ class FaceGrid {
     const int64_t i = static_cast<int64_t>(t);
     return i - (static_cast<double>(i) > t);
   }
-  // Cells from a cell's lower corner to listing units, rounded down or up and clamped.
-  static int16_t QuantizeDown(double cells) {
-    return static_cast<int16_t>(Floor(std::clamp(cells * kListingSteps, -32768.0, 32767.0)));
-  }
-  static int16_t QuantizeUp(double cells) {
-    return static_cast<int16_t>(-Floor(std::clamp(-cells * kListingSteps, -32767.0, 32768.0)));
+  // A span's bound relative to cell c, clamped to a listing's range (integers: exact).
+  static int16_t Relative(int64_t units, int64_t c) {
+    return static_cast<int16_t>(std::clamp<int64_t>(units - (c << kListingBits), -32768, 32767));
   }
   // Indexes the live faces with cells of the current size in a table of at least min_capacity.
   void Fill(const std::vector<uint32_t>& live, uint64_t min_capacity);
