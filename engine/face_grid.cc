@@ -40,8 +40,9 @@ FaceGrid::Box FaceGrid::BoxOf(const DVec3* p, int n) {
   return b;
 }
 
-FaceGrid::FaceGrid(const Mesh& mesh) : vertices_(mesh.vertices()), halfedges_(mesh.halfedges()) {
-  Rebuild(mesh);
+FaceGrid::FaceGrid(const Mesh& mesh, const std::function<bool()>& cancelled)
+    : vertices_(mesh.vertices()), halfedges_(mesh.halfedges()) {
+  Rebuild(mesh, cancelled);
 }
 
 double FaceGrid::MeanEdge(const Mesh& mesh, std::vector<uint32_t>* live, DVec3* lo) {
@@ -71,17 +72,22 @@ void FaceGrid::Track(double length_change, int64_t face_change) {
   tracked_faces_.fetch_add(face_change, std::memory_order_relaxed);
 }
 
-void FaceGrid::Refresh(const Mesh& mesh) {
+void FaceGrid::Refresh(const Mesh& mesh, const std::function<bool()>& cancelled) {
   // The tracked mean differs from the measured one by rounding only (below 1e-6 relative even
   // for a billion faces): the mesh is measured only when the mean may reach the threshold.
   const double length = tracked_length_.load(std::memory_order_relaxed);
   const int64_t faces = tracked_faces_.load(std::memory_order_relaxed);
-  if (faces > 0 && length > 0 && length / (3.0 * double(faces)) < 0.75 * cell_ * (1 - 1e-4)) return;
+  // Collapses in the free schedule claim the empty cells of their boxes as they go.
+  const bool crowded = used_.load(std::memory_order_relaxed) * 2 > mask_ + 1;
+  if (!crowded && faces > 0 && length > 0 &&
+      length / (3.0 * double(faces)) < 0.75 * cell_ * (1 - 1e-4))
+    return;
   DVec3 lo;
-  if (MeanEdge(mesh, nullptr, &lo) > 0.75 * cell_) Rebuild(mesh);
+  if (crowded || MeanEdge(mesh, nullptr, &lo) > 0.75 * cell_) Rebuild(mesh, cancelled);
 }
 
-void FaceGrid::Rebuild(const Mesh& mesh) {
+void FaceGrid::Rebuild(const Mesh& mesh, const std::function<bool()>& cancelled) {
+  complete_ = false;
   // Cells of about twice the mean edge length hold a handful of faces each.
   std::vector<uint32_t> live;
   cell_ = 2.0 * MeanEdge(mesh, &live, &origin_);
@@ -90,30 +96,102 @@ void FaceGrid::Rebuild(const Mesh& mesh) {
   uint64_t covered = 0;
   for (;;) {
     covered = 0;
-    for (uint32_t f : live) {
-      const Triangle t = FaceTriangle(f);
+    for (size_t i = 0; i < live.size(); ++i) {
+      if (i % kPollFaces == 0 && cancelled && cancelled()) return;
+      const Triangle t = FaceTriangle(live[i]);
       covered += static_cast<uint64_t>(std::min<int64_t>(RangeOf(BoxOf(t.p, 3)).count(), 1 << 20));
     }
     if (covered <= 8 * live.size() + 64) break;
     cell_ *= 1.5;
   }
-  // Faces share cells (a few per cell), and collapses lock the empty cells of their fans' boxes
-  // too: a table of as many slots as the faces cover, doubled while a quarter is not free.
-  Fill(live, covered);
+  // Faces share cells (a handful to a few dozen listings a cell): a first guess at the table.
+  complete_ = Fill(live, covered / 8, cancelled);
 }
 
-void FaceGrid::Fill(const std::vector<uint32_t>& live, uint64_t min_capacity) {
-  for (uint64_t capacity = std::bit_ceil(std::max<uint64_t>(1024, min_capacity));; capacity *= 2) {
+bool FaceGrid::Fill(const std::vector<uint32_t>& live, uint64_t min_capacity,
+                    const std::function<bool()>& cancelled) {
+  const auto poll = [&](size_t i) { return i % kPollFaces == 0 && cancelled && cancelled(); };
+  std::vector<uint32_t> slots;  // every face's cells in turn, as passes 1 and 3 visit them
+  for (uint64_t capacity = std::bit_ceil(std::max<uint64_t>(1024, min_capacity));;) {
     mask_ = capacity - 1;
     cells_ = std::make_unique<Cell[]>(capacity);
     used_.store(0, std::memory_order_relaxed);
+    slots.clear();
+    // Pass 1: claim the cells and count their listings.
     bool fits = true;
-    for (uint32_t f : live) {
-      const Triangle t = FaceTriangle(f);
-      fits = fits && Insert(f, BoxOf(t.p, 3));
+    for (size_t i = 0; i < live.size() && fits; ++i) {
+      if (poll(i)) return false;
+      const Triangle t = FaceTriangle(live[i]);
+      ForEachCell(RangeOf(BoxOf(t.p, 3)), [&](uint64_t key) {
+        const int64_t slot = fits ? Slot(key) : -1;
+        fits = slot >= 0;
+        if (!fits) return;
+        ++cells_[slot].size;
+        slots.push_back(static_cast<uint32_t>(slot));
+      });
     }
-    if (fits && used_.load(std::memory_order_relaxed) * 2 <= capacity) return;
+    // Collapses also claim the empty cells of their fans' boxes: at most a quarter full now.
+    const uint64_t used = used_.load(std::memory_order_relaxed);
+    if (!fits || 4 * used > capacity) {
+      capacity = std::max(2 * capacity, std::bit_ceil(4 * used));
+      continue;
+    }
+    // Pass 2: every cell a slice of one array, with room to grow by a quarter (beyond that it
+    // moves to an array of its own): one allocation, not one or more per cell.
+    const auto slice = [](uint32_t n) { return n == 0 ? 0 : n + n / 4 + 1; };
+    uint64_t total = 0;
+    for (uint64_t c = 0; c < capacity; ++c) total += slice(cells_[c].size);
+    arena_ = std::make_unique_for_overwrite<Listing[]>(total);
+    Listing* next = arena_.get();
+    for (uint64_t c = 0; c < capacity; ++c) {
+      Cell& cell = cells_[c];
+      cell.data = next;
+      cell.capacity = slice(cell.size);
+      next += cell.capacity;
+      cell.size = 0;
+    }
+    // Pass 3: list the faces.
+    const uint32_t* slot = slots.data();
+    for (size_t i = 0; i < live.size(); ++i) {
+      if (poll(i)) return false;
+      const Triangle t = FaceTriangle(live[i]);
+      const Span span = SpanOf(BoxOf(t.p, 3));
+      const Range& r = span.range;
+      for (int64_t x = r.lo[0]; x <= r.hi[0]; ++x)
+        for (int64_t y = r.lo[1]; y <= r.hi[1]; ++y)
+          for (int64_t z = r.lo[2]; z <= r.hi[2]; ++z) {
+            Cell& cell = cells_[*slot++];
+            cell.data[cell.size++] = ListingIn(live[i], span, x, y, z);
+          }
+    }
+    return true;
   }
+}
+
+void FaceGrid::Append(Cell& cell, const Listing& listing) {
+  if (cell.size == cell.capacity) {
+    const uint32_t capacity = std::max<uint32_t>(4, 2 * cell.capacity);
+    std::unique_ptr<Listing[]> grown = std::make_unique_for_overwrite<Listing[]>(capacity);
+    std::copy_n(cell.data, cell.size, grown.get());
+    cell.grown = std::move(grown);
+    cell.data = cell.grown.get();
+    cell.capacity = capacity;
+  }
+  cell.data[cell.size++] = listing;
+}
+
+std::vector<uint32_t> FaceGrid::LiveFaces(const Mesh& mesh) {
+  std::vector<uint32_t> live;
+  for (uint32_t f = 0; f < mesh.face_capacity(); ++f)
+    if (!mesh.IsFaceRemoved(f)) live.push_back(f);
+  return live;
+}
+
+void FaceGrid::BeginRound(const Mesh& mesh, uint64_t new_cells) {
+  // Slot refuses a new cell once three quarters of the table are used.
+  const uint64_t needed = used_.load(std::memory_order_relaxed) + new_cells;
+  if (4 * needed >= 3 * (mask_ + 1)) Fill(LiveFaces(mesh), std::bit_ceil(2 * needed), {});
+  deferred_ = true;
 }
 
 void FaceGrid::EndRound(const Mesh& mesh) {
@@ -124,11 +202,7 @@ void FaceGrid::EndRound(const Mesh& mesh) {
   for (const PendingMove& m : pending_)
     listed = listed && Move(m.face, m.before, m.removed ? nullptr : &m.after);
   pending_.clear();
-  if (listed && used_.load(std::memory_order_relaxed) * 2 <= mask_ + 1) return;
-  std::vector<uint32_t> live;
-  for (uint32_t f = 0; f < mesh.face_capacity(); ++f)
-    if (!mesh.IsFaceRemoved(f)) live.push_back(f);
-  Fill(live, 2 * (mask_ + 1));
+  if (!listed) Fill(LiveFaces(mesh), 2 * (mask_ + 1), {});
 }
 
 Triangle FaceGrid::FaceTriangle(uint32_t f) const {
@@ -232,7 +306,7 @@ FaceGrid::Hold FaceGrid::Acquire(const Box& box, std::vector<uint32_t>* held) {
     return result;
   }
   // The holder reads the cells' lists next: fetch them all at once rather than one by one.
-  for (size_t i = first; i < held->size(); ++i) __builtin_prefetch(cells_[(*held)[i]].faces.data());
+  for (size_t i = first; i < held->size(); ++i) __builtin_prefetch(cells_[(*held)[i]].data);
   return result;
 }
 
@@ -253,23 +327,6 @@ FaceGrid::Listing FaceGrid::ListingIn(uint32_t f, const Span& s, int64_t x, int6
         c[a] == s.range.lo[a] ? std::max<int16_t>(l.lo[a], 0) : std::min<int16_t>(l.lo[a], -1);
   }
   return l;
-}
-
-bool FaceGrid::Insert(uint32_t f, const Box& box) {
-  const Span span = SpanOf(box);
-  const Range& r = span.range;
-  bool listed = true;
-  for (int64_t x = r.lo[0]; x <= r.hi[0]; ++x)
-    for (int64_t y = r.lo[1]; y <= r.hi[1]; ++y)
-      for (int64_t z = r.lo[2]; z <= r.hi[2]; ++z) {
-        const int64_t slot = Slot(Key(x, y, z));
-        if (slot >= 0) {
-          cells_[slot].faces.push_back(ListingIn(f, span, x, y, z));
-        } else {
-          listed = false;
-        }
-      }
-  return listed;
 }
 
 bool FaceGrid::Move(uint32_t f, const Box& before, const Box* after) {
@@ -297,7 +354,7 @@ bool FaceGrid::Move(uint32_t f, const Box& before, const Box* after) {
   const auto enter = [&](int64_t x, int64_t y, int64_t z) {
     const int64_t slot = Slot(Key(x, y, z));
     if (slot >= 0) {
-      cells_[slot].faces.push_back(ListingIn(f, span, x, y, z));
+      Append(cells_[slot], ListingIn(f, span, x, y, z));
     } else {
       listed = false;
     }
@@ -307,18 +364,16 @@ bool FaceGrid::Move(uint32_t f, const Box& before, const Box* after) {
       for (int64_t z = from.lo[2]; z <= from.hi[2]; ++z) {
         const bool stays = in(to, x, y, z);
         const int64_t slot = Find(Key(x, y, z));
-        std::vector<Listing>* faces = slot >= 0 ? &cells_[slot].faces : nullptr;
-        const auto it = faces == nullptr
-                            ? std::vector<Listing>::iterator{}
-                            : std::find_if(faces->begin(), faces->end(),
-                                           [f](const Listing& l) { return l.face == f; });
-        if (faces == nullptr || it == faces->end()) {
+        Cell* cell = slot >= 0 ? &cells_[slot] : nullptr;
+        Listing* it = cell == nullptr ? nullptr
+                                      : std::find_if(cell->data, cell->data + cell->size,
+                                                     [f](const Listing& l) { return l.face == f; });
+        if (cell == nullptr || it == cell->data + cell->size) {
           if (stays) enter(x, y, z);
         } else if (stays) {
           *it = ListingIn(f, span, x, y, z);
         } else {
-          *it = faces->back();
-          faces->pop_back();
+          *it = cell->data[--cell->size];
         }
       }
   if (after == nullptr) return true;

@@ -14,8 +14,10 @@
 #include <algorithm>
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <mutex>
+#include <span>
 #include <vector>
 
 #include "engine/mesh.h"
@@ -26,12 +28,17 @@ namespace femsimp {
 
 class FaceGrid {
  public:
-  // Indexes the live faces of `mesh`, which must outlive the grid.
-  explicit FaceGrid(const Mesh& mesh);
+  // Indexes the live faces of `mesh`, which must outlive the grid. Indexing a few million faces
+  // takes a while: `cancelled` (thread-safe, may be empty) is polled every kPollFaces faces,
+  // and once it says true the grid stops half built: complete() is false and it must not be
+  // used (the caller is ending the run).
+  explicit FaceGrid(const Mesh& mesh, const std::function<bool()>& cancelled = {});
   // Between passes (nothing held): indexes the mesh anew when its faces have grown well past
   // the cells (as the mesh coarsens), so that a fan still covers a few cells. It measures the
-  // mesh only when the edge lengths its users report (Track) say it may have to.
-  void Refresh(const Mesh& mesh);
+  // mesh only when the edge lengths its users report (Track) say it may have to. Polls
+  // `cancelled` as the constructor does.
+  void Refresh(const Mesh& mesh, const std::function<bool()>& cancelled = {});
+  bool complete() const { return complete_; }
   // What a commit changed: the sum over the live faces of their three edge lengths, and their
   // number.
   void Track(double length_change, int64_t face_change);
@@ -51,11 +58,16 @@ class FaceGrid {
   // Deterministic rounds (engine/rounds.h): the collapses of a round have disjoint fan boxes,
   // so they need no cell locks, and the lists stay as they were at the round's start while
   // they run: Acquire finds (or creates) the cells without locking them, Release forgets them,
-  // and Move is recorded. EndRound applies the moves in face order (a face moves at most once
-  // a round), indexes the mesh anew if a new cell found no room, and grows a table more than
-  // half full, so that a round never finds it full (that would make refusals depend on timing).
-  void BeginRound() { deferred_ = true; }
+  // and Move is recorded. A round never finds the table full (that would make refusals depend
+  // on timing): BeginRound first grows it if the round's boxes, `new_cells` cells at most
+  // (CellsOf summed over them), might fill it. EndRound applies the moves in face order (a face
+  // moves at most once a round), and indexes the mesh anew if a moved face found no room.
+  void BeginRound(const Mesh& mesh, uint64_t new_cells);
   void EndRound(const Mesh& mesh);
+  // The cells Acquire(box) would claim at most.
+  uint64_t CellsOf(const Box& box) const {
+    return static_cast<uint64_t>(std::min<int64_t>(RangeOf(box).count(), kMaxCellsPerBox));
+  }
   // A cancelled run ends in the middle of a round: the recorded moves are dropped (applying
   // them would only delay the end), and the index no longer matches the mesh.
   void AbandonRound() {
@@ -69,7 +81,7 @@ class FaceGrid {
   void ForEachFace(const Box& box, const std::vector<uint32_t>& held, Visit&& visit) const {
     for (uint32_t slot : held) {
       if (!Overlaps(cells_[slot].key.load(std::memory_order_relaxed), box)) continue;
-      for (const Listing& l : cells_[slot].faces)
+      for (const Listing& l : cells_[slot].list())
         if (!visit(l.face)) return;
     }
   }
@@ -97,7 +109,7 @@ class FaceGrid {
           // A listing's lo is negative on an axis iff the face's cells begin before this cell:
           // the first held cell of the face's cells begins them, or begins the held block.
           const bool first[3] = {x == r.lo[0], y == r.lo[1], z == r.lo[2]};
-          for (const Listing& l : cells_[*slot].faces) {
+          for (const Listing& l : cells_[*slot].list()) {
             if (l.lo[0] > hi[0] || l.hi[0] < lo[0] || l.lo[1] > hi[1] || l.hi[1] < lo[1] ||
                 l.lo[2] > hi[2] || l.hi[2] < lo[2])
               continue;
@@ -143,10 +155,14 @@ class FaceGrid {
   };
   static constexpr int kListingBits = 8;
 
+  // A cell's list is a slice of arena_ (made by Fill) until it outgrows it, then `grown`.
   struct Cell {
     std::atomic<uint64_t> key{kEmpty};  // packed cell coordinates + 1
     std::atomic<uint32_t> locked{0};
-    std::vector<Listing> faces;  // guarded by `locked`
+    uint32_t size = 0, capacity = 0;  // the list, guarded by `locked`
+    Listing* data = nullptr;
+    std::unique_ptr<Listing[]> grown;
+    std::span<const Listing> list() const { return {data, size}; }
   };
 
   struct Range {
@@ -155,9 +171,9 @@ class FaceGrid {
       return (hi[0] - lo[0] + 1) * (hi[1] - lo[1] + 1) * (hi[2] - lo[2] + 1);
     }
   };
-  void Rebuild(const Mesh& mesh);
-  // Lists face f in the cells of `box`; false when one had no room.
-  bool Insert(uint32_t f, const Box& box);
+  static constexpr uint32_t kPollFaces = 1 << 16;
+  void Rebuild(const Mesh& mesh, const std::function<bool()>& cancelled);
+  static void Append(Cell& cell, const Listing& listing);
   // A box in listing units from the origin (its corners' coordinates in cells, as RangeOf has
   // always computed them, times 2^kListingBits: exact; rounded down and up), and the cells it
   // covers (the floors of those coordinates).
@@ -178,8 +194,11 @@ class FaceGrid {
   static int16_t Relative(int64_t units, int64_t c) {
     return static_cast<int16_t>(std::clamp<int64_t>(units - (c << kListingBits), -32768, 32767));
   }
-  // Indexes the live faces with cells of the current size in a table of at least min_capacity.
-  void Fill(const std::vector<uint32_t>& live, uint64_t min_capacity);
+  // Indexes the live faces with cells of the current size in a table of at least min_capacity;
+  // false when cancelled first.
+  bool Fill(const std::vector<uint32_t>& live, uint64_t min_capacity,
+            const std::function<bool()>& cancelled);
+  static std::vector<uint32_t> LiveFaces(const Mesh& mesh);
   // Mean edge length of the live faces (and the live faces, and their lower corner).
   // Records the sum and the faces as the tracked ones.
   double MeanEdge(const Mesh& mesh, std::vector<uint32_t>* live, DVec3* lo);
@@ -202,6 +221,7 @@ class FaceGrid {
   double magnitude_ = 0.0;
   uint64_t mask_ = 0;
   std::unique_ptr<Cell[]> cells_;
+  std::unique_ptr<Listing[]> arena_;
   std::atomic<uint64_t> used_{0};
   // Deterministic rounds: the moves recorded while the lists are read only.
   struct PendingMove {
@@ -210,6 +230,7 @@ class FaceGrid {
     Box before, after;
   };
   bool deferred_ = false;
+  bool complete_ = false;
   std::mutex pending_mu_;
   std::vector<PendingMove> pending_;         // guarded by pending_mu_
   std::atomic<double> tracked_length_{0.0};  // see Track

@@ -27,11 +27,14 @@ bool TurnsSharply(const Vec3& a, const Vec3& v, const Vec3& b, double cos_limit)
   return !(len > 0.0) || Dot(in, out) < cos_limit * len;
 }
 
-FeatureSummary MarkFeatures(Mesh& mesh, double feature_angle_deg) {
+FeatureSummary MarkFeatures(Mesh& mesh, double feature_angle_deg,
+                            const std::function<bool()>& cancelled) {
+  const auto poll = [&](uint32_t i) { return i % (1u << 16) == 0 && cancelled && cancelled(); };
   FeatureSummary summary;
   const double cos_limit = std::cos(feature_angle_deg * std::numbers::pi / 180.0);
   HalfEdgeQ* h = mesh.halfedges();
   for (uint32_t e = 0; e < mesh.halfedge_capacity(); ++e) {
+    if (poll(e)) return summary;
     if (h[e].flags & kFaceRemoved) continue;
     const uint32_t t = h[e].twin;
     bool feature;
@@ -56,6 +59,7 @@ FeatureSummary MarkFeatures(Mesh& mesh, double feature_angle_deg) {
   Ring ring;
   std::atomic<uint32_t>* status = mesh.status();
   for (uint32_t v = 0; v < mesh.vertex_capacity(); ++v) {
+    if (poll(v)) return summary;
     const uint32_t s = status[v].load(std::memory_order_relaxed);
     if (s == kRemoved || mesh.IsLocked(v)) continue;  // locked: kFixed since Build, not a corner
     if (s == kFixed) status[v].store(kRemovable, std::memory_order_relaxed);  // re-marked below

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 
 #include "engine/mesh.h"
 #include "engine/ring.h"
@@ -18,7 +19,10 @@ struct FeatureSummary {
 // A feature edge is a boundary edge, a border between two face groups, or an edge whose faces'
 // normals differ by more than feature_angle_deg. A vertex where one or three or more feature
 // edges meet, or where its two feature edges turn by more than feature_angle_deg, is a corner.
-FeatureSummary MarkFeatures(Mesh& mesh, double feature_angle_deg);
+// `cancelled` (may be empty) is polled every 64Ki edges and vertices; once it says true the
+// marks are left half made, and the mesh must not be simplified with them.
+FeatureSummary MarkFeatures(Mesh& mesh, double feature_angle_deg,
+                            const std::function<bool()>& cancelled = {});
 
 // True when the line a -> v -> b turns by more than the angle whose cosine is cos_limit.
 bool TurnsSharply(const Vec3& a, const Vec3& v, const Vec3& b, double cos_limit);

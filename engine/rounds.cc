@@ -193,7 +193,11 @@ absl::Status RoundScheduler::RunPass(RemovalBackend& backend, const RemovalPhase
     round.fresh_caches = true;
     round.blocks = true;
     rules_.BeginRound(winners.size());
-    if (grid_ != nullptr) grid_->BeginRound();
+    if (grid_ != nullptr) {
+      uint64_t new_cells = 0;  // at most: the kernel's fan boxes lie within the winners'
+      for (size_t i = 0; i < won; ++i) new_cells += grid_->CellsOf(box_[order_[i]]);
+      grid_->BeginRound(mesh_, new_cells);
+    }
     absl::Status s = backend.RunRemoval(round, stats);
     // A cancelled run stops here, and the face index is not used again.
     if (grid_ != nullptr && phase.Stopped())

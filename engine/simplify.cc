@@ -59,9 +59,13 @@ uint32_t UnpackVertex(uint64_t key, bool scatter) {
 
 // Computes the cost of every removable vertex (resetting not-removable ones first on
 // reconsideration passes) and sorts them: each context sorts its slice, then slices are merged
-// pairwise in parallel. Returns the vertex ids in cost order.
+// pairwise in parallel. Returns the vertex ids in cost order, or a partial order once
+// `cancelled` (polled every kPollVertices vertices) says true.
+constexpr uint32_t kPollVertices = 1 << 14;
 std::vector<uint32_t> SortedCandidates(Mesh& mesh, WorkerPool& pool, const VertexCost& cost,
-                                       bool reconsider, bool scatter, double* busy_seconds) {
+                                       bool reconsider, bool scatter,
+                                       const std::function<bool()>& cancelled,
+                                       double* busy_seconds) {
   const int n = pool.size();
   const uint32_t nv = mesh.vertex_capacity();
   std::vector<std::vector<uint64_t>> slices(n);
@@ -75,6 +79,7 @@ std::vector<uint32_t> SortedCandidates(Mesh& mesh, WorkerPool& pool, const Verte
                    end = uint32_t(uint64_t{nv} * (c + 1) / n);
     std::atomic<uint32_t>* status = mesh.status();
     for (uint32_t v = begin; v < end; ++v) {
+      if ((v - begin) % kPollVertices == 0 && cancelled()) return;
       uint32_t s = status[v].load(std::memory_order_relaxed);
       if (reconsider && s == kNotRemovable) {
         status[v].store(kRemovable, std::memory_order_relaxed);
@@ -192,6 +197,17 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
   SimplifyResult result;
   result.input_vertices = mesh.CountLiveVertices();
   result.input_faces = mesh.CountLiveFaces();
+  const auto cancelled = [&control] { return control.cancelled && control.cancelled(); };
+  // The set-up reads the whole mesh a few times (a second or more for millions of faces): a
+  // cancel between its steps ends the run with the mesh as it came, which needs no measuring.
+  const auto cancelled_in_setup = [&] {
+    if (!cancelled()) return false;
+    result.stop_reason = StopReason::kCancelled;
+    result.output_vertices = result.input_vertices;
+    result.output_faces = result.input_faces;
+    result.engine_seconds = Since(run_start);
+    return true;
+  };
 
   RemovalBudget budget;
   budget.alive.store(static_cast<int64_t>(result.input_vertices));
@@ -203,7 +219,8 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
 
   // Fidelity set-up (docs/FIDELITY.md): features, tolerance, mechanical reference values.
   const bool closed = IsClosed(mesh);
-  const FeatureSummary features = MarkFeatures(mesh, options.feature_angle_deg);
+  const FeatureSummary features = MarkFeatures(mesh, options.feature_angle_deg, cancelled);
+  if (cancelled_in_setup()) return result;
   result.feature_edges = features.feature_edges;
   result.corner_vertices = features.corner_vertices;
   const double diagonal = BoundingBoxDiagonal(mesh);
@@ -222,8 +239,10 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
   const FieldResultants fields_before = MeasureFields(mesh, groups);
   setup.mass = &mass_before;
   setup.resultants = &fields_before;
+  if (cancelled_in_setup()) return result;
   std::optional<FaceGrid> face_grid;
-  if (!options.allow_self_intersections) setup.face_grid = &face_grid.emplace(mesh);
+  if (!options.allow_self_intersections) setup.face_grid = &face_grid.emplace(mesh, cancelled);
+  if (cancelled_in_setup()) return result;
   const RuleSet rules = RuleSet::Build(options, setup);
 
   WorkerPool pool(options.threads);
@@ -254,7 +273,7 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
       result.stop_reason = StopReason::kTargetReached;
       break;
     }
-    if (control.cancelled && control.cancelled()) {
+    if (cancelled()) {
       result.stop_reason = StopReason::kCancelled;
       break;
     }
@@ -262,10 +281,15 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
     PassStats stats;
     stats.pass = pass;
     const bool reconsider = watch.Reconsider(pass);
-    if (face_grid && pass > 1) face_grid->Refresh(mesh);
+    if (face_grid && pass > 1) face_grid->Refresh(mesh, cancelled);
     // Select and order: every removable vertex with its cost, in cost order.
-    const std::vector<uint32_t> sorted =
-        SortedCandidates(mesh, pool, *cost, reconsider, rounds.has_value(), &stats.busy_seconds);
+    const std::vector<uint32_t> sorted = SortedCandidates(
+        mesh, pool, *cost, reconsider, rounds.has_value(), cancelled, &stats.busy_seconds);
+    if (cancelled()) {  // the index or the order may be half made: the pass does not start
+      result.stop_reason = StopReason::kCancelled;
+      break;
+    }
+    if (control.on_removal_start) control.on_removal_start(pass);
     // The lowest-cost share are this pass's candidates, split over the contexts.
     stats.candidates = static_cast<uint64_t>(
         std::ceil(options.candidate_fraction * static_cast<double>(sorted.size())));

@@ -174,8 +174,12 @@ struct SimplifyResult {
 
 struct SimplifyControl {
   std::function<void(const PassStats&)> on_pass;  // called after every pass, on the caller's thread
-  // Polled between passes and by every context every 32 candidates inside one (so from several
-  // threads at once: it must be thread-safe); true stops the job with the mesh still valid.
+  // Called when a pass's removals begin (its candidates' costs computed and sorted), with the
+  // pass's number, on the caller's thread.
+  std::function<void(int)> on_removal_start;
+  // Polled between the set-up's steps and inside the long ones, between passes and by every
+  // context every 32 candidates inside one (so from several threads at once: it must be
+  // thread-safe); true stops the job with the mesh still valid, and must stay true.
   std::function<bool()> cancelled;
 };
 

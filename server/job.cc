@@ -1,5 +1,7 @@
 #include "server/job.h"
 
+#include <algorithm>
+
 namespace femsimp::server {
 namespace {
 
@@ -95,6 +97,11 @@ std::optional<PreparedMesh> Job::Start() {
   }
   cv_.notify_all();
   return input;
+}
+
+void Job::StartRemoval(int pass) {
+  std::lock_guard<std::mutex> lock(mu_);
+  passes_started_ = static_cast<uint32_t>(pass);
 }
 
 void Job::AddPass(const PassStats& pass) {
@@ -193,6 +200,7 @@ void Job::Describe(v1::JobInfo* info, int queue_position) const {
   info->set_state(ToProto(state_));
   info->set_queue_position(queue_position < 0 ? 0 : queue_position);
   info->set_passes_done(static_cast<uint32_t>(passes_.size()));
+  info->set_passes_started(std::max(passes_started_, static_cast<uint32_t>(passes_.size())));
   info->set_input_vertices(input_vertices_);
   info->set_input_faces(input_faces_);
   info->set_vertices_left(passes_.empty() ? input_vertices_ : passes_.back().vertices_left);

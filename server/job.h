@@ -9,7 +9,8 @@
 //
 // The first end wins; later ones are no-ops. Who calls what:
 //   the handler:  Enqueue, WaitForChange, TakeOutput, Close (always, when its call is over)
-//   the runner:   Start, AddPass, Succeed, Finish, FinishCancelled, queued_seconds, run_seconds
+//   the runner:   Start, StartRemoval, AddPass, Succeed, Finish, FinishCancelled,
+//                 queued_seconds, run_seconds
 //   anyone:       RequestCancel, cancelled, cancel_status, Describe, the constant facts
 #pragma once
 
@@ -83,6 +84,7 @@ class Job {
   // A worker takes the job: kRunning, and the input handed over. nullopt when the job ended
   // while it waited (cancelled out of the queue, shutdown).
   std::optional<PreparedMesh> Start();
+  void StartRemoval(int pass);          // a pass's removals begin
   void AddPass(const PassStats& pass);  // wakes the handler
   void Succeed(const SimplifyResult& result, RawMesh output);
   // Ends the job; false (and nothing changes) when it had ended already. The input goes.
@@ -119,6 +121,7 @@ class Job {
   JobState state_ = JobState::kUploading;
   std::optional<PreparedMesh> input_;  // from Enqueue until Start (or the end)
   std::vector<PassStats> passes_;
+  uint32_t passes_started_ = 0;  // passes whose removals began
   std::optional<SimplifyResult> result_;
   RawMesh output_;
   grpc::Status status_;  // final once done()

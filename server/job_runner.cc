@@ -51,6 +51,7 @@ void JobRunner::Run(const std::shared_ptr<Job>& job) {
 
   SimplifyControl control;
   control.cancelled = [&job] { return job->cancelled(); };
+  control.on_removal_start = [&job](int pass) { job->StartRemoval(pass); };
   control.on_pass = [&](const PassStats& p) {
     metrics_.PassFinished(o.backend, p);
     job->AddPass(p);

@@ -91,9 +91,8 @@ TEST(CellBackend, CancellationStopsInsideAPassWithAValidMesh) {
     options.backend = Backend::kCell;
     options.cell.spes = 4;
     options.cell.spe_threads = spe_threads;
-    std::atomic<int> polls{0};
     SimplifyControl control;
-    control.cancelled = [&] { return ++polls > 6; };  // one poll before the pass, then inside it
+    control.cancelled = testing::CancelOnceRemoving(*mesh);
     absl::StatusOr<SimplifyResult> r = Simplify(*mesh, options, control);
     ASSERT_TRUE(r.ok()) << r.status();
     EXPECT_EQ(r->stop_reason, StopReason::kCancelled);

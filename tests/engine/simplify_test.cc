@@ -161,15 +161,40 @@ TEST(Simplify, CancellationStopsWithAValidMesh) {
   ASSERT_TRUE(mesh.ok());
   SimplifyOptions options;
   options.threads = 2;
-  std::atomic<int> polls{0};  // every context polls
   SimplifyControl control;
-  control.cancelled = [&] { return ++polls > 3; };  // inside the first pass
+  control.cancelled = testing::CancelOnceRemoving(*mesh);  // inside the first pass
   absl::StatusOr<SimplifyResult> r = Simplify(*mesh, options, control);
   ASSERT_TRUE(r.ok());
   EXPECT_EQ(r->stop_reason, StopReason::kCancelled);
-  EXPECT_LE(r->passes.size(), 1u);
+  ASSERT_EQ(r->passes.size(), 1u);
+  EXPECT_LT(r->passes[0].tried * 4, r->passes[0].candidates);
   EXPECT_EQ(HalfEdgeInvariantViolation(*mesh), "");
   EXPECT_TRUE(Mesh::Build(mesh->ToRaw()).ok());
+}
+
+// A cancel during the set-up (features, face index, reference values: polled between and
+// inside its steps) ends the run before any pass, with the mesh as it came.
+TEST(Simplify, CancellationDuringSetUpLeavesTheMeshAsItCame) {
+  const RawMesh raw = LoadTestMesh("fandisk.off");
+  int ended_in_setup = 0;
+  for (int at_poll = 1; at_poll <= 6; ++at_poll) {
+    absl::StatusOr<Mesh> mesh = Mesh::Build(raw);
+    ASSERT_TRUE(mesh.ok());
+    std::atomic<int> polls{0};
+    SimplifyControl control;
+    control.cancelled = [&] { return ++polls >= at_poll; };
+    absl::StatusOr<SimplifyResult> r = Simplify(*mesh, SimplifyOptions{}, control);
+    ASSERT_TRUE(r.ok());
+    EXPECT_EQ(r->stop_reason, StopReason::kCancelled) << at_poll;
+    if (!r->passes.empty()) continue;
+    ++ended_in_setup;
+    EXPECT_EQ(r->output_vertices, r->input_vertices);
+    EXPECT_EQ(r->output_faces, r->input_faces);
+    const RawMesh out = mesh->ToRaw();
+    EXPECT_EQ(out.positions, raw.positions) << at_poll;
+    EXPECT_EQ(out.triangles, raw.triangles) << at_poll;
+  }
+  EXPECT_GE(ended_in_setup, 4);  // the set-up polls at least that often
 }
 
 TEST(Simplify, RejectsParametersOutOfRange) {

@@ -172,4 +172,12 @@ double MinAngleDegrees(const RawMesh& mesh, size_t face) {
   return smallest;
 }
 
+std::function<bool()> CancelOnceRemoving(const Mesh& mesh) {
+  return [&mesh] {
+    for (uint32_t v = 0; v < mesh.vertex_capacity(); ++v)
+      if (mesh.IsRemoved(v)) return true;
+    return false;
+  };
+}
+
 }  // namespace femsimp::testing

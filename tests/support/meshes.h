@@ -3,8 +3,10 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <string>
 
+#include "engine/mesh.h"
 #include "engine/raw_mesh.h"
 #include "engine/simplify.h"
 
@@ -52,6 +54,10 @@ struct SimplifyRun {
   SimplifyResult result;
 };
 SimplifyRun SimplifyChecked(const RawMesh& input, const SimplifyOptions& options);
+
+// A SimplifyControl::cancelled that says true once a vertex of `mesh` is gone, so that the
+// cancel lands inside the first pass's removals, past the set-up (which polls too).
+std::function<bool()> CancelOnceRemoving(const Mesh& mesh);
 
 // Smallest interior angle (degrees) of a triangle of the soup.
 double MinAngleDegrees(const RawMesh& mesh, size_t face);
