@@ -41,7 +41,7 @@ FaceGrid::Box FaceGrid::BoxOf(const DVec3* p, int n) {
 }
 
 FaceGrid::FaceGrid(const Mesh& mesh, const std::function<bool()>& cancelled)
-    : vertices_(mesh.vertices()), halfedges_(mesh.halfedges()) {
+    : vertices_(mesh.vertices()), halfedges_(mesh.halfedges()), point_ids_(mesh.point_ids()) {
   Rebuild(mesh, cancelled);
 }
 
@@ -210,7 +210,7 @@ Triangle FaceGrid::FaceTriangle(uint32_t f) const {
   for (int k = 0; k < 3; ++k) {
     const uint32_t v = LoadWord(halfedges_[3 * f + k].target);
     const VertexQ& q = vertices_[v];
-    t.id[k] = v;
+    t.id[k] = PointId(v);
     t.p[k] = {LoadCoordinate(q.x), LoadCoordinate(q.y), LoadCoordinate(q.z)};
   }
   return t;

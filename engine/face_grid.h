@@ -122,8 +122,11 @@ class FaceGrid {
     }
   }
 
-  // The corners of face f as they are in the mesh now (f must be in a held cell).
+  // The corners of face f as they are in the mesh now (f must be in a held cell), with their
+  // point ids as the corners' ids.
   Triangle FaceTriangle(uint32_t f) const;
+  // Vertex v's point (Mesh::point_ids): copies of one point share it.
+  uint32_t PointId(uint32_t v) const { return point_ids_ == nullptr ? v : point_ids_[v]; }
   // Hints that FaceTriangle(f) comes soon: its half-edges, or (once those are at hand) its
   // corners' vertices.
   void Prefetch(uint32_t f) const {
@@ -216,6 +219,7 @@ class FaceGrid {
 
   const VertexQ* vertices_;
   const HalfEdgeQ* halfedges_;
+  const uint32_t* point_ids_;
   DVec3 origin_{};
   double cell_ = 1.0;
   double magnitude_ = 0.0;

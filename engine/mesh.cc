@@ -1,7 +1,9 @@
 #include "engine/mesh.h"
 
+#include <algorithm>
 #include <memory>
 
+#include "absl/container/flat_hash_map.h"
 #include "absl/status/status.h"
 #include "absl/strings/str_cat.h"
 #include "engine/mesh_checks.h"
@@ -101,6 +103,24 @@ absl::StatusOr<Mesh> Mesh::Build(const RawMesh& raw) {
       mesh.locked_[v] = 1;
       mesh.status_[v].store(kFixed, std::memory_order_relaxed);
     }
+  }
+  if (!raw.point_ids.empty()) {
+    if (raw.point_ids.size() != nv)
+      return absl::InvalidArgumentError(absl::StrCat("point ids: ", raw.point_ids.size(), " for ",
+                                                     nv, " vertices (one per vertex)"));
+    absl::flat_hash_map<uint32_t, uint32_t> first;  // point id -> its first vertex
+    for (uint32_t v = 0; v < nv; ++v) {
+      const auto [it, fresh] = first.try_emplace(raw.point_ids[v], v);
+      const uint32_t u = it->second;
+      if (!fresh &&
+          !std::equal(&raw.positions[3 * u], &raw.positions[3 * u + 3], &raw.positions[3 * v]))
+        return absl::InvalidArgumentError(absl::StrCat(
+            "point ids: vertices ", u, " and ", v, " share point id ", raw.point_ids[v],
+            " but lie at (", raw.positions[3 * u], ", ", raw.positions[3 * u + 1], ", ",
+            raw.positions[3 * u + 2], ") and (", raw.positions[3 * v], ", ",
+            raw.positions[3 * v + 1], ", ", raw.positions[3 * v + 2], ")"));
+    }
+    mesh.point_ids_ = raw.point_ids;
   }
   if (!raw.face_fields.empty()) {
     mesh.EnsureFaceAttrs();

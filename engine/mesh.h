@@ -31,6 +31,8 @@ class Mesh {
 
   // A vertex of RawMesh::locked_vertices: kFixed from Build on, whatever features are marked.
   bool IsLocked(uint32_t v) const { return !locked_.empty() && locked_[v] != 0; }
+  // RawMesh::point_ids as built, or nullptr when every vertex is its own point.
+  const uint32_t* point_ids() const { return point_ids_.empty() ? nullptr : point_ids_.data(); }
 
   // Per-face side quadwords (error bound, field values): allocated by Build when the input has
   // fields, or on demand when a tolerance is tracked (errors start at 0: the input itself).
@@ -70,7 +72,8 @@ class Mesh {
   std::vector<FaceAttrQ> face_attrs_;
   std::vector<std::string> field_names_;
   std::vector<QuadricQ> quadrics_;
-  std::vector<uint8_t> locked_;  // per vertex, empty when none is locked
+  std::vector<uint8_t> locked_;      // per vertex, empty when none is locked
+  std::vector<uint32_t> point_ids_;  // per vertex, empty when every vertex is its own point
 };
 
 }  // namespace femsimp

@@ -27,6 +27,11 @@ struct RawMesh {
   // (a neighbour may still collapse onto one). Mesh::Build marks them; Mesh::ToRaw lists the
   // survivors in its numbering. Seams of assemblies (engine/seams.h) are kept this way.
   std::vector<uint32_t> locked_vertices{};
+  // Empty, or per vertex the point it stands at: vertices with the same id are copies of one
+  // point (the seam copies SplitSeams makes), at the same coordinates. The self-intersection
+  // rule treats copies as one vertex, so that sheets meeting at a seam touch there and only
+  // there. Mesh::Build checks them; Mesh::ToRaw does not list them.
+  std::vector<uint32_t> point_ids{};
 
   size_t num_vertices() const { return positions.size() / 3; }
   size_t num_faces() const { return triangles.size() / 3; }

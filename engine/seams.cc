@@ -145,6 +145,7 @@ absl::StatusOr<SeamMap> SplitSeams(RawMesh& mesh) {
   mesh.positions.reserve(3 * map.original.size());
   for (size_t w = nv; w < map.original.size(); ++w)
     for (int k = 0; k < 3; ++k) mesh.positions.push_back(mesh.positions[3 * map.original[w] + k]);
+  mesh.point_ids = map.original;
   mesh.locked_vertices.clear();
   for (uint32_t w = 0; w < map.original.size(); ++w) {
     const uint32_t v = map.original[w];

@@ -148,15 +148,18 @@ class SelfIntersectionRule final : public CollapseRule {
     return reach;
   }
 
-  static Triangle OldTriangle(const Ring& fan, int f) {
+  // Corners are named by their points (FaceGrid::PointId), as the face index names them: a
+  // seam copy in another sheet is the same corner, where the sheets touch by design.
+  Triangle OldTriangle(const Ring& fan, int f) const {
     const int g = (f + 1) % fan.neighbours();
-    return Triangle{{ToD(fan.center_pos), ToD(fan.pos[f]), ToD(fan.pos[g])},
-                    {fan.center, fan.nbr[f], fan.nbr[g]}};
+    return Triangle{
+        {ToD(fan.center_pos), ToD(fan.pos[f]), ToD(fan.pos[g])},
+        {grid_->PointId(fan.center), grid_->PointId(fan.nbr[f]), grid_->PointId(fan.nbr[g])}};
   }
-  static Triangle NewTriangle(const CollapseProposal& p, int f) {
+  Triangle NewTriangle(const CollapseProposal& p, int f) const {
     Triangle t = OldTriangle(*p.fan, f);
     t.p[0] = ToD(p.fan->pos[p.target]);
-    t.id[0] = p.vd();
+    t.id[0] = grid_->PointId(p.vd());
     return t;
   }
   static double Perimeter(const Triangle& t) {

@@ -49,7 +49,11 @@ struct Measured {
 Measured Measure(const RawMesh& mesh) {
   Measured m;
   m.topology = judge::ComputeTopology(mesh);
-  m.self_intersecting_pairs = static_cast<long>(judge::SelfIntersectingPairs(mesh));
+  // An assembly's parts share their seams' vertices: the mesh test would split them into copies
+  // that touch, and count every touch.
+  const bool seams = m.topology.nonmanifold_edges > 0 || m.topology.nonmanifold_vertices > 0;
+  m.self_intersecting_pairs = static_cast<long>(seams ? judge::SoupSelfIntersectingPairs(mesh)
+                                                      : judge::SelfIntersectingPairs(mesh));
   if (m.topology.closed_manifold()) m.volume = judge::SolidProperties(mesh).volume;
   m.area = judge::SurfaceProperties(mesh).area;
   m.groups = judge::GroupIds(mesh).size();

@@ -27,6 +27,27 @@ TEST(MeshBuild, AcceptsClosedAndOpenMeshes) {
   EXPECT_EQ(grid->CountLiveFaces(), 18u);
 }
 
+// Point ids name copies of one point (seam copies): one per vertex, and copies where they are.
+TEST(MeshBuild, PointIdsAreCheckedAndKept) {
+  RawMesh raw = testing::SingleTriangle();
+  // A second sheet whose vertex 3 copies vertex 1.
+  raw.positions.insert(raw.positions.end(), {1, 0, 0, 1, 1, 0, 2, 1, 0});
+  raw.triangles.insert(raw.triangles.end(), {3, 4, 5});
+  raw.point_ids = {0, 1, 2, 1, 4, 5};
+  absl::StatusOr<Mesh> mesh = Mesh::Build(raw);
+  ASSERT_TRUE(mesh.ok()) << mesh.status();
+  ASSERT_NE(mesh->point_ids(), nullptr);
+  EXPECT_EQ(mesh->point_ids()[3], 1u);
+  EXPECT_EQ(Mesh::Build(testing::SingleTriangle())->point_ids(), nullptr);
+
+  RawMesh moved = raw;
+  moved.positions[3 * 3] = 1.5f;
+  ExpectRejected(moved, "vertices 1 and 3 share point id 1 but lie at (1, 0, 0) and (1.5, 0, 0)");
+  RawMesh short_list = raw;
+  short_list.point_ids.pop_back();
+  ExpectRejected(short_list, "point ids: 5 for 6 vertices");
+}
+
 TEST(MeshBuild, RejectsEmpty) {
   ExpectRejected(RawMesh{}, "empty");
   RawMesh no_faces = Octahedron();

@@ -423,6 +423,11 @@ TEST(Seams, CadAssembly) {
     }
     // OpenCASCADE's own tessellation has only seam vertices and CAD corners: nothing to remove.
     ExpectSeamsKept(run, /*reduces=*/name != std::string("assembly_occ_stl.stl"));
+    // The faces along the seams are simplified too: the self-intersection rule sees the other
+    // sheets' seam copies as the same corners (RawMesh::point_ids), so they touch there by
+    // design. Without that the fine assembly kept 14 % of its vertices.
+    if (name == std::string("assembly_fine.off"))
+      EXPECT_LT(run.output.num_vertices() * 10, run.input.num_vertices());
     std::printf("%s: V %zu -> %zu, F %zu -> %zu, %zu seam edges, %zu seam vertices, %zu copies\n",
                 name, run.input.num_vertices(), run.output.num_vertices(), run.input.num_faces(),
                 run.output.num_faces(), run.map.seams.size(), run.map.split_vertices,

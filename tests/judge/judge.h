@@ -64,6 +64,10 @@ std::map<uint32_t, Hausdorff> GroupHausdorffDistances(const RawMesh& a, const Ra
 bool SelfIntersects(const RawMesh& mesh);
 // How many pairs of faces intersect other than along a shared edge or vertex.
 size_t SelfIntersectingPairs(const RawMesh& mesh);
+// The same for the soup as it is (tests/judge/soup_intersections.cc): corners shared by index,
+// so that the parts of an assembly touch at their seams instead of crossing there (the mesh
+// test above splits a seam into copies that only touch). Degenerate faces are left out.
+size_t SoupSelfIntersectingPairs(const RawMesh& mesh);
 
 struct Topology {
   long vertices = 0, edges = 0, faces = 0;  // referenced vertices only

@@ -4,8 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <random>
 
 #include "tests/support/meshes.h"
@@ -165,6 +167,33 @@ TEST(JudgeIntersections, CubesAndOverlaps) {
                           {0.5f, 0.2f, -0.1f, 0.5f, 0.8f, -0.1f, 0.5f, 0.5f, 0.3f});
   folded.triangles.insert(folded.triangles.end(), {5, 6, 7});
   EXPECT_TRUE(SelfIntersects(folded));
+}
+
+// The soup count agrees with CGAL's mesh count where the mesh test applies, and sees the parts
+// of an assembly touch along their shared edge where the mesh test (copies) sees crossings.
+TEST(JudgeIntersections, SoupCountAgreesAndTakesSeamsAsShared) {
+  const RawMesh overlapping = Merge(UnitCube(), Translated(UnitCube(), {0.5, 0.5, 0.5}));
+  RawMesh folded = SquareFan(0.1);
+  folded.positions.insert(folded.positions.end(),
+                          {0.5f, 0.2f, -0.1f, 0.5f, 0.8f, -0.1f, 0.5f, 0.5f, 0.3f});
+  folded.triangles.insert(folded.triangles.end(), {5, 6, 7});
+  for (const RawMesh& m : {UnitCube(), overlapping, folded, testing::LoadTestMesh("fandisk.off")})
+    EXPECT_EQ(SoupSelfIntersectingPairs(m), SelfIntersectingPairs(m));
+  EXPECT_GT(SoupSelfIntersectingPairs(overlapping), 0u);
+  EXPECT_GT(SoupSelfIntersectingPairs(folded), 0u);
+
+  // Two cubes sharing the edge x = y = 1, welded there: four faces around it.
+  RawMesh pair = Merge(UnitCube(), Translated(UnitCube(), {1, 1, 0}));
+  std::map<std::array<float, 3>, uint32_t> first;
+  for (uint32_t& v : pair.triangles) {
+    const std::array<float, 3> p{pair.positions[3 * v], pair.positions[3 * v + 1],
+                                 pair.positions[3 * v + 2]};
+    v = first.try_emplace(p, v).first->second;
+  }
+  EXPECT_EQ(SoupSelfIntersectingPairs(pair), 0u);
+  // Pushed into each other by a tenth, they cross.
+  RawMesh crossing = Merge(UnitCube(), Translated(UnitCube(), {0.9, 0.9, 0}));
+  EXPECT_GT(SoupSelfIntersectingPairs(crossing), 0u);
 }
 
 TEST(JudgeTopology, ClosedOpenAndGenus) {
