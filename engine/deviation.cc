@@ -30,7 +30,7 @@ bool Overlap(const P2* t, const P2* u, double eps) {
     for (int e = 0; e < 3; ++e) {
       const P2 p = a[e], q = a[(e + 1) % 3];
       const P2 d = Sub2(q, p);
-      const double len = std::hypot(d.x, d.y);
+      const double len = std::sqrt(d.x * d.x + d.y * d.y);  // mesh coordinates: no overflow
       // b entirely on the outer (right) side of edge p -> q separates them.
       bool separated = true;
       for (int k = 0; k < 3 && separated; ++k) separated = Cross2(d, Sub2(b[k], p)) < -eps * len;
@@ -72,7 +72,7 @@ bool BoundDeviation(const Ring& ring, int target, int line_other, const float* o
   double scale = 0.0;
   for (int k = 0; k < n; ++k) {
     q[k] = {Dot(p[k] - v, u), Dot(p[k] - v, w)};
-    scale = std::max(scale, std::hypot(q[k].x, q[k].y));
+    scale = std::max(scale, std::sqrt(q[k].x * q[k].x + q[k].y * q[k].y));
   }
   const double eps_len = 1e-9 * scale, eps_area = 1e-12 * scale * scale;
 
