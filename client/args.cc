@@ -25,7 +25,7 @@ constexpr char kExitCodes[] = R"(Exit codes:
       of an assembly) are kept, locked
   5   output mesh or --stats-json file could not be written, or OUT's format cannot hold the
       input's face groups or fields (checked before the run; see --drop-face-data)
-  6   the simplification failed
+  6   the simplification failed (also: not enough memory)
   7   interrupted (local mode)
   8   health: the server answered but is not SERVING
   20+N  remote mode: the server answered with gRPC status code N, e.g.

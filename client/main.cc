@@ -1,5 +1,6 @@
 // femsimp: the command-line program (local simplification, or remote with --server).
 #include <cstdio>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -40,5 +41,10 @@ int main(int argc, char** argv) {
     return kExitUsage;
 #endif
   }
-  return RunLocal(s);
+  try {
+    return RunLocal(s);
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "femsimp: not enough memory to simplify %s locally\n", s.input.c_str());
+    return kExitEngineFailed;
+  }
 }

@@ -23,10 +23,20 @@ void WorkerPool::Run(const std::function<void(int)>& fn) {
     ++generation_;
   }
   start_cv_.notify_all();
-  fn(0);
+  // The other contexts use fn until they are done: wait for them even if it throws here.
+  std::exception_ptr failure;
+  try {
+    fn(0);
+  } catch (...) {
+    failure = std::current_exception();
+  }
   std::unique_lock<std::mutex> lock(mu_);
   done_cv_.wait(lock, [this] { return pending_ == 0; });
   job_ = nullptr;
+  if (!failure) failure = failure_;
+  failure_ = nullptr;
+  lock.unlock();
+  if (failure) std::rethrow_exception(failure);
 }
 
 void WorkerPool::Loop(int context) {
@@ -40,9 +50,15 @@ void WorkerPool::Loop(int context) {
       seen = generation_;
       job = job_;
     }
-    (*job)(context);
+    std::exception_ptr failure;
+    try {
+      (*job)(context);
+    } catch (...) {
+      failure = std::current_exception();
+    }
     {
       std::lock_guard<std::mutex> lock(mu_);
+      if (failure && !failure_) failure_ = failure;
       if (--pending_ == 0) done_cv_.notify_one();
     }
   }

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <condition_variable>
+#include <exception>
 #include <functional>
 #include <mutex>
 #include <thread>
@@ -20,7 +21,9 @@ class WorkerPool {
   WorkerPool& operator=(const WorkerPool&) = delete;
 
   int size() const { return contexts_; }
-  // Runs fn(context) on every context and returns when all are done.
+  // Runs fn(context) on every context and returns when all are done. An exception thrown in a
+  // context (std::bad_alloc: the engine reports errors as statuses) is rethrown here once every
+  // context has finished, the caller's own first; the pool stays usable.
   void Run(const std::function<void(int)>& fn);
 
  private:
@@ -33,6 +36,7 @@ class WorkerPool {
   const std::function<void(int)>* job_ = nullptr;
   uint64_t generation_ = 0;
   int pending_ = 0;
+  std::exception_ptr failure_;  // the first exception of a context other than the caller
   bool quit_ = false;
 };
 

@@ -1,5 +1,7 @@
 #include "server/job_runner.h"
 
+#include <new>
+
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "proto/wire.h"
@@ -56,7 +58,18 @@ void JobRunner::Run(const std::shared_ptr<Job>& job) {
     metrics_.PassFinished(o.backend, p);
     job->AddPass(p);
   };
-  absl::StatusOr<SimplifyResult> result = Simplify(*mesh, o, control);
+  // Running out of memory fails this job, not the server, and frees its slot like any failure.
+  const auto out_of_memory = [&job](const char* what) {
+    return absl::ResourceExhaustedError(
+        absl::StrFormat("not enough memory %s (%d vertices, %d faces)", what, job->input_vertices(),
+                        job->input_faces()));
+  };
+  absl::StatusOr<SimplifyResult> result;
+  try {
+    result = Simplify(*mesh, o, control);
+  } catch (const std::bad_alloc&) {
+    result = out_of_memory("to simplify the mesh");
+  }
 
   grpc::Status status;
   if (!result.ok()) {
@@ -67,7 +80,12 @@ void JobRunner::Run(const std::shared_ptr<Job>& job) {
   }
   RawMesh output;
   if (result.ok() && status.ok()) {
-    absl::StatusOr<RawMesh> out = OutputMesh(*mesh, input->seam_map);
+    absl::StatusOr<RawMesh> out;
+    try {
+      out = OutputMesh(*mesh, input->seam_map);
+    } catch (const std::bad_alloc&) {
+      out = out_of_memory("to write the simplified mesh");
+    }
     if (out.ok()) {
       output = *std::move(out);
     } else {

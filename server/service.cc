@@ -1,6 +1,7 @@
 #include "server/service.h"
 
 #include <chrono>
+#include <new>
 #include <thread>
 
 #include "absl/strings/str_cat.h"
@@ -96,7 +97,15 @@ grpc::Status SimplifierService::Simplify(grpc::ServerContext* ctx, Stream* strea
     auto job = std::make_shared<Job>(registry_.NewId(), spec->client_label(), *options,
                                      spec->vertex_count(), spec->face_count());
     registry_.Add(job);
-    grpc::Status s = RunJob(ctx, stream, job, reader, *spec);
+    grpc::Status s;
+    try {
+      s = RunJob(ctx, stream, job, reader, *spec);
+    } catch (const std::bad_alloc&) {  // the job fails, the server goes on
+      s = grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
+                       absl::StrCat("not enough memory for the job (", spec->vertex_count(),
+                                    " vertices, ", spec->face_count(),
+                                    " faces declared) while receiving or preparing its mesh"));
+    }
     job->Close(s);
     registry_.MarkFinished(job);
     return s;
@@ -108,11 +117,18 @@ grpc::Status SimplifierService::Simplify(grpc::ServerContext* ctx, Stream* strea
 grpc::Status SimplifierService::RunJob(grpc::ServerContext* ctx, Stream* stream,
                                        const std::shared_ptr<Job>& job, RequestReader& reader,
                                        const v1::JobSpec& spec) {
-  bool reserved = true;
-  auto release = [&] {
-    if (reserved) queue_.CancelReservation();
-    reserved = false;
-  };
+  // The queue slot reserved at admission goes back on every way out but the queue, an
+  // exception (out of memory) included.
+  struct Reservation {
+    JobQueue& queue;
+    bool held = true;
+    ~Reservation() { Release(); }
+    void Release() {
+      if (held) queue.CancelReservation();
+      held = false;
+    }
+  } reservation{queue_};
+  const auto release = [&reservation] { reservation.Release(); };
   v1::SimplifyResponse resp;
   resp.mutable_accepted()->set_job_id(job->id());
   resp.mutable_accepted()->set_queue_position(static_cast<uint32_t>(queue_.waiting()));
@@ -153,7 +169,7 @@ grpc::Status SimplifierService::RunJob(grpc::ServerContext* ctx, Stream* stream,
     }
   }
   job->Enqueue(*std::move(prepared));
-  reserved = false;
+  reservation.held = false;  // PushReserved takes the slot over
   if (!queue_.PushReserved(job))
     return grpc::Status(grpc::StatusCode::UNAVAILABLE, "server is shutting down");
   UpdateQueueGauge();

@@ -16,6 +16,7 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 using std::chrono::milliseconds;
+using testing::ExpectWorkerFree;
 using testing::GetJob;
 using testing::InProcessServer;
 using testing::WaitWhile;
@@ -25,14 +26,6 @@ constexpr double kMaxLatencySeconds = 0.5;
 
 double Since(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
-}
-
-// One worker with one context, so that "the next job runs" shows that the cancelled one let go.
-server::ServerConfig OneWorker() {
-  server::ServerConfig c = testing::TestConfig();
-  c.workers = 1;
-  c.threads_per_job = 1;
-  return c;
 }
 
 // 1M vertices, 2M faces, uploaded in about 0.5 s. With the options below the set-up takes about
@@ -117,19 +110,6 @@ class LongCall {
   std::thread thread_;
 };
 
-// The job is over on the server (not RUNNING) and the single worker takes the next job.
-void ExpectWorkerFree(InProcessServer& s) {
-  grpc::ClientContext ictx;
-  v1::ServerInfoResponse info;
-  ASSERT_TRUE(s.stub().ServerInfo(&ictx, {}, &info).ok());
-  EXPECT_EQ(info.running_jobs(), 0u);
-  grpc::ClientContext ctx;
-  ctx.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(60));
-  cli::RemoteOutcome next = cli::RemoteSimplify(s.stub(), ctx, testing::RatioSpec(0.5),
-                                                testing::LoadTestMesh("fandisk.off"));
-  EXPECT_TRUE(next.status.ok()) << next.status.error_message();
-}
-
 std::string BackendName(const ::testing::TestParamInfo<v1::Backend>& p) {
   return p.param == v1::BACKEND_CELL ? "Cell" : "Native";
 }
@@ -156,7 +136,7 @@ class CancelInPass : public ::testing::TestWithParam<v1::Backend> {
 };
 
 TEST_P(CancelInPass, CancelJobEndsTheCallWithinHalfASecond) {
-  InProcessServer s(OneWorker());
+  InProcessServer s(testing::OneWorkerConfig());
   LongCall call(s, GetParam());
   ASSERT_NO_FATAL_FAILURE(IntoAPass(s, call));
 
@@ -185,7 +165,7 @@ TEST_P(CancelInPass, CancelJobEndsTheCallWithinHalfASecond) {
 }
 
 TEST_P(CancelInPass, ClientCancelEndsTheJobWithinHalfASecond) {
-  InProcessServer s(OneWorker());
+  InProcessServer s(testing::OneWorkerConfig());
   LongCall call(s, GetParam());
   ASSERT_NO_FATAL_FAILURE(IntoAPass(s, call));
 
@@ -207,7 +187,7 @@ TEST_P(CancelInPass, ClientCancelEndsTheJobWithinHalfASecond) {
 }
 
 TEST_P(CancelInPass, DeadlineEndsTheJobWithinHalfASecond) {
-  InProcessServer s(OneWorker());
+  InProcessServer s(testing::OneWorkerConfig());
   // The upload and the mesh build take about half a second, the set-up about a second; the
   // deadline then falls into a pass (pass 1 or 2, depending on the machine; each takes seconds)
   // or, on a slow machine, into the set-up.

@@ -5,6 +5,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <set>
@@ -132,6 +133,26 @@ int FreePort() {
   int port = ntohs(addr.sin_port);
   close(fd);
   return port;
+}
+
+server::ServerConfig OneWorkerConfig() {
+  server::ServerConfig c = TestConfig();
+  c.workers = 1;
+  c.threads_per_job = 1;
+  return c;
+}
+
+void ExpectWorkerFree(InProcessServer& s) {
+  grpc::ClientContext ictx;
+  v1::ServerInfoResponse info;
+  ASSERT_TRUE(s.stub().ServerInfo(&ictx, {}, &info).ok());
+  EXPECT_EQ(info.running_jobs(), 0u);
+  EXPECT_EQ(info.queued_jobs(), 0u);
+  grpc::ClientContext ctx;
+  ctx.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(60));
+  cli::RemoteOutcome next =
+      cli::RemoteSimplify(s.stub(), ctx, RatioSpec(0.5), LoadTestMesh("fandisk.off"));
+  EXPECT_TRUE(next.status.ok()) << next.status.error_message();
 }
 
 }  // namespace femsimp::testing

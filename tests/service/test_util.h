@@ -34,6 +34,11 @@ class InProcessServer {
 
 v1::JobSpec RatioSpec(double ratio, int threads = 0);
 
+// One worker with one context, so that "the next job runs" shows that a job let go of it.
+server::ServerConfig OneWorkerConfig();
+// The server is whole after a job ended: nothing running, and the next job (fandisk) runs.
+void ExpectWorkerFree(InProcessServer& s);
+
 // GetJob; nullopt when the call fails (unknown job).
 std::optional<v1::JobInfo> GetJob(v1::Simplifier::Stub& stub, const std::string& id);
 // Polls GetJob every 2 ms while the job is in `state`; the job as last seen, nullopt when it is
