@@ -96,12 +96,12 @@ absl::StatusOr<int> SoftwareCache::Fill(uint64_t ea, size_t size) {
   const size_t set = SetOf(line);
   Tag* ways = &tags_[set * config_.ways];
   const uint64_t now = clock_->Now();
-  // Victim: the same line (partly valid), else an invalid way, else the LRU line whose fill
-  // has completed (so a software thread waiting on a fill keeps it), else the LRU line.
+  // Victim: an invalid way, else the LRU line whose fill has completed (so a software thread
+  // waiting on a fill keeps it), else the LRU line. A way holding another part of the same
+  // line (two registered regions sharing it) is not preferred: taking it over made two
+  // threads reading one part each refetch the line in turn forever. Both parts stay, each in
+  // its own way, and Lookup finds the one that holds a read.
   int victim = -1;
-  for (size_t w = 0; w < config_.ways && victim < 0; ++w) {
-    if (ways[w].hi > ways[w].lo && ways[w].line_ea == line) victim = static_cast<int>(w);
-  }
   for (size_t w = 0; w < config_.ways && victim < 0; ++w) {
     if (ways[w].hi <= ways[w].lo) victim = static_cast<int>(w);
   }

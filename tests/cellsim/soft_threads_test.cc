@@ -118,6 +118,33 @@ TEST_F(SoftThreadsTest, TouchReportAndYieldSwitchOnlyOnRealMisses) {
   EXPECT_EQ(spe->counters().thread_switches, 1u);
 }
 
+// Two registered regions can share a cache line (two small arrays next to each other on the
+// heap: the engine's test meshes have them). Two software threads reading one part each must
+// both finish: each part's fill used to take over the way of the other part, so the two
+// threads refetched the line in turn forever (a determinism test hung in CI that way).
+TEST(SoftThreadsSharedLine, TwoRegionsInOneLineAreBothRead) {
+  QuadArray data(64);  // line-aligned: quads 0..7 are one 128-byte line
+  MainMemory memory;
+  ASSERT_TRUE(memory.Register(&data[0], 3 * sizeof(Quad), "a").ok());
+  ASSERT_TRUE(memory.Register(&data[4], 60 * sizeof(Quad), "b").ok());
+  auto spe = MakeSpe(memory);
+  uint32_t seen[2] = {0, 0};
+  absl::Status s = spe->RunThreads(2, [&](SpeContext& ctx, int t) {
+    for (int i = 0; i < 20; ++i) {
+      absl::StatusOr<Quad> q = ctx.cache().ReadValue<Quad>(Ea(&data[t == 0 ? 1 : 5]));
+      if (!q.ok()) return ctx.ReportError(q.status());
+      seen[t] = q->w[0];
+      ctx.AddComputeCycles(50);
+    }
+  });
+  ASSERT_TRUE(s.ok()) << s;
+  EXPECT_TRUE(spe->error().ok()) << spe->error();
+  EXPECT_EQ(seen[0], 1u);
+  EXPECT_EQ(seen[1], 5u);
+  // Both parts are fetched once and then held in two ways.
+  EXPECT_EQ(spe->counters().cache_misses, 2u);
+}
+
 TEST_F(SoftThreadsTest, StacksLiveInTheLocalStoreAndRunsDoNotNest) {
   auto spe = MakeSpe(memory_);
   absl::Status inner;
