@@ -15,6 +15,8 @@ constexpr Range kNonNegative = Range::AtLeast(0);
 constexpr Range kMaxVertices = Range::AtLeast(3);
 constexpr Range kMaxFaces = Range::AtLeast(1);
 constexpr Range kMaxRequestBytes = Range::AtLeast(64 << 10);
+constexpr Range kMaxSpes = Range::Closed(1, 256);
+constexpr Range kMaxCellMemory = Range::AtLeast(1);
 
 // "" when v is in r, else the flag's out-of-range message.
 std::string Check(const char* flag, double v, const Range& r, const char* unit = "") {
@@ -77,6 +79,21 @@ void AddServerFlags(flags::FlagSet& set, ServerConfig* c) {
               .unit = "bytes",
               .default_text = FormatNumber(static_cast<double>(d.max_request_bytes))},
              &c->max_request_bytes);
+  set.Number({.name = "--max_spes",
+              .metavar = "N",
+              .help = "most SPEs a cell back-end job may ask for (each is a host thread)",
+              .kind = NumberKind::kInteger,
+              .range = kMaxSpes,
+              .default_text = FormatNumber(static_cast<double>(d.max_spes))},
+             &c->max_spes);
+  set.Number({.name = "--max_cell_local_store_mib",
+              .metavar = "N",
+              .help = "most emulated local store a cell back-end job may ask for, over its SPEs",
+              .kind = NumberKind::kInteger,
+              .range = kMaxCellMemory,
+              .unit = "MiB",
+              .default_text = FormatNumber(static_cast<double>(d.max_cell_local_store_mib))},
+             &c->max_cell_local_store_mib);
   set.Number({.name = "--grace_period_seconds",
               .metavar = "S",
               .help = "on SIGTERM/SIGINT, time running jobs get to finish before they are "
@@ -105,6 +122,8 @@ std::string NormalizeConfig(ServerConfig* c) {
         Check("--max_faces", static_cast<double>(c->max_faces), kMaxFaces),
         Check("--max_request_bytes", static_cast<double>(c->max_request_bytes), kMaxRequestBytes,
               "bytes"),
+        Check("--max_spes", c->max_spes, kMaxSpes),
+        Check("--max_cell_local_store_mib", c->max_cell_local_store_mib, kMaxCellMemory, "MiB"),
         Check("--grace_period_seconds", c->grace_period_seconds, kNonNegative, "seconds"),
         Check("--max_connection_age_seconds", c->max_connection_age_seconds, kNonNegative,
               "seconds")})

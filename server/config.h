@@ -17,6 +17,9 @@ struct ServerConfig {
   uint64_t max_vertices = 20'000'000;
   uint64_t max_faces = 40'000'000;
   uint64_t max_request_bytes = 8 << 20;  // per received message
+  // The cell back end per job: each SPE is a host thread with its own emulated local store.
+  int max_spes = 32;
+  int max_cell_local_store_mib = 256;  // SPEs x local store size
   double grace_period_seconds = 30.0;
   // 0: off. Otherwise connections are closed (GOAWAY, running calls finish) after this long, so
   // that clients balancing over a headless Service re-resolve and find new replicas.

@@ -2,6 +2,8 @@
 
 #include <chrono>
 #include <new>
+#include <optional>
+#include <string>
 #include <thread>
 
 #include "absl/strings/str_cat.h"
@@ -63,6 +65,22 @@ std::string Bounded(std::string message) {
   return message;
 }
 
+// What a job may ask of this server beyond the option table's ranges: the cell back end runs a
+// host thread and allocates a local store per SPE.
+std::optional<std::string> OverServerLimits(const SimplifyOptions& o, const ServerConfig& c) {
+  if (o.backend != Backend::kCell) return std::nullopt;
+  if (o.cell.spes > c.max_spes)
+    return absl::StrCat("spec.options.cell.spes: ", o.cell.spes,
+                        " is above this server's limit of ", c.max_spes, " (--max_spes)");
+  const int64_t kib = int64_t{o.cell.spes} * o.cell.local_store_kib;
+  if (kib > int64_t{c.max_cell_local_store_mib} * 1024)
+    return absl::StrCat("spec.options.cell: ", o.cell.spes, " SPEs x ", o.cell.local_store_kib,
+                        " KiB of local store = ", kib / 1024,
+                        " MiB is above this server's limit of ", c.max_cell_local_store_mib,
+                        " MiB (--max_cell_local_store_mib)");
+  return std::nullopt;
+}
+
 }  // namespace
 
 SimplifierService::SimplifierService(const ServerConfig& config, JobQueue& queue,
@@ -86,6 +104,8 @@ grpc::Status SimplifierService::Simplify(grpc::ServerContext* ctx, Stream* strea
     if (!options.ok())
       return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
                           absl::StrCat("spec.options: ", options.status().message()));
+    if (std::optional<std::string> over = OverServerLimits(*options, config_))
+      return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, *over);
     // Admission before the upload, so a full server does not receive the mesh first.
     if (!queue_.TryReserve()) {
       ctx->AddTrailingMetadata("grpc-retry-pushback-ms", std::to_string(config_.retry_pushback_ms));

@@ -207,6 +207,35 @@ TEST(Service, QueueFullIsResourceExhaustedWithPushback) {
   hold->Finish();
 }
 
+// The cell back end runs a host thread and a local store per SPE: a job may not ask for more
+// than the server allows, and is told which limit (and flag) it met before anything uploads.
+TEST(Service, CellBackEndWithinTheServersLimits) {
+  server::ServerConfig config = testing::TestConfig();
+  config.max_spes = 8;
+  config.max_cell_local_store_mib = 4;
+  InProcessServer s(config);
+  const RawMesh mesh = testing::LoadTestMesh("fandisk.off");
+  const auto run = [&](int spes, int local_store_kib) {
+    v1::JobSpec spec = RatioSpec(0.5);
+    spec.mutable_options()->set_backend(v1::BACKEND_CELL);
+    spec.mutable_options()->mutable_cell()->set_spes(spes);
+    spec.mutable_options()->mutable_cell()->set_local_store_kib(local_store_kib);
+    grpc::ClientContext ctx;
+    return cli::RemoteSimplify(s.stub(), ctx, spec, mesh).status;
+  };
+  const grpc::Status too_many = run(9, 256);
+  EXPECT_EQ(too_many.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_EQ(too_many.error_message(),
+            "spec.options.cell.spes: 9 is above this server's limit of 8 (--max_spes)");
+  const grpc::Status too_big = run(8, 1024);
+  EXPECT_EQ(too_big.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_EQ(too_big.error_message(),
+            "spec.options.cell: 8 SPEs x 1024 KiB of local store = 8 MiB is above this server's "
+            "limit of 4 MiB (--max_cell_local_store_mib)");
+  const grpc::Status within = run(8, 512);
+  EXPECT_TRUE(within.ok()) << within.error_message();
+}
+
 TEST(Service, MalformedStreamsAreInvalidArgument) {
   server::ServerConfig config = testing::TestConfig();
   config.max_vertices = 1'000'000;
