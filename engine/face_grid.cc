@@ -87,7 +87,6 @@ void FaceGrid::Refresh(const Mesh& mesh, const std::function<bool()>& cancelled)
 }
 
 void FaceGrid::Rebuild(const Mesh& mesh, const std::function<bool()>& cancelled) {
-  complete_ = false;
   // Cells of about twice the mean edge length hold a handful of faces each.
   std::vector<uint32_t> live;
   cell_ = 2.0 * MeanEdge(mesh, &live, &origin_);
@@ -105,10 +104,10 @@ void FaceGrid::Rebuild(const Mesh& mesh, const std::function<bool()>& cancelled)
     cell_ *= 1.5;
   }
   // Faces share cells (a handful to a few dozen listings a cell): a first guess at the table.
-  complete_ = Fill(live, covered / 8, cancelled);
+  Fill(live, covered / 8, cancelled);
 }
 
-bool FaceGrid::Fill(const std::vector<uint32_t>& live, uint64_t min_capacity,
+void FaceGrid::Fill(const std::vector<uint32_t>& live, uint64_t min_capacity,
                     const std::function<bool()>& cancelled) {
   const auto poll = [&](size_t i) { return i % kPollFaces == 0 && cancelled && cancelled(); };
   std::vector<uint32_t> slots;  // every face's cells in turn, as passes 1 and 3 visit them
@@ -120,7 +119,7 @@ bool FaceGrid::Fill(const std::vector<uint32_t>& live, uint64_t min_capacity,
     // Pass 1: claim the cells and count their listings.
     bool fits = true;
     for (size_t i = 0; i < live.size() && fits; ++i) {
-      if (poll(i)) return false;
+      if (poll(i)) return;
       const Triangle t = FaceTriangle(live[i]);
       ForEachCell(RangeOf(BoxOf(t.p, 3)), [&](uint64_t key) {
         const int64_t slot = fits ? Slot(key) : -1;
@@ -153,7 +152,7 @@ bool FaceGrid::Fill(const std::vector<uint32_t>& live, uint64_t min_capacity,
     // Pass 3: list the faces.
     const uint32_t* slot = slots.data();
     for (size_t i = 0; i < live.size(); ++i) {
-      if (poll(i)) return false;
+      if (poll(i)) return;
       const Triangle t = FaceTriangle(live[i]);
       const Span span = SpanOf(BoxOf(t.p, 3));
       const Range& r = span.range;
@@ -164,7 +163,7 @@ bool FaceGrid::Fill(const std::vector<uint32_t>& live, uint64_t min_capacity,
             cell.data[cell.size++] = ListingIn(live[i], span, x, y, z);
           }
     }
-    return true;
+    return;
   }
 }
 

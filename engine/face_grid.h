@@ -30,15 +30,14 @@ class FaceGrid {
  public:
   // Indexes the live faces of `mesh`, which must outlive the grid. Indexing a few million faces
   // takes a while: `cancelled` (thread-safe, may be empty) is polled every kPollFaces faces,
-  // and once it says true the grid stops half built: complete() is false and it must not be
-  // used (the caller is ending the run).
+  // and once it says true the grid stops half built and must not be used (a cancel stays
+  // true: the caller sees it and ends the run).
   explicit FaceGrid(const Mesh& mesh, const std::function<bool()>& cancelled = {});
   // Between passes (nothing held): indexes the mesh anew when its faces have grown well past
   // the cells (as the mesh coarsens), so that a fan still covers a few cells. It measures the
   // mesh only when the edge lengths its users report (Track) say it may have to. Polls
   // `cancelled` as the constructor does.
   void Refresh(const Mesh& mesh, const std::function<bool()>& cancelled = {});
-  bool complete() const { return complete_; }
   // What a commit changed: the sum over the live faces of their three edge lengths, and their
   // number.
   void Track(double length_change, int64_t face_change);
@@ -197,9 +196,9 @@ class FaceGrid {
   static int16_t Relative(int64_t units, int64_t c) {
     return static_cast<int16_t>(std::clamp<int64_t>(units - (c << kListingBits), -32768, 32767));
   }
-  // Indexes the live faces with cells of the current size in a table of at least min_capacity;
-  // false when cancelled first.
-  bool Fill(const std::vector<uint32_t>& live, uint64_t min_capacity,
+  // Indexes the live faces with cells of the current size in a table of at least min_capacity
+  // (stops half done once `cancelled` says true).
+  void Fill(const std::vector<uint32_t>& live, uint64_t min_capacity,
             const std::function<bool()>& cancelled);
   static std::vector<uint32_t> LiveFaces(const Mesh& mesh);
   // Mean edge length of the live faces (and the live faces, and their lower corner).
@@ -234,7 +233,6 @@ class FaceGrid {
     Box before, after;
   };
   bool deferred_ = false;
-  bool complete_ = false;
   std::mutex pending_mu_;
   std::vector<PendingMove> pending_;         // guarded by pending_mu_
   std::atomic<double> tracked_length_{0.0};  // see Track

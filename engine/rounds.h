@@ -56,7 +56,7 @@ class RoundScheduler {
   // Per window entry (reused between rounds).
   std::vector<uint32_t> window_;
   std::vector<FaceGrid::Box> box_;
-  std::vector<uint8_t> live_, open_, won_;
+  std::vector<uint8_t> live_, won_;
   std::vector<uint32_t> by_vertex_;
   // PickWinners: box extents, the winners so far, and a hashed grid of their boxes.
   std::vector<double> extent_;

@@ -142,38 +142,30 @@ grpc::Status SimplifierService::RunJob(grpc::ServerContext* ctx, Stream* stream,
   struct Reservation {
     JobQueue& queue;
     bool held = true;
-    ~Reservation() { Release(); }
-    void Release() {
+    ~Reservation() {
       if (held) queue.CancelReservation();
-      held = false;
     }
   } reservation{queue_};
-  const auto release = [&reservation] { reservation.Release(); };
   v1::SimplifyResponse resp;
   resp.mutable_accepted()->set_job_id(job->id());
   resp.mutable_accepted()->set_queue_position(static_cast<uint32_t>(queue_.waiting()));
   if (!stream->Write(resp)) {
-    release();
     return grpc::Status(grpc::StatusCode::CANCELLED, "client went away");
   }
 
   absl::StatusOr<RawMesh> raw = reader.ReadMesh(spec);
   if (job->cancelled()) {
-    release();
     return job->cancel_status();
   }
   if (ctx->IsCancelled()) {
-    release();
     return ClientEnded(ctx, "during the upload");
   }
   if (!raw.ok()) {
-    release();
     return ToGrpc(raw.status());
   }
   absl::StatusOr<PreparedMesh> prepared = PrepareMesh(*std::move(raw), ServerRepairOptions(*job));
   *raw = RawMesh();
   if (!prepared.ok()) {
-    release();
     return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
                         Bounded(absl::StrCat("invalid mesh: ", prepared.status().message())));
   }
@@ -184,7 +176,6 @@ grpc::Status SimplifierService::RunJob(grpc::ServerContext* ctx, Stream* stream,
     v1::SimplifyResponse resp;
     wire::RepairToProto(repair, resp.mutable_repair());
     if (!stream->Write(resp)) {
-      release();
       return ClientEnded(ctx, "after the upload");
     }
   }
