@@ -425,9 +425,16 @@ class RemovalKernel final : private NeighbourhoodReader {
     port_.ChargeCompute(40 * nf);
   }
 
-  // The two edges joined across a deleted face become one: a feature if either was.
+  // The two edges joined across a deleted face become one: a feature if either was, and a
+  // boundary edge (one side without twin) is a feature whatever it was before.
   void JoinFeatureBits(uint32_t a, uint32_t b) {
-    if (a == kNone || b == kNone) return;
+    if (a == kNone && b == kNone) return;
+    if (a == kNone || b == kNone) {
+      const uint32_t e = a == kNone ? b : a;
+      const uint32_t f = port_.ReadHalfEdgeFresh(e).flags;
+      if (!(f & kFeatureEdge)) port_.WriteFlags(e, f | kFeatureEdge);
+      return;
+    }
     const uint32_t fa = port_.ReadHalfEdgeFresh(a).flags, fb = port_.ReadHalfEdgeFresh(b).flags;
     if (((fa ^ fb) & kFeatureEdge) == 0) return;
     port_.WriteFlags(a, fa | kFeatureEdge);

@@ -88,6 +88,27 @@ TEST(Kernel, EveryVertexOfAGridOnceInTopologyOnlyMode) {
   ExpectSameTopology(raw, h.mesh);
 }
 
+// A collapse that deletes a face on the boundary makes the edge joined across it a boundary
+// edge: it must become a feature edge as boundaries are, or the boundary vertices at its ends
+// would count one feature edge and be taken for corners (never moved again).
+TEST(Kernel, EdgesThatBecomeBoundaryAreFeatures) {
+  SimplifyOptions topology;
+  topology.topology_only = true;
+  const RawMesh raw = testing::FlatGrid(6);
+  Harness h(raw, topology);
+  for (uint32_t v = 0; v < h.mesh.vertex_capacity(); ++v) h.Remove(v);
+  ASSERT_EQ(HalfEdgeInvariantViolation(h.mesh), "");
+  int boundary = 0;
+  const HalfEdgeQ* e = h.mesh.halfedges();
+  for (uint32_t i = 0; i < h.mesh.halfedge_capacity(); ++i) {
+    if ((e[i].flags & kFaceRemoved) || e[i].twin != kNone) continue;
+    ++boundary;
+    EXPECT_TRUE(e[i].flags & kFeatureEdge) << "boundary half-edge " << i;
+  }
+  EXPECT_GT(boundary, 0);
+  EXPECT_LT(boundary, 24);  // some boundary collapses happened
+}
+
 TEST(Kernel, TetrahedronAndSingleTriangleAreNeverCollapsed) {
   SimplifyOptions topology;
   topology.topology_only = true;
