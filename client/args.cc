@@ -22,7 +22,7 @@ constexpr char kExitCodes[] = R"(Exit codes:
   4   input mesh invalid: a defect the repair does not fix (a non-orientable surface, nothing
       left after repair), or, with --repair off, any defect (degenerate, duplicate or flipped
       faces, non-manifold vertices and edges, ...); edges shared by 3 or more faces (the seams
-      of an assembly) are kept, locked
+      of an assembly) are kept conforming, simplified only along themselves
   5   output mesh or --stats-json file could not be written, or OUT's format cannot hold the
       input's face groups or fields (checked before the run; see --drop-face-data)
   6   the simplification failed (also: not enough memory)

@@ -91,7 +91,8 @@ std::string PassJson(const PassStats& p) {
   std::string s = absl::StrCat(
       "{\"pass\": ", p.pass, ", \"candidates\": ", p.candidates, ", \"tried\": ", p.tried,
       ", \"removed\": ", p.removed, ", \"lock_conflicts\": ", p.lock_conflicts,
-      ", \"inconsistent\": ", p.inconsistent, ", \"rounds\": ", p.rounds, ", \"rejections\": ", rej,
+      ", \"inconsistent\": ", p.inconsistent, ", \"rounds\": ", p.rounds,
+      ", \"seam_points_removed\": ", p.seam_points_removed, ", \"rejections\": ", rej,
       ", \"vertices_left\": ", p.vertices_left, ", \"seconds\": ", JsonNumber(p.seconds),
       ", \"busy_seconds\": ", JsonNumber(p.busy_seconds));
   if (p.cell) {

@@ -22,6 +22,7 @@
 #include <cstdint>
 
 #include <optional>
+#include <span>
 
 #include "engine/quadric.h"
 #include "engine/ring.h"
@@ -113,7 +114,64 @@ class RemovalKernel final : private NeighbourhoodReader {
     return MarkNotRemovable(v, refusal_.reason);
   }
 
+  // Compound collapses (engine/seam_collapse.h), run by one context alone: checks V -> vd with
+  // every rule but the budgets, whatever V's state (a seam copy is kFixed), and on kPass keeps V
+  // and its one-ring locked and the proposal ready until CommitHeld or ReleaseHeld.
+  // `also_replaced`: faces of the compound's other collapses, which the intersection check
+  // leaves to the compound's own test (they are rewritten too). *refused names a refusal.
+  Verdict HoldCollapse(uint32_t v, uint32_t vd, std::span<const uint32_t> also_replaced,
+                       Reject* refused) {
+    const uint32_t state = port_.LoadStatus(v);
+    if ((state & kLockedBit) || (state & kStateMask) == kRemoved) return Verdict::kConflict;
+    if (!port_.CasStatus(v, state, state | kLockedBit)) return Verdict::kConflict;
+    held_v_ = v;
+    held_state_ = state;
+    nlocked_ = 0;
+    proposal_.also_replaced = also_replaced;
+    if (GatherRing(port_, v, ring_) != RingResult::kOk) return FailHold(Verdict::kStale);
+    if (LockNeighbours() != LockResult::kHeld) return FailHold(Verdict::kConflict);
+    proposal_.fan = &ring_;
+    proposal_.reader = this;
+    refusal_ = Refusal{};
+    Directions directions;
+    for (const CollapseRule* rule : rules_.stage(RuleStage::kDirections))
+      rule->Restrict(ring_, &directions);
+    int i = 0;
+    while (i < ring_.neighbours() && ring_.nbr[i] != vd) ++i;
+    if (directions.fixed || i == ring_.neighbours() || !directions.Allows(i)) {
+      *refused = Reject::kFeature;
+      return FailHold(Verdict::kReject);
+    }
+    if (quadric_) own_quadric_ = port_.ReadQuadric(ring_.center);
+    attrs_loaded_ = false;
+    proposal_.target = i;
+    proposal_.line_other = directions.LineOther(i);
+    proposal_.geometry.Build(ring_, i);
+    Reject shape = Reject::kCount;
+    Verdict verdict = rules_.Check(RuleStage::kShape, proposal_, &shape);
+    if (verdict != Verdict::kPass) Note(RuleStage::kShape, shape);
+    if (verdict == Verdict::kPass) verdict = CheckTopology(i);
+    if (verdict == Verdict::kPass) verdict = CheckFidelity();
+    if (verdict != Verdict::kPass) {
+      *refused = refusal_.reason;
+      return FailHold(verdict);
+    }
+    held_i_ = i;
+    return Verdict::kPass;
+  }
+  const CollapseProposal& held() const { return proposal_; }
+  void CommitHeld() { Commit(held_v_, held_i_); }
+  void ReleaseHeld() {
+    UnlockNeighbours();
+    port_.StoreStatus(held_v_, held_state_);
+  }
+
  private:
+  Verdict FailHold(Verdict v) {
+    ReleaseHeld();
+    return v;
+  }
+
   Outcome Count(Outcome o) {
     if (o == Outcome::kConflict) ++stats_.lock_conflicts;
     if (o == Outcome::kInconsistent) ++stats_.inconsistent;
@@ -487,6 +545,8 @@ class RemovalKernel final : private NeighbourhoodReader {
   uint32_t locked_[kMaxRing + 1];
   uint32_t locked_state_[kMaxRing + 1];
   int nlocked_ = 0;
+  uint32_t held_v_ = kNone, held_state_ = 0;  // HoldCollapse
+  int held_i_ = -1;
 };
 
 }  // namespace femsimp

@@ -213,6 +213,20 @@ bool MechanicsLedger::TryCommit(uint32_t v, const CollapseDelta& delta, const Co
   return true;
 }
 
+bool MechanicsLedger::TryCommitTogether(
+    std::span<const CollapseDelta> deltas, std::span<const CollapseDelta> judged,
+    absl::FunctionRef<bool(const LedgerView&, size_t k)> within) {
+  std::lock_guard<std::mutex> lock(mu_);
+  for (size_t k = 0; k < deltas.size(); ++k) {
+    MassProperties spent = spent_;
+    spent.measure += judged[k].mass.measure;
+    spent.moment += judged[k].mass.moment;
+    if (!within(LedgerView{input_, spent, fields_, force_spent_}, k)) return false;
+  }
+  for (const CollapseDelta& delta : deltas) Add(delta);
+  return true;
+}
+
 void MechanicsLedger::Add(const CollapseDelta& delta) {
   spent_.measure += delta.mass.measure;
   spent_.moment += delta.mass.moment;

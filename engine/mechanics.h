@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <mutex>
+#include <span>
 #include <vector>
 
 #include "absl/container/flat_hash_map.h"
@@ -86,6 +87,13 @@ class MechanicsLedger {
   // otherwise changes nothing and returns false. Outside rounds `judged` is the delta itself.
   bool TryCommit(uint32_t v, const CollapseDelta& delta, const CollapseDelta& judged,
                  absl::FunctionRef<bool(const LedgerView&)> within);
+
+  // All of `deltas` or none (a compound collapse, outside rounds): each is judged by `within`
+  // against the current totals with its delta scaled by their number (`judged[k]`); if all pass,
+  // all are spent. The sum is then the mean of points within the budgets (convex), so within.
+  bool TryCommitTogether(std::span<const CollapseDelta> deltas,
+                         std::span<const CollapseDelta> judged,
+                         absl::FunctionRef<bool(const LedgerView&, size_t k)> within);
 
   // Deterministic rounds (engine/rounds.h): until EndRound, every collapse is judged against
   // the totals at the round's start with its delta scaled by `winners` (round_scale()), and

@@ -17,6 +17,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "engine/mechanics.h"
@@ -94,6 +95,9 @@ struct CollapseProposal {
   // meet (by their boxes), as they are while the cells are held, and their ids.
   std::vector<uint32_t> nearby_faces;
   std::vector<PreparedTriangle> nearby;
+  // Compound collapses (engine/seam_collapse.h): faces the compound's other collapses rewrite;
+  // the compound tests its new triangles against each other itself.
+  std::span<const uint32_t> also_replaced;
 
   uint32_t vd() const { return fan->nbr[target]; }
   // Fan face f is one of the two that contain V - Vd (and disappear).
@@ -192,6 +196,9 @@ class RuleSet {
   // Spends the delta of V's collapse from the ledger if every budget rule accepts; otherwise
   // sets *refused to the first that does not and spends nothing.
   bool SpendBudgets(uint32_t v, const CollapseDelta& delta, Reject* refused) const;
+  // The same for the collapses of a compound (engine/seam_collapse.h), outside rounds: all
+  // are spent or none (MechanicsLedger::TryCommitTogether).
+  bool SpendBudgetsTogether(std::span<const CollapseDelta> deltas, Reject* refused) const;
   // Deterministic rounds (engine/rounds.h): the ledger judges the round's collapses by their
   // share of it (MechanicsLedger::BeginRound). No-ops without budget rules.
   void BeginRound(size_t winners) const {

@@ -65,6 +65,24 @@ bool RuleSet::SpendBudgets(uint32_t v, const CollapseDelta& delta, Reject* refus
   });
 }
 
+bool RuleSet::SpendBudgetsTogether(std::span<const CollapseDelta> deltas, Reject* refused) const {
+  const std::vector<const CollapseRule*>& budget = stage(RuleStage::kBudget);
+  bool any_entries = false;
+  for (const CollapseDelta& d : deltas) any_entries = any_entries || d.entries != 0;
+  if (budget.empty() || (!any_entries && !tracks_mass_)) return true;
+  std::vector<CollapseDelta> judged;
+  judged.reserve(deltas.size());
+  for (const CollapseDelta& d : deltas) judged.push_back(Scaled(d, double(deltas.size())));
+  return ledger_->TryCommitTogether(deltas, judged, [&](const LedgerView& totals, size_t k) {
+    for (const CollapseRule* rule : budget)
+      if (!rule->WithinBudget(totals, judged[k])) {
+        *refused = rule->reason();
+        return false;
+      }
+    return true;
+  });
+}
+
 void CollapseGeometry::Build(const Ring& ring, int target_index) {
   const uint32_t vd_index = ring.nbr[target_index];
   const DVec3 v = ToD(ring.center_pos);

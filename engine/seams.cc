@@ -4,6 +4,7 @@
 #include <limits>
 #include <utility>
 
+#include "absl/container/flat_hash_map.h"
 #include "absl/status/status.h"
 #include "absl/strings/str_cat.h"
 #include "engine/union_find.h"
@@ -155,6 +156,63 @@ absl::StatusOr<SeamMap> SplitSeams(RawMesh& mesh) {
   return map;
 }
 
+namespace {
+
+bool ByEnds(const EdgeUse& x, const EdgeUse& y) {
+  return std::pair(x.a, x.b) < std::pair(y.a, y.b);
+}
+
+// The input's seams once the seam vertices without an output copy (first_copy kNoIndex) are left
+// out: a chain a - r1 - ... - rk - b through such vertices, each an inner point of one seam
+// curve (two seam edges, the same face count), becomes the edge a-b. Any other seam vertex
+// without a copy is counted in *missing (once per input vertex).
+std::vector<EdgeUse> SeamsWithout(const SeamMap& map, const std::vector<uint32_t>& first_copy,
+                                  size_t* missing) {
+  const auto kept = [&](uint32_t v) { return first_copy[v] != kNoIndex; };
+  absl::flat_hash_map<uint32_t, std::vector<uint32_t>> seam_edges_at;  // vertex -> seams index
+  for (uint32_t k = 0; k < map.seams.size(); ++k) {
+    seam_edges_at[map.seams[k].a].push_back(k);
+    seam_edges_at[map.seams[k].b].push_back(k);
+  }
+  const auto inner = [&](uint32_t v) {
+    const auto it = seam_edges_at.find(v);
+    if (it == seam_edges_at.end() || it->second.size() != 2) return false;
+    return map.seams[it->second[0]].faces == map.seams[it->second[1]].faces;
+  };
+  std::vector<uint8_t> counted(map.input_vertices, 0);
+  for (uint32_t w : map.seam_vertices) {
+    const uint32_t v = map.original[w];
+    if (!kept(v) && !inner(v) && !counted[v]) {
+      counted[v] = 1;
+      ++*missing;
+    }
+  }
+  std::vector<EdgeUse> expected;
+  for (const EdgeUse& e : map.seams) {
+    // Walk from each kept end through the left-out inner points to the next kept vertex.
+    for (const auto& [from, first] : {std::pair(e.a, e.b), std::pair(e.b, e.a)}) {
+      if (!kept(from)) continue;
+      uint32_t prev = from, at = first;
+      size_t steps = 0;
+      while (!kept(at) && inner(at) && steps++ <= map.seams.size()) {
+        const std::vector<uint32_t>& two = seam_edges_at[at];
+        const EdgeUse& next = map.seams[two[0]].a == prev || map.seams[two[0]].b == prev
+                                  ? map.seams[two[1]]
+                                  : map.seams[two[0]];
+        prev = at;
+        at = next.a == at ? next.b : next.a;
+      }
+      if (!kept(at)) continue;  // ends at a missing vertex, counted above
+      expected.push_back({std::min(from, at), std::max(from, at), e.faces});
+    }
+  }
+  std::sort(expected.begin(), expected.end(), ByEnds);
+  expected.erase(std::unique(expected.begin(), expected.end()), expected.end());
+  return expected;
+}
+
+}  // namespace
+
 absl::StatusOr<RejoinReport> RejoinSeams(RawMesh& output, const std::vector<uint32_t>& vertex_ids,
                                          const SeamMap& map) {
   const size_t nv = output.num_vertices();
@@ -201,34 +259,29 @@ absl::StatusOr<RejoinReport> RejoinSeams(RawMesh& output, const std::vector<uint
       std::unique(output.locked_vertices.begin(), output.locked_vertices.end()),
       output.locked_vertices.end());
 
-  for (uint32_t w : map.seam_vertices)
-    if (first_copy[map.original[w]] == kNoIndex) {
-      ++report.missing_seam_vertices;
-      first_copy[map.original[w]] = kNoIndex - 1;  // count each input vertex once
-    }
+  // Seam vertices may be gone only as inner points of a seam curve (engine/seam_collapse.h):
+  // the expected seams are the input's with those left out, their chains merged into one edge.
+  const std::vector<EdgeUse> expected =
+      SeamsWithout(map, first_copy, &report.missing_seam_vertices);
 
-  // The output's non-manifold edges in input numbering, against the input's seams.
+  // The output's non-manifold edges in input numbering, against the expected seams.
   std::vector<EdgeUse> found;
   for (EdgeUse e : NonManifoldEdges(output)) {
     const uint32_t a = report.input_vertex[e.a], b = report.input_vertex[e.b];
     found.push_back({std::min(a, b), std::max(a, b), e.faces});
   }
-  std::sort(found.begin(), found.end(), [](const EdgeUse& x, const EdgeUse& y) {
-    return std::pair(x.a, x.b) < std::pair(y.a, y.b);
-  });
+  std::sort(found.begin(), found.end(), ByEnds);
   size_t i = 0, j = 0;
-  while (i < map.seams.size() || j < found.size()) {
+  while (i < expected.size() || j < found.size()) {
     const bool take_seam =
-        j == found.size() || (i < map.seams.size() && std::pair(map.seams[i].a, map.seams[i].b) <=
-                                                          std::pair(found[j].a, found[j].b));
-    const bool take_found = i == map.seams.size() ||
-                            (j < found.size() && std::pair(found[j].a, found[j].b) <=
-                                                     std::pair(map.seams[i].a, map.seams[i].b));
+        j == found.size() || (i < expected.size() && !ByEnds(found[j], expected[i]));
+    const bool take_found =
+        i == expected.size() || (j < found.size() && !ByEnds(expected[i], found[j]));
     if (take_seam && take_found) {
-      if (map.seams[i].faces != found[j].faces) report.changed_seams.push_back(found[j]);
+      if (expected[i].faces != found[j].faces) report.changed_seams.push_back(found[j]);
       ++i, ++j;
     } else if (take_seam) {
-      report.changed_seams.push_back({map.seams[i].a, map.seams[i].b, 0});
+      report.changed_seams.push_back({expected[i].a, expected[i].b, 0});
       ++i;
     } else {
       report.new_seams.push_back(found[j]);

@@ -19,6 +19,7 @@
 #include "engine/removal_backend.h"
 #include "engine/rounds.h"
 #include "engine/rule.h"
+#include "engine/seam_collapse.h"
 #include "engine/worker_pool.h"
 
 namespace femsimp {
@@ -262,6 +263,14 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
     backend = MakeNativeBackend(mesh, kernel, pool);
   }
 
+  // Assemblies: seam points slide along their seams between passes (every copy at once).
+  std::optional<SeamCollapser> seams;
+  if (mesh.point_ids() != nullptr) {
+    seams.emplace(mesh, rules, quadric, face_grid ? &*face_grid : nullptr);
+    if (seams->empty()) seams.reset();
+  }
+  bool seams_moved = false;  // the host changed the mesh since the back end's last phase
+
   std::optional<RoundScheduler> rounds;
   if (options.schedule == Schedule::kDeterministic)
     rounds.emplace(mesh, pool, face_grid ? &*face_grid : nullptr, rules);
@@ -299,11 +308,19 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
     RemovalPhase phase{sorted.data(), stats.candidates,
                        sorted.size(), &budget,
                        &stop,         control.cancelled ? &control.cancelled : &no_cancel};
+    phase.fresh_caches = seams_moved;
     // Remove: each context runs the kernel on its candidates.
     if (absl::Status s =
             rounds ? rounds->RunPass(*backend, phase, stats) : backend->RunRemoval(phase, stats);
         !s.ok())
       return s;
+    seams_moved = false;
+    if (seams && !stop.load() && !budget.stop.load() && !cancelled()) {
+      const SeamCollapser::SweepResult swept = seams->Sweep(budget);
+      stats.seam_points_removed = swept.points;
+      stats.removed += swept.vertices;
+      seams_moved = swept.points > 0;
+    }
     result.modeled_cycles += stats.modeled_pass_cycles;
     stats.vertices_left = static_cast<uint64_t>(budget.alive.load());
     stats.seconds = Since(pass_start);

@@ -147,6 +147,7 @@ void ToProto(const PassStats& p, v1::Progress* out) {
   out->set_lock_conflicts(p.lock_conflicts);
   out->set_inconsistent(p.inconsistent);
   out->set_rounds(p.rounds);
+  out->set_seam_points_removed(p.seam_points_removed);
   for (int i = 0; i < static_cast<int>(Reject::kCount); ++i)
     (*out->mutable_rejections())[RejectName(static_cast<Reject>(i))] = p.rejections[i];
   out->set_seconds(p.seconds);
@@ -181,6 +182,7 @@ PassStats FromProto(const v1::Progress& in) {
   p.lock_conflicts = in.lock_conflicts();
   p.inconsistent = in.inconsistent();
   p.rounds = in.rounds();
+  p.seam_points_removed = in.seam_points_removed();
   for (int i = 0; i < static_cast<int>(Reject::kCount); ++i) {
     auto it = in.rejections().find(RejectName(static_cast<Reject>(i)));
     if (it != in.rejections().end()) p.rejections[i] = it->second;

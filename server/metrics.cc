@@ -93,6 +93,11 @@ Metrics::Metrics()
                           .Name("femsimp_lock_conflicts_total")
                           .Help("Candidates given up because a one-ring vertex was locked")
                           .Register(*registry_)),
+      seam_points_removed_(prometheus::BuildCounter()
+                               .Name("femsimp_seam_points_removed_total")
+                               .Help("Assembly seam points slid along their seams (all copies)")
+                               .Register(*registry_)
+                               .Add({})),
       rejections_(prometheus::BuildCounter()
                       .Name("femsimp_rejections_total")
                       .Help("Candidates given up, by criterion")
@@ -161,6 +166,7 @@ void Metrics::PassFinished(Backend backend, const PassStats& p) {
   passes_.Add({{"backend", b}}).Increment();
   vertices_removed_.Increment(static_cast<double>(p.removed));
   lock_conflicts_.Add({{"backend", b}}).Increment(static_cast<double>(p.lock_conflicts));
+  seam_points_removed_.Increment(static_cast<double>(p.seam_points_removed));
   for (int i = 0; i < static_cast<int>(Reject::kCount); ++i)
     if (p.rejections[i])
       rejections_.Add({{"criterion", RejectName(static_cast<Reject>(i))}})

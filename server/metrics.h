@@ -58,6 +58,7 @@ class Metrics {
   prometheus::Counter& faces_in_;
   prometheus::Counter& faces_out_;
   prometheus::Family<prometheus::Counter>& lock_conflicts_;
+  prometheus::Counter& seam_points_removed_;
   prometheus::Family<prometheus::Counter>& rejections_;
   prometheus::Family<prometheus::Counter>& repairs_;
   prometheus::Counter& cache_hits_;

@@ -115,6 +115,9 @@ class SelfIntersectionRule final : public CollapseRule {
     for (int f = 0; f < fan.faces; ++f) fan_bits |= uint64_t{1} << (FaceOf(fan.out[f]) & 63);
     grid_->ForEachFaceNear(box, p.held_cells, near, [&](uint32_t g) {
       if ((fan_bits >> (g & 63) & 1) != 0 && InFan(fan, g)) return;
+      if (!p.also_replaced.empty() &&
+          std::find(p.also_replaced.begin(), p.also_replaced.end(), g) != p.also_replaced.end())
+        return;
       grid_->Prefetch(g);
       p.nearby_faces.push_back(g);
     });

@@ -14,7 +14,10 @@
 //   - two-sided Hausdorff distance <= F * diagonal + float storage slack (when F > 0); the judge's
 //     figure is a certified lower bound within 1 % of the tolerance (judge.h);
 //   - |volume change| <= bound + float slack on closed inputs (when the bound is > 0);
-//   - face groups: the output has the same group ids as the input.
+//   - face groups: the output has the same group ids as the input;
+//   - seams (non-manifold edges of an assembly): the output's are the input's simplified along
+//     themselves, junctions and curve ends kept (seam_conformity.h; not judged with
+//     --repaired-input).
 // --repaired-input: IN is a broken soup that femsimp repaired before simplifying (cracks stitched,
 // non-manifold vertices split): the figures the repair changes by design (Euler characteristic,
 // components, boundary edges and loops) are reported but not judged; everything else is.
@@ -35,6 +38,7 @@
 #include "absl/strings/str_join.h"
 #include "engine/io/mesh_io.h"
 #include "tests/judge/judge.h"
+#include "tests/judge/seam_conformity.h"
 
 namespace femsimp {
 namespace {
@@ -142,6 +146,10 @@ int Main(int argc, char** argv) {
         absl::StrCat("self-intersecting face pairs ", a.self_intersecting_pairs, " -> ",
                      b.self_intersecting_pairs));
   check(b.groups == a.groups, absl::StrCat("face groups ", a.groups, " -> ", b.groups));
+  // Assemblies: the seams conform, simplified along themselves only (a repaired soup's seams
+  // are what the repair made of them: welds and removed facets change them by design).
+  const judge::SeamConformity seams = judge::CheckSeamConformity(*in, *out);
+  for (const std::string& problem : seams.problems) check(repaired_input, problem);
 
   // Hausdorff: measured with the error the fidelity tests use (1 % of the tolerance), or
   // 1e-4 of the diagonal when no tolerance is given.
@@ -178,11 +186,12 @@ int Main(int argc, char** argv) {
       "\"hausdorff_error\":%.3g,\"hausdorff_over_diagonal\":%.6g,\"closed\":%s,"
       "\"volume_in\":%.9g,\"volume_out\":%.9g,\"volume_change\":%.6g,"
       "\"self_intersections_in\":%ld,\"self_intersections_out\":%ld,\"groups_in\":%zu,"
-      "\"groups_out\":%zu,\"vertex_reduction\":%.6g,\"judge_seconds\":%.3f,\"failures\":[%s]}\n",
+      "\"groups_out\":%zu,\"seam_points_in\":%zu,\"seam_points_out\":%zu,"
+      "\"vertex_reduction\":%.6g,\"judge_seconds\":%.3f,\"failures\":[%s]}\n",
       TopologyJson(ta).c_str(), TopologyJson(tb).c_str(), diag, tolerance, slack, h.a_to_b,
       h.b_to_a, h.two_sided(), h.error, diag > 0 ? h.two_sided() / diag : 0.0,
       closed ? "true" : "false", a.volume, b.volume, volume_change, a.self_intersecting_pairs,
-      b.self_intersecting_pairs, a.groups, b.groups,
+      b.self_intersecting_pairs, a.groups, b.groups, seams.input_points, seams.output_points,
       ta.vertices > 0 ? 1.0 - static_cast<double>(tb.vertices) / ta.vertices : 0.0, seconds,
       absl::StrJoin(quoted, ",").c_str());
   for (const std::string& f : failures) std::fprintf(stderr, "cad_judge: FAILED: %s\n", f.c_str());
