@@ -1,4 +1,5 @@
 #include "client/health.h"
+#include "common/escape.h"
 
 #include <chrono>
 #include <cstdio>
@@ -81,7 +82,7 @@ HealthOutcome CheckHealth(const HealthArgs& args) {
 int RunHealth(const std::vector<std::string>& args) {
   absl::StatusOr<HealthArgs> h = ParseHealthArgs(args);
   if (!h.ok()) {
-    std::fprintf(stderr, "femsimp: %s\n", std::string(h.status().message()).c_str());
+    PrintError("femsimp: %s\n", std::string(h.status().message()).c_str());
     return kExitUsage;
   }
   if (h->help) {
@@ -93,10 +94,10 @@ int RunHealth(const std::vector<std::string>& args) {
       h->service.empty() ? h->server : absl::StrCat(h->server, " ", h->service);
   if (!out.status.ok()) {
     grpc::StatusCode code = out.status.error_code();
-    std::fprintf(stderr, "femsimp: health of %s: %s (%s: %s)\n", what.c_str(),
-                 code == grpc::StatusCode::NOT_FOUND ? "the server knows no such service"
-                                                     : GrpcCodeHint(code),
-                 GrpcCodeName(code), out.status.error_message().c_str());
+    PrintError("femsimp: health of %s: %s (%s: %s)\n", what.c_str(),
+               code == grpc::StatusCode::NOT_FOUND ? "the server knows no such service"
+                                                   : GrpcCodeHint(code),
+               GrpcCodeName(code), out.status.error_message().c_str());
     return kExitGrpcBase + static_cast<int>(code);
   }
   std::printf("%s: %s\n", what.c_str(), out.serving_status.c_str());

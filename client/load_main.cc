@@ -18,6 +18,7 @@
 #include "client/exit_codes.h"
 #include "client/remote_call.h"
 #include "client/retry.h"
+#include "common/escape.h"
 #include "common/flags.h"
 #include "engine/io/mesh_io.h"
 #include "engine/mesh_checks.h"
@@ -190,8 +191,7 @@ int main(int argc, char** argv) {
     return kExitOk;
   }
   if (!cfg.ok()) {
-    std::fprintf(stderr, "femsimp-load: %s (see --help)\n",
-                 std::string(cfg.status().message()).c_str());
+    PrintError("femsimp-load: %s (see --help)\n", std::string(cfg.status().message()).c_str());
     return kExitUsage;
   }
   std::vector<RawMesh> meshes;
@@ -199,8 +199,8 @@ int main(int argc, char** argv) {
   for (const std::string& path : cfg->meshes) {
     absl::StatusOr<RawMesh> m = ReadMeshFile(path);
     if (!m.ok()) {
-      std::fprintf(stderr, "femsimp-load: cannot read %s: %s\n", path.c_str(),
-                   std::string(m.status().message()).c_str());
+      PrintError("femsimp-load: cannot read %s: %s\n", path.c_str(),
+                 std::string(m.status().message()).c_str());
       return kExitInputUnreadable;
     }
     topologies.push_back(TopologyOf(*m));
@@ -337,7 +337,7 @@ int main(int argc, char** argv) {
   }
   if (!cfg->jobs_report.empty()) {
     if (absl::Status w = WriteJobsReport(cfg->jobs_report, records, cfg->meshes); !w.ok()) {
-      std::fprintf(stderr, "femsimp-load: --jobs-report: %s\n", std::string(w.message()).c_str());
+      PrintError("femsimp-load: --jobs-report: %s\n", std::string(w.message()).c_str());
       return kExitOutputFailed;
     }
   }

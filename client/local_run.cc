@@ -1,4 +1,5 @@
 #include "client/local_run.h"
+#include "common/escape.h"
 
 #include <atomic>
 #include <chrono>
@@ -53,8 +54,7 @@ int RunLocal(const SimplifyArgs& args) {
   absl::StatusOr<SimplifyResult> result = Simplify(*mesh, args.options, control);
   std::signal(SIGINT, SIG_DFL);
   if (!result.ok()) {
-    std::fprintf(stderr, "femsimp: simplification failed: %s\n",
-                 result.status().ToString().c_str());
+    PrintError("femsimp: simplification failed: %s\n", result.status().ToString().c_str());
     return kExitEngineFailed;
   }
   report.engine_seconds = result->engine_seconds;
@@ -68,7 +68,7 @@ int RunLocal(const SimplifyArgs& args) {
 
   absl::StatusOr<RawMesh> out = OutputMesh(*mesh, prepared->seam_map);
   if (!out.ok()) {
-    std::fprintf(stderr, "femsimp: %s\n", out.status().ToString().c_str());
+    PrintError("femsimp: %s\n", out.status().ToString().c_str());
     return kExitEngineFailed;
   }
   if (int code = FinishRun(args, *out, group_names, report); code != kExitOk) return code;

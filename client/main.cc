@@ -7,6 +7,7 @@
 #include "client/args.h"
 #include "client/exit_codes.h"
 #include "client/local_run.h"
+#include "common/escape.h"
 #ifdef FEMSIMP_HAVE_REMOTE
 #include "client/health.h"
 #include "client/remote_run.h"
@@ -19,13 +20,13 @@ int main(int argc, char** argv) {
 #ifdef FEMSIMP_HAVE_REMOTE
     return RunHealth(std::vector<std::string>(args.begin() + 2, args.end()));
 #else
-    std::fprintf(stderr, "femsimp: this build has no gRPC client (FEMSIMP_BUILD_SERVICE=OFF)\n");
+    femsimp::PrintError("femsimp: this build has no gRPC client (FEMSIMP_BUILD_SERVICE=OFF)\n");
     return kExitUsage;
 #endif
   }
   absl::StatusOr<Command> cmd = ParseCommandLine(args);
   if (!cmd.ok()) {
-    std::fprintf(stderr, "femsimp: %s\n", std::string(cmd.status().message()).c_str());
+    femsimp::PrintError("femsimp: %s\n", std::string(cmd.status().message()).c_str());
     return kExitUsage;
   }
   if (cmd->kind == Command::kHelp) {
@@ -37,14 +38,14 @@ int main(int argc, char** argv) {
 #ifdef FEMSIMP_HAVE_REMOTE
     return RunRemote(s);
 #else
-    std::fprintf(stderr, "femsimp: this build has no gRPC client (FEMSIMP_BUILD_SERVICE=OFF)\n");
+    femsimp::PrintError("femsimp: this build has no gRPC client (FEMSIMP_BUILD_SERVICE=OFF)\n");
     return kExitUsage;
 #endif
   }
   try {
     return RunLocal(s);
   } catch (const std::bad_alloc&) {
-    std::fprintf(stderr, "femsimp: not enough memory to simplify %s locally\n", s.input.c_str());
+    femsimp::PrintError("femsimp: not enough memory to simplify %s locally\n", s.input.c_str());
     return kExitEngineFailed;
   }
 }

@@ -1,4 +1,5 @@
 #include "client/remote_run.h"
+#include "common/escape.h"
 
 #include <unistd.h>
 
@@ -132,9 +133,9 @@ int RunRemote(const SimplifyArgs& args) {
     if (bar_drawn) std::printf("\n");
     bar_drawn = false;
     std::fflush(stdout);
-    std::fprintf(stderr, "femsimp: attempt %d of %d failed (%s: %s); retrying in %.1f s\n", attempt,
-                 args.max_attempts, GrpcCodeName(failed.status.error_code()),
-                 failed.status.error_message().c_str(), static_cast<double>(wait.count()) / 1e3);
+    PrintError("femsimp: attempt %d of %d failed (%s: %s); retrying in %.1f s\n", attempt,
+               args.max_attempts, GrpcCodeName(failed.status.error_code()),
+               failed.status.error_message().c_str(), static_cast<double>(wait.count()) / 1e3);
     report.passes.clear();
   };
   retry.callbacks = cb;
@@ -151,11 +152,10 @@ int RunRemote(const SimplifyArgs& args) {
 
   if (!out.status.ok()) {
     grpc::StatusCode code = out.status.error_code();
-    std::fprintf(stderr, "femsimp: %s: %s (%s: %s)\n", args.server.c_str(), GrpcCodeHint(code),
-                 GrpcCodeName(code), out.status.error_message().c_str());
+    PrintError("femsimp: %s: %s (%s: %s)\n", args.server.c_str(), GrpcCodeHint(code),
+               GrpcCodeName(code), out.status.error_message().c_str());
     if (out.retry_pushback_ms && *out.retry_pushback_ms >= 0)
-      std::fprintf(stderr, "femsimp: the server suggests retrying after %d ms\n",
-                   *out.retry_pushback_ms);
+      PrintError("femsimp: the server suggests retrying after %d ms\n", *out.retry_pushback_ms);
     return kExitGrpcBase + static_cast<int>(code);
   }
   const v1::Result& r = out.result;

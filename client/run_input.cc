@@ -1,4 +1,5 @@
 #include "client/run_input.h"
+#include "common/escape.h"
 
 #include <cstdio>
 #include <string>
@@ -26,8 +27,8 @@ std::optional<RawMesh> ReadInput(const SimplifyArgs& args, RunReport& report,
                                  GroupNames* group_names) {
   absl::StatusOr<RawMesh> raw = ReadMeshFile(args.input, group_names);
   if (!raw.ok()) {
-    std::fprintf(stderr, "femsimp: cannot read %s: %s\n", args.input.c_str(),
-                 std::string(raw.status().message()).c_str());
+    PrintError("femsimp: cannot read %s: %s\n", args.input.c_str(),
+               std::string(raw.status().message()).c_str());
     return std::nullopt;
   }
   report.input_vertices = raw->num_vertices();
@@ -44,8 +45,8 @@ bool CheckOutputFormat(const SimplifyArgs& args, const RawMesh& input, RunReport
   absl::Status holds = CheckFormatHolds(ext, input);
   if (holds.ok()) return true;
   if (!args.drop_face_data) {
-    std::fprintf(stderr, "femsimp: cannot write %s: %s, or pass --drop-face-data\n",
-                 args.output.c_str(), std::string(holds.message()).c_str());
+    PrintError("femsimp: cannot write %s: %s, or pass --drop-face-data\n", args.output.c_str(),
+               std::string(holds.message()).c_str());
     return false;
   }
   // What the output will lack: what the format drops of a stand-in for the input's face data.
@@ -58,8 +59,8 @@ bool CheckOutputFormat(const SimplifyArgs& args, const RawMesh& input, RunReport
   report.dropped_face_data = groups_lost ? "face groups" : "";
   if (fields_lost)
     absl::StrAppend(&report.dropped_face_data, groups_lost ? " and " : "", "face fields");
-  std::fprintf(stderr, "femsimp: note: %s will not hold the input's %s (--drop-face-data)\n",
-               args.output.c_str(), report.dropped_face_data.c_str());
+  PrintError("femsimp: note: %s will not hold the input's %s (--drop-face-data)\n",
+             args.output.c_str(), report.dropped_face_data.c_str());
   return true;
 }
 
@@ -70,15 +71,15 @@ int FinishRun(const SimplifyArgs& args, RawMesh& output, const GroupNames& group
   const auto t0 = std::chrono::steady_clock::now();
   if (args.drop_face_data) DropUnheldFaceData(MeshFileExtension(args.output), &output);
   if (absl::Status s = WriteMeshFile(args.output, output, group_names); !s.ok()) {
-    std::fprintf(stderr, "femsimp: cannot write %s: %s\n", args.output.c_str(),
-                 std::string(s.message()).c_str());
+    PrintError("femsimp: cannot write %s: %s\n", args.output.c_str(),
+               std::string(s.message()).c_str());
     return kExitOutputFailed;
   }
   report.write_seconds = SecondsSince(t0);
   std::printf("%s", Summary(report).c_str());
   if (!args.stats_json.empty()) {
     if (absl::Status s = WriteTextFile(args.stats_json, ReportJson(report)); !s.ok()) {
-      std::fprintf(stderr, "femsimp: --stats-json: %s\n", std::string(s.message()).c_str());
+      PrintError("femsimp: --stats-json: %s\n", std::string(s.message()).c_str());
       return kExitOutputFailed;
     }
   }
@@ -97,12 +98,12 @@ void PrintInvalidInput(const SimplifyArgs& args, const absl::Status& status) {
   if (const size_t at = text.find("): ");
       absl::StartsWith(text, "repair is off") && at != std::string::npos)
     text.replace(at, 3, "):\n  ");
-  std::fprintf(stderr, "femsimp: %s is not a valid mesh: %s\n", args.input.c_str(),
-               absl::StrReplaceAll(text, {{"; ", ";\n  "}}).c_str());
+  PrintError("femsimp: %s is not a valid mesh: %s\n", args.input.c_str(),
+             absl::StrReplaceAll(text, {{"; ", ";\n  "}}).c_str());
   if (args.options.repair.mode == RepairMode::kOff)
-    std::fprintf(stderr,
-                 "femsimp: repair is off (--repair off); with --repair on (the default) "
-                 "femsimp repairs what it can and reports every change\n");
+    PrintError(
+        "femsimp: repair is off (--repair off); with --repair on (the default) "
+        "femsimp repairs what it can and reports every change\n");
 }
 
 double SecondsSince(std::chrono::steady_clock::time_point t0) {

@@ -1,6 +1,7 @@
 #include "engine/option_table.h"
 
 #include <cmath>
+#include <limits>
 #include <type_traits>
 
 #include "absl/strings/str_cat.h"
@@ -167,6 +168,14 @@ V FromDouble(double d) {
     return static_cast<V>(static_cast<int>(d));
   } else if constexpr (std::is_same_v<V, bool>) {
     return d != 0;
+  } else if constexpr (std::is_integral_v<V>) {
+    // Saturated: a value beyond the type (2^64 - 1 arrives as 2^64) must stay out of range for
+    // the range check, not wrap to 0 ("none") or a negative number.
+    if (!(d > static_cast<double>(std::numeric_limits<V>::lowest())))
+      return std::numeric_limits<V>::lowest();
+    if (d >= static_cast<double>(std::numeric_limits<V>::max()))
+      return std::numeric_limits<V>::max();
+    return static_cast<V>(d);
   } else {
     return static_cast<V>(d);
   }

@@ -31,6 +31,9 @@ void AddServerFlags(flags::FlagSet& set, ServerConfig* c) {
   const ServerConfig d;  // the defaults, as ServerConfig has them
   set.String("--listen", "HOST:PORT", absl::StrCat("gRPC address (default ", d.listen, ")"),
              &c->listen);
+  set.Switch("--reflection",
+             "serve gRPC server reflection (lists the services to any client; default off)",
+             &c->reflection);
   set.String(
       "--metrics_listen", "HOST:PORT",
       absl::StrCat("Prometheus /metrics address, empty: off (default ", d.metrics_listen, ")"),

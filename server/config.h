@@ -26,6 +26,10 @@ struct ServerConfig {
   double max_connection_age_seconds = 0.0;
   int retry_pushback_ms = 1000;     // suggested to clients when the queue is full
   size_t finished_jobs_kept = 256;  // for GetJob/ListJobs
+  // gRPC server reflection (lists the services to any client): off unless asked for. Once on in
+  // a process it stays on for every server started after (gRPC's library registers it globally
+  // when loaded; FemsimpServer::Start loads it only for this).
+  bool reflection = false;
 };
 
 // femsimp-server's flags (--listen, --workers, --threads_per_job, ...), storing into *c, with

@@ -7,12 +7,15 @@
 
 namespace femsimp::server {
 
-JobRegistry::JobRegistry(size_t finished_kept)
-    : finished_kept_(finished_kept), salt_(std::random_device{}() & 0xffffff) {}
+JobRegistry::JobRegistry(size_t finished_kept) : finished_kept_(finished_kept) {}
 
 std::string JobRegistry::NewId() {
   std::lock_guard<std::mutex> lock(mu_);
-  return absl::StrFormat("%06x-%d", salt_, next_++);
+  for (;;) {
+    std::string id;
+    for (int i = 0; i < 4; ++i) absl::StrAppendFormat(&id, "%08x", random_());
+    if (active_.count(id) == 0) return id;  // 2^-128 per pair: never, but cheap to be sure
+  }
 }
 
 void JobRegistry::Add(std::shared_ptr<Job> job) {

@@ -5,6 +5,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,7 @@ class JobRegistry {
  public:
   explicit JobRegistry(size_t finished_kept);
 
+  // 128 random bits in hex: unguessable, so a job id is as good as a capability to it.
   std::string NewId();
   void Add(std::shared_ptr<Job> job);
   // Moves the job to the finished list (dropping the oldest beyond the limit).
@@ -28,8 +30,7 @@ class JobRegistry {
  private:
   const size_t finished_kept_;
   mutable std::mutex mu_;
-  uint64_t next_ = 1;
-  const uint32_t salt_;  // tells ids of different server runs apart
+  std::random_device random_;  // guarded by mu_
   std::map<std::string, std::shared_ptr<Job>> active_;
   std::deque<std::shared_ptr<Job>> finished_;
 };

@@ -1,10 +1,11 @@
 #include "server/server.h"
 
+#include <dlfcn.h>
+
 #include <chrono>
 #include <thread>
 
 #include "absl/strings/str_cat.h"
-#include "grpcpp/ext/proto_server_reflection_plugin.h"
 #include "grpcpp/health_check_service_interface.h"
 #include "grpcpp/security/server_credentials.h"
 #include "grpcpp/server_builder.h"
@@ -14,6 +15,17 @@ namespace femsimp::server {
 namespace {
 
 constexpr char kServiceName[] = "femsimp.v1.Simplifier";
+
+// gRPC's reflection library registers its server plugin when it is loaded, for every server the
+// process builds after: loaded only when asked for (and then for good).
+absl::Status LoadReflection() {
+  if (dlopen(FEMSIMP_GRPC_REFLECTION_LIBRARY, RTLD_NOW | RTLD_GLOBAL) != nullptr)
+    return absl::OkStatus();
+  const char* why = dlerror();
+  return absl::FailedPreconditionError(absl::StrCat("--reflection: cannot load ",
+                                                    FEMSIMP_GRPC_REFLECTION_LIBRARY, ": ",
+                                                    why != nullptr ? why : "unknown error"));
+}
 
 }  // namespace
 
@@ -33,8 +45,11 @@ absl::Status FemsimpServer::Start() {
   runner_ = std::make_unique<JobRunner>(config_.workers, queue_, registry_, metrics_);
   service_ = std::make_unique<SimplifierService>(config_, queue_, registry_, *runner_, metrics_);
   grpc::EnableDefaultHealthCheckService(true);
-  grpc::reflection::InitProtoReflectionServerBuilderPlugin();
+  if (config_.reflection)
+    if (absl::Status s = LoadReflection(); !s.ok()) return s;
   grpc::ServerBuilder builder;
+  // A second server on a taken port must fail, not share it (gRPC sets SO_REUSEPORT otherwise).
+  builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
   builder.AddListeningPort(config_.listen, grpc::InsecureServerCredentials(), &port_);
   builder.SetMaxReceiveMessageSize(static_cast<int>(
       std::min<uint64_t>(config_.max_request_bytes, std::numeric_limits<int>::max())));
@@ -54,7 +69,8 @@ absl::Status FemsimpServer::Start() {
       "femsimp-server ", kVersion, " listening on ", config_.listen, " (port ", port_,
       "), metrics on ", config_.metrics_listen.empty() ? "(off)" : config_.metrics_listen,
       " (port ", metrics_.port(), "), workers=", config_.workers,
-      " queue_capacity=", config_.queue_capacity, " threads_per_job=", config_.threads_per_job));
+      " queue_capacity=", config_.queue_capacity, " threads_per_job=", config_.threads_per_job,
+      " reflection=", config_.reflection ? "on" : "off"));
   return absl::OkStatus();
 }
 

@@ -1,5 +1,6 @@
 #include "server/service.h"
 
+#include <algorithm>
 #include <chrono>
 #include <new>
 #include <optional>
@@ -263,8 +264,28 @@ grpc::Status SimplifierService::Follow(grpc::ServerContext* ctx, Stream* stream,
   return grpc::Status::OK;
 }
 
+namespace {
+
+// Job ids are 32 hex digits (JobRegistry::NewId): anything else names no job, and is not echoed
+// back (a megabyte of it, or control characters, would only burden the status and the logs).
+grpc::Status CheckJobId(const std::string& id) {
+  constexpr size_t kMaxJobIdBytes = 64;
+  const bool printable = std::all_of(id.begin(), id.end(), [](char c) {
+    return static_cast<unsigned char>(c) >= 0x20 && static_cast<unsigned char>(c) < 0x7f;
+  });
+  if (id.size() <= kMaxJobIdBytes && printable) return grpc::Status::OK;
+  return grpc::Status(
+      grpc::StatusCode::INVALID_ARGUMENT,
+      absl::StrCat("job_id: ", id.size(), " bytes",
+                   printable ? "" : " with control or non-ASCII characters",
+                   " (a job id is at most ", kMaxJobIdBytes, " printable ASCII characters)"));
+}
+
+}  // namespace
+
 grpc::Status SimplifierService::GetJob(grpc::ServerContext*, const v1::GetJobRequest* req,
                                        v1::JobInfo* resp) {
+  if (grpc::Status s = CheckJobId(req->job_id()); !s.ok()) return s;
   std::shared_ptr<Job> job = registry_.Find(req->job_id());
   if (!job)
     return grpc::Status(grpc::StatusCode::NOT_FOUND, absl::StrCat("no job '", req->job_id(), "'"));
@@ -274,6 +295,7 @@ grpc::Status SimplifierService::GetJob(grpc::ServerContext*, const v1::GetJobReq
 
 grpc::Status SimplifierService::CancelJob(grpc::ServerContext*, const v1::CancelJobRequest* req,
                                           v1::CancelJobResponse* resp) {
+  if (grpc::Status s = CheckJobId(req->job_id()); !s.ok()) return s;
   std::shared_ptr<Job> job = registry_.Find(req->job_id());
   if (!job)
     return grpc::Status(grpc::StatusCode::NOT_FOUND, absl::StrCat("no job '", req->job_id(), "'"));

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -139,6 +140,23 @@ TEST_F(CliRepairTest, StrictModeNamesEveryDefect) {
   EXPECT_HAS(err_, "  flipped facet 10 at (");
   EXPECT_EQ(err_.find(" more "), std::string::npos) << err_;
   EXPECT_FALSE(std::filesystem::exists(Path("out.off")));
+}
+
+// A file name or file content with escape sequences reaches the terminal escaped (\x1b), never
+// as raw control bytes.
+TEST_F(CliRepairTest, ControlCharactersInMessagesAreEscaped) {
+  const std::string bad = Path("colour.off");
+  {
+    std::ofstream f(bad);
+    f << "OFF\n1 1 0\n0 0 \x1b[31mred\n";
+  }
+  ASSERT_EQ(Run({bad, Path("out.off")}), cli::kExitInputUnreadable) << err_;
+  EXPECT_HAS(err_, "\\x1b[31mred");
+  EXPECT_EQ(err_.find('\x1b'), std::string::npos) << err_;
+  ASSERT_EQ(Run({Path("a\x1b]0;title\x07.off"), Path("out.off")}), cli::kExitInputUnreadable);
+  EXPECT_HAS(err_, "a\\x1b]0;title\\x07.off");
+  EXPECT_EQ(err_.find('\x1b'), std::string::npos) << err_;
+  EXPECT_EQ(err_.find('\x07'), std::string::npos) << err_;
 }
 
 // ------------------------------------------------------------------------- through the server

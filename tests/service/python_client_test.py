@@ -1,6 +1,7 @@
 #!/usr/bin/python3
-"""A real external gRPC client (Debian's python3-grpcio) against femsimp-server: lists the
-service through reflection (v1alpha), checks health, runs Simplify on a mesh file."""
+"""A real external gRPC client (Debian's python3-grpcio) against femsimp-server: checks that
+reflection is off by default, lists the service through reflection (v1alpha) with --reflection,
+checks health, runs Simplify on a mesh file."""
 import argparse
 import os
 import re
@@ -57,21 +58,47 @@ def read_off(path):
     return pos, idx
 
 
-server = subprocess.Popen([args.server_bin, "--listen=127.0.0.1:0", "--metrics_listen=",
-                           "--workers=1"], stderr=subprocess.PIPE, text=True)
-try:
+def start_server(*extra):
+    """femsimp-server on a free port; returns the process and a ready channel to it."""
+    proc = subprocess.Popen([args.server_bin, "--listen=127.0.0.1:0", "--metrics_listen=",
+                             "--workers=1", *extra], stderr=subprocess.PIPE, text=True)
     port = None
     deadline = time.time() + 30
     while port is None and time.time() < deadline:
-        line = server.stderr.readline()
+        line = proc.stderr.readline()
         m = re.search(r"\(port (\d+)\)", line)
         if m:
             port = int(m.group(1))
     assert port, "server did not report its port"
-    channel = grpc.insecure_channel(f"127.0.0.1:{port}")
-    grpc.channel_ready_future(channel).result(timeout=10)
+    chan = grpc.insecure_channel(f"127.0.0.1:{port}")
+    grpc.channel_ready_future(chan).result(timeout=10)
+    return proc, chan
 
-    # Reflection lists the service.
+
+def stop_server(proc):
+    proc.send_signal(signal.SIGTERM)
+    try:
+        proc.wait(timeout=30)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+
+
+# Reflection is off unless asked for: a plain server does not list its services.
+plain, plain_channel = start_server()
+try:
+    try:
+        next(reflection_pb2_grpc.ServerReflectionStub(plain_channel).ServerReflectionInfo(iter([
+            reflection_pb2.ServerReflectionRequest(list_services="")])))
+        raise AssertionError("reflection answered without --reflection")
+    except grpc.RpcError as e:
+        assert e.code() == grpc.StatusCode.UNIMPLEMENTED, e.code()
+        print("reflection off by default:", e.code())
+finally:
+    stop_server(plain)
+
+server, channel = start_server("--reflection")
+try:
+    # With --reflection, reflection lists the service.
     refl = reflection_pb2_grpc.ServerReflectionStub(channel)
     resp = next(refl.ServerReflectionInfo(iter([
         reflection_pb2.ServerReflectionRequest(list_services="")])))
@@ -132,8 +159,4 @@ try:
         print("malformed:", e.details())
     print("OK")
 finally:
-    server.send_signal(signal.SIGTERM)
-    try:
-        server.wait(timeout=30)
-    except subprocess.TimeoutExpired:
-        server.kill()
+    stop_server(server)

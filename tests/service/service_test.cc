@@ -67,6 +67,61 @@ TEST(Service, FandiskRoundTrip) {
   EXPECT_EQ(list.jobs(0).state(), v1::JOB_STATE_SUCCEEDED);
 }
 
+// GetJob and CancelJob refuse an id that cannot be one (over 64 bytes, or not printable ASCII)
+// without echoing it; an unknown well-formed id is NOT_FOUND.
+TEST(Service, MalformedJobIdsAreRefusedWithoutEcho) {
+  InProcessServer s;
+  const std::string huge(1 << 20, 'a');
+  for (const std::string& id : {huge, std::string("abc\ndef")}) {
+    grpc::ClientContext c1, c2;
+    v1::GetJobRequest get;
+    get.set_job_id(id);
+    v1::JobInfo info;
+    const grpc::Status g = s.stub().GetJob(&c1, get, &info);
+    EXPECT_EQ(g.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+    EXPECT_LT(g.error_message().size(), 200u);
+    EXPECT_EQ(g.error_message().find(id), std::string::npos);
+    v1::CancelJobRequest cancel;
+    cancel.set_job_id(id);
+    v1::CancelJobResponse resp;
+    EXPECT_EQ(s.stub().CancelJob(&c2, cancel, &resp).error_code(),
+              grpc::StatusCode::INVALID_ARGUMENT);
+  }
+  grpc::ClientContext c;
+  v1::GetJobRequest get;
+  get.set_job_id("0123456789abcdef0123456789abcdef");
+  v1::JobInfo info;
+  EXPECT_EQ(s.stub().GetJob(&c, get, &info).error_code(), grpc::StatusCode::NOT_FOUND);
+}
+
+// A second server on a port already served fails to start instead of sharing it.
+TEST(Service, SecondServerOnATakenPortFails) {
+  InProcessServer first;
+  server::ServerConfig config = testing::TestConfig();
+  config.listen = first.address();
+  config.metrics_listen = "";
+  server::FemsimpServer second(config);
+  const absl::Status started = second.Start();
+  EXPECT_FALSE(started.ok());
+  EXPECT_NE(std::string(started.message()).find(first.address()), std::string::npos)
+      << started.message();
+}
+
+// A vertex target beyond the documented range (up to 2^64 - 1) is refused by name; it used to
+// wrap to 0 ("no target") and simplify as far as the criteria allow.
+TEST(Service, HugeVertexTargetIsOutOfRange) {
+  InProcessServer s;
+  RawMesh in = testing::LoadTestMesh("fandisk.off");
+  v1::JobSpec spec;
+  spec.mutable_options()->set_target_vertices(~uint64_t{0});
+  grpc::ClientContext ctx;
+  cli::RemoteOutcome out = cli::RemoteSimplify(s.stub(), ctx, spec, in, {});
+  EXPECT_EQ(out.status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_NE(out.status.error_message().find("target_vertices"), std::string::npos)
+      << out.status.error_message();
+  ExpectWorkerFree(s);
+}
+
 TEST(Service, FaceGroupsAndFieldsComeBack) {
   InProcessServer s;
   const RawMesh in = testing::WithGroupsAndFields(testing::MakeTorus(60, 40));

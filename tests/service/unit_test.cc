@@ -2,6 +2,7 @@
 // validation, the job queue, the stats JSON.
 #include <cmath>
 #include <functional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -10,6 +11,8 @@
 #include "gtest/gtest.h"
 #include "proto/wire.h"
 #include "server/job_queue.h"
+#include "server/job_registry.h"
+#include "server/log.h"
 #include "server/request_reader.h"
 #include "tests/service/test_util.h"
 
@@ -279,11 +282,36 @@ TEST(Wire, FidelityFiguresRoundTrip) {
   EXPECT_EQ(back.max_field_change, 0.008);
 }
 
+// A client's label, or a file name in a message, must not forge a log line or reach the
+// operator's terminal as an escape sequence.
+TEST(Log, ControlCharactersAreEscaped) {
+  EXPECT_EQ(server::EscapedForLog("job 1 label=ok"), "job 1 label=ok");
+  EXPECT_EQ(server::EscapedForLog("a\n2026-01-01T00:00:00Z job 9: forged"),
+            "a\\x0a2026-01-01T00:00:00Z job 9: forged");
+  EXPECT_EQ(server::EscapedForLog(std::string("\x1b[2J\r\x7f\0x", 8)), "\\x1b[2J\\x0d\\x7f\\x00x");
+  EXPECT_EQ(server::EscapedForLog("Grüße"), "Grüße");  // UTF-8 stays readable
+}
+
+TEST(JobIds, AreUnguessable128BitHex) {
+  server::JobRegistry registry(4);
+  std::set<std::string> seen;
+  for (int i = 0; i < 1000; ++i) {
+    const std::string id = registry.NewId();
+    ASSERT_EQ(id.size(), 32u) << id;
+    EXPECT_EQ(id.find_first_not_of("0123456789abcdef"), std::string::npos) << id;
+    EXPECT_TRUE(seen.insert(id).second) << id;
+  }
+  // No counter shows through: consecutive ids share no long prefix.
+  const std::string a = registry.NewId(), b = registry.NewId();
+  EXPECT_NE(a.substr(0, 8), b.substr(0, 8));
+}
+
 TEST(Wire, ProgressRoundTrip) {
   PassStats p;
   p.pass = 3;
   p.vertices_left = 100;
   p.removed = 20;
+  p.seam_points_removed = 7;
   p.rejections[static_cast<int>(Reject::kMinAngle)] = 5;
   p.cell = CellPassCounters{};
   p.cell->cache_hits = 9;
@@ -295,6 +323,7 @@ TEST(Wire, ProgressRoundTrip) {
   PassStats q = wire::FromProto(m);
   EXPECT_EQ(q.pass, 3);
   EXPECT_EQ(q.removed, 20u);
+  EXPECT_EQ(q.seam_points_removed, 7u);
   EXPECT_EQ(q.rejections[static_cast<int>(Reject::kMinAngle)], 5u);
   ASSERT_TRUE(q.cell.has_value());
   EXPECT_EQ(q.cell->cache_hits, 9u);
