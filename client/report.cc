@@ -233,6 +233,11 @@ std::string Summary(const RunReport& r) {
   absl::StrAppend(&s,
                   absl::StrFormat("features: %u edges, %u corners (feature angle %g deg)\n",
                                   f.feature_edges, f.corner_vertices, r.options.feature_angle_deg));
+  uint64_t seam_points = 0;
+  for (const PassStats& p : r.passes) seam_points += p.seam_points_removed;
+  if (seam_points > 0)
+    absl::StrAppend(&s, "seams:    ", seam_points,
+                    " seam points slid along their seams (every part at once)\n");
   if (r.face_groups > 0 || !r.face_fields.empty()) {
     absl::StrAppend(&s, "face data: ", r.face_groups, " groups");
     if (!r.face_fields.empty())

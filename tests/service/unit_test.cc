@@ -306,6 +306,18 @@ TEST(JobIds, AreUnguessable128BitHex) {
   EXPECT_NE(a.substr(0, 8), b.substr(0, 8));
 }
 
+// An assembly's summary says how many seam points went; a part without seams says nothing.
+TEST(Report, SummaryCountsSeamPoints) {
+  cli::RunReport r;
+  r.passes.resize(2);
+  EXPECT_EQ(cli::Summary(r).find("seams:"), std::string::npos);
+  r.passes[0].seam_points_removed = 5;
+  r.passes[1].seam_points_removed = 2;
+  EXPECT_NE(cli::Summary(r).find("seams:    7 seam points slid along their seams"),
+            std::string::npos)
+      << cli::Summary(r);
+}
+
 TEST(Wire, ProgressRoundTrip) {
   PassStats p;
   p.pass = 3;
