@@ -105,6 +105,23 @@ void AddServerFlags(flags::FlagSet& set, ServerConfig* c) {
               .unit = "seconds",
               .default_text = FormatNumber(static_cast<double>(d.grace_period_seconds))},
              &c->grace_period_seconds);
+  set.Number({.name = "--upload_idle_seconds",
+              .metavar = "S",
+              .help = "cancel an upload (spec and mesh chunks) that sends nothing for this long, "
+                      "freeing its queue slot",
+              .range = kNonNegative,
+              .unit = "seconds",
+              .zero_means = "never",
+              .default_text = FormatNumber(d.upload_idle_seconds)},
+             &c->upload_idle_seconds);
+  set.Number({.name = "--upload_deadline_seconds",
+              .metavar = "S",
+              .help = "cancel an upload not done after this long in all",
+              .range = kNonNegative,
+              .unit = "seconds",
+              .zero_means = "never",
+              .default_text = FormatNumber(d.upload_deadline_seconds)},
+             &c->upload_deadline_seconds);
   set.Number({.name = "--max_connection_age_seconds",
               .metavar = "S",
               .help = "close client connections after this long (running calls finish first), "
@@ -129,7 +146,9 @@ std::string NormalizeConfig(ServerConfig* c) {
         Check("--max_cell_local_store_mib", c->max_cell_local_store_mib, kMaxCellMemory, "MiB"),
         Check("--grace_period_seconds", c->grace_period_seconds, kNonNegative, "seconds"),
         Check("--max_connection_age_seconds", c->max_connection_age_seconds, kNonNegative,
-              "seconds")})
+              "seconds"),
+        Check("--upload_idle_seconds", c->upload_idle_seconds, kNonNegative, "seconds"),
+        Check("--upload_deadline_seconds", c->upload_deadline_seconds, kNonNegative, "seconds")})
     if (!err.empty()) return err;
   int cores = std::max(1u, std::thread::hardware_concurrency());
   // More threads than cores only adds contention to a shared-memory pass.

@@ -21,6 +21,10 @@ struct ServerConfig {
   int max_spes = 32;
   int max_cell_local_store_mib = 256;  // SPEs x local store size
   double grace_period_seconds = 30.0;
+  // Uploads (the spec and the mesh chunks): a call sending nothing for this long, or not done
+  // after the deadline, is cancelled and its queue slot freed (0: off).
+  double upload_idle_seconds = 30.0;
+  double upload_deadline_seconds = 600.0;
   // 0: off. Otherwise connections are closed (GOAWAY, running calls finish) after this long, so
   // that clients balancing over a headless Service re-resolve and find new replicas.
   double max_connection_age_seconds = 0.0;

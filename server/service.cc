@@ -66,6 +66,14 @@ std::string Bounded(std::string message) {
   return message;
 }
 
+// A stalled upload the watchdog ended (the client sees its call cancelled; the job's status,
+// the log and the metrics say why).
+grpc::Status UploadExpired(const std::string& job_id, const std::string& why) {
+  LogLine(
+      absl::StrCat(job_id.empty() ? "call" : absl::StrCat("job ", job_id), " cancelled: ", why));
+  return grpc::Status(grpc::StatusCode::DEADLINE_EXCEEDED, why);
+}
+
 // What a job may ask of this server beyond the option table's ranges: the cell back end runs a
 // host thread and allocates a local store per SPE.
 std::optional<std::string> OverServerLimits(const SimplifyOptions& o, const ServerConfig& c) {
@@ -86,7 +94,12 @@ std::optional<std::string> OverServerLimits(const SimplifyOptions& o, const Serv
 
 SimplifierService::SimplifierService(const ServerConfig& config, JobQueue& queue,
                                      JobRegistry& registry, JobRunner& runner, Metrics& metrics)
-    : config_(config), queue_(queue), registry_(registry), runner_(runner), metrics_(metrics) {}
+    : config_(config),
+      queue_(queue),
+      registry_(registry),
+      runner_(runner),
+      metrics_(metrics),
+      uploads_(config.upload_idle_seconds, config.upload_deadline_seconds) {}
 
 void SimplifierService::UpdateQueueGauge() { metrics_.SetQueueDepth(queue_.waiting()); }
 
@@ -94,9 +107,17 @@ grpc::Status SimplifierService::Simplify(grpc::ServerContext* ctx, Stream* strea
   grpc::Status status = [&]() -> grpc::Status {
     if (shutting_down_.load())
       return grpc::Status(grpc::StatusCode::UNAVAILABLE, "server is shutting down");
-    RequestReader reader([stream](v1::SimplifyRequest* r) { return stream->Read(r); }, config_);
+    UploadWatchdog::Upload upload(uploads_, ctx);
+    RequestReader reader(
+        [stream, &upload](v1::SimplifyRequest* r) {
+          const bool got = stream->Read(r);
+          upload.Touch();
+          return got;
+        },
+        config_);
     absl::StatusOr<v1::JobSpec> spec = reader.ReadSpec();
     if (!spec.ok()) {
+      if (std::string why = upload.expired(); !why.empty()) return UploadExpired("", why);
       if (ctx->IsCancelled()) return ClientEnded(ctx, "before the job spec");
       return ToGrpc(spec.status());
     }
@@ -120,7 +141,7 @@ grpc::Status SimplifierService::Simplify(grpc::ServerContext* ctx, Stream* strea
     registry_.Add(job);
     grpc::Status s;
     try {
-      s = RunJob(ctx, stream, job, reader, *spec);
+      s = RunJob(ctx, stream, job, reader, *spec, upload);
     } catch (const std::bad_alloc&) {  // the job fails, the server goes on
       s = grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
                        absl::StrCat("not enough memory for the job (", spec->vertex_count(),
@@ -137,7 +158,7 @@ grpc::Status SimplifierService::Simplify(grpc::ServerContext* ctx, Stream* strea
 
 grpc::Status SimplifierService::RunJob(grpc::ServerContext* ctx, Stream* stream,
                                        const std::shared_ptr<Job>& job, RequestReader& reader,
-                                       const v1::JobSpec& spec) {
+                                       const v1::JobSpec& spec, UploadWatchdog::Upload& upload) {
   // The queue slot reserved at admission goes back on every way out but the queue, an
   // exception (out of memory) included.
   struct Reservation {
@@ -155,6 +176,8 @@ grpc::Status SimplifierService::RunJob(grpc::ServerContext* ctx, Stream* stream,
   }
 
   absl::StatusOr<RawMesh> raw = reader.ReadMesh(spec);
+  upload.Done();
+  if (std::string why = upload.expired(); !why.empty()) return UploadExpired(job->id(), why);
   if (job->cancelled()) {
     return job->cancel_status();
   }

@@ -122,6 +122,53 @@ TEST(Service, HugeVertexTargetIsOutOfRange) {
   ExpectWorkerFree(s);
 }
 
+// An upload that stalls (nothing sent for --upload_idle_seconds), or that is not done by
+// --upload_deadline_seconds, is cancelled: its queue slot is freed (one slot here: the next job
+// gets it), and the job's record says why.
+TEST(Service, StalledUploadsAreCancelledAndTheirSlotsFreed) {
+  for (const bool idle : {true, false}) {
+    server::ServerConfig config = testing::OneWorkerConfig();
+    config.queue_capacity = 1;
+    config.upload_idle_seconds = idle ? 0.3 : 0.0;
+    config.upload_deadline_seconds = idle ? 0.0 : 0.6;
+    InProcessServer s(config);
+    grpc::ClientContext ctx;
+    ctx.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(30));
+    auto stream = s.stub().Simplify(&ctx);
+    v1::SimplifyRequest first;
+    *first.mutable_spec() = RatioSpec(0.5);
+    first.mutable_spec()->set_vertex_count(1000);
+    first.mutable_spec()->set_face_count(2000);
+    ASSERT_TRUE(stream->Write(first));
+    v1::SimplifyResponse resp;
+    ASSERT_TRUE(stream->Read(&resp));
+    ASSERT_TRUE(resp.has_accepted());
+    const std::string id = resp.accepted().job_id();
+    const auto start = std::chrono::steady_clock::now();
+    if (!idle) {  // a trickle: one empty chunk now and then, never the mesh
+      for (int i = 0; i < 20; ++i) {
+        v1::SimplifyRequest chunk;
+        chunk.mutable_chunk();
+        if (!stream->Write(chunk)) break;
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      }
+    }
+    while (stream->Read(&resp)) {
+    }
+    const grpc::Status ended = stream->Finish();
+    EXPECT_FALSE(ended.ok());
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
+              10.0);
+    const std::optional<v1::JobInfo> info = testing::GetJob(s.stub(), id);
+    ASSERT_TRUE(info.has_value());
+    EXPECT_EQ(info->status_code(), "DEADLINE_EXCEEDED");
+    EXPECT_NE(info->status_message().find(idle ? "upload idle" : "upload not done"),
+              std::string::npos)
+        << info->status_message();
+    ExpectWorkerFree(s);
+  }
+}
+
 TEST(Service, FaceGroupsAndFieldsComeBack) {
   InProcessServer s;
   const RawMesh in = testing::WithGroupsAndFields(testing::MakeTorus(60, 40));
