@@ -1,6 +1,8 @@
 #include "server/metrics.h"
 
 #include <exception>
+#include <string>
+#include <vector>
 
 #include "absl/strings/str_cat.h"
 #include "server/job.h"
@@ -136,7 +138,12 @@ Metrics::Metrics()
 absl::Status Metrics::StartExposer(const std::string& address) {
   std::lock_guard<std::mutex> lock(mu_);
   try {
-    exposer_ = std::make_unique<prometheus::Exposer>(address);
+    // Idle connections must not hold /metrics: civetweb gives each connection a thread until
+    // its request arrives (30 s by default, with 2 threads two idle clients blocked every
+    // scrape), so more threads, a short request timeout and no keep-alive.
+    exposer_ = std::make_unique<prometheus::Exposer>(
+        std::vector<std::string>{"listening_ports", address, "num_threads", "8",
+                                 "request_timeout_ms", "2000", "enable_keep_alive", "no"});
   } catch (const std::exception& e) {
     return absl::UnavailableError(
         absl::StrCat("metrics exposer cannot listen on ", address, ": ", e.what()));

@@ -1,9 +1,15 @@
 // The service end to end, in process on loopback ports.
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <optional>
 #include <thread>
+#include <vector>
 
 #include "engine/mesh.h"
 #include "gtest/gtest.h"
@@ -454,6 +460,34 @@ TEST(Service, SixteenConcurrentJobs) {
     });
   for (auto& t : clients) t.join();
   EXPECT_EQ(ok.load(), 16);
+}
+
+// Clients that connect to /metrics and send nothing do not hold it: a scrape right after four
+// such connections is answered at once (with civetweb's defaults it waited for their 30 s
+// request timeout).
+TEST(Service, IdleConnectionsDoNotBlockMetrics) {
+  InProcessServer s;
+  const int port = s.server().metrics_port();
+  ASSERT_GT(port, 0);
+  std::vector<int> idle;
+  for (int i = 0; i < 4; ++i) {
+    const int fd = socket(AF_INET, SOCK_STREAM, 0);
+    ASSERT_GE(fd, 0);
+    sockaddr_in addr{};
+    addr.sin_family = AF_INET;
+    addr.sin_port = htons(static_cast<uint16_t>(port));
+    addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    ASSERT_EQ(connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr), 0);
+    idle.push_back(fd);
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));  // accepted, waiting for a request
+  const auto start = std::chrono::steady_clock::now();
+  const auto metrics = testing::ParseMetrics(testing::HttpGet(port, "/metrics"));
+  const double waited =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  for (int fd : idle) close(fd);
+  EXPECT_EQ(metrics.count("femsimp_queue_depth"), 1u);
+  EXPECT_LT(waited, 10.0);
 }
 
 TEST(Service, MetricsMove) {
