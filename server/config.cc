@@ -122,6 +122,15 @@ void AddServerFlags(flags::FlagSet& set, ServerConfig* c) {
               .zero_means = "never",
               .default_text = FormatNumber(d.upload_deadline_seconds)},
              &c->upload_deadline_seconds);
+  set.Number({.name = "--result_idle_seconds",
+              .metavar = "S",
+              .help = "cancel a call whose client reads nothing of its result for this long, "
+                      "dropping the output mesh",
+              .range = kNonNegative,
+              .unit = "seconds",
+              .zero_means = "never",
+              .default_text = FormatNumber(d.result_idle_seconds)},
+             &c->result_idle_seconds);
   set.Number({.name = "--max_connection_age_seconds",
               .metavar = "S",
               .help = "close client connections after this long (running calls finish first), "
@@ -148,7 +157,8 @@ std::string NormalizeConfig(ServerConfig* c) {
         Check("--max_connection_age_seconds", c->max_connection_age_seconds, kNonNegative,
               "seconds"),
         Check("--upload_idle_seconds", c->upload_idle_seconds, kNonNegative, "seconds"),
-        Check("--upload_deadline_seconds", c->upload_deadline_seconds, kNonNegative, "seconds")})
+        Check("--upload_deadline_seconds", c->upload_deadline_seconds, kNonNegative, "seconds"),
+        Check("--result_idle_seconds", c->result_idle_seconds, kNonNegative, "seconds")})
     if (!err.empty()) return err;
   int cores = std::max(1u, std::thread::hardware_concurrency());
   // More threads than cores only adds contention to a shared-memory pass.

@@ -25,6 +25,9 @@ struct ServerConfig {
   // after the deadline, is cancelled and its queue slot freed (0: off).
   double upload_idle_seconds = 30.0;
   double upload_deadline_seconds = 600.0;
+  // The result: a client that reads nothing of it for this long is cancelled and the output
+  // mesh dropped (0: off).
+  double result_idle_seconds = 60.0;
   // 0: off. Otherwise connections are closed (GOAWAY, running calls finish) after this long, so
   // that clients balancing over a headless Service re-resolve and find new replicas.
   double max_connection_age_seconds = 0.0;

@@ -66,9 +66,9 @@ std::string Bounded(std::string message) {
   return message;
 }
 
-// A stalled upload the watchdog ended (the client sees its call cancelled; the job's status,
-// the log and the metrics say why).
-grpc::Status UploadExpired(const std::string& job_id, const std::string& why) {
+// A stalled upload or result the watchdog ended (the client sees its call cancelled; the job's
+// status, the log and the metrics say why).
+grpc::Status WatchExpired(const std::string& job_id, const std::string& why) {
   LogLine(
       absl::StrCat(job_id.empty() ? "call" : absl::StrCat("job ", job_id), " cancelled: ", why));
   return grpc::Status(grpc::StatusCode::DEADLINE_EXCEEDED, why);
@@ -94,12 +94,7 @@ std::optional<std::string> OverServerLimits(const SimplifyOptions& o, const Serv
 
 SimplifierService::SimplifierService(const ServerConfig& config, JobQueue& queue,
                                      JobRegistry& registry, JobRunner& runner, Metrics& metrics)
-    : config_(config),
-      queue_(queue),
-      registry_(registry),
-      runner_(runner),
-      metrics_(metrics),
-      uploads_(config.upload_idle_seconds, config.upload_deadline_seconds) {}
+    : config_(config), queue_(queue), registry_(registry), runner_(runner), metrics_(metrics) {}
 
 void SimplifierService::UpdateQueueGauge() { metrics_.SetQueueDepth(queue_.waiting()); }
 
@@ -107,7 +102,12 @@ grpc::Status SimplifierService::Simplify(grpc::ServerContext* ctx, Stream* strea
   grpc::Status status = [&]() -> grpc::Status {
     if (shutting_down_.load())
       return grpc::Status(grpc::StatusCode::UNAVAILABLE, "server is shutting down");
-    UploadWatchdog::Upload upload(uploads_, ctx);
+    CallWatchdog::Watch upload(watchdog_, ctx,
+                               {.idle_seconds = config_.upload_idle_seconds,
+                                .deadline_seconds = config_.upload_deadline_seconds,
+                                .what = "upload",
+                                .idle_flag = "--upload_idle_seconds",
+                                .deadline_flag = "--upload_deadline_seconds"});
     RequestReader reader(
         [stream, &upload](v1::SimplifyRequest* r) {
           const bool got = stream->Read(r);
@@ -117,7 +117,7 @@ grpc::Status SimplifierService::Simplify(grpc::ServerContext* ctx, Stream* strea
         config_);
     absl::StatusOr<v1::JobSpec> spec = reader.ReadSpec();
     if (!spec.ok()) {
-      if (std::string why = upload.expired(); !why.empty()) return UploadExpired("", why);
+      if (std::string why = upload.expired(); !why.empty()) return WatchExpired("", why);
       if (ctx->IsCancelled()) return ClientEnded(ctx, "before the job spec");
       return ToGrpc(spec.status());
     }
@@ -158,7 +158,7 @@ grpc::Status SimplifierService::Simplify(grpc::ServerContext* ctx, Stream* strea
 
 grpc::Status SimplifierService::RunJob(grpc::ServerContext* ctx, Stream* stream,
                                        const std::shared_ptr<Job>& job, RequestReader& reader,
-                                       const v1::JobSpec& spec, UploadWatchdog::Upload& upload) {
+                                       const v1::JobSpec& spec, CallWatchdog::Watch& upload) {
   // The queue slot reserved at admission goes back on every way out but the queue, an
   // exception (out of memory) included.
   struct Reservation {
@@ -177,7 +177,7 @@ grpc::Status SimplifierService::RunJob(grpc::ServerContext* ctx, Stream* stream,
 
   absl::StatusOr<RawMesh> raw = reader.ReadMesh(spec);
   upload.Done();
-  if (std::string why = upload.expired(); !why.empty()) return UploadExpired(job->id(), why);
+  if (std::string why = upload.expired(); !why.empty()) return WatchExpired(job->id(), why);
   if (job->cancelled()) {
     return job->cancel_status();
   }
@@ -275,14 +275,23 @@ grpc::Status SimplifierService::Follow(grpc::ServerContext* ctx, Stream* stream,
   for (const FaceField& field : output.mesh.face_fields) m->add_face_field_names(field.name);
   wire::FidelityToProto(r, m);
   wire::RepairToProto(repair, m->mutable_repair());
-  if (!stream->Write(resp)) return grpc::Status(grpc::StatusCode::CANCELLED, "client went away");
-  bool ok = true;
-  wire::ForEachChunk(output.mesh, [&](v1::MeshChunk& chunk) {
-    v1::SimplifyResponse c;
-    c.mutable_chunk()->Swap(&chunk);
-    ok = stream->Write(c);
-    return ok;
-  });
+  // A client that stops reading would hold the output mesh (a Write waits for it): cancelled.
+  CallWatchdog::Watch download(watchdog_, ctx,
+                               {.idle_seconds = config_.result_idle_seconds,
+                                .what = "result",
+                                .idle_flag = "--result_idle_seconds"});
+  bool ok = stream->Write(resp);
+  download.Touch();
+  if (ok)
+    wire::ForEachChunk(output.mesh, [&](v1::MeshChunk& chunk) {
+      v1::SimplifyResponse c;
+      c.mutable_chunk()->Swap(&chunk);
+      ok = stream->Write(c);
+      download.Touch();
+      return ok;
+    });
+  download.Done();
+  if (std::string why = download.expired(); !why.empty()) return WatchExpired(job->id(), why);
   if (!ok) return grpc::Status(grpc::StatusCode::CANCELLED, "client went away during the result");
   return grpc::Status::OK;
 }

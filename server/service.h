@@ -4,12 +4,12 @@
 #include <atomic>
 
 #include "femsimp/v1/femsimp.grpc.pb.h"
+#include "server/call_watchdog.h"
 #include "server/config.h"
 #include "server/job_queue.h"
 #include "server/job_registry.h"
 #include "server/job_runner.h"
 #include "server/metrics.h"
-#include "server/upload_watchdog.h"
 
 namespace femsimp::server {
 
@@ -40,7 +40,7 @@ class SimplifierService final : public v1::Simplifier::Service {
   grpc::Status RunJob(grpc::ServerContext* ctx,
                       grpc::ServerReaderWriter<v1::SimplifyResponse, v1::SimplifyRequest>* stream,
                       const std::shared_ptr<Job>& job, class RequestReader& reader,
-                      const v1::JobSpec& spec, UploadWatchdog::Upload& upload);
+                      const v1::JobSpec& spec, CallWatchdog::Watch& upload);
   // Streams progress until the job is done, then the Result (with the upload's repair report)
   // and the output; cancels the job when the client goes away.
   grpc::Status Follow(grpc::ServerContext* ctx,
@@ -53,7 +53,7 @@ class SimplifierService final : public v1::Simplifier::Service {
   JobRegistry& registry_;
   JobRunner& runner_;
   Metrics& metrics_;
-  UploadWatchdog uploads_;
+  CallWatchdog watchdog_;
   std::atomic<bool> shutting_down_{false};
 };
 

@@ -175,6 +175,47 @@ TEST(Service, StalledUploadsAreCancelledAndTheirSlotsFreed) {
   }
 }
 
+// A client that stops reading its result does not hold the output mesh: after
+// --result_idle_seconds without a write going through, the call is cancelled, counted as
+// DEADLINE_EXCEEDED, and the server is whole.
+TEST(Service, UnreadResultIsDropped) {
+  server::ServerConfig config = testing::OneWorkerConfig();
+  config.result_idle_seconds = 0.5;
+  InProcessServer s(config);
+  const RawMesh big = testing::MakeTorus(500, 500);  // an output of ~8 MB: beyond the windows
+  grpc::ClientContext ctx;
+  ctx.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(60));
+  auto stream = s.stub().Simplify(&ctx);
+  v1::SimplifyRequest first;
+  *first.mutable_spec() = RatioSpec(0.95);
+  first.mutable_spec()->set_vertex_count(big.num_vertices());
+  first.mutable_spec()->set_face_count(big.num_faces());
+  ASSERT_TRUE(stream->Write(first));
+  wire::ForEachChunk(big, [&](v1::MeshChunk& chunk) {
+    v1::SimplifyRequest r;
+    r.mutable_chunk()->Swap(&chunk);
+    return stream->Write(r);
+  });
+  stream->WritesDone();
+  v1::SimplifyResponse resp;
+  ASSERT_TRUE(stream->Read(&resp));
+  ASSERT_TRUE(resp.has_accepted());
+  // Read nothing more: the server's writes of the result stall, and the watchdog ends the call.
+  std::optional<double> dropped;
+  for (int i = 0; i < 600 && !dropped; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    const auto m = testing::ParseMetrics(testing::HttpGet(s.server().metrics_port(), "/metrics"));
+    if (const auto it = m.find("femsimp_jobs_total{status=\"DEADLINE_EXCEEDED\"}"); it != m.end())
+      dropped = it->second;
+  }
+  ASSERT_TRUE(dropped.has_value()) << "the unread result was not dropped within 30 s";
+  EXPECT_EQ(*dropped, 1);
+  while (stream->Read(&resp)) {
+  }
+  EXPECT_FALSE(stream->Finish().ok());
+  ExpectWorkerFree(s);
+}
+
 TEST(Service, FaceGroupsAndFieldsComeBack) {
   InProcessServer s;
   const RawMesh in = testing::WithGroupsAndFields(testing::MakeTorus(60, 40));
