@@ -45,7 +45,7 @@ struct CacheConfig {
 // A read must not cross a line boundary (16-byte elements at 16-byte aligned addresses never
 // do). Fills are clamped to the registered main-memory region of the address read, so a line
 // at the end of an array never reads past it.
-class SoftwareCache : public PutObserver {
+class SoftwareCache final : public PutObserver {
  public:
   // Allocates lines and tags from `ls`; fails (ResourceExhausted) when they do not fit, or
   // (InvalidArgument) on a bad geometry.

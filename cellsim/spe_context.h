@@ -39,7 +39,7 @@ struct SpeConfig {
 //   - status words: atomic() (GetLlar/PutLlc/CompareAndSwap/PutLluc/Load).
 // and charges its own work with AddComputeCycles. Everything here is used by the SPE's own
 // host thread only; the PPE (Runtime) reads counters between runs.
-class SpeContext : public Waiter {
+class SpeContext final : public Waiter {
  public:
   // Allocates the local store and the cache in it; fails when the cache does not fit.
   static absl::StatusOr<std::unique_ptr<SpeContext>> Create(int index, int num_spes,

@@ -18,8 +18,11 @@ constexpr size_t kMaxListed = 20;
 // their records.
 absl::Status DefectsLeft(const RepairReport& report) {
   std::vector<std::string> listed;
+  size_t defects = 0;
   for (const RepairRecord& r : report.records)
-    if (!IsRepairChange(r.kind) && r.kind != RepairKind::kSeamEdge) listed.push_back(r.ToString());
+    if (!IsRepairChange(r.kind) && r.kind != RepairKind::kSeamEdge && defects++ < kMaxListed)
+      listed.push_back(r.ToString());
+  if (defects > kMaxListed) listed.push_back(absl::StrCat("and ", defects - kMaxListed, " more"));
   return absl::InvalidArgumentError(
       absl::StrCat("the mesh has defects no repair fixes: ", absl::StrJoin(listed, "; ")));
 }

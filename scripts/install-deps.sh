@@ -8,6 +8,7 @@ packages=(
   libmeshoptimizer-dev libcgal-dev libgmp-dev libmpfr-dev libeigen3-dev
   python3-grpcio grpc-proto curl tetgen gnuplot-nox nginx-light python3-gmsh python3-numpy
   gdb  # scripts/watchdog.sh prints a hung test's stacks
+  clang libclang-rt-14-dev  # the readers' fuzz target (libFuzzer, ASan, UBSan)
 )
 # The deployment checks (tests/deploy) only read and render configs: no daemons, so without
 # the packages these recommend (docker.io, prometheus-node-exporter). Debian's kubectl
