@@ -85,9 +85,7 @@ class RemovalKernel final : private NeighbourhoodReader {
       return Outcome::kSkipped;  // no longer removable (changed since the sort)
     }
     if (std::optional<Outcome> failed = ReadAndLockFan(v)) return *failed;
-    Directions directions;
-    for (const CollapseRule* rule : rules_.stage(RuleStage::kDirections))
-      rule->Restrict(ring_, &directions);
+    const Directions directions = AllowedDirections();
     if (directions.fixed) return Fix(v);
     refusal_ = Refusal{};
     const int ranked = RankDirections(directions);
@@ -133,9 +131,7 @@ class RemovalKernel final : private NeighbourhoodReader {
     proposal_.fan = &ring_;
     proposal_.reader = this;
     refusal_ = Refusal{};
-    Directions directions;
-    for (const CollapseRule* rule : rules_.stage(RuleStage::kDirections))
-      rule->Restrict(ring_, &directions);
+    const Directions directions = AllowedDirections();
     int i = 0;
     while (i < ring_.neighbours() && ring_.nbr[i] != vd) ++i;
     if (directions.fixed || i == ring_.neighbours() || !directions.Allows(i)) {
@@ -144,12 +140,8 @@ class RemovalKernel final : private NeighbourhoodReader {
     }
     if (quadric_) own_quadric_ = port_.ReadQuadric(ring_.center);
     attrs_loaded_ = false;
-    proposal_.target = i;
     proposal_.line_other = directions.LineOther(i);
-    proposal_.geometry.Build(ring_, i);
-    Reject shape = Reject::kCount;
-    Verdict verdict = rules_.Check(RuleStage::kShape, proposal_, &shape);
-    if (verdict != Verdict::kPass) Note(RuleStage::kShape, shape);
+    Verdict verdict = CheckShape(i);
     if (verdict == Verdict::kPass) verdict = CheckTopology(i);
     if (verdict == Verdict::kPass) verdict = CheckFidelity();
     if (verdict != Verdict::kPass) {
@@ -169,6 +161,27 @@ class RemovalKernel final : private NeighbourhoodReader {
  private:
   Verdict FailHold(Verdict v) {
     ReleaseHeld();
+    return v;
+  }
+
+  // The kDirections rules on V's fan.
+  Directions AllowedDirections() const {
+    Directions directions;
+    for (const CollapseRule* rule : rules_.stage(RuleStage::kDirections))
+      rule->Restrict(ring_, &directions);
+    return directions;
+  }
+
+  // Proposes the direction V -> nbr[i] and runs the shape rules on its new triangles.
+  Verdict CheckShape(int i) {
+    proposal_.target = i;
+    proposal_.geometry.Build(ring_, i);
+    // Two cross products per triangle, then the rules (the topology-only mode runs fewer).
+    port_.ChargeCompute((kGeometryCyclesPerFace + rules_.shape_cycles_per_face()) *
+                        proposal_.geometry.faces);
+    Reject refused = Reject::kCount;
+    const Verdict v = rules_.Check(RuleStage::kShape, proposal_, &refused);
+    if (v != Verdict::kPass) Note(RuleStage::kShape, refused);
     return v;
   }
 
@@ -282,16 +295,7 @@ class RemovalKernel final : private NeighbourhoodReader {
     int passing = 0;
     for (int i = 0; i < ring_.neighbours(); ++i) {
       if (!directions.Allows(i)) continue;
-      proposal_.target = i;
-      proposal_.geometry.Build(ring_, i);
-      // Two cross products per triangle, then the rules (the topology-only mode runs fewer).
-      port_.ChargeCompute((kGeometryCyclesPerFace + rules_.shape_cycles_per_face()) *
-                          proposal_.geometry.faces);
-      Reject refused = Reject::kCount;
-      if (rules_.Check(RuleStage::kShape, proposal_, &refused) != Verdict::kPass) {
-        Note(RuleStage::kShape, refused);
-        continue;
-      }
+      if (CheckShape(i) != Verdict::kPass) continue;
       const double s = quadric_ ? -QuadricError(own_quadric_, ToD(ring_.pos[i]))
                                 : proposal_.geometry.MinNormalCosine();
       int k = passing++;

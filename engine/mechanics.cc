@@ -201,11 +201,7 @@ MechanicsLedger::MechanicsLedger(const MassProperties& input, const FieldResulta
 bool MechanicsLedger::TryCommit(uint32_t v, const CollapseDelta& delta, const CollapseDelta& judged,
                                 absl::FunctionRef<bool(const LedgerView&)> within) {
   std::lock_guard<std::mutex> lock(mu_);
-  // A delta without a measured mass change adds zeros.
-  MassProperties spent = spent_;
-  spent.measure += judged.mass.measure;
-  spent.moment += judged.mass.moment;
-  if (!within(LedgerView{input_, spent, fields_, force_spent_})) return false;
+  if (!within(LedgerView{input_, SpentWith(judged), fields_, force_spent_})) return false;
   if (in_round_)
     round_deltas_.emplace_back(v, delta);
   else
@@ -217,14 +213,18 @@ bool MechanicsLedger::TryCommitTogether(
     std::span<const CollapseDelta> deltas, std::span<const CollapseDelta> judged,
     absl::FunctionRef<bool(const LedgerView&, size_t k)> within) {
   std::lock_guard<std::mutex> lock(mu_);
-  for (size_t k = 0; k < deltas.size(); ++k) {
-    MassProperties spent = spent_;
-    spent.measure += judged[k].mass.measure;
-    spent.moment += judged[k].mass.moment;
-    if (!within(LedgerView{input_, spent, fields_, force_spent_}, k)) return false;
-  }
+  for (size_t k = 0; k < deltas.size(); ++k)
+    if (!within(LedgerView{input_, SpentWith(judged[k]), fields_, force_spent_}, k)) return false;
   for (const CollapseDelta& delta : deltas) Add(delta);
   return true;
+}
+
+MassProperties MechanicsLedger::SpentWith(const CollapseDelta& judged) const {
+  // A delta without a measured mass change adds zeros.
+  MassProperties spent = spent_;
+  spent.measure += judged.mass.measure;
+  spent.moment += judged.mass.moment;
+  return spent;
 }
 
 void MechanicsLedger::Add(const CollapseDelta& delta) {

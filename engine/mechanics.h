@@ -104,7 +104,8 @@ class MechanicsLedger {
   double round_scale() const { return round_scale_; }
 
  private:
-  void Add(const CollapseDelta& delta);  // under mu_
+  void Add(const CollapseDelta& delta);                         // under mu_
+  MassProperties SpentWith(const CollapseDelta& judged) const;  // the mass spent, under mu_
 
   const MassProperties input_;
   const FieldResultants fields_;

@@ -210,6 +210,9 @@ class RuleSet {
 
  private:
   static int StageIndex(RuleStage s);
+  // Every budget rule accepts the totals with `judged`; else *refused names the first that does
+  // not.
+  bool WithinBudgets(const LedgerView& totals, const CollapseDelta& judged, Reject* refused) const;
 
   std::vector<std::unique_ptr<CollapseRule>> rules_;
   std::vector<const CollapseRule*> by_stage_[5];

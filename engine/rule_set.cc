@@ -50,18 +50,23 @@ Verdict RuleSet::Check(RuleStage s, CollapseProposal& p, Reject* refused) const 
   return Verdict::kPass;
 }
 
+bool RuleSet::WithinBudgets(const LedgerView& totals, const CollapseDelta& judged,
+                            Reject* refused) const {
+  for (const CollapseRule* rule : stage(RuleStage::kBudget))
+    if (!rule->WithinBudget(totals, judged)) {
+      *refused = rule->reason();
+      return false;
+    }
+  return true;
+}
+
 bool RuleSet::SpendBudgets(uint32_t v, const CollapseDelta& delta, Reject* refused) const {
   const std::vector<const CollapseRule*>& budget = stage(RuleStage::kBudget);
   if (budget.empty() || (delta.entries == 0 && !tracks_mass_)) return true;
   const double scale = ledger_->round_scale();
   const CollapseDelta judged = scale == 1.0 ? delta : Scaled(delta, scale);
   return ledger_->TryCommit(v, delta, judged, [&](const LedgerView& totals) {
-    for (const CollapseRule* rule : budget)
-      if (!rule->WithinBudget(totals, judged)) {
-        *refused = rule->reason();
-        return false;
-      }
-    return true;
+    return WithinBudgets(totals, judged, refused);
   });
 }
 
@@ -74,12 +79,7 @@ bool RuleSet::SpendBudgetsTogether(std::span<const CollapseDelta> deltas, Reject
   judged.reserve(deltas.size());
   for (const CollapseDelta& d : deltas) judged.push_back(Scaled(d, double(deltas.size())));
   return ledger_->TryCommitTogether(deltas, judged, [&](const LedgerView& totals, size_t k) {
-    for (const CollapseRule* rule : budget)
-      if (!rule->WithinBudget(totals, judged[k])) {
-        *refused = rule->reason();
-        return false;
-      }
-    return true;
+    return WithinBudgets(totals, judged[k], refused);
   });
 }
 

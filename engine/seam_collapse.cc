@@ -72,9 +72,8 @@ SeamCollapser::SweepResult SeamCollapser::Sweep(RemovalBudget& budget) {
                    dz = p.z - r0.center_pos.z;
       return dx * dx + dy * dy + dz * dz;
     };
-    const bool second_first = length2(ends[1]) < length2(ends[0]);
-    for (int attempt = 0; attempt < 2; ++attempt) {
-      const int d = (attempt == 0) == second_first ? 1 : 0;
+    const int first = length2(ends[1]) < length2(ends[0]) ? 1 : 0;
+    for (const int d : {first, 1 - first}) {
       const Tried t = TryCompound(k, ends[d], ends[1 - d], budget);
       if (t == Tried::kRefused) continue;
       if (t == Tried::kBudgetSpent) {

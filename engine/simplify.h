@@ -131,9 +131,9 @@ struct PassStats {
   uint64_t candidates = 0;  // vertices handed to the contexts this pass
   uint64_t tried = 0;       // candidates actually attempted (before the target stopped it)
   uint64_t removed = 0;
-  uint64_t lock_conflicts = 0;  // a vertex of the one-ring was locked by another context
-  uint64_t inconsistent = 0;    // ring did not close or referenced a removed element
-  uint64_t rounds = 0;          // deterministic schedule: rounds of non-interacting collapses
+  uint64_t lock_conflicts = 0;       // a vertex of the one-ring was locked by another context
+  uint64_t inconsistent = 0;         // ring did not close or referenced a removed element
+  uint64_t rounds = 0;               // deterministic schedule: rounds of non-interacting collapses
   uint64_t seam_points_removed = 0;  // assemblies: seam points slid along their seam (all copies)
   std::array<uint64_t, static_cast<int>(Reject::kCount)> rejections{};
   uint64_t vertices_left = 0;
