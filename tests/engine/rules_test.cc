@@ -241,5 +241,37 @@ TEST(Rules, VolumeBudgetIsSpentAgainstTheInput) {
   }
 }
 
+// A compound collapse (engine/seam_collapse.h) spends for all its copies or none: each change is
+// judged at its share times their number, so changes the budget takes one by one may be refused
+// together, and then nothing is spent.
+TEST(Rules, CompoundCollapsesSpendTheBudgetsTogether) {
+  SimplifyOptions o;
+  o.max_volume_change = 0.01;  // 1.0 of the input's 100
+  const MassProperties input{100.0, {0, 0, 0}};
+  const FieldResultants none;
+  RuleSetup setup;
+  setup.closed = true;
+  setup.mass = &input;
+  setup.resultants = &none;
+  const RuleSet set = RuleSet::Build(o, setup);
+  CollapseDelta small, large;
+  small.mass.measure = 0.3;
+  large.mass.measure = 0.6;
+  Reject refused = Reject::kCount;
+  // 2 x 0.6 is over 1.0: refused together (alone, 0.6 would pass), nothing spent.
+  const CollapseDelta refused_pair[] = {small, large};
+  EXPECT_FALSE(set.SpendBudgetsTogether(refused_pair, &refused));
+  EXPECT_EQ(refused, Reject::kVolume);
+  // Nothing was spent: 0.45 twice (judged 0.9 each) still fits, and is spent (0.9 in all) ...
+  CollapseDelta half;
+  half.mass.measure = 0.45;
+  const CollapseDelta pair[] = {half, half};
+  EXPECT_TRUE(set.SpendBudgetsTogether(pair, &refused));
+  // ... so that 0.2 more (0.9 + 0.2 > 1.0) no longer does.
+  CollapseDelta rest;
+  rest.mass.measure = 0.2;
+  EXPECT_FALSE(set.SpendBudgets(0, rest, &refused));
+}
+
 }  // namespace
 }  // namespace femsimp
