@@ -105,6 +105,20 @@ std::string PassJson(const PassStats& p) {
   return s + "}";
 }
 
+std::string Vec3Json(const DVec3& v) {
+  return absl::StrCat("[", JsonNumber(v.x), ", ", JsonNumber(v.y), ", ", JsonNumber(v.z), "]");
+}
+
+std::string MassJson(const MassSummary& m) {
+  return absl::StrCat("{\"solid\": ", m.solid ? "true" : "false", ", \"",
+                      m.solid ? "volume" : "area", "\": ", JsonNumber(m.measure),
+                      ", \"centroid\": ", Vec3Json(m.centroid), ", \"principal_moments\": [",
+                      JsonNumber(m.principal_moments[0]), ", ", JsonNumber(m.principal_moments[1]),
+                      ", ", JsonNumber(m.principal_moments[2]), "], \"principal_axes\": [",
+                      Vec3Json(m.principal_axes[0]), ", ", Vec3Json(m.principal_axes[1]), ", ",
+                      Vec3Json(m.principal_axes[2]), "]}");
+}
+
 std::string FidelityJson(const FidelityFigures& f) {
   return absl::StrCat("{\"feature_edges\": ", f.feature_edges,
                       ", \"corner_vertices\": ", f.corner_vertices,
@@ -112,7 +126,10 @@ std::string FidelityJson(const FidelityFigures& f) {
                       ", \"deviation_bound\": ", JsonNumber(f.deviation_bound),
                       ", \"volume_change\": ", JsonNumber(f.volume_change),
                       ", \"centroid_shift\": ", JsonNumber(f.centroid_shift),
-                      ", \"max_field_change\": ", JsonNumber(f.max_field_change), "}");
+                      ", \"max_field_change\": ", JsonNumber(f.max_field_change),
+                      ", \"inertia_change\": ", JsonNumber(f.inertia_change),
+                      ",\n    \"input_mass\": ", MassJson(f.input_mass),
+                      ",\n    \"output_mass\": ", MassJson(f.output_mass), "}");
 }
 
 std::string FaceDataJson(const RunReport& r) {
@@ -145,6 +162,20 @@ std::string RepairJson(const RunReport& r) {
   }
   absl::StrAppend(&s, rep.records.empty() ? "]}" : "\n  ]}");
   return s;
+}
+
+// Measure and principal moments in and out (unit density), and the worst moment's change.
+std::string MassSummaryLine(const FidelityFigures& f) {
+  const MassSummary &in = f.input_mass, &out = f.output_mass;
+  const auto moments = [](const MassSummary& m) {
+    return absl::StrFormat("%.4g %.4g %.4g", m.principal_moments[0], m.principal_moments[1],
+                           m.principal_moments[2]);
+  };
+  return absl::StrFormat(
+      "mass:     %s %.6g -> %.6g, principal moments of inertia (unit density) %s -> %s (worst "
+      "change %.4f%%)\n",
+      in.solid ? "volume" : "area (open surface)", in.measure, out.measure, moments(in),
+      moments(out), 100 * f.inertia_change);
 }
 
 }  // namespace
@@ -183,6 +214,9 @@ FidelityFigures FidelityFigures::Of(const SimplifyResult& r) {
   f.volume_change = r.volume_change;
   f.centroid_shift = r.centroid_shift;
   f.max_field_change = r.max_field_change;
+  f.input_mass = r.input_mass;
+  f.output_mass = r.output_mass;
+  f.inertia_change = r.inertia_change;
   return f;
 }
 
@@ -230,6 +264,7 @@ std::string Summary(const RunReport& r) {
                                       : std::string("no tolerance"),
                   absl::StrFormat(", volume %+.4f%%, centroid shift %.4f%% of the diagonal\n",
                                   100 * f.volume_change, 100 * f.centroid_shift));
+  absl::StrAppend(&s, MassSummaryLine(f));
   absl::StrAppend(&s,
                   absl::StrFormat("features: %u edges, %u corners (feature angle %g deg)\n",
                                   f.feature_edges, f.corner_vertices, r.options.feature_angle_deg));

@@ -17,6 +17,8 @@ struct FidelityFigures {
   uint64_t feature_edges = 0, corner_vertices = 0;
   double tolerance_abs = 0.0, deviation_bound = 0.0;
   double volume_change = 0.0, centroid_shift = 0.0, max_field_change = 0.0;
+  MassSummary input_mass, output_mass;
+  double inertia_change = 0.0;
   static FidelityFigures Of(const SimplifyResult& r);
 };
 

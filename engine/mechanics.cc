@@ -46,7 +46,7 @@ bool IsClosed(const Mesh& mesh) {
   return true;
 }
 
-MassProperties MeasureMass(const Mesh& mesh, bool closed) {
+MassProperties MeasureMass(const Mesh& mesh, bool closed, const DVec3& origin) {
   MassProperties m;
   const VertexQ* v = mesh.vertices();
   const HalfEdgeQ* h = mesh.halfedges();
@@ -58,13 +58,40 @@ MassProperties MeasureMass(const Mesh& mesh, bool closed) {
       const double vol = Dot(a, Cross(b, c)) / 6.0;
       m.measure += vol;
       m.moment += (vol / 4.0) * (a + b + c);
+      // Tetrahedra with their apex at `origin` (near the part, so no large cancelling terms)
+      // sum to the same solid as those from the world origin.
+      const DVec3 ao = a - origin, bo = b - origin, co = c - origin;
+      m.second += TetrahedronSecondMoment({0, 0, 0}, ao, bo, co, Dot(ao, Cross(bo, co)) / 6.0);
     } else {
       const double area = 0.5 * Norm(Cross(b - a, c - a));
       m.measure += area;
       m.moment += (area / 3.0) * (a + b + c);
+      m.second += TriangleSecondMoment(a - origin, b - origin, c - origin, area);
     }
   }
   return m;
+}
+
+MassProperties MovedSecondMoment(const MassProperties& m, const DVec3& from, const DVec3& to) {
+  // J_to = J_from - m d^T - d m^T + M d d^T, with m the first moment about `from`, d = to - from.
+  const DVec3 first = m.moment - m.measure * from, d = to - from;
+  MassProperties out = m;
+  out.second = m.second + m.measure * Outer(d) - (Outer(first + d) - Outer(first) - Outer(d));
+  return out;
+}
+
+MassSummary Summarize(const MassProperties& m, bool solid, const DVec3& origin) {
+  MassSummary s;
+  s.solid = solid;
+  s.measure = m.measure;
+  if (m.measure == 0.0) return s;
+  s.centroid = m.centroid();
+  const Eigen3 e = Eigen(InertiaOf(MovedSecondMoment(m, origin, s.centroid).second));
+  for (int i = 0; i < 3; ++i) {
+    s.principal_moments[i] = e.values[i];
+    s.principal_axes[i] = e.axes[i];
+  }
+  return s;
 }
 
 FieldResultants MeasureFields(const Mesh& mesh, const GroupIndex& groups) {
@@ -122,6 +149,23 @@ void CollapseMassDelta(const Ring& ring, int target, bool closed, CollapseDelta*
     }
   }
   delta->mass = d;
+}
+
+void CollapseSecondMomentDelta(const Ring& ring, int target, bool closed, const DVec3& origin,
+                               CollapseDelta* delta) {
+  const int n = ring.neighbours();
+  const DVec3 v = ToD(ring.center_pos) - origin, vd = ToD(ring.pos[target]) - origin;
+  Sym3& d = delta->mass.second;
+  for (int f = 0; f < ring.faces; ++f) {
+    const DVec3 b = ToD(ring.pos[f]) - origin, c = ToD(ring.pos[(f + 1) % n]) - origin;
+    if (closed) {  // the tetrahedra between the old and the new faces, as in CollapseMassDelta
+      d -= TetrahedronSecondMoment(vd, v, b, c, Dot(v - vd, Cross(b - vd, c - vd)) / 6.0);
+    } else {
+      d -= TriangleSecondMoment(v, b, c, 0.5 * Norm(Cross(b - v, c - v)));
+      if (f != target && (f + 1) % n != target)
+        d += TriangleSecondMoment(vd, b, c, 0.5 * Norm(Cross(b - vd, c - vd)));
+    }
+  }
 }
 
 void TransferFields(const Ring& ring, int target, int fields, const FaceAttrQ* fan_attr,
@@ -224,12 +268,14 @@ MassProperties MechanicsLedger::SpentWith(const CollapseDelta& judged) const {
   MassProperties spent = spent_;
   spent.measure += judged.mass.measure;
   spent.moment += judged.mass.moment;
+  spent.second += judged.mass.second;
   return spent;
 }
 
 void MechanicsLedger::Add(const CollapseDelta& delta) {
   spent_.measure += delta.mass.measure;
   spent_.moment += delta.mass.moment;
+  spent_.second += delta.mass.second;
   for (int i = 0; i < delta.entries; ++i) force_spent_[delta.slot[i]] += delta.force[i];
 }
 
@@ -252,6 +298,7 @@ CollapseDelta Scaled(const CollapseDelta& delta, double s) {
   CollapseDelta out = delta;
   out.mass.measure *= s;
   out.mass.moment = s * out.mass.moment;
+  out.mass.second = s * out.mass.second;
   for (int i = 0; i < out.entries; ++i) out.force[i] = s * out.force[i];
   return out;
 }

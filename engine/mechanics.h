@@ -10,6 +10,7 @@
 
 #include "absl/container/flat_hash_map.h"
 #include "absl/functional/function_ref.h"
+#include "engine/inertia.h"
 #include "engine/mesh.h"
 #include "engine/ring.h"
 #include "engine/simplify.h"
@@ -18,10 +19,13 @@
 namespace femsimp {
 
 // Volume and first moment of the enclosed solid (closed meshes), or area and first moment of
-// the surface (open ones): the centre of mass is moment / measure.
+// the surface (open ones): the centre of mass is moment / measure. `second` is the second moment
+// about a reference point the caller chooses (the run's: the input's centroid), where it is
+// measured at all.
 struct MassProperties {
   double measure = 0.0;
   DVec3 moment{0, 0, 0};
+  Sym3 second;
   DVec3 centroid() const { return (1.0 / measure) * moment; }
 };
 
@@ -45,7 +49,13 @@ struct FieldResultants {
 };
 
 bool IsClosed(const Mesh& mesh);
-MassProperties MeasureMass(const Mesh& mesh, bool closed);
+// With the second moment about `origin`.
+MassProperties MeasureMass(const Mesh& mesh, bool closed, const DVec3& origin);
+// The same properties with the second moment about `to` instead of `from` (parallel axes).
+MassProperties MovedSecondMoment(const MassProperties& m, const DVec3& from, const DVec3& to);
+// Centroid and principal moments of inertia (unit density) of m, whose second moment is about
+// `origin`.
+MassSummary Summarize(const MassProperties& m, bool solid, const DVec3& origin);
 FieldResultants MeasureFields(const Mesh& mesh, const GroupIndex& groups);
 // Worst |F_after - F_before| / load_before over groups and fields (0 without fields).
 double WorstFieldChange(const FieldResultants& before, const FieldResultants& after);
@@ -61,6 +71,9 @@ struct CollapseDelta {
 // Mass change of collapsing V onto ring.nbr[target] (origin-independent: the two patches share
 // their border, so only the enclosed difference counts).
 void CollapseMassDelta(const Ring& ring, int target, bool closed, CollapseDelta* delta);
+// Adds the collapse's change of the second moment about `origin` to delta->mass.second.
+void CollapseSecondMomentDelta(const Ring& ring, int target, bool closed, const DVec3& origin,
+                               CollapseDelta* delta);
 
 // New field values for the fan faces that survive the collapse: per group, the smallest
 // area-weighted change that keeps the group's resultant over the fan; what cannot be kept

@@ -99,6 +99,12 @@ std::vector<OptionSpec> MakeTable() {
        .section = "fidelity", .type = T::kFraction, .range = Range::Closed(0, 1),
        .unit = "of the bounding-box diagonal", .zero_means = "off", .help = "centroid shift",
        .field = &S::max_centroid_shift},
+      {.name = "max_inertia_change", .flag = "--max-inertia-change", .metavar = "F",
+       .section = "fidelity", .type = T::kFraction, .range = Range::Closed(0, 1),
+       .zero_means = "off",
+       .help = "relative change of each principal moment of inertia (of the solid; of the "
+               "surface for an open mesh)",
+       .field = &S::max_inertia_change},
       {.name = "max_field_change", .flag = "--max-field-change", .metavar = "F",
        .section = "fidelity", .type = T::kFraction, .range = Range::OpenClosed(0, 1),
        .help = "relative change of each face field's resultant per face group",

@@ -132,8 +132,10 @@ struct RuleSetup {
   bool closed = false;       // mass properties of the solid rather than of the surface
   double diagonal = 1.0;     // of the input's bounding box
   const GroupIndex* groups = nullptr;  // dense group slots, when fields are carried
-  // The input's measures the budget rules' ledger starts from.
+  // The input's measures the budget rules' ledger starts from; its second moment is about
+  // mass_origin (the input's centroid).
   const MassProperties* mass = nullptr;
+  DVec3 mass_origin{0, 0, 0};
   const FieldResultants* resultants = nullptr;
   // The face index of the self-intersection rule, when it is on.
   class FaceGrid* face_grid = nullptr;

@@ -113,15 +113,22 @@ std::vector<uint32_t> SortedCandidates(Mesh& mesh, WorkerPool& pool, const Verte
   return ids;
 }
 
-double BoundingBoxDiagonal(const Mesh& mesh) {
+struct Bounds {
   DVec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+  double diagonal() const { return Norm(hi - lo); }
+  DVec3 centre() const { return 0.5 * (lo + hi); }
+};
+
+Bounds BoundsOf(const Mesh& mesh) {
+  Bounds b;
+  DVec3 &lo = b.lo, &hi = b.hi;
   for (uint32_t v = 0; v < mesh.vertex_capacity(); ++v) {
     if (mesh.IsRemoved(v)) continue;
     const VertexQ& q = mesh.vertices()[v];
     lo = {std::min(lo.x, double(q.x)), std::min(lo.y, double(q.y)), std::min(lo.z, double(q.z))};
     hi = {std::max(hi.x, double(q.x)), std::max(hi.y, double(q.y)), std::max(hi.z, double(q.z))};
   }
-  return Norm(hi - lo);
+  return b;
 }
 
 // The tolerance that applies, as a float no larger than it (the bounds are stored as floats).
@@ -224,7 +231,8 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
   if (cancelled_in_setup()) return result;
   result.feature_edges = features.feature_edges;
   result.corner_vertices = features.corner_vertices;
-  const double diagonal = BoundingBoxDiagonal(mesh);
+  const Bounds bounds = BoundsOf(mesh);
+  const double diagonal = bounds.diagonal();
   RuleSetup setup;
   setup.cos_feature = std::cos(options.feature_angle_deg * std::numbers::pi / 180.0);
   setup.tolerance = EffectiveTolerance(options, diagonal, &result.tolerance_abs);
@@ -236,7 +244,13 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
   if (quadric) InitQuadrics(mesh);
   const GroupIndex groups(mesh);
   setup.groups = &groups;
-  const MassProperties mass_before = MeasureMass(mesh, closed);
+  // Second moments about the input's centroid, measured first about the box's centre (near the
+  // part, so that no large terms cancel).
+  const MassProperties measured = MeasureMass(mesh, closed, bounds.centre());
+  setup.mass_origin = measured.measure != 0.0 ? measured.centroid() : bounds.centre();
+  const MassProperties mass_before =
+      MovedSecondMoment(measured, bounds.centre(), setup.mass_origin);
+  result.input_mass = Summarize(mass_before, closed, setup.mass_origin);
   const FieldResultants fields_before = MeasureFields(mesh, groups);
   setup.mass = &mass_before;
   setup.resultants = &fields_before;
@@ -350,7 +364,9 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
   result.output_vertices = mesh.CountLiveVertices();
   result.output_faces = mesh.CountLiveFaces();
   result.deviation_bound = MaxDeviationBound(mesh);
-  const MassProperties mass_after = MeasureMass(mesh, closed);
+  const MassProperties mass_after = MeasureMass(mesh, closed, setup.mass_origin);
+  result.output_mass = Summarize(mass_after, closed, setup.mass_origin);
+  result.inertia_change = PrincipalMomentChange(result.input_mass, result.output_mass);
   if (closed && mass_before.measure != 0.0)
     result.volume_change = (mass_after.measure - mass_before.measure) / mass_before.measure;
   if (mass_before.measure != 0.0 && mass_after.measure != 0.0 && diagonal > 0.0)

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "absl/status/statusor.h"
+#include "engine/inertia.h"
 #include "engine/mesh.h"
 #include "engine/repair.h"
 
@@ -76,6 +77,9 @@ struct SimplifyOptions {
   // Relative to the input volume; applies to closed meshes (an open one encloses none).
   double max_volume_change = 0.005;
   double max_centroid_shift = 0.0;  // relative to the bounding-box diagonal
+  // Relative change allowed of each principal moment of inertia (of the solid, or of the
+  // surface of an open mesh).
+  double max_inertia_change = 0.0;
   // Relative change allowed of each face field's resultant per group, measured against the
   // group's total absolute load (sum of |value| * area). Applies when the mesh has fields.
   double max_field_change = 0.01;
@@ -171,6 +175,10 @@ struct SimplifyResult {
   double volume_change = 0.0;     // relative, signed (closed meshes)
   double centroid_shift = 0.0;    // relative to the bounding-box diagonal
   double max_field_change = 0.0;  // worst relative resultant change over fields and groups
+  // Mass properties of the input and the output, and the largest relative change of a
+  // principal moment of inertia.
+  MassSummary input_mass, output_mass;
+  double inertia_change = 0.0;
 };
 
 struct SimplifyControl {

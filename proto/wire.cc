@@ -247,6 +247,36 @@ RepairReport RepairFromProto(const v1::RepairReport& in) {
   return r;
 }
 
+namespace {
+
+void MassToProto(const MassSummary& m, v1::MassProperties* out) {
+  out->set_solid(m.solid);
+  out->set_measure(m.measure);
+  for (double c : {m.centroid.x, m.centroid.y, m.centroid.z}) out->add_centroid(c);
+  for (int i = 0; i < 3; ++i) {
+    out->add_principal_moments(m.principal_moments[i]);
+    const DVec3& a = m.principal_axes[i];
+    for (double c : {a.x, a.y, a.z}) out->add_principal_axes(c);
+  }
+}
+
+MassSummary MassFromProto(const v1::MassProperties& in) {
+  MassSummary m;
+  m.solid = in.solid();
+  m.measure = in.measure();
+  const auto at = [](const auto& values, int i) { return i < values.size() ? values[i] : 0.0; };
+  m.centroid = {at(in.centroid(), 0), at(in.centroid(), 1), at(in.centroid(), 2)};
+  for (int i = 0; i < 3; ++i) {
+    m.principal_moments[i] = at(in.principal_moments(), i);
+    if (in.principal_axes_size() == 9)
+      m.principal_axes[i] = {in.principal_axes(3 * i), in.principal_axes(3 * i + 1),
+                             in.principal_axes(3 * i + 2)};
+  }
+  return m;
+}
+
+}  // namespace
+
 void FidelityToProto(const SimplifyResult& r, v1::Result* out) {
   out->set_feature_edges(r.feature_edges);
   out->set_corner_vertices(r.corner_vertices);
@@ -255,6 +285,9 @@ void FidelityToProto(const SimplifyResult& r, v1::Result* out) {
   out->set_volume_change(r.volume_change);
   out->set_centroid_shift(r.centroid_shift);
   out->set_max_field_change(r.max_field_change);
+  MassToProto(r.input_mass, out->mutable_input_mass());
+  MassToProto(r.output_mass, out->mutable_output_mass());
+  out->set_inertia_change(r.inertia_change);
 }
 
 void FidelityFromProto(const v1::Result& in, SimplifyResult* out) {
@@ -265,6 +298,9 @@ void FidelityFromProto(const v1::Result& in, SimplifyResult* out) {
   out->volume_change = in.volume_change();
   out->centroid_shift = in.centroid_shift();
   out->max_field_change = in.max_field_change();
+  out->input_mass = MassFromProto(in.input_mass());
+  out->output_mass = MassFromProto(in.output_mass());
+  out->inertia_change = in.inertia_change();
 }
 
 absl::Status CheckFieldNames(const google::protobuf::RepeatedPtrField<std::string>& names,

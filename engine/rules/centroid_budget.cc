@@ -11,7 +11,8 @@ class CentroidBudgetRule final : public MassBudgetRule {
       : MassBudgetRule(closed), max_distance_(max_shift * diagonal) {}
   Reject reason() const override { return Reject::kCentroid; }
   bool WithinBudget(const LedgerView& t, const CollapseDelta&) const override {
-    const MassProperties now{t.input.measure + t.spent.measure, t.input.moment + t.spent.moment};
+    const MassProperties now{
+        t.input.measure + t.spent.measure, t.input.moment + t.spent.moment, {}};
     return now.measure != 0.0 && !(Norm(now.centroid() - t.input.centroid()) > max_distance_);
   }
 

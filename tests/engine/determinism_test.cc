@@ -111,7 +111,7 @@ TEST(Deterministic, FreeScheduleRunsOnePhaseAPass) {
 // The ledger in a round judges each delta scaled by the winners against the round's starting
 // totals, and sums the accepted ones in vertex order afterwards.
 TEST(LedgerRounds, JudgesSharesAndSumsInVertexOrder) {
-  MassProperties input{1.0, {0, 0, 0}};
+  MassProperties input{1.0, {0, 0, 0}, {}};
   FieldResultants fields;
   MechanicsLedger ledger(input, fields);
   CollapseDelta d;

@@ -42,7 +42,7 @@ TEST(RuleSet, RulesFollowTheOptions) {
   setup.tolerance = 0.5f;
   setup.fields = 1;
   setup.closed = true;  // the volume budget applies to closed meshes only
-  const MassProperties mass{1.0, {0, 0, 0}};
+  const MassProperties mass{1.0, {0, 0, 0}, {}};
   const FieldResultants resultants;
   setup.mass = &mass;
   setup.resultants = &resultants;
@@ -221,24 +221,62 @@ TEST(Rules, FeatureLineFixesCornersAndKeepsVerticesOnTheirLine) {
   EXPECT_TRUE(corner.fixed);
 }
 
-TEST(Rules, VolumeBudgetIsSpentAgainstTheInput) {
-  SimplifyOptions o;
-  o.max_volume_change = 0.01;
-  const MassProperties input{100.0, {0, 0, 0}};
-  const FieldResultants none;
+// The rules of a run on a closed mesh whose measures are `input` (the budget rules' ledger).
+RuleSet ClosedMeshRules(const SimplifyOptions& o, const MassProperties& input,
+                        const FieldResultants& resultants) {
   RuleSetup setup;
   setup.closed = true;
   setup.mass = &input;
-  setup.resultants = &none;
-  const RuleSet set = RuleSet::Build(o, setup);
+  setup.resultants = &resultants;
+  return RuleSet::Build(o, setup);
+}
+
+TEST(Rules, VolumeBudgetIsSpentAgainstTheInput) {
+  SimplifyOptions o;
+  o.max_volume_change = 0.01;
+  const MassProperties input{100.0, {0, 0, 0}, {}};
+  const FieldResultants none;
+  const RuleSet set = ClosedMeshRules(o, input, none);
   const CollapseRule& volume = Only(set, RuleStage::kBudget, Reject::kVolume);
   const std::vector<DVec3> no_force;
   for (double spent : {0.5, -0.99, 1.01, -2.0}) {
-    const MassProperties change{spent, {0, 0, 0}};
+    const MassProperties change{spent, {0, 0, 0}, {}};
     EXPECT_EQ(volume.WithinBudget(LedgerView{input, change, none, no_force}, CollapseDelta{}),
               std::fabs(spent) <= 1.0)
         << spent;
   }
+}
+
+// The inertia budget: the input's moments are 4/15 each (the octahedron, second moment 2/15 on
+// the diagonal about its centroid at the origin); 1 % allows a spectral norm of 4/1500.
+TEST(Rules, InertiaBudgetBoundsTheChangeOfEveryPrincipalMoment) {
+  SimplifyOptions o;
+  o.max_inertia_change = 0.01;
+  MassProperties input{4.0 / 3.0, {0, 0, 0}, {}};
+  input.second = Sym3{2.0 / 15, 2.0 / 15, 2.0 / 15, 0, 0, 0};
+  const FieldResultants none;
+  const RuleSet set = ClosedMeshRules(o, input, none);
+  const CollapseRule& inertia = Only(set, RuleStage::kBudget, Reject::kInertia);
+  const std::vector<DVec3> no_force;
+  const auto within = [&](const MassProperties& spent) {
+    return inertia.WithinBudget(LedgerView{input, spent, none, no_force}, CollapseDelta{});
+  };
+  const double allowed = 0.01 * 4.0 / 15.0;
+  // A second moment change along one axis: InertiaOf has norm equal to it.
+  MassProperties spent;
+  spent.second = Sym3{0.9 * allowed, 0, 0, 0, 0, 0};
+  EXPECT_TRUE(within(spent));
+  spent.second = Sym3{0, 0, -1.1 * allowed, 0, 0, 0};
+  EXPECT_FALSE(within(spent));
+  // An off-diagonal change rotates the axes: its eigenvalues are +-xy.
+  spent.second = Sym3{0, 0, 0, 0.9 * allowed, 0, 0};
+  EXPECT_TRUE(within(spent));
+  // A shifted centroid adds |dm|^2 / M: dm = 0.03 gives 0.000675, over what 0.9 allowed leaves.
+  spent.moment = {0.03, 0, 0};
+  EXPECT_FALSE(within(spent));
+  // Losing the whole measure is never within.
+  spent = MassProperties{-4.0 / 3.0, {0, 0, 0}, {}};
+  EXPECT_FALSE(within(spent));
 }
 
 // A compound collapse (engine/seam_collapse.h) spends for all its copies or none: each change is
@@ -247,13 +285,9 @@ TEST(Rules, VolumeBudgetIsSpentAgainstTheInput) {
 TEST(Rules, CompoundCollapsesSpendTheBudgetsTogether) {
   SimplifyOptions o;
   o.max_volume_change = 0.01;  // 1.0 of the input's 100
-  const MassProperties input{100.0, {0, 0, 0}};
+  const MassProperties input{100.0, {0, 0, 0}, {}};
   const FieldResultants none;
-  RuleSetup setup;
-  setup.closed = true;
-  setup.mass = &input;
-  setup.resultants = &none;
-  const RuleSet set = RuleSet::Build(o, setup);
+  const RuleSet set = ClosedMeshRules(o, input, none);
   CollapseDelta small, large;
   small.mass.measure = 0.3;
   large.mass.measure = 0.6;

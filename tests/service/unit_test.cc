@@ -269,6 +269,12 @@ TEST(Wire, FidelityFiguresRoundTrip) {
   r.volume_change = -0.0125;
   r.centroid_shift = 1e-4;
   r.max_field_change = 0.008;
+  r.input_mass.solid = true;
+  r.input_mass.measure = 2.5;
+  r.input_mass.centroid = {1, -2, 3};
+  r.output_mass.principal_moments[2] = 7.25;
+  r.output_mass.principal_axes[1] = {0, 0, -1};
+  r.inertia_change = 0.004;
   v1::Result m;
   wire::FidelityToProto(r, &m);
   SimplifyResult back;
@@ -280,6 +286,14 @@ TEST(Wire, FidelityFiguresRoundTrip) {
   EXPECT_EQ(back.volume_change, -0.0125);
   EXPECT_EQ(back.centroid_shift, 1e-4);
   EXPECT_EQ(back.max_field_change, 0.008);
+  EXPECT_TRUE(back.input_mass.solid);
+  EXPECT_EQ(back.input_mass.measure, 2.5);
+  EXPECT_EQ(back.input_mass.centroid.y, -2);
+  EXPECT_FALSE(back.output_mass.solid);
+  EXPECT_EQ(back.output_mass.principal_moments[2], 7.25);
+  EXPECT_EQ(back.output_mass.principal_axes[1].z, -1);
+  EXPECT_EQ(back.output_mass.principal_axes[0].x, 1);
+  EXPECT_EQ(back.inertia_change, 0.004);
 }
 
 // A client's label, or a file name in a message, must not forge a log line or reach the
