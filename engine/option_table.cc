@@ -73,9 +73,12 @@ std::vector<OptionSpec> MakeTable() {
        .help = "do not check new triangles against the mesh (faster; output may self-intersect)",
        .field = &S::allow_self_intersections},
       {.name = "cost", .flag = "--cost", .section = "fidelity", .type = T::kEnum,
-       .help = "what orders the candidates: discrete Gaussian curvature or the quadric error of "
-               "the collapse",
-       .choices = {{"gaussian_curvature", "gaussian"}, {"quadric", "quadric"}}, .field = &S::cost},
+       .help = "what orders the candidates: discrete Gaussian curvature, the quadric error of "
+               "the collapse, or the deviation bound already spent around the vertex (spends the "
+               "tolerance evenly; without a tolerance, the Gaussian curvature)",
+       .choices = {{"gaussian_curvature", "gaussian"}, {"quadric", "quadric"},
+                   {"deviation", "deviation"}},
+       .field = &S::cost},
       {.name = "tolerance", .flag = "--tolerance", .metavar = "D", .section = "fidelity",
        .range = Range::AtLeast(0), .unit = "model units", .zero_means = "off",
        .help = "guaranteed (Hausdorff) deviation from the input", .field = &S::tolerance},

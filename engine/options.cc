@@ -24,6 +24,8 @@ const char* CostKindName(CostKind c) {
       return "gaussian_curvature";
     case CostKind::kQuadric:
       return "quadric";
+    case CostKind::kDeviation:
+      return "deviation";
   }
   return "unknown";
 }
@@ -51,6 +53,7 @@ SimplifyOptions PresetOptions(Preset preset) {
     o.strict_min_angle = true;
     o.allow_self_intersections = true;
     o.schedule = Schedule::kFree;
+    o.cost = CostKind::kGaussianCurvature;
   }
   return o;
 }

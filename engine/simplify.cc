@@ -264,6 +264,8 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
   std::unique_ptr<VertexCost> cost;
   if (quadric)
     cost = std::make_unique<QuadricCost>(mesh.quadrics());
+  else if (options.cost == CostKind::kDeviation && setup.tolerance > 0.0f)
+    cost = std::make_unique<DeviationCost>(mesh.face_attrs(), setup.tolerance);
   else
     cost = std::make_unique<GaussianCurvatureCost>();
   const KernelConfig kernel{&rules, quadric};

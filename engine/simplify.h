@@ -29,8 +29,10 @@ enum class Preset { kFe, kPaper };
 enum class Schedule { kDeterministic, kFree };
 
 // What orders the candidates of a pass (and, for the quadric, the collapse directions).
-enum class CostKind { kGaussianCurvature, kQuadric };
-const char* CostKindName(CostKind c);  // "gaussian_curvature", "quadric"
+// kDeviation: the deviation bound already spent around the vertex (the Gaussian curvature in a
+// run without a tolerance).
+enum class CostKind { kGaussianCurvature, kQuadric, kDeviation };
+const char* CostKindName(CostKind c);  // "gaussian_curvature", "quadric", "deviation"
 
 // Why a candidate was given up (each counted per pass): the rule that refused it
 // (engine/rules/rule_list.inc).
@@ -64,7 +66,7 @@ struct SimplifyOptions {
   int reconsider_every = 3;  // not-removable vertices become candidates again every Nth pass
   Schedule schedule = Schedule::kDeterministic;
   bool topology_only = false;
-  CostKind cost = CostKind::kGaussianCurvature;
+  CostKind cost = CostKind::kDeviation;
 
   // Fidelity (docs/FIDELITY.md). 0 turns a bound off.
   // Guaranteed two-sided (Hausdorff) deviation from the input surface, absolute and/or as a

@@ -6,7 +6,8 @@
 #   check_outputs.sh FEMSIMP DATA HASHES --update   record the current outputs
 # A deliberate change of behaviour records new hashes in the same commit and says why. The
 # sets recorded before the FE defaults run with --preset paper (the old defaults). The fe sets
-# changed with the deterministic schedule (rounds, bucketed costs with scattered ties).
+# changed with the deterministic schedule (rounds, bucketed costs with scattered ties), and again
+# when the deviation cost became the default order of tolerance runs.
 set -euo pipefail
 femsimp=$1 data=$2 hashes=$3 mode=${4:-check}
 declare -A option_sets=(
