@@ -69,3 +69,26 @@ def test_gmsh_model_strict_refuses_the_volume(server, gmsh_box, tmp_path):
     assert done.returncode == 4, done.stderr
     assert "tetra" in done.stderr and "strict" in done.stderr
     assert not (tmp_path / "o.msh").exists()
+
+
+def test_readme_example(server, tmp_path):
+    """The README's Python example, as written, against the test server."""
+    with open(os.path.join(REPO, "README.md")) as f:
+        text = f.read()
+    code = text.split("```python\n", 1)[1].split("```", 1)[0]
+    assert "127.0.0.1:50051" in code
+    script = tmp_path / "readme_example.py"
+    script.write_text(code.replace("127.0.0.1:50051", server.address))
+    done = subprocess.run([sys.executable, str(script)], cwd=tmp_path, capture_output=True,
+                          text=True, env={**os.environ, "PYTHONPATH": os.path.join(REPO, "python")})
+    assert done.returncode == 0, done.stderr
+    assert (tmp_path / "part-simplified.msh").exists()
+
+
+def test_example_script(server, tmp_path):
+    done = subprocess.run(
+        [sys.executable, os.path.join(REPO, "python", "examples", "gmsh_part.py"), server.address,
+         str(tmp_path / "part.msh")], capture_output=True, text=True,
+        env={**os.environ, "PYTHONPATH": os.path.join(REPO, "python")})
+    assert done.returncode == 0, done.stderr
+    assert "bore:" in done.stdout and "skin:" in done.stdout
