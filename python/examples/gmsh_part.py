@@ -43,6 +43,7 @@ def make_part():
 
 
 def main(server, out_path):
+    """Simplifies the part on `server`, writes `out_path` and checks both groups by name."""
     part = make_part()
     with femsimp.Client(server) as client, warnings.catch_warnings(record=True) as left_out:
         warnings.simplefilter("always", femsimp.FemsimpWarning)

@@ -99,17 +99,49 @@ def from_meshio(mesh, strict=False):
             problems.append(f"left out cell set '{name}': none of its cells is a triangle")
     _report(problems, strict)
 
-    key = np.column_stack(columns)
-    keys, inverse = np.unique(key, axis=0, return_inverse=True)
-    inverse = inverse.ravel()
+    keys, inverse = _unique_rows(columns)
     groups = (inverse + 1).astype(np.uint32) if len(keys) > 1 else None
-    used, local = np.unique(tris, return_inverse=True)
     points = np.asarray(mesh.points)
-    if len(used) and (used.min() < 0 or used.max() >= len(points)):
-        bad = int(np.flatnonzero((tris < 0) | (tris >= len(points)))[0] // 3)
+    if tris.size and (tris.min() < 0 or tris.max() >= len(points)):
+        bad = int(np.flatnonzero(((tris < 0) | (tris >= len(points))).any(axis=1))[0])
         raise MeshError(f"triangle {bad} references a point outside the model's {len(points)}")
-    surface = checked(points[used], local.reshape(-1, 3), groups, field_values)
+    # Only the points the triangles use are sent (a volume model's inner nodes are not).
+    used_mask = np.zeros(len(points), dtype=bool)
+    used_mask[tris.ravel()] = True
+    if used_mask.all():
+        used, local = np.arange(len(points)), tris
+    else:
+        used = np.flatnonzero(used_mask)
+        local = (np.cumsum(used_mask) - 1)[tris]
+    surface = checked(points[used], local, groups, field_values)
     return surface, _Plan(mesh, tri_ids, used, surface.points, keys, labels, fields, sets)
+
+
+def _unique_rows(columns):
+    """(unique key rows, index of each face's row), as np.unique(axis=0) but by one 1-D unique
+    of the columns' codes combined (np.unique over rows sorts bytes, several times slower)."""
+    values, codes, radix = [], [], 1
+    for col in columns:
+        v, inv = np.unique(col, return_inverse=True)
+        values.append(v)
+        codes.append(inv.ravel().astype(np.int64))
+        radix *= len(v)
+    if radix == 1:  # one block, no labels or sets: one group
+        return np.array([[v[0] for v in values]], dtype=np.int64), np.zeros(len(columns[0]),
+                                                                             dtype=np.int64)
+    if radix >= 2**62:
+        keys, inverse = np.unique(np.column_stack(columns), axis=0, return_inverse=True)
+        return keys, inverse.ravel()
+    combined = np.zeros(len(columns[0]), dtype=np.int64)
+    for v, code in zip(values, codes):
+        combined = combined * len(v) + code
+    unique, inverse = np.unique(combined, return_inverse=True)
+    keys = np.empty((len(unique), len(columns)), dtype=np.int64)
+    rest = unique
+    for j in range(len(columns) - 1, -1, -1):
+        keys[:, j] = values[j][rest % len(values[j])]
+        rest = rest // len(values[j])
+    return keys, inverse.ravel()
 
 
 def to_meshio(plan, points32, triangles, groups, fields):
@@ -154,7 +186,7 @@ def to_meshio(plan, points32, triangles, groups, fields):
             warnings.warn(f"cell block {i} (triangle) has no triangles left", FemsimpWarning,
                           stacklevel=3)
             continue
-        cells.append(("triangle", triangles[sel]))
+        cells.append(("triangle", triangles[sel].astype(np.asarray(m.cells[i].data).dtype)))
         for j, (name, dtype) in enumerate(plan.labels):
             cell_data[name].append(face_keys[sel, 1 + j].astype(dtype))
         for name, dtype in plan.fields:

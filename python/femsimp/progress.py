@@ -29,6 +29,7 @@ class ProgressBar:
                 f"rejected {sum(p.rejections.values())}, {p.seconds:.3f} s")
 
     def update(self, p):
+        """Redraws the line for Pass p."""
         self.stream.write("\r" + self.text(p) + "\x1b[K")
         self.stream.flush()
         self.drawn = True
@@ -40,6 +41,7 @@ class ProgressBar:
         self.stream.flush()
 
     def close(self):
+        """Ends the line, if one was drawn."""
         if self.drawn:
             self.stream.write("\n")
             self.stream.flush()
