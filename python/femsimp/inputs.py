@@ -71,7 +71,12 @@ def prepare(mesh, strict=False, output=None):
         if output is None:
             raise TypeError(f"simplify({str(path)!r}): a path input needs output=PATH")
         try:
-            model = meshio.read(path)
+            model = None
+            if path.suffix.lower() == ".ply":
+                from . import _fast_ply
+                model = _fast_ply.read(path)
+            if model is None:
+                model = meshio.read(path)
         except Exception as e:  # meshio raises ReadError, KeyError, ValueError...
             raise MeshError(f"{path}: cannot read it as a mesh: {e}") from e
         surface, plan = fe.from_meshio(model, strict)

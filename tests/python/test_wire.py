@@ -68,3 +68,26 @@ def test_assembler_refuses_what_the_result_did_not_declare():
                           np.empty(0, np.uint32), []))
     with pytest.raises(ValueError, match="received 3 of 4 vertices"):
         short.finish()
+
+
+def test_fast_ply_reads_what_meshio_reads(tmp_path):
+    from conftest import sphere_surface
+    import meshio
+    from femsimp import _fast_ply
+    points, triangles = sphere_surface(12)
+    path = tmp_path / "s.ply"
+    meshio.write(path, meshio.Mesh(points.astype(np.float32), [("triangle", triangles)]),
+                 binary=True)
+    fast, slow = _fast_ply.read(path), meshio.read(path)
+    assert fast is not None
+    assert np.array_equal(fast.points, slow.points)
+    assert np.array_equal(fast.cells[0].data, slow.cells[0].data)
+    # A face property besides the indices (a group): not the fast path.
+    faces = np.zeros(len(triangles), [("n", "u1"), ("i", "<i4", 3), ("group", "<i4")])
+    faces["n"], faces["i"], faces["group"] = 3, triangles, 7
+    header = (f"ply\nformat binary_little_endian 1.0\nelement vertex {len(points)}\n"
+              "property float x\nproperty float y\nproperty float z\n"
+              f"element face {len(triangles)}\nproperty list uchar int vertex_indices\n"
+              "property int group\nend_header\n")
+    path.write_bytes(header.encode() + points.astype("<f4").tobytes() + faces.tobytes())
+    assert _fast_ply.read(path) is None
