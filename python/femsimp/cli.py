@@ -75,6 +75,10 @@ def _simplify(a):
     except OptionError as e:
         print(f"femsimp: {e}", file=sys.stderr)
         return EXIT_USAGE
+    if a.deadline is not None and not a.deadline > 0:
+        print(f"femsimp: --deadline = {a.deadline} is out of range: must be > 0 seconds",
+              file=sys.stderr)
+        return EXIT_USAGE
     if a.max_attempts < 1 or a.max_attempts > 100:
         print(f"femsimp: --max-attempts = {a.max_attempts} is out of range: must be in [1, 100]",
               file=sys.stderr)
@@ -103,6 +107,9 @@ def _simplify(a):
         except OSError as e:
             print(f"femsimp: {a.output}: cannot write it: {e}", file=sys.stderr)
             return EXIT_OUTPUT_FAILED
+        except KeyboardInterrupt:  # the call was cancelled, so the server stops the job
+            print("femsimp: interrupted; the job was cancelled", file=sys.stderr)
+            return 20 + 1  # CANCELLED, as the C++ client
         finally:
             client.close()
     r = out.result
