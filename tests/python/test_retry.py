@@ -59,3 +59,25 @@ def test_wire_field_numbers_are_the_protos():
     assert pb2.FaceFieldValues.DESCRIPTOR.fields_by_name["values"].number == _wire._VALUES
     assert pb2.SimplifyRequest.DESCRIPTOR.fields_by_name["chunk"].number == _wire._REQ_CHUNK
     assert pb2.SimplifyResponse.DESCRIPTOR.fields_by_name["chunk"].number == _wire._RESP_CHUNK
+
+
+def test_an_edited_proto_gets_new_stubs(tmp_path):
+    """A field added to the proto (as parallel work adds them to Result and JobSpec) is in the
+    stubs at the next first use: a new cache folder, no stale copy."""
+    import shutil
+    import subprocess
+    import sys
+    from conftest import REPO
+    root = tmp_path / "proto"
+    shutil.copytree(_stubs.CHECKOUT_PROTO_ROOT, root)
+    proto = root / "femsimp" / "v1" / "femsimp.proto"
+    text = proto.read_text()
+    proto.write_text(text.replace("message Result {", "message Result {\n  string added_here = 999;", 1))
+    code = ("import femsimp, femsimp._stubs as s; s.CHECKOUT_PROTO_ROOT = %r; pb2, _ = s.load(); "
+            "print('added_here' in pb2.Result.DESCRIPTOR.fields_by_name, pb2.__file__)" % str(root))
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          env={**os.environ, "PYTHONPATH": os.path.join(REPO, "python"),
+                               "FEMSIMP_CACHE_DIR": str(tmp_path / "cache")})
+    assert done.returncode == 0, done.stderr
+    found, path = done.stdout.split()
+    assert found == "True" and path.startswith(str(tmp_path / "cache"))
