@@ -1,0 +1,165 @@
+"""Client against a real femsimp-server: each input kind comes back as itself, groups and fields
+carried, progress, cancel, jobs, and failures as FemsimpError with their status."""
+import threading
+
+import grpc
+import meshio
+import numpy as np
+import pytest
+
+from conftest import Server, box_surface, sphere_surface
+import femsimp
+
+
+def rows(a):
+    return {tuple(r) for r in np.asarray(a).tolist()}
+
+
+def test_numpy_arrays_in_numpy_arrays_out(client):
+    points, triangles, _ = box_surface(12)
+    out_points, out_triangles = client.simplify((points, triangles), ratio=0.2)
+    assert out_points.dtype == np.float64 and out_triangles.shape[1] == 3
+    assert len(out_triangles) < len(triangles)
+    # femsimp never moves a point: every output point is an input point, exactly.
+    assert rows(out_points) <= rows(points)
+    assert out_triangles.max() < len(out_points)
+
+
+def test_groups_and_fields_round_trip(client):
+    points, triangles, side = box_surface(12)
+    groups = (side + 1).astype(np.uint32)
+    pressure = np.where(side == 1, 2.5, 0.0)
+    out = client.simplify(femsimp.SurfaceMesh(points, triangles, groups, {"pressure": pressure}),
+                          tolerance_relative=0.01)
+    assert isinstance(out, femsimp.SurfaceMesh)
+    assert len(out.triangles) < len(triangles)
+    assert set(out.groups.tolist()) == set(range(1, 7))
+    # Each face keeps its side's group and pressure.
+    centroid = out.points[out.triangles].mean(axis=1)
+    side_of = np.argmax(np.abs(centroid - 0.5), axis=1) * 2 + (
+        centroid[np.arange(len(centroid)), np.argmax(np.abs(centroid - 0.5), axis=1)] > 0.5)
+    assert np.array_equal(out.groups, side_of + 1)
+    assert np.array_equal(out.fields["pressure"], np.where(side_of == 1, 2.5, 0.0))
+
+
+def test_meshio_in_meshio_out(client):
+    points, triangles = sphere_surface(30)
+    out = client.simplify(meshio.Mesh(points, [("triangle", triangles)]), ratio=0.3)
+    assert isinstance(out, meshio.Mesh)
+    assert [c.type for c in out.cells] == ["triangle"]
+    assert len(out.cells[0].data) < len(triangles)
+
+
+def test_path_in_path_out(client, tmp_path):
+    points, triangles = sphere_surface(30)
+    meshio.write(tmp_path / "in.stl", meshio.Mesh(points, [("triangle", triangles)]))
+    out = client.simplify(str(tmp_path / "in.stl"), output=tmp_path / "out.obj", ratio=0.3)
+    assert out == tmp_path / "out.obj"
+    assert len(meshio.read(out).cells[0].data) < len(triangles)
+
+
+def test_progress_callback_once_per_pass(client):
+    points, triangles = sphere_surface(40)
+    seen = []
+    outcome = client.run((points, triangles), progress=seen.append, ratio=0.05)
+    assert [p.number for p in seen] == list(range(1, outcome.result.passes + 1))
+    assert all(p.job_id == outcome.job_id for p in seen)
+    assert seen[-1].vertices_left == outcome.result.output_vertices
+    assert outcome.attempts == 1
+
+
+def test_progress_bar_drawn_per_pass(client, capsys):
+    points, triangles = sphere_surface(20)
+    with femsimp.Client(client.address, progress_bar=True) as c:
+        outcome = c.run((points, triangles), ratio=0.2)
+    err = capsys.readouterr().err
+    assert err.count("\r[") == outcome.result.passes
+    assert f"pass {outcome.result.passes}:" in err
+
+
+def test_cancel_on_the_server(client):
+    points, triangles = sphere_surface(160)  # ~51 k faces, many small passes
+    previous = []
+
+    def on_pass(p):
+        if p.number == 1:
+            previous.append(client.cancel(p.job_id))
+
+    with pytest.raises(femsimp.FemsimpError) as e:
+        client.simplify((points, triangles), progress=on_pass, ratio=0.01, threads=1,
+                        candidate_fraction=0.05)
+    assert e.value.code == grpc.StatusCode.CANCELLED
+    assert previous == ["RUNNING"]
+    job = next(j for j in client.jobs() if j.job_id == e.value.job_id)
+    assert job.state == "CANCELLED"
+
+
+def test_cancel_from_the_client(client):
+    points, triangles = sphere_surface(160)
+    started = threading.Event()
+
+    def on_pass(p):
+        client.cancel()  # this client's running calls; not retried
+        started.set()
+
+    with pytest.raises(femsimp.FemsimpError) as e:
+        client.simplify((points, triangles), progress=on_pass, ratio=0.01, threads=1,
+                        candidate_fraction=0.05)
+    assert started.is_set()
+    assert e.value.code == grpc.StatusCode.CANCELLED and e.value.attempts == 1
+
+
+def test_jobs_list_the_finished_job(client):
+    points, triangles = sphere_surface(10)
+    outcome = client.run((points, triangles), label="jobs-test", ratio=0.5)
+    job = next(j for j in client.jobs() if j.job_id == outcome.job_id)
+    assert job.label == "jobs-test" and job.state == "SUCCEEDED" and job.status_code == "OK"
+
+
+def test_server_down_is_unavailable_after_the_attempts():
+    s = Server()
+    address = s.address
+    s.stop()
+    with femsimp.Client(address, max_attempts=2) as c:
+        with pytest.raises(femsimp.FemsimpError) as e:
+            c.simplify(sphere_surface(10), ratio=0.5)
+    assert e.value.code == grpc.StatusCode.UNAVAILABLE
+    assert e.value.attempts == 2 and "gave up after 2 attempts" in str(e.value)
+    assert e.value.exit_code == 34
+
+
+def test_invalid_mesh_is_invalid_argument(client):
+    points, triangles = sphere_surface(10)
+    doubled = np.concatenate([triangles, triangles[:1]])  # a duplicate facet
+    with pytest.raises(femsimp.FemsimpError) as e:
+        client.simplify((points, doubled), repair="off")
+    assert e.value.code == grpc.StatusCode.INVALID_ARGUMENT
+    assert "duplicate" in e.value.details
+
+
+def test_bad_arrays_refused_before_upload(client):
+    points, triangles = sphere_surface(10)
+    bad = triangles.copy()
+    bad[5, 1] = len(points)
+    with pytest.raises(femsimp.MeshError, match=f"face 5 references vertex .* {len(points)} "
+                       "points"):
+        client.simplify((points, bad))
+    nan = points.copy()
+    nan[3, 2] = np.nan
+    with pytest.raises(femsimp.MeshError, match="vertex 3 has a non-finite coordinate"):
+        client.simplify((nan, triangles))
+
+
+def test_server_option_rule_is_invalid_argument(client):
+    # A rule between options is the server's: cell options need the cell back end.
+    with pytest.raises(femsimp.FemsimpError) as e:
+        client.simplify(sphere_surface(10), cell_ls_cache_kib=100, backend="cell")
+    assert e.value.code == grpc.StatusCode.INVALID_ARGUMENT
+    assert "ls_cache_kib" in e.value.details
+
+
+def test_deadline_exceeded(client):
+    points, triangles = sphere_surface(160)
+    with pytest.raises(femsimp.FemsimpError) as e:
+        client.simplify((points, triangles), deadline=0.001, ratio=0.01)
+    assert e.value.code == grpc.StatusCode.DEADLINE_EXCEEDED
