@@ -25,7 +25,7 @@ def test_names_defaults_ranges():
     assert o["tolerance_relative"].flag == "--tolerance-relative"
     assert o["min_angle_deg"].range_text() == "in [0, 60) degrees"
     assert o["cell.spes"].keyword == "cell_spes" and o["cell.spes"].kind == "int"
-    assert o["cost"].default == "gaussian_curvature"
+    assert o["cost"].default == "deviation"
 
 
 def test_unknown_option_raises_before_any_connection():
