@@ -89,6 +89,7 @@ flags::FlagSet SimplifyFlags(SimplifyArgs* out) {
                       "a backoff (0.25 s doubling up to 8 s, +-20 %) or the server's pushback; "
                       "--deadline bounds all attempts together"},
              &out->max_attempts);
+  AddSecurityFlags(set, &out->security);
   return set;
 }
 
@@ -170,6 +171,8 @@ absl::StatusOr<SimplifyArgs> ParseSimplifyArgs(const std::vector<std::string>& a
     return absl::InvalidArgumentError("--deadline and --label need --server");
   if (parsed->Given("--max-attempts") && out.server.empty())
     return absl::InvalidArgumentError("--max-attempts needs --server");
+  if (out.security.any() && out.server.empty())
+    return absl::InvalidArgumentError("--tls, --tls-*-file and --token-file need --server");
   // The rules between options (the engine's words).
   if (absl::Status s = ValidateOptions(out.options); !s.ok()) return s;
   return out;

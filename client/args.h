@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "absl/status/statusor.h"
+#include "client/security_flags.h"
 #include "common/flags.h"
 #include "engine/simplify.h"
 
@@ -19,6 +20,7 @@ struct SimplifyArgs {
   double deadline_seconds = 0.0;  // remote only; 0 = no deadline
   std::string label;              // remote only; shown in the server's job list and logs
   int max_attempts = 5;           // remote only; calls per job, retries included (retry.h)
+  SecurityFlags security;         // remote only: TLS and the bearer token
   bool quiet = false;             // no per-pass rows
   bool drop_face_data = false;    // write OUT without the face groups/fields its format lacks
   bool repair_details = false;    // every repair record in the summary (else the first few)

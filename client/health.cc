@@ -6,6 +6,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "client/args.h"
+#include "client/channel_security.h"
 #include "client/exit_codes.h"
 #include "client/remote_call.h"
 #include "common/flags.h"
@@ -19,6 +20,7 @@ flags::FlagSet HealthFlags(HealthArgs* h) {
   flags::FlagSet set("femsimp health");
   set.Value("--server", "HOST:PORT", "the server (or a load balancer in front of replicas)",
             ServerAddressSetter("--server", &h->server));
+  AddSecurityFlags(set, &h->security);
   set.String("--service", "NAME",
              "a single service, e.g. femsimp.v1.Simplifier (default: the whole server)",
              &h->service);
@@ -65,14 +67,20 @@ absl::StatusOr<HealthArgs> ParseHealthArgs(const std::vector<std::string>& args)
 }
 
 HealthOutcome CheckHealth(const HealthArgs& args) {
-  auto stub = grpc::health::v1::Health::NewStub(MakeChannel(args.server));
+  HealthOutcome out;
+  absl::StatusOr<ChannelSecurity> security = ResolveSecurity(args.security);
+  if (!security.ok()) {
+    out.status =
+        grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, std::string(security.status().message()));
+    return out;
+  }
+  auto stub = grpc::health::v1::Health::NewStub(MakeChannel(args.server, *security));
   grpc::ClientContext ctx;
   ctx.set_deadline(std::chrono::system_clock::now() +
                    std::chrono::microseconds(static_cast<int64_t>(args.timeout_seconds * 1e6)));
   grpc::health::v1::HealthCheckRequest req;
   req.set_service(args.service);
   grpc::health::v1::HealthCheckResponse resp;
-  HealthOutcome out;
   out.status = stub->Check(&ctx, req, &resp);
   if (out.status.ok())
     out.serving_status = grpc::health::v1::HealthCheckResponse::ServingStatus_Name(resp.status());

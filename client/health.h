@@ -3,7 +3,9 @@
 #pragma once
 
 #include <string>
+
 #include <vector>
+#include "client/security_flags.h"
 
 #include "absl/status/statusor.h"
 #include "grpcpp/support/status.h"
@@ -15,6 +17,7 @@ struct HealthArgs {
   std::string service;  // "" asks for the server as a whole
   double timeout_seconds = 5.0;
   bool help = false;
+  SecurityFlags security;
 };
 
 std::string HealthUsage();

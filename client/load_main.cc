@@ -15,6 +15,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "client/args.h"
+#include "client/channel_security.h"
 #include "client/exit_codes.h"
 #include "client/remote_call.h"
 #include "client/retry.h"
@@ -44,12 +45,14 @@ struct Config {
   std::string jobs_report;
   bool json = false;
   std::vector<std::string> meshes;
+  SecurityFlags security;
 };
 
 flags::FlagSet LoadFlags(Config* c) {
   flags::FlagSet set("femsimp-load");
   set.Value("--server", "HOST:PORT", "femsimp-server to load",
             ServerAddressSetter("--server", &c->server));
+  AddSecurityFlags(set, &c->security);
   set.Number({.name = "--clients",
               .metavar = "C",
               .help = "concurrent clients (each its own channel)",
@@ -194,6 +197,11 @@ int main(int argc, char** argv) {
     PrintError("femsimp-load: %s (see --help)\n", std::string(cfg.status().message()).c_str());
     return kExitUsage;
   }
+  absl::StatusOr<ChannelSecurity> security = ResolveSecurity(cfg->security);
+  if (!security.ok()) {
+    PrintError("femsimp-load: %s\n", std::string(security.status().message()).c_str());
+    return kExitUsage;
+  }
   std::vector<RawMesh> meshes;
   std::vector<SoupTopology> topologies;
   for (const std::string& path : cfg->meshes) {
@@ -232,7 +240,7 @@ int main(int argc, char** argv) {
   for (int c = 0; c < cfg->clients; ++c) {
     clients.emplace_back([&, c] {
       // One channel (connection) per client, like separate client processes.
-      std::shared_ptr<grpc::Channel> channel = MakeChannel(cfg->server, c);
+      std::shared_ptr<grpc::Channel> channel = MakeChannel(cfg->server, *security, c);
       auto stub = v1::Simplifier::NewStub(channel);
       long long index;
       while (more(&index)) {

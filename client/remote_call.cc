@@ -3,13 +3,52 @@
 #include "absl/strings/match.h"
 #include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
+#include "client/channel_security.h"
 #include "grpcpp/create_channel.h"
 #include "grpcpp/security/credentials.h"
+#include "grpcpp/support/client_interceptor.h"
 #include "proto/wire.h"
 
 namespace femsimp::cli {
 
+namespace {
+
+// Adds the bearer token to every call's initial metadata (a plaintext channel cannot carry call
+// credentials, and the token must reach a server behind a TLS-terminating proxy too).
+class BearerToken final : public grpc::experimental::Interceptor {
+ public:
+  explicit BearerToken(const std::string& value) : value_(value) {}
+  void Intercept(grpc::experimental::InterceptorBatchMethods* methods) override {
+    if (methods->QueryInterceptionHookPoint(
+            grpc::experimental::InterceptionHookPoints::PRE_SEND_INITIAL_METADATA))
+      methods->GetSendInitialMetadata()->insert({"authorization", value_});
+    methods->Proceed();
+  }
+
+ private:
+  const std::string& value_;
+};
+
+class BearerTokenFactory final : public grpc::experimental::ClientInterceptorFactoryInterface {
+ public:
+  explicit BearerTokenFactory(std::string token) : value_("Bearer " + std::move(token)) {}
+  grpc::experimental::Interceptor* CreateClientInterceptor(
+      grpc::experimental::ClientRpcInfo*) override {
+    return new BearerToken(value_);
+  }
+
+ private:
+  const std::string value_;  // outlives the channel's calls: the channel owns the factory
+};
+
+}  // namespace
+
 std::shared_ptr<grpc::Channel> MakeChannel(const std::string& target, int channel_index) {
+  return MakeChannel(target, ChannelSecurity{}, channel_index);
+}
+
+std::shared_ptr<grpc::Channel> MakeChannel(const std::string& target,
+                                           const ChannelSecurity& security, int channel_index) {
   grpc::ChannelArguments args;
   if (channel_index) args.SetInt("femsimp.channel_index", channel_index);
   args.SetMaxReceiveMessageSize(64 << 20);
@@ -20,7 +59,13 @@ std::shared_ptr<grpc::Channel> MakeChannel(const std::string& target, int channe
   // A target that resolves to several replicas (a headless Service via dns:///, or
   // ipv4:a:p,b:p) gets calls spread over all of them; a single address works as before.
   args.SetLoadBalancingPolicyName("round_robin");
-  return grpc::CreateCustomChannel(target, grpc::InsecureChannelCredentials(), args);
+  const std::shared_ptr<grpc::ChannelCredentials> credentials =
+      security.credentials ? security.credentials : grpc::InsecureChannelCredentials();
+  if (security.token.empty()) return grpc::CreateCustomChannel(target, credentials, args);
+  std::vector<std::unique_ptr<grpc::experimental::ClientInterceptorFactoryInterface>> factories;
+  factories.push_back(std::make_unique<BearerTokenFactory>(security.token));
+  return grpc::experimental::CreateCustomChannelWithInterceptors(target, credentials, args,
+                                                                 std::move(factories));
 }
 
 RemoteOutcome RemoteSimplify(v1::Simplifier::Stub& stub, grpc::ClientContext& ctx, v1::JobSpec spec,

@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 
+#include "client/channel_security.h"
 #include "engine/raw_mesh.h"
 #include "femsimp/v1/femsimp.grpc.pb.h"
 #include "grpcpp/channel.h"
@@ -44,6 +45,9 @@ RemoteOutcome RemoteSimplify(v1::Simplifier::Stub& stub, grpc::ClientContext& ct
 // A distinct channel_index gives a channel of its own (gRPC shares connections between channels
 // with equal arguments).
 std::shared_ptr<grpc::Channel> MakeChannel(const std::string& target, int channel_index = 0);
+// The same with TLS and a bearer token on every call (client/channel_security.h).
+std::shared_ptr<grpc::Channel> MakeChannel(const std::string& target,
+                                           const ChannelSecurity& security, int channel_index = 0);
 
 }  // namespace femsimp::cli
 

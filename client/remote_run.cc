@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "absl/strings/str_format.h"
+#include "client/channel_security.h"
 #include "client/exit_codes.h"
 #include "client/remote_call.h"
 #include "client/report.h"
@@ -65,8 +66,13 @@ int RunRemote(const SimplifyArgs& args) {
   wire::ToProto(args.options, args.threads_given, spec.mutable_options());
   spec.set_client_label(args.label.empty() ? args.input : args.label);
 
+  absl::StatusOr<ChannelSecurity> security = ResolveSecurity(args.security);
+  if (!security.ok()) {
+    PrintError("femsimp: %s\n", std::string(security.status().message()).c_str());
+    return kExitUsage;
+  }
   RetryOptions retry;
-  retry.channel = MakeChannel(args.server);
+  retry.channel = MakeChannel(args.server, *security);
   auto stub = v1::Simplifier::NewStub(retry.channel);
   retry.policy.max_attempts = args.max_attempts;
   if (args.deadline_seconds > 0)

@@ -130,14 +130,14 @@ def rendered_objects():
 def parse_flags(lines):
     flags = {}
     for line in lines:
-        line = line.strip()
-        if not line:
+        line = line.split(" #", 1)[0].strip()  # a compose list item's trailing comment
+        if not line or line.startswith("#"):  # the flagfile's comments
             continue
-        m = re.fullmatch(r"--([a-z_]+)=(.*)", line)
+        m = re.fullmatch(r"--([a-z_]+)(?:=(.*))?", line)
         if not m:
-            problem(f"flag line {line!r} is not --name=value")
+            problem(f"flag line {line!r} is not --name=value or a --switch")
             continue
-        flags[m.group(1)] = m.group(2)
+        flags[m.group(1)] = m.group(2) if m.group(2) is not None else "true"
     return flags
 
 

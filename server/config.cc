@@ -31,6 +31,21 @@ void AddServerFlags(flags::FlagSet& set, ServerConfig* c) {
   const ServerConfig d;  // the defaults, as ServerConfig has them
   set.String("--listen", "HOST:PORT", absl::StrCat("gRPC address (default ", d.listen, ")"),
              &c->listen);
+  set.String("--tls_cert_file", "FILE",
+             "serve TLS with this PEM certificate chain (with --tls_key_file)", &c->tls_cert_file);
+  set.String("--tls_key_file", "FILE", "the PEM private key of --tls_cert_file", &c->tls_key_file);
+  set.String("--tls_client_ca_file", "FILE",
+             "mutual TLS: require client certificates signed by this PEM CA",
+             &c->tls_client_ca_file);
+  set.Switch("--plaintext_remote",
+             "allow plaintext on an address reachable from the network (without TLS the server "
+             "otherwise listens on loopback addresses only), e.g. behind a TLS-terminating proxy",
+             &c->plaintext_remote);
+  set.String("--auth_tokens_file", "FILE",
+             "tenants by bearer token: CSV lines 'token,tenant' (Kubernetes static-token-file "
+             "style); a call without a valid token gets UNAUTHENTICATED, a tenant sees only its "
+             "own jobs",
+             &c->auth_tokens_file);
   set.Switch("--reflection",
              "serve gRPC server reflection (lists the services to any client; default off)",
              &c->reflection);

@@ -37,6 +37,10 @@ struct ServerConfig {
   // a process it stays on for every server started after (gRPC's library registers it globally
   // when loaded; FemsimpServer::Start loads it only for this).
   bool reflection = false;
+  // Transport security (server/transport_security.h) and tenants (server/auth.h): empty is off.
+  std::string tls_cert_file, tls_key_file, tls_client_ca_file;
+  bool plaintext_remote = false;  // allow plaintext on an address reachable from the network
+  std::string auth_tokens_file;
 };
 
 // femsimp-server's flags (--listen, --workers, --threads_per_job, ...), storing into *c, with

@@ -12,9 +12,10 @@ double Seconds(Job::Clock::time_point a, Job::Clock::time_point b) {
 }  // namespace
 
 Job::Job(std::string id, std::string label, SimplifyOptions options, uint64_t vertices,
-         uint64_t faces)
+         uint64_t faces, std::string tenant)
     : id_(std::move(id)),
       label_(std::move(label)),
+      tenant_(std::move(tenant)),
       options_(options),
       input_vertices_(vertices),
       input_faces_(faces) {}

@@ -40,14 +40,15 @@ class Job {
  public:
   using Clock = std::chrono::steady_clock;
 
-  Job(std::string id, std::string label, SimplifyOptions options, uint64_t vertices,
-      uint64_t faces);
+  Job(std::string id, std::string label, SimplifyOptions options, uint64_t vertices, uint64_t faces,
+      std::string tenant = "");
   Job(const Job&) = delete;
   Job& operator=(const Job&) = delete;
 
   // Constant facts; any thread, no lock.
   const std::string& id() const { return id_; }
   const std::string& label() const { return label_; }
+  const std::string& tenant() const { return tenant_; }  // "" without tenants
   const SimplifyOptions& options() const { return options_; }
   uint64_t input_vertices() const { return input_vertices_; }
   uint64_t input_faces() const { return input_faces_; }
@@ -109,7 +110,7 @@ class Job {
   double QueuedSecondsLocked(Clock::time_point now) const;
   double RunSecondsLocked(Clock::time_point now) const;
 
-  const std::string id_, label_;
+  const std::string id_, label_, tenant_;
   const SimplifyOptions options_;
   const uint64_t input_vertices_, input_faces_;
   const Clock::time_point created_ = Clock::now();

@@ -10,6 +10,7 @@
 #include "grpcpp/security/server_credentials.h"
 #include "grpcpp/server_builder.h"
 #include "server/log.h"
+#include "server/transport_security.h"
 
 namespace femsimp::server {
 namespace {
@@ -42,15 +43,29 @@ absl::Status FemsimpServer::Start() {
   if (!config_.metrics_listen.empty())
     if (absl::Status s = metrics_.StartExposer(config_.metrics_listen); !s.ok()) return s;
 
+  TokenAuthenticator auth;
+  if (!config_.auth_tokens_file.empty()) {
+    absl::StatusOr<TokenAuthenticator> loaded =
+        TokenAuthenticator::FromFile(config_.auth_tokens_file);
+    if (!loaded.ok()) return loaded.status();
+    auth = *std::move(loaded);
+  }
   runner_ = std::make_unique<JobRunner>(config_.workers, queue_, registry_, metrics_);
-  service_ = std::make_unique<SimplifierService>(config_, queue_, registry_, *runner_, metrics_);
+  service_ = std::make_unique<SimplifierService>(config_, queue_, registry_, *runner_, metrics_,
+                                                 std::move(auth));
   grpc::EnableDefaultHealthCheckService(true);
   if (config_.reflection)
     if (absl::Status s = LoadReflection(); !s.ok()) return s;
+  absl::StatusOr<std::shared_ptr<grpc::ServerCredentials>> credentials =
+      ListeningCredentials(config_);
+  if (!credentials.ok()) {
+    runner_.reset();
+    return credentials.status();
+  }
   grpc::ServerBuilder builder;
   // A second server on a taken port must fail, not share it (gRPC sets SO_REUSEPORT otherwise).
   builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
-  builder.AddListeningPort(config_.listen, grpc::InsecureServerCredentials(), &port_);
+  builder.AddListeningPort(config_.listen, *credentials, &port_);
   builder.SetMaxReceiveMessageSize(static_cast<int>(
       std::min<uint64_t>(config_.max_request_bytes, std::numeric_limits<int>::max())));
   builder.RegisterService(service_.get());
@@ -70,7 +85,10 @@ absl::Status FemsimpServer::Start() {
       "), metrics on ", config_.metrics_listen.empty() ? "(off)" : config_.metrics_listen,
       " (port ", metrics_.port(), "), workers=", config_.workers,
       " queue_capacity=", config_.queue_capacity, " threads_per_job=", config_.threads_per_job,
-      " reflection=", config_.reflection ? "on" : "off"));
+      " reflection=", config_.reflection ? "on" : "off",
+      " transport=", TransportDescription(config_), " tenants=",
+      service_->tenants() > 0 ? absl::StrCat(service_->tenants(), " (bearer tokens)")
+                              : std::string("off")));
   return absl::OkStatus();
 }
 

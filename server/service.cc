@@ -93,8 +93,14 @@ std::optional<std::string> OverServerLimits(const SimplifyOptions& o, const Serv
 }  // namespace
 
 SimplifierService::SimplifierService(const ServerConfig& config, JobQueue& queue,
-                                     JobRegistry& registry, JobRunner& runner, Metrics& metrics)
-    : config_(config), queue_(queue), registry_(registry), runner_(runner), metrics_(metrics) {}
+                                     JobRegistry& registry, JobRunner& runner, Metrics& metrics,
+                                     TokenAuthenticator auth)
+    : config_(config),
+      queue_(queue),
+      registry_(registry),
+      runner_(runner),
+      metrics_(metrics),
+      auth_(std::move(auth)) {}
 
 void SimplifierService::UpdateQueueGauge() { metrics_.SetQueueDepth(queue_.waiting()); }
 
@@ -102,6 +108,8 @@ grpc::Status SimplifierService::Simplify(grpc::ServerContext* ctx, Stream* strea
   grpc::Status status = [&]() -> grpc::Status {
     if (shutting_down_.load())
       return grpc::Status(grpc::StatusCode::UNAVAILABLE, "server is shutting down");
+    std::string tenant;
+    if (grpc::Status s = auth_.Authenticate(*ctx, &tenant); !s.ok()) return s;
     CallWatchdog::Watch upload(watchdog_, ctx,
                                {.idle_seconds = config_.upload_idle_seconds,
                                 .deadline_seconds = config_.upload_deadline_seconds,
@@ -137,7 +145,7 @@ grpc::Status SimplifierService::Simplify(grpc::ServerContext* ctx, Stream* strea
                                        config_.retry_pushback_ms, " ms"));
     }
     auto job = std::make_shared<Job>(registry_.NewId(), spec->client_label(), *options,
-                                     spec->vertex_count(), spec->face_count());
+                                     spec->vertex_count(), spec->face_count(), tenant);
     registry_.Add(job);
     grpc::Status s;
     try {
@@ -315,37 +323,48 @@ grpc::Status CheckJobId(const std::string& id) {
 
 }  // namespace
 
-grpc::Status SimplifierService::GetJob(grpc::ServerContext*, const v1::GetJobRequest* req,
+grpc::Status SimplifierService::FindOwnJob(const grpc::ServerContext* ctx, const std::string& id,
+                                           std::shared_ptr<Job>* job) const {
+  std::string tenant;
+  if (grpc::Status s = auth_.Authenticate(*ctx, &tenant); !s.ok()) return s;
+  if (grpc::Status s = CheckJobId(id); !s.ok()) return s;
+  *job = registry_.Find(id);
+  if (*job == nullptr || (*job)->tenant() != tenant)
+    return grpc::Status(grpc::StatusCode::NOT_FOUND, absl::StrCat("no job '", id, "'"));
+  return grpc::Status::OK;
+}
+
+grpc::Status SimplifierService::GetJob(grpc::ServerContext* ctx, const v1::GetJobRequest* req,
                                        v1::JobInfo* resp) {
-  if (grpc::Status s = CheckJobId(req->job_id()); !s.ok()) return s;
-  std::shared_ptr<Job> job = registry_.Find(req->job_id());
-  if (!job)
-    return grpc::Status(grpc::StatusCode::NOT_FOUND, absl::StrCat("no job '", req->job_id(), "'"));
+  std::shared_ptr<Job> job;
+  if (grpc::Status s = FindOwnJob(ctx, req->job_id(), &job); !s.ok()) return s;
   job->Describe(resp, queue_.Position(job.get()));
   return grpc::Status::OK;
 }
 
-grpc::Status SimplifierService::CancelJob(grpc::ServerContext*, const v1::CancelJobRequest* req,
+grpc::Status SimplifierService::CancelJob(grpc::ServerContext* ctx, const v1::CancelJobRequest* req,
                                           v1::CancelJobResponse* resp) {
-  if (grpc::Status s = CheckJobId(req->job_id()); !s.ok()) return s;
-  std::shared_ptr<Job> job = registry_.Find(req->job_id());
-  if (!job)
-    return grpc::Status(grpc::StatusCode::NOT_FOUND, absl::StrCat("no job '", req->job_id(), "'"));
+  std::shared_ptr<Job> job;
+  if (grpc::Status s = FindOwnJob(ctx, req->job_id(), &job); !s.ok()) return s;
   const JobState found = job->RequestCancel(grpc::StatusCode::CANCELLED, "cancelled by CancelJob");
   resp->set_previous_state(ToProto(found));
   if (!IsEnded(found)) LogLine(absl::StrCat("job ", job->id(), ": CancelJob"));
   return grpc::Status::OK;
 }
 
-grpc::Status SimplifierService::ListJobs(grpc::ServerContext*, const v1::ListJobsRequest* req,
+grpc::Status SimplifierService::ListJobs(grpc::ServerContext* ctx, const v1::ListJobsRequest* req,
                                          v1::ListJobsResponse* resp) {
+  std::string tenant;
+  if (grpc::Status s = auth_.Authenticate(*ctx, &tenant); !s.ok()) return s;
   for (const auto& job : registry_.List(req->include_finished()))
-    job->Describe(resp->add_jobs(), queue_.Position(job.get()));
+    if (job->tenant() == tenant) job->Describe(resp->add_jobs(), queue_.Position(job.get()));
   return grpc::Status::OK;
 }
 
-grpc::Status SimplifierService::ServerInfo(grpc::ServerContext*, const v1::ServerInfoRequest*,
+grpc::Status SimplifierService::ServerInfo(grpc::ServerContext* ctx, const v1::ServerInfoRequest*,
                                            v1::ServerInfoResponse* resp) {
+  std::string tenant;
+  if (grpc::Status s = auth_.Authenticate(*ctx, &tenant); !s.ok()) return s;
   resp->set_version(kVersion);
   resp->add_backends("native");
   resp->add_backends("cell");

@@ -4,6 +4,7 @@
 #include <atomic>
 
 #include "femsimp/v1/femsimp.grpc.pb.h"
+#include "server/auth.h"
 #include "server/call_watchdog.h"
 #include "server/config.h"
 #include "server/job_queue.h"
@@ -18,7 +19,8 @@ inline constexpr char kVersion[] = "0.1.0";
 class SimplifierService final : public v1::Simplifier::Service {
  public:
   SimplifierService(const ServerConfig& config, JobQueue& queue, JobRegistry& registry,
-                    JobRunner& runner, Metrics& metrics);
+                    JobRunner& runner, Metrics& metrics, TokenAuthenticator auth = {});
+  size_t tenants() const { return auth_.tenants(); }
 
   grpc::Status Simplify(
       grpc::ServerContext* ctx,
@@ -47,6 +49,10 @@ class SimplifierService final : public v1::Simplifier::Service {
                       grpc::ServerReaderWriter<v1::SimplifyResponse, v1::SimplifyRequest>* stream,
                       const std::shared_ptr<Job>& job, const RepairReport& repair);
   void UpdateQueueGauge();
+  // The caller's job `id`, when it exists and is the caller's tenant's (another tenant's job is
+  // NOT_FOUND, as if it did not exist).
+  grpc::Status FindOwnJob(const grpc::ServerContext* ctx, const std::string& id,
+                          std::shared_ptr<Job>* job) const;
 
   const ServerConfig& config_;
   JobQueue& queue_;
@@ -55,6 +61,7 @@ class SimplifierService final : public v1::Simplifier::Service {
   Metrics& metrics_;
   CallWatchdog watchdog_;
   std::atomic<bool> shutting_down_{false};
+  const TokenAuthenticator auth_;
 };
 
 }  // namespace femsimp::server
