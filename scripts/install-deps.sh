@@ -7,6 +7,7 @@ packages=(
   prometheus-cpp-dev libopenmesh-dev libgtest-dev libgmock-dev libbenchmark-dev
   libmeshoptimizer-dev libcgal-dev libgmp-dev libmpfr-dev libeigen3-dev
   python3-grpcio grpc-proto curl tetgen gnuplot-nox nginx-light python3-gmsh python3-numpy
+  calculix-ccx  # femsimp check and --fe-check (with tetgen): the CalculiX solver, ccx
   gdb  # scripts/watchdog.sh prints a hung test's stacks
   clang libclang-rt-14-dev  # the readers' fuzz target (libFuzzer, ASan, UBSan)
 )
