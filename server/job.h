@@ -26,6 +26,7 @@
 #include "engine/mesh.h"
 #include "engine/prepare.h"
 #include "engine/simplify.h"
+#include "fecheck/fe_check.h"
 #include "femsimp/v1/femsimp.pb.h"
 #include "grpcpp/support/status.h"
 
@@ -40,8 +41,9 @@ class Job {
  public:
   using Clock = std::chrono::steady_clock;
 
-  Job(std::string id, std::string label, SimplifyOptions options, uint64_t vertices,
-      uint64_t faces);
+  // fe_check: run the FE check on the input and the output after the simplification.
+  Job(std::string id, std::string label, SimplifyOptions options, uint64_t vertices, uint64_t faces,
+      std::optional<fecheck::FeCheckOptions> fe_check = std::nullopt);
   Job(const Job&) = delete;
   Job& operator=(const Job&) = delete;
 
@@ -49,6 +51,7 @@ class Job {
   const std::string& id() const { return id_; }
   const std::string& label() const { return label_; }
   const SimplifyOptions& options() const { return options_; }
+  const std::optional<fecheck::FeCheckOptions>& fe_check() const { return fe_check_; }
   uint64_t input_vertices() const { return input_vertices_; }
   uint64_t input_faces() const { return input_faces_; }
   Clock::time_point created() const { return created_; }
@@ -72,6 +75,7 @@ class Job {
     SimplifyResult result;
     RawMesh mesh;
     double queue_seconds = 0;
+    std::optional<fecheck::FeCheckReport> fe_check;  // when the job asked for it
   };
   // The final status of an ended job; when it is OK, *out receives the result and the output.
   grpc::Status TakeOutput(Output* out);
@@ -86,7 +90,8 @@ class Job {
   std::optional<PreparedMesh> Start();
   void StartRemoval(int pass);          // a pass's removals begin
   void AddPass(const PassStats& pass);  // wakes the handler
-  void Succeed(const SimplifyResult& result, RawMesh output);
+  void Succeed(const SimplifyResult& result, RawMesh output,
+               std::optional<fecheck::FeCheckReport> fe_check = std::nullopt);
   // Ends the job; false (and nothing changes) when it had ended already. The input goes.
   bool Finish(JobState final_state, grpc::Status status);
   // Ends the job as cancelled with the status its cancel request gave.
@@ -112,6 +117,7 @@ class Job {
   const std::string id_, label_;
   const SimplifyOptions options_;
   const uint64_t input_vertices_, input_faces_;
+  const std::optional<fecheck::FeCheckOptions> fe_check_;
   const Clock::time_point created_ = Clock::now();
   std::atomic<bool> cancel_{false};
 
@@ -124,6 +130,7 @@ class Job {
   uint32_t passes_started_ = 0;  // passes whose removals began
   std::optional<SimplifyResult> result_;
   RawMesh output_;
+  std::optional<fecheck::FeCheckReport> fe_check_report_;
   grpc::Status status_;  // final once done()
   grpc::StatusCode cancel_code_ = grpc::StatusCode::OK;
   std::string cancel_message_;

@@ -11,21 +11,18 @@
 #include "client/exit_codes.h"
 #include "client/local_run.h"
 #include "fecheck/tools.h"
+#include "tests/support/fe_check.h"
 #include "tests/support/files.h"
 #include "tests/support/meshes.h"
 
 namespace femsimp {
 namespace {
 
-#define EXPECT_HAS(text, part)                                                                 \
-  EXPECT_NE(std::string(text).find(part), std::string::npos) << "'" << (part) << "' not in:\n" \
-                                                             << (text)
-
 class CliCheckTest : public testing::TempDirTest {
  protected:
   void SetUp() override {
     TempDirTest::SetUp();
-    if (absl::Status tools = fecheck::LocateTools(); !tools.ok()) GTEST_SKIP() << tools.message();
+    SKIP_WITHOUT_FE_TOOLS();
     // A 100 x 20 x 10 mm plate, finely and coarsely meshed.
     fine_ = WriteSoup("fine.off", testing::MakeBox({100, 20, 10}, {20, 4, 2}));
     coarse_ = WriteSoup("coarse.off", testing::MakeBox({100, 20, 10}, {10, 2, 1}));

@@ -20,6 +20,7 @@
 #include "fecheck/fe_check.h"
 #include "fecheck/solid_properties.h"
 #include "fecheck/temp_dir.h"
+#include "tests/support/fe_check.h"
 #include "tests/support/files.h"
 #include "tests/support/meshes.h"
 
@@ -27,13 +28,6 @@ namespace femsimp::fecheck {
 namespace {
 
 namespace fs = std::filesystem;
-
-#define EXPECT_HAS(text, part)                                                                 \
-  EXPECT_NE(std::string(text).find(part), std::string::npos) << "'" << (part) << "' not in:\n" \
-                                                             << (text)
-
-#define SKIP_WITHOUT_TOOLS() \
-  if (absl::Status tools = LocateTools(); !tools.ok()) GTEST_SKIP() << tools.message()
 
 // A box [0,a] x [0,b] x [0,c] as six tetrahedra around its main diagonal.
 TetMesh BoxTets(double a, double b, double c) {
@@ -233,7 +227,7 @@ double EulerBernoulliHz(double beta_l, const Material& m) {
 }
 
 TEST(FeCheck, FreeFreeBeamMatchesBeamTheory) {
-  SKIP_WITHOUT_TOOLS();
+  SKIP_WITHOUT_FE_TOOLS();
   const FeCheckOptions options;
   absl::StatusOr<SolidFigures> f = AnalyseSolid(Beam(), "beam", options, 0.0);
   ASSERT_TRUE(f.ok()) << f.status();
@@ -273,7 +267,7 @@ TEST(FeCheck, FreeFreeBeamMatchesBeamTheory) {
 // The discretisation error of the mesh above: the same beam with twice the elements along every
 // edge (several times slower, hence not part of the run; docs/FIDELITY.md quotes its output).
 TEST(FeCheck, DISABLED_BeamOnAFinerMesh) {
-  SKIP_WITHOUT_TOOLS();
+  SKIP_WITHOUT_FE_TOOLS();
   const std::array<int, 3> cells[2] = {{50, 2, 2}, {100, 4, 4}};
   for (const std::array<int, 3>& c : cells) {
     absl::StatusOr<SolidFigures> f =
@@ -287,7 +281,7 @@ TEST(FeCheck, DISABLED_BeamOnAFinerMesh) {
 }
 
 TEST(FeCheck, IdenticalMeshesGiveNoDifference) {
-  SKIP_WITHOUT_TOOLS();
+  SKIP_WITHOUT_FE_TOOLS();
   const RawMesh box = testing::MakeBox({1, 0.2, 0.1}, {10, 2, 1});
   absl::StatusOr<FeCheckReport> r = RunFeCheck(box, box, FeCheckOptions{});
   ASSERT_TRUE(r.ok()) << r.status();
@@ -303,7 +297,7 @@ TEST(FeCheck, IdenticalMeshesGiveNoDifference) {
 // The same beam in millimetres with --unit-scale 0.001 is the same solid, and a coarser
 // surface of it is nearly so.
 TEST(FeCheck, UnitScaleAndACoarserMesh) {
-  SKIP_WITHOUT_TOOLS();
+  SKIP_WITHOUT_FE_TOOLS();
   FeCheckOptions mm;
   mm.unit_scale = 0.001;
   const RawMesh coarse = testing::MakeBox({1000 * kL, 1000 * kH, 1000 * kH}, {25, 1, 1});
@@ -323,7 +317,7 @@ TEST(FeCheck, UnitScaleAndACoarserMesh) {
 }
 
 TEST(FeCheck, OpenSurfaceIsRefusedBeforeAnyToolRuns) {
-  SKIP_WITHOUT_TOOLS();
+  SKIP_WITHOUT_FE_TOOLS();
   RawMesh open = testing::MakeBox({1, 1, 1}, {2, 2, 2});
   open.triangles.resize(open.triangles.size() - 3);
   absl::StatusOr<FeCheckReport> r = RunFeCheck(testing::MakeBox({1, 1, 1}, {2, 2, 2}), open, {});
@@ -332,7 +326,7 @@ TEST(FeCheck, OpenSurfaceIsRefusedBeforeAnyToolRuns) {
 }
 
 TEST(FeCheck, SelfIntersectingSurfaceQuotesTetgen) {
-  SKIP_WITHOUT_TOOLS();
+  SKIP_WITHOUT_FE_TOOLS();
   // Two closed tetrahedra that pass through each other: closed and outward, but no solid.
   RawMesh two = testing::Tetrahedron();
   RawMesh shifted = testing::Tetrahedron();
@@ -348,7 +342,7 @@ TEST(FeCheck, SelfIntersectingSurfaceQuotesTetgen) {
 
 // PATH without the tools: the message names the missing ones and their Debian packages.
 TEST(FeCheck, MissingToolNamesItsDebianPackage) {
-  SKIP_WITHOUT_TOOLS();
+  SKIP_WITHOUT_FE_TOOLS();
   const std::string saved = std::getenv("PATH");
   const std::string only_tetgen = testing::MakeTempDir("fecheck_path");
   absl::StatusOr<std::string> tetgen = LocateTool(kTetgen);
@@ -372,7 +366,7 @@ TEST(FeCheck, MissingToolNamesItsDebianPackage) {
 
 // A cancel while CalculiX runs kills it and leaves no temporary directory behind.
 TEST(FeCheck, CancelStopsTheSolverAndCleansUp) {
-  SKIP_WITHOUT_TOOLS();
+  SKIP_WITHOUT_FE_TOOLS();
   const std::string tmp = testing::MakeTempDir("fecheck_tmpdir");
   setenv("TMPDIR", tmp.c_str(), 1);
   bool solver_started = false;
