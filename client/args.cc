@@ -182,9 +182,12 @@ absl::StatusOr<SimplifyArgs> ParseSimplifyArgs(const std::vector<std::string>& a
   if (parsed->Given("--max-attempts") && out.server.empty())
     return absl::InvalidArgumentError("--max-attempts needs --server");
   for (const char* flag : {"--youngs-modulus", "--poisson-ratio", "--density", "--unit-scale",
-                           "--modes", "--fe-threads"})
+                           "--modes", "--mesh-size", "--refine-surface", "--fe-threads"})
     if (parsed->Given(flag) && !out.fe_check)
       return absl::InvalidArgumentError(absl::StrCat(flag, " needs --fe-check"));
+  if (parsed->Given("--fe-threads") && !out.server.empty())
+    return absl::InvalidArgumentError(
+        "--fe-threads is for local runs: a server gives CalculiX the job's threads");
   // The rules between options (the engine's words).
   if (absl::Status s = ValidateOptions(out.options); !s.ok()) return s;
   return out;

@@ -90,6 +90,10 @@ TEST(CliCheckArgs, MaterialFlagsNeedFeCheck) {
   EXPECT_EQ(cmd.status().message(), "--density needs --fe-check");
   cmd = cli::ParseCommandLine({"femsimp", "check", "a.off", "b.off", "--poisson-ratio", "0.5"});
   EXPECT_EQ(cmd.status().message(), "--poisson-ratio = 0.5 is out of range: must be in (-1, 0.5)");
+  cmd = cli::ParseCommandLine({"femsimp", "simplify", "a.off", "b.off", "--fe-check",
+                               "--fe-threads", "2", "--server", "localhost:1"});
+  EXPECT_EQ(cmd.status().message(),
+            "--fe-threads is for local runs: a server gives CalculiX the job's threads");
   cmd = cli::ParseCommandLine({"femsimp", "check", "a.off"});
   EXPECT_FALSE(cmd.ok());
 }
