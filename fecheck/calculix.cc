@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
-#include <map>
 #include <numbers>
 #include <sstream>
 #include <utility>
 
+#include "absl/container/flat_hash_map.h"
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
@@ -15,48 +15,41 @@
 
 namespace femsimp::fecheck {
 
-std::string ModalDeck(const TetMesh& mesh, const Material& material, int eigenvalues,
-                      int* quadratic_nodes) {
+int ModalDeck(const TetMesh& mesh, const Material& material, int eigenvalues, std::ostream& out) {
   std::vector<double> nodes = mesh.nodes;
-  std::map<std::pair<uint32_t, uint32_t>, uint32_t> midpoints;
+  absl::flat_hash_map<uint64_t, uint32_t> midpoints;  // edge (low << 32 | high) -> node
   auto mid = [&](uint32_t a, uint32_t b) {
-    const auto key = std::minmax(a, b);
+    const uint64_t key = uint64_t{std::min(a, b)} << 32 | std::max(a, b);
     auto [it, added] = midpoints.emplace(key, static_cast<uint32_t>(nodes.size() / 3));
     if (added)
       for (int k = 0; k < 3; ++k) nodes.push_back((nodes[3 * a + k] + nodes[3 * b + k]) / 2);
     return it->second;
   };
-  std::string elements;
+  // C3D10: corners 1-4, then the edges 1-2, 2-3, 3-1, 1-4, 2-4, 3-4.
+  std::vector<uint32_t> elements;
+  elements.reserve(10 * mesh.num_tets());
   for (size_t t = 0; t < mesh.num_tets(); ++t) {
     const uint32_t* v = &mesh.tets[4 * t];
-    // C3D10: corners 1-4, then the edges 1-2, 2-3, 3-1, 1-4, 2-4, 3-4 (1-based ids).
-    const uint32_t n[10] = {v[0],
-                            v[1],
-                            v[2],
-                            v[3],
-                            mid(v[0], v[1]),
-                            mid(v[1], v[2]),
-                            mid(v[2], v[0]),
-                            mid(v[0], v[3]),
-                            mid(v[1], v[3]),
-                            mid(v[2], v[3])};
-    absl::StrAppend(&elements, t + 1);
-    for (int i = 0; i < 10; ++i) absl::StrAppend(&elements, i == 8 ? ",\n" : ", ", n[i] + 1);
-    elements += '\n';
+    elements.insert(elements.end(), v, v + 4);
+    for (const auto& [a, b] : {std::pair{0, 1}, {1, 2}, {2, 0}, {0, 3}, {1, 3}, {2, 3}})
+      elements.push_back(mid(v[a], v[b]));
   }
-  // %.14g: CalculiX reads a number from the first 20 characters of its field.
-  std::string deck = "*HEADING\nfemsimp FE check: free-free modal analysis\n*NODE\n";
+  // %.14g: CalculiX reads a number from the first 20 characters of its field. Ids are 1-based.
+  out << "*HEADING\nfemsimp FE check: free-free modal analysis\n*NODE\n";
   for (size_t n = 0; n < nodes.size() / 3; ++n)
-    absl::StrAppend(&deck, absl::StrFormat("%u, %.14g, %.14g, %.14g\n", n + 1, nodes[3 * n],
-                                           nodes[3 * n + 1], nodes[3 * n + 2]));
-  absl::StrAppend(&deck, "*ELEMENT, TYPE=C3D10, ELSET=EALL\n", elements);
-  absl::StrAppend(
-      &deck, absl::StrFormat("*MATERIAL, NAME=M\n*ELASTIC\n%.14g, %.14g\n*DENSITY\n%.14g\n",
-                             material.youngs_modulus, material.poisson_ratio, material.density));
-  absl::StrAppend(&deck, "*SOLID SECTION, ELSET=EALL, MATERIAL=M\n*STEP\n*FREQUENCY\n", eigenvalues,
-                  "\n*END STEP\n");
-  if (quadratic_nodes != nullptr) *quadratic_nodes = static_cast<int>(nodes.size() / 3);
-  return deck;
+    out << absl::StrFormat("%u, %.14g, %.14g, %.14g\n", n + 1, nodes[3 * n], nodes[3 * n + 1],
+                           nodes[3 * n + 2]);
+  out << "*ELEMENT, TYPE=C3D10, ELSET=EALL\n";
+  for (size_t t = 0; t < mesh.num_tets(); ++t) {
+    out << t + 1;
+    for (int i = 0; i < 10; ++i) out << (i == 8 ? ",\n" : ", ") << elements[10 * t + i] + 1;
+    out << '\n';
+  }
+  out << absl::StrFormat("*MATERIAL, NAME=M\n*ELASTIC\n%.14g, %.14g\n*DENSITY\n%.14g\n",
+                         material.youngs_modulus, material.poisson_ratio, material.density)
+      << "*SOLID SECTION, ELSET=EALL, MATERIAL=M\n*STEP\n*FREQUENCY\n"
+      << eigenvalues << "\n*END STEP\n";
+  return static_cast<int>(nodes.size() / 3);
 }
 
 absl::StatusOr<std::vector<double>> ParseEigenvalues(const std::string& dat) {
@@ -106,7 +99,7 @@ absl::StatusOr<Modes> FreeFreeModes(const TetMesh& mesh, const Material& materia
   int quadratic_nodes = 0;
   {
     std::ofstream deck(run.dir + "/modal.inp");
-    deck << ModalDeck(mesh, material, wanted, &quadratic_nodes);
+    quadratic_nodes = ModalDeck(mesh, material, wanted, deck);
     if (!deck.flush())
       return absl::InternalError(absl::StrCat("cannot write ", run.dir, "/modal.inp"));
   }

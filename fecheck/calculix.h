@@ -3,6 +3,7 @@
 // step; the eigenvalues read from its .dat file and the rigid-body modes set apart.
 #pragma once
 
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -24,10 +25,9 @@ struct Modes {
   int nodes = 0;                   // of the quadratic mesh the solver ran on
 };
 
-// The CalculiX input deck: nodes (the tetrahedra's and one per edge), C3D10 elements, material,
-// and a *FREQUENCY step asking for `eigenvalues` modes.
-std::string ModalDeck(const TetMesh& mesh, const Material& material, int eigenvalues,
-                      int* quadratic_nodes = nullptr);
+// Writes the CalculiX input deck: nodes (the tetrahedra's and one per edge), C3D10 elements,
+// material, and a *FREQUENCY step asking for `eigenvalues` modes. Returns the node count.
+int ModalDeck(const TetMesh& mesh, const Material& material, int eigenvalues, std::ostream& out);
 
 // The eigenvalues (omega^2, rad^2/s^2) of the "E I G E N V A L U E   O U T P U T" table of a
 // .dat file, in mode order; InvalidArgument when there is no such table.
