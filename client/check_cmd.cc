@@ -110,11 +110,14 @@ int RunCheck(const CheckArgs& args) {
   std::optional<RawMesh> simplified = ReadSolid(args.simplified, &code);
   if (!simplified) return code;
 
+  // Ctrl-C or a SIGTERM kills the running tool (in its own process group, it gets neither).
   std::signal(SIGINT, OnSigint);
+  std::signal(SIGTERM, OnSigint);
   absl::StatusOr<fecheck::FeCheckReport> report = fecheck::RunFeCheck(
       *original, *simplified, args.options, TerminalFeControl(args.quiet, &g_interrupted),
       {absl::StrCat("original ", args.original), absl::StrCat("simplified ", args.simplified)});
   std::signal(SIGINT, SIG_DFL);
+  std::signal(SIGTERM, SIG_DFL);
   if (!report.ok()) {
     if (!args.quiet && isatty(fileno(stderr))) std::fputc('\n', stderr);  // end the bar's line
     PrintError("femsimp: FE check failed: %s\n", std::string(report.status().message()).c_str());
