@@ -43,10 +43,13 @@ absl::StatusOr<ToolExit> RunTool(const Tool& tool, const std::vector<std::string
   if (!program.ok()) return program.status();
   ChildRun child;
   child.command = tool.program;
-  // Line-buffered through coreutils' stdbuf where there is one, so that what a tool said before
-  // it aborted is in its log.
+  // Killed when the thread that started it dies (util-linux's setpriv), so that a femsimp or a
+  // server killed outright leaves no solver running; line-buffered through coreutils' stdbuf, so
+  // that what a tool said before it aborted is in its log. Each where there is one.
+  if (absl::StatusOr<std::string> setpriv = FindOnPath("setpriv", PathList()); setpriv.ok())
+    child.argv = {*setpriv, "--pdeathsig", "KILL"};
   if (absl::StatusOr<std::string> stdbuf = FindOnPath("stdbuf", PathList()); stdbuf.ok())
-    child.argv = {*stdbuf, "-oL", "-eL"};
+    child.argv.insert(child.argv.end(), {*stdbuf, "-oL", "-eL"});
   child.argv.push_back(*program);
   child.argv.insert(child.argv.end(), args.begin(), args.end());
   child.dir = run.dir;
