@@ -8,6 +8,7 @@
 #include "common/flags.h"
 #include "engine/option_flags.h"
 #include "engine/option_table.h"
+#include "fecheck/fe_check_flags.h"
 
 namespace femsimp::cli {
 namespace {
@@ -28,6 +29,8 @@ constexpr char kExitCodes[] = R"(Exit codes:
   6   the simplification failed (also: not enough memory)
   7   interrupted (local mode)
   8   health: the server answered but is not SERVING
+  9   check, --fe-check: tetgen or ccx (CalculiX) is not on the PATH (Debian packages tetgen,
+      calculix-ccx); a mesh the FE check cannot tet-mesh exits with 4, a CalculiX failure with 6
   20+N  remote mode: the server answered with gRPC status code N, e.g.
         21 CANCELLED, 23 INVALID_ARGUMENT, 24 DEADLINE_EXCEEDED, 28 RESOURCE_EXHAUSTED
         (queue full or a server limit), 32 UNIMPLEMENTED, 33 INTERNAL, 34 UNAVAILABLE
@@ -67,6 +70,13 @@ flags::FlagSet SimplifyFlags(SimplifyArgs* out) {
              "write OUT without the face groups and fields its format cannot hold (OFF, STL: "
              "neither; OBJ: groups only) instead of refusing to run",
              &out->drop_face_data);
+  set.Section("FE check (tetgen + CalculiX on IN and OUT after the run, as femsimp check does):");
+  set.Switch("--fe-check",
+             "tet-mesh IN and OUT, run a free-free modal analysis of both and print their volume, "
+             "centroid, principal moments and first eigenfrequencies with the differences "
+             "(remote: on the server)",
+             &out->fe_check);
+  fecheck::AddFeCheckFlags(set, &out->fe_check_options);
   set.Section("Remote mode:");
   set.Value("--server", "HOST:PORT", "run the job on a femsimp-server instead of locally",
             ServerAddressSetter("--server", &out->server));
@@ -122,6 +132,7 @@ std::string MainUsage() {
 Usage:
   femsimp simplify IN OUT [options]      simplify locally, or on a server with --server
   femsimp simplify --help                every option of simplify
+  femsimp check ORIGINAL SIMPLIFIED      FE check: tetgen + CalculiX on both (check --help)
   femsimp health --server HOST:PORT      ask a server's gRPC health service (health --help)
   femsimp options [--markdown]           every engine option: name, flag, range, default
   femsimp --help                         this text
@@ -173,6 +184,13 @@ absl::StatusOr<SimplifyArgs> ParseSimplifyArgs(const std::vector<std::string>& a
     return absl::InvalidArgumentError("--max-attempts needs --server");
   if (out.security.any() && out.server.empty())
     return absl::InvalidArgumentError("--tls, --tls-*-file and --token-file need --server");
+  for (const char* flag : {"--youngs-modulus", "--poisson-ratio", "--density", "--unit-scale",
+                           "--modes", "--mesh-size", "--refine-surface", "--fe-threads"})
+    if (parsed->Given(flag) && !out.fe_check)
+      return absl::InvalidArgumentError(absl::StrCat(flag, " needs --fe-check"));
+  if (parsed->Given("--fe-threads") && !out.server.empty())
+    return absl::InvalidArgumentError(
+        "--fe-threads is for local runs: a server gives CalculiX the job's threads");
   // The rules between options (the engine's words).
   if (absl::Status s = ValidateOptions(out.options); !s.ok()) return s;
   return out;
@@ -199,6 +217,17 @@ absl::StatusOr<Command> ParseCommandLine(const std::vector<std::string>& args) {
                         ? absl::StrCat("Usage: femsimp options [--markdown]\n\n", set.Help())
                     : markdown ? OptionsMarkdown()
                                : OptionsText();
+    return cmd;
+  }
+  if (sub == "check") {
+    absl::StatusOr<CheckArgs> c = ParseCheckArgs(rest);
+    if (!c.ok()) return c.status();
+    if (c->help) {
+      cmd.help_text = CheckUsage();
+      return cmd;
+    }
+    cmd.kind = Command::kCheck;
+    cmd.check = *std::move(c);
     return cmd;
   }
   if (sub != "simplify")

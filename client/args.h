@@ -6,8 +6,10 @@
 
 #include "absl/status/statusor.h"
 #include "client/security_flags.h"
+#include "client/check_cmd.h"
 #include "common/flags.h"
 #include "engine/simplify.h"
+#include "fecheck/fe_check.h"
 
 namespace femsimp::cli {
 
@@ -24,12 +26,15 @@ struct SimplifyArgs {
   bool quiet = false;             // no per-pass rows
   bool drop_face_data = false;    // write OUT without the face groups/fields its format lacks
   bool repair_details = false;    // every repair record in the summary (else the first few)
+  bool fe_check = false;          // run the FE check on IN and OUT after the simplification
+  fecheck::FeCheckOptions fe_check_options;
 };
 
 struct Command {
-  enum Kind { kHelp, kSimplify } kind = kHelp;
+  enum Kind { kHelp, kSimplify, kCheck } kind = kHelp;
   std::string help_text;  // kHelp: what to print on stdout
   SimplifyArgs simplify;
+  CheckArgs check;
 };
 
 // Top-level and `simplify` usage, including the exit codes. `femsimp options [--markdown]`

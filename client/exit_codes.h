@@ -13,6 +13,7 @@ enum ExitCode : int {
   kExitEngineFailed = 6,     // the simplification itself failed
   kExitCancelled = 7,        // interrupted (SIGINT) in local mode
   kExitNotServing = 8,       // health: the server answered but is not SERVING
+  kExitToolMissing = 9,      // check, --fe-check: tetgen or ccx (CalculiX) is not on the PATH
   // Remote mode: a gRPC status other than OK exits with kExitGrpcBase + its code
   // (CANCELLED 21, UNKNOWN 22, INVALID_ARGUMENT 23, DEADLINE_EXCEEDED 24, ..., UNAVAILABLE 34).
   kExitGrpcBase = 20,

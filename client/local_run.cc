@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "client/exit_codes.h"
+#include "client/fe_report.h"
 #include "client/report.h"
 #include "client/run_input.h"
 #include "engine/io/mesh_io.h"
@@ -36,6 +37,16 @@ int RunLocal(const SimplifyArgs& args) {
   }
   Mesh* mesh = &prepared->mesh;
   report.repair = std::move(prepared->report);
+  // The FE check compares the repaired input with the output: a copy before the engine runs.
+  std::optional<RawMesh> fe_input;
+  if (args.fe_check) {
+    absl::StatusOr<RawMesh> copy = OutputMesh(*mesh, prepared->seam_map);
+    if (!copy.ok()) {
+      PrintError("femsimp: %s\n", copy.status().ToString().c_str());
+      return kExitEngineFailed;
+    }
+    fe_input = *std::move(copy);
+  }
   report.load_seconds = SecondsSince(t0);
 
   // Ctrl-C stops the engine within a pass; the partly simplified mesh is still written.
@@ -71,7 +82,23 @@ int RunLocal(const SimplifyArgs& args) {
     PrintError("femsimp: %s\n", out.status().ToString().c_str());
     return kExitEngineFailed;
   }
+  // The check runs before OUT is written, so that the summary and --stats-json hold it; OUT is
+  // written whether it succeeds or not.
+  int fe_code = kExitOk;
+  if (fe_input && !g_interrupted.load()) {
+    std::signal(SIGINT, OnSigint);
+    absl::StatusOr<fecheck::FeCheckReport> fe = fecheck::RunFeCheck(
+        *fe_input, *out, args.fe_check_options, TerminalFeControl(args.quiet, &g_interrupted));
+    std::signal(SIGINT, SIG_DFL);
+    if (fe.ok()) {
+      report.fe_check = *std::move(fe);
+    } else {
+      PrintError("femsimp: FE check failed: %s\n", std::string(fe.status().message()).c_str());
+      fe_code = FeCheckExitCode(fe.status());
+    }
+  }
   if (int code = FinishRun(args, *out, group_names, report); code != kExitOk) return code;
+  if (fe_code != kExitOk) return fe_code;
   return g_interrupted.load() ? kExitCancelled : kExitOk;
 }
 

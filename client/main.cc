@@ -33,6 +33,7 @@ int main(int argc, char** argv) {
     std::fputs(cmd->help_text.c_str(), stdout);
     return kExitOk;
   }
+  if (cmd->kind == Command::kCheck) return RunCheck(cmd->check);
   const SimplifyArgs& s = cmd->simplify;
   if (!s.server.empty()) {
 #ifdef FEMSIMP_HAVE_REMOTE

@@ -17,6 +17,7 @@
 #include "client/retry.h"
 #include "client/run_input.h"
 #include "engine/io/mesh_io.h"
+#include "proto/fe_check_wire.h"
 #include "proto/wire.h"
 
 namespace femsimp::cli {
@@ -65,6 +66,10 @@ int RunRemote(const SimplifyArgs& args) {
   v1::JobSpec spec;
   wire::ToProto(args.options, args.threads_given, spec.mutable_options());
   spec.set_client_label(args.label.empty() ? args.input : args.label);
+  if (args.fe_check) {  // run by the server after the simplification
+    spec.set_fe_check(true);
+    wire::ToProto(args.fe_check_options, spec.mutable_fe_check_options());
+  }
 
   absl::StatusOr<ChannelSecurity> security = ResolveSecurity(args.security);
   if (!security.ok()) {
@@ -175,6 +180,7 @@ int RunRemote(const SimplifyArgs& args) {
   wire::FidelityFromProto(r, &figures);
   report.fidelity = FidelityFigures::Of(figures);
   report.repair = wire::RepairFromProto(r.repair());
+  if (r.has_fe_check()) report.fe_check = wire::FromProto(r.fe_check());
   if (args.options.backend == Backend::kNative && r.contexts() > 0)
     report.options.threads = r.contexts();  // what the server actually ran with
 

@@ -7,6 +7,8 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
+#include "client/fe_report.h"
+#include "common/json.h"
 #include "engine/option_table.h"
 
 namespace femsimp::cli {
@@ -17,36 +19,6 @@ uint64_t TotalRejections(const PassStats& p) {
   for (uint64_t r : p.rejections) n += r;
   return n;
 }
-
-std::string JsonString(const std::string& s) {
-  std::string out = "\"";
-  for (unsigned char c : s) {
-    switch (c) {
-      case '"':
-        out += "\\\"";
-        break;
-      case '\\':
-        out += "\\\\";
-        break;
-      case '\n':
-        out += "\\n";
-        break;
-      case '\t':
-        out += "\\t";
-        break;
-      default:
-        if (c < 0x20) {
-          out += absl::StrFormat("\\u%04x", c);
-        } else {
-          out += static_cast<char>(c);
-        }
-    }
-  }
-  return out + "\"";
-}
-
-// JSON has no NaN/Infinity.
-std::string JsonNumber(double d) { return std::isfinite(d) ? absl::StrFormat("%.9g", d) : "null"; }
 
 std::string CellJson(const CellPassCounters& c) {
   return absl::StrCat(
@@ -293,6 +265,7 @@ std::string Summary(const RunReport& r) {
                                     r.job_id, r.queue_seconds, r.transfer_seconds,
                                     r.attempts > 1 ? absl::StrCat(", attempts ", r.attempts) : ""));
   absl::StrAppend(&s, "output:   ", r.output_path, "\n");
+  if (r.fe_check) absl::StrAppend(&s, FeCheckTable(*r.fe_check, {r.input_path, r.output_path}));
   return s;
 }
 
@@ -317,6 +290,7 @@ std::string ReportJson(const RunReport& r) {
                     ", \"queue_seconds\": ", JsonNumber(r.queue_seconds),
                     ", \"rpc_seconds\": ", JsonNumber(r.transfer_seconds),
                     ", \"attempts\": ", r.attempts, "}");
+  if (r.fe_check) absl::StrAppend(&s, ",\n  \"fe_check\": ", FeCheckJson(*r.fe_check, {"", ""}, 2));
   absl::StrAppend(&s, ",\n  \"passes\": [");
   for (size_t i = 0; i < r.passes.size(); ++i)
     absl::StrAppend(&s, i ? ",\n    " : "\n    ", PassJson(r.passes[i]));

@@ -3,12 +3,14 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "absl/status/status.h"
 #include "engine/repair.h"
 #include "engine/simplify.h"
+#include "fecheck/fe_check.h"
 
 namespace femsimp::cli {
 
@@ -49,6 +51,8 @@ struct RunReport {
   // repair_details every record in the summary, else the first kSummaryRepairRecords.
   RepairReport repair;
   bool repair_details = false;
+  // --fe-check: the FE check of the (repaired) input against the output, local or the server's.
+  std::optional<fecheck::FeCheckReport> fe_check;
 };
 
 inline constexpr size_t kSummaryRepairRecords = 5;

@@ -8,6 +8,7 @@ packages=(
   libmeshoptimizer-dev libcgal-dev libgmp-dev libmpfr-dev libeigen3-dev
   python3-grpcio grpc-proto curl tetgen gnuplot-nox nginx-light python3-gmsh python3-numpy
   python3-protobuf python3-meshio python3-pytest  # the Python client (python/) and its tests
+  calculix-ccx  # femsimp check and --fe-check (with tetgen): the CalculiX solver, ccx
   gdb  # scripts/watchdog.sh prints a hung test's stacks
   clang libclang-rt-14-dev  # the readers' fuzz target (libFuzzer, ASan, UBSan)
 )

@@ -12,13 +12,15 @@ double Seconds(Job::Clock::time_point a, Job::Clock::time_point b) {
 }  // namespace
 
 Job::Job(std::string id, std::string label, SimplifyOptions options, uint64_t vertices,
-         uint64_t faces, std::string tenant)
+         uint64_t faces, std::string tenant,
+         std::optional<fecheck::FeCheckOptions> fe_check)
     : id_(std::move(id)),
       label_(std::move(label)),
       tenant_(std::move(tenant)),
       options_(options),
       input_vertices_(vertices),
-      input_faces_(faces) {}
+      input_faces_(faces),
+      fe_check_(std::move(fe_check)) {}
 
 int Job::contexts() const {
   return options_.backend == Backend::kCell ? options_.cell.spes : options_.threads;
@@ -63,6 +65,8 @@ grpc::Status Job::TakeOutput(Output* out) {
   result_.reset();
   out->mesh = std::move(output_);
   output_ = RawMesh();
+  out->fe_check = std::move(fe_check_report_);
+  fe_check_report_.reset();
   out->queue_seconds = Seconds(queued_at_, started_at_);
   return grpc::Status::OK;
 }
@@ -82,6 +86,7 @@ void Job::Close(const grpc::Status& status) {
           status);
     result_.reset();
     output_ = RawMesh();
+    fe_check_report_.reset();
   }
   cv_.notify_all();
 }
@@ -113,12 +118,14 @@ void Job::AddPass(const PassStats& pass) {
   cv_.notify_all();
 }
 
-void Job::Succeed(const SimplifyResult& result, RawMesh output) {
+void Job::Succeed(const SimplifyResult& result, RawMesh output,
+                  std::optional<fecheck::FeCheckReport> fe_check) {
   {
     std::lock_guard<std::mutex> lock(mu_);
     if (!FinishLocked(JobState::kSucceeded, grpc::Status::OK)) return;
     result_ = result;
     output_ = std::move(output);
+    fe_check_report_ = std::move(fe_check);
   }
   cv_.notify_all();
 }

@@ -26,6 +26,7 @@
 #include "engine/mesh.h"
 #include "engine/prepare.h"
 #include "engine/simplify.h"
+#include "fecheck/fe_check.h"
 #include "femsimp/v1/femsimp.pb.h"
 #include "grpcpp/support/status.h"
 
@@ -40,8 +41,10 @@ class Job {
  public:
   using Clock = std::chrono::steady_clock;
 
+  // tenant: the caller's (server/auth.h; "" without tenants). fe_check: run the FE check on the
+  // input and the output after the simplification.
   Job(std::string id, std::string label, SimplifyOptions options, uint64_t vertices, uint64_t faces,
-      std::string tenant = "");
+      std::string tenant = "", std::optional<fecheck::FeCheckOptions> fe_check = std::nullopt);
   Job(const Job&) = delete;
   Job& operator=(const Job&) = delete;
 
@@ -50,6 +53,7 @@ class Job {
   const std::string& label() const { return label_; }
   const std::string& tenant() const { return tenant_; }  // "" without tenants
   const SimplifyOptions& options() const { return options_; }
+  const std::optional<fecheck::FeCheckOptions>& fe_check() const { return fe_check_; }
   uint64_t input_vertices() const { return input_vertices_; }
   uint64_t input_faces() const { return input_faces_; }
   Clock::time_point created() const { return created_; }
@@ -73,6 +77,7 @@ class Job {
     SimplifyResult result;
     RawMesh mesh;
     double queue_seconds = 0;
+    std::optional<fecheck::FeCheckReport> fe_check;  // when the job asked for it
   };
   // The final status of an ended job; when it is OK, *out receives the result and the output.
   grpc::Status TakeOutput(Output* out);
@@ -87,7 +92,8 @@ class Job {
   std::optional<PreparedMesh> Start();
   void StartRemoval(int pass);          // a pass's removals begin
   void AddPass(const PassStats& pass);  // wakes the handler
-  void Succeed(const SimplifyResult& result, RawMesh output);
+  void Succeed(const SimplifyResult& result, RawMesh output,
+               std::optional<fecheck::FeCheckReport> fe_check = std::nullopt);
   // Ends the job; false (and nothing changes) when it had ended already. The input goes.
   bool Finish(JobState final_state, grpc::Status status);
   // Ends the job as cancelled with the status its cancel request gave.
@@ -113,6 +119,7 @@ class Job {
   const std::string id_, label_, tenant_;
   const SimplifyOptions options_;
   const uint64_t input_vertices_, input_faces_;
+  const std::optional<fecheck::FeCheckOptions> fe_check_;
   const Clock::time_point created_ = Clock::now();
   std::atomic<bool> cancel_{false};
 
@@ -125,6 +132,7 @@ class Job {
   uint32_t passes_started_ = 0;  // passes whose removals began
   std::optional<SimplifyResult> result_;
   RawMesh output_;
+  std::optional<fecheck::FeCheckReport> fe_check_report_;
   grpc::Status status_;  // final once done()
   grpc::StatusCode cancel_code_ = grpc::StatusCode::OK;
   std::string cancel_message_;

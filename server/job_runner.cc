@@ -4,6 +4,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
+#include "fecheck/fe_check.h"
 #include "proto/wire.h"
 #include "server/log.h"
 #include "server/status_util.h"
@@ -29,6 +30,41 @@ void JobRunner::Work() {
     metrics_.SetQueueDepth(queue_.waiting());
     Run(job);
   }
+}
+
+absl::StatusOr<fecheck::FeCheckReport> JobRunner::RunFeCheck(const Job& job,
+                                                             const std::optional<RawMesh>& input,
+                                                             const RawMesh& output) {
+  if (!input)
+    return absl::ResourceExhaustedError(
+        absl::StrFormat("FE check: not enough memory to keep the input (%d vertices, %d faces)",
+                        job.input_vertices(), job.input_faces()));
+  LogLine(absl::StrFormat("job %s fe_check start: %u and %u faces", job.id(), input->num_faces(),
+                          output.num_faces()));
+  fecheck::FeCheckControl control;
+  control.cancelled = [&job] { return job.cancelled(); };
+  control.on_stage = [&job](const fecheck::FeStage& s) {
+    LogLine(absl::StrFormat("job %s fe_check %d/%d: %s", job.id(), s.step, s.steps, s.text));
+  };
+  absl::StatusOr<fecheck::FeCheckReport> report;
+  try {
+    fecheck::FeCheckOptions options = *job.fe_check();
+    options.threads = job.contexts();  // CalculiX gets the job's share of the cores
+    report = fecheck::RunFeCheck(*input, output, options, control, {"input", "output"});
+  } catch (const std::bad_alloc&) {
+    report = absl::ResourceExhaustedError("FE check: not enough memory");
+  }
+  if (!report.ok()) {
+    // NotFound (a tool gone since admission) is the server's state, not the job's mistake.
+    const absl::StatusCode code = report.status().code() == absl::StatusCode::kNotFound
+                                      ? absl::StatusCode::kFailedPrecondition
+                                      : report.status().code();
+    return absl::Status(code, absl::StrCat("FE check: ", report.status().message()));
+  }
+  const fecheck::FeDifferences d = fecheck::Compare(report->original, report->simplified);
+  LogLine(absl::StrFormat("job %s fe_check end: volume %+.4f%% moments %.4f%% frequencies %.4f%%",
+                          job.id(), 100 * d.volume, 100 * d.worst_moment, 100 * d.worst_frequency));
+  return report;
 }
 
 void JobRunner::Run(const std::shared_ptr<Job>& job) {
@@ -64,6 +100,17 @@ void JobRunner::Run(const std::shared_ptr<Job>& job) {
         absl::StrFormat("not enough memory %s (%d vertices, %d faces)", what, job->input_vertices(),
                         job->input_faces()));
   };
+  // The FE check compares the input as repaired with the output: a copy before the engine runs.
+  std::optional<RawMesh> fe_input;
+  if (job->fe_check()) {
+    absl::StatusOr<RawMesh> copy;
+    try {
+      copy = OutputMesh(*mesh, input->seam_map);
+    } catch (const std::bad_alloc&) {
+      copy = out_of_memory("to keep the input for the FE check");
+    }
+    if (copy.ok()) fe_input = *std::move(copy);
+  }
   absl::StatusOr<SimplifyResult> result;
   try {
     result = Simplify(*mesh, o, control);
@@ -94,6 +141,18 @@ void JobRunner::Run(const std::shared_ptr<Job>& job) {
     }
   }
   input.reset();  // the engine's arrays go before the next job starts
+  std::optional<fecheck::FeCheckReport> fe_report;
+  if (job->fe_check() && result.ok() && status.ok()) {
+    absl::StatusOr<fecheck::FeCheckReport> fe = RunFeCheck(*job, fe_input, output);
+    if (fe.ok()) {
+      fe_report = *std::move(fe);
+    } else if (job->cancelled()) {
+      status = job->cancel_status();
+    } else {
+      status = ToGrpc(fe.status());
+      result = fe.status();
+    }
+  }
   // Metrics before the job ends: a client that saw its job end then sees it counted.
   if (result.ok() && status.ok())
     metrics_.JobCompleted(o.backend, job->contexts(), result->engine_seconds, queued, *result);
@@ -103,7 +162,7 @@ void JobRunner::Run(const std::shared_ptr<Job>& job) {
   else if (!status.ok())
     job->FinishCancelled();
   else
-    job->Succeed(*result, std::move(output));
+    job->Succeed(*result, std::move(output), std::move(fe_report));
   registry_.MarkFinished(job);
 
   const double run_seconds = job->run_seconds();

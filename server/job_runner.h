@@ -6,9 +6,12 @@
 
 #include <atomic>
 #include <memory>
+#include <optional>
 #include <thread>
 
+#include "absl/status/statusor.h"
 #include "engine/worker_pool.h"
+#include "fecheck/fe_check.h"
 #include "server/job_queue.h"
 #include "server/job_registry.h"
 #include "server/metrics.h"
@@ -29,6 +32,10 @@ class JobRunner {
  private:
   void Work();  // one context: jobs until the queue is closed
   void Run(const std::shared_ptr<Job>& job);
+  // The job's FE check of its (repaired) input against its output; errors prefixed "FE check: ".
+  static absl::StatusOr<fecheck::FeCheckReport> RunFeCheck(const Job& job,
+                                                           const std::optional<RawMesh>& input,
+                                                           const RawMesh& output);
 
   JobQueue& queue_;
   JobRegistry& registry_;

@@ -10,6 +10,9 @@
 #include "absl/strings/str_cat.h"
 #include "engine/mesh.h"
 #include "engine/prepare.h"
+#include "fecheck/tet_mesh.h"
+#include "fecheck/tools.h"
+#include "proto/fe_check_wire.h"
 #include "proto/wire.h"
 #include "server/log.h"
 #include "server/request_reader.h"
@@ -136,6 +139,20 @@ grpc::Status SimplifierService::Simplify(grpc::ServerContext* ctx, Stream* strea
                           absl::StrCat("spec.options: ", options.status().message()));
     if (std::optional<std::string> over = OverServerLimits(*options, config_))
       return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, *over);
+    // The FE check's options and tools before the upload: a server without tetgen or ccx says so
+    // before the client sends its mesh.
+    std::optional<fecheck::FeCheckOptions> fe_check;
+    if (spec->fe_check()) {
+      absl::StatusOr<fecheck::FeCheckOptions> fe =
+          wire::FeCheckOptionsFromProto(spec->fe_check_options());
+      if (!fe.ok())
+        return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
+                            absl::StrCat("spec.fe_check_options: ", fe.status().message()));
+      if (absl::Status tools = fecheck::LocateTools(); !tools.ok())
+        return grpc::Status(grpc::StatusCode::FAILED_PRECONDITION,
+                            absl::StrCat("fe_check: this server cannot run it: ", tools.message()));
+      fe_check = *fe;
+    }
     // Admission before the upload, so a full server does not receive the mesh first.
     if (!queue_.TryReserve()) {
       ctx->AddTrailingMetadata("grpc-retry-pushback-ms", std::to_string(config_.retry_pushback_ms));
@@ -145,7 +162,7 @@ grpc::Status SimplifierService::Simplify(grpc::ServerContext* ctx, Stream* strea
                                        config_.retry_pushback_ms, " ms"));
     }
     auto job = std::make_shared<Job>(registry_.NewId(), spec->client_label(), *options,
-                                     spec->vertex_count(), spec->face_count(), tenant);
+                                     spec->vertex_count(), spec->face_count(), tenant, fe_check);
     registry_.Add(job);
     grpc::Status s;
     try {
@@ -200,6 +217,14 @@ grpc::Status SimplifierService::RunJob(grpc::ServerContext* ctx, Stream* stream,
   if (!prepared.ok()) {
     return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
                         Bounded(absl::StrCat("invalid mesh: ", prepared.status().message())));
+  }
+  // An FE check needs a closed input: refused before the job queues, not after it ran.
+  if (job->fe_check()) {
+    absl::StatusOr<RawMesh> repaired = OutputMesh(prepared->mesh, prepared->seam_map);
+    absl::Status closed = repaired.ok() ? fecheck::CheckClosedSolid(*repaired) : repaired.status();
+    if (!closed.ok())
+      return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
+                          absl::StrCat("fe_check: the input (as repaired): ", closed.message()));
   }
   metrics_.Repaired(prepared->report);
   LogLine(absl::StrCat("job ", job->id(), " ", prepared->report.Summary()));
@@ -283,6 +308,7 @@ grpc::Status SimplifierService::Follow(grpc::ServerContext* ctx, Stream* stream,
   for (const FaceField& field : output.mesh.face_fields) m->add_face_field_names(field.name);
   wire::FidelityToProto(r, m);
   wire::RepairToProto(repair, m->mutable_repair());
+  if (output.fe_check) wire::ToProto(*output.fe_check, m->mutable_fe_check());
   // A client that stops reading would hold the output mesh (a Write waits for it): cancelled.
   CallWatchdog::Watch download(watchdog_, ctx,
                                {.idle_seconds = config_.result_idle_seconds,

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <numbers>
 #include <set>
 
@@ -74,6 +75,36 @@ RawMesh MakeTorus(int n, int m, double R, double r) {
                d = i * m + (j + 1) % m;
       mesh.triangles.insert(mesh.triangles.end(), {a, b, c, a, c, d});
     }
+  return mesh;
+}
+
+RawMesh MakeBox(const std::array<double, 3>& size, const std::array<int, 3>& cells) {
+  RawMesh mesh;
+  std::map<std::array<int, 3>, uint32_t> ids;  // grid point -> vertex, shared by the sides
+  auto vertex = [&](const std::array<int, 3>& g) {
+    auto [it, added] = ids.emplace(g, static_cast<uint32_t>(ids.size()));
+    if (added)
+      for (int k = 0; k < 3; ++k) mesh.positions.push_back(float(size[k] * g[k] / cells[k]));
+    return it->second;
+  };
+  for (int a = 0; a < 3; ++a) {
+    const int u = (a + 1) % 3, v = (a + 2) % 3;  // u x v points along +a
+    for (int side = 0; side < 2; ++side)
+      for (int i = 0; i < cells[u]; ++i)
+        for (int j = 0; j < cells[v]; ++j) {
+          std::array<uint32_t, 4> q;
+          const int corner[4][2] = {{i, j}, {i + 1, j}, {i + 1, j + 1}, {i, j + 1}};
+          for (int c = 0; c < 4; ++c) {
+            std::array<int, 3> g;
+            g[a] = side * cells[a];
+            g[u] = corner[c][0];
+            g[v] = corner[c][1];
+            q[c] = vertex(g);
+          }
+          if (side == 0) std::swap(q[1], q[3]);  // the -a side faces the other way
+          mesh.triangles.insert(mesh.triangles.end(), {q[0], q[1], q[2], q[0], q[2], q[3]});
+        }
+  }
   return mesh;
 }
 

@@ -2,6 +2,7 @@
 // tests/data, and geometry helpers to check results with.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <functional>
 #include <string>
@@ -20,6 +21,11 @@ RawMesh SingleTriangle();
 // A closed tetrahedron, counter-clockwise seen from outside, with coordinates that need all
 // nine significant digits of a float (for file round trips).
 RawMesh PreciseTetrahedron();
+
+// Closed box [0, size[0]] x [0, size[1]] x [0, size[2]], each side split into cells[a] x cells[b]
+// squares of two triangles, counter-clockwise seen from outside (a beam or a plate for the FE
+// check's known answers).
+RawMesh MakeBox(const std::array<double, 3>& size, const std::array<int, 3>& cells);
 
 // Closed torus of n * m vertices and 2nm faces (a valid closed 2-manifold), radii R and r.
 RawMesh MakeTorus(int n, int m, double R = 3.0, double r = 1.0);

@@ -1,0 +1,159 @@
+#include "fecheck/tet_mesh.h"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "engine/mesh_checks.h"
+#include "engine/union_find.h"
+
+namespace femsimp::fecheck {
+namespace {
+
+// Six times the signed volume enclosed by the surface (divergence theorem, in double).
+double SixVolume(const RawMesh& m) {
+  double sum = 0;
+  for (size_t f = 0; f < m.num_faces(); ++f) {
+    const float* a = &m.positions[3 * m.triangles[3 * f]];
+    const float* b = &m.positions[3 * m.triangles[3 * f + 1]];
+    const float* c = &m.positions[3 * m.triangles[3 * f + 2]];
+    sum += double{a[0]} * (double{b[1]} * c[2] - double{b[2]} * c[1]) -
+           double{a[1]} * (double{b[0]} * c[2] - double{b[2]} * c[0]) +
+           double{a[2]} * (double{b[0]} * c[1] - double{b[1]} * c[0]);
+  }
+  return sum;
+}
+
+// TetGen's surface format: nodes, then one facet per triangle (0-based, as -z reads them back).
+absl::Status WriteSmesh(const std::string& path, const RawMesh& m) {
+  std::FILE* out = std::fopen(path.c_str(), "w");
+  if (out == nullptr) return absl::InternalError(absl::StrCat("cannot write ", path));
+  std::fprintf(out, "%zu 3 0 0\n", m.num_vertices());
+  for (size_t v = 0; v < m.num_vertices(); ++v)  // %.9g: floats survive the round trip
+    std::fprintf(out, "%zu %.9g %.9g %.9g\n", v, m.positions[3 * v], m.positions[3 * v + 1],
+                 m.positions[3 * v + 2]);
+  std::fprintf(out, "%zu 0\n", m.num_faces());
+  for (size_t f = 0; f < m.num_faces(); ++f)
+    std::fprintf(out, "3 %u %u %u\n", m.triangles[3 * f], m.triangles[3 * f + 1],
+                 m.triangles[3 * f + 2]);
+  std::fprintf(out, "0\n0\n");
+  const bool ok = std::ferror(out) == 0;
+  if (std::fclose(out) != 0 || !ok) return absl::InternalError(absl::StrCat("cannot write ", path));
+  return absl::OkStatus();
+}
+
+int CountComponents(const TetMesh& mesh) {
+  UnionFind parts(mesh.num_nodes());
+  std::vector<bool> used(mesh.num_nodes(), false);
+  for (size_t t = 0; t < mesh.num_tets(); ++t)
+    for (int k = 0; k < 4; ++k) {
+      used[mesh.tets[4 * t + k]] = true;
+      if (k > 0) parts.Union(mesh.tets[4 * t], mesh.tets[4 * t + k]);
+    }
+  int components = 0;
+  for (uint32_t n = 0; n < mesh.num_nodes(); ++n)
+    if (used[n] && parts.Find(n) == n) ++components;
+  return components;
+}
+
+}  // namespace
+
+absl::Status CheckClosedSolid(const RawMesh& surface) {
+  if (absl::Status s = CheckSoup(surface); !s.ok()) return s;
+  const SoupTopology topology = TopologyOf(surface);
+  if (topology.boundary_edges > 0)
+    return absl::InvalidArgumentError(
+        absl::StrCat("the surface is not closed (", topology.boundary_edges,
+                     " boundary edges): an FE check needs a closed solid"));
+  if (SixVolume(surface) <= 0)
+    return absl::InvalidArgumentError(
+        "the surface encloses no positive volume (is it oriented inwards?): an FE check needs a "
+        "closed solid with its faces counter-clockwise seen from outside");
+  return absl::OkStatus();
+}
+
+absl::StatusOr<std::vector<std::vector<double>>> ReadTetgenTable(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) return absl::InvalidArgumentError(absl::StrCat("cannot read ", path));
+  std::vector<std::vector<double>> rows;
+  std::string line;
+  for (size_t number = 1; std::getline(in, line); ++number) {
+    line = line.substr(0, line.find('#'));
+    std::vector<double> row;
+    const char* p = line.c_str();
+    for (;;) {
+      while (*p == ' ' || *p == '\t' || *p == '\r') ++p;
+      if (*p == '\0') break;
+      char* end = nullptr;
+      const double x = std::strtod(p, &end);
+      if (end == p || !std::isfinite(x))
+        return absl::InvalidArgumentError(absl::StrCat(path, " line ", number, ": not a number"));
+      row.push_back(x);
+      p = end;
+    }
+    if (!row.empty()) rows.push_back(std::move(row));
+  }
+  return rows;
+}
+
+absl::StatusOr<TetMesh> Tetrahedralise(const RawMesh& surface, double unit_scale,
+                                       double max_tet_volume, bool keep_surface,
+                                       const ToolRun& run) {
+  if (absl::Status s = WriteSmesh(run.dir + "/surface.smesh", surface); !s.ok()) return s;
+  // -p: the surface is a piecewise linear complex; -Y: keep it as given; -q1.414: radius-edge
+  // ratio bound (no slivers inside); -z: number from 0, as the .smesh does.
+  std::string switches = keep_surface ? "-pq1.414Yz" : "-pq1.414z";
+  if (max_tet_volume > 0) absl::StrAppend(&switches, absl::StrFormat("a%.9g", max_tet_volume));
+  absl::StatusOr<ToolExit> ran = RunTool(kTetgen, {switches, "surface.smesh"}, run);
+  if (!ran.ok()) return ran.status();
+  if (!ran->exit.ok()) return absl::InvalidArgumentError(ToolFailure(kTetgen, *ran));
+
+  absl::StatusOr<std::vector<std::vector<double>>> nodes =
+      ReadTetgenTable(run.dir + "/surface.1.node");
+  absl::StatusOr<std::vector<std::vector<double>>> tets =
+      ReadTetgenTable(run.dir + "/surface.1.ele");
+  if (!nodes.ok() || !tets.ok() || tets->size() < 2)
+    return absl::InvalidArgumentError(ToolFailure(kTetgen, *ran, "it made no tetrahedra"));
+  TetMesh mesh;
+  const size_t num_nodes = nodes->size() - 1;
+  mesh.nodes.reserve(3 * num_nodes);
+  for (size_t n = 1; n < nodes->size(); ++n) {
+    const std::vector<double>& row = (*nodes)[n];
+    if (row.size() < 4 || row[0] != static_cast<double>(n - 1))
+      return absl::InternalError(
+          absl::StrCat("tetgen's surface.1.node: node ", n - 1, " malformed"));
+    for (int k = 1; k <= 3; ++k) mesh.nodes.push_back(row[k] * unit_scale);
+  }
+  mesh.tets.reserve(4 * (tets->size() - 1));
+  for (size_t t = 1; t < tets->size(); ++t) {
+    const std::vector<double>& row = (*tets)[t];
+    if (row.size() < 5)
+      return absl::InternalError(absl::StrCat("tetgen's surface.1.ele: tetrahedron ", t - 1,
+                                              " has fewer than four nodes"));
+    uint32_t v[4];
+    for (int k = 0; k < 4; ++k) {
+      if (row[k + 1] < 0 || row[k + 1] >= static_cast<double>(num_nodes))
+        return absl::InternalError(absl::StrCat("tetgen's surface.1.ele: tetrahedron ", t - 1,
+                                                " names a node out of range"));
+      v[k] = static_cast<uint32_t>(row[k + 1]);
+    }
+    // Positive volume, as CalculiX's C3D10 numbering expects.
+    const double* a = &mesh.nodes[3 * v[0]];
+    double e[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) e[i][k] = mesh.nodes[3 * v[i + 1] + k] - a[k];
+    const double det = e[0][0] * (e[1][1] * e[2][2] - e[1][2] * e[2][1]) -
+                       e[0][1] * (e[1][0] * e[2][2] - e[1][2] * e[2][0]) +
+                       e[0][2] * (e[1][0] * e[2][1] - e[1][1] * e[2][0]);
+    if (det < 0) std::swap(v[1], v[2]);
+    mesh.tets.insert(mesh.tets.end(), v, v + 4);
+  }
+  mesh.components = CountComponents(mesh);
+  return mesh;
+}
+
+}  // namespace femsimp::fecheck

@@ -1,0 +1,42 @@
+// A closed surface made into linear tetrahedra by tetgen, keeping the surface as given (-Y:
+// every surface triangle is a face of the tetrahedral mesh, no point added on it).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "absl/status/status.h"
+#include "absl/status/statusor.h"
+#include "engine/raw_mesh.h"
+#include "fecheck/tools.h"
+
+namespace femsimp::fecheck {
+
+struct TetMesh {
+  std::vector<double> nodes;   // x, y, z per node, in metres (the unit scale applied)
+  std::vector<uint32_t> tets;  // four nodes per tetrahedron, positive volume
+  int components = 0;          // node-connected parts (each has six rigid-body modes)
+  size_t num_nodes() const { return nodes.size() / 3; }
+  size_t num_tets() const { return tets.size() / 4; }
+};
+
+// What tetgen needs of a surface: valid triangles (CheckSoup), closed (no boundary edge) and
+// enclosing a positive volume (oriented outwards). InvalidArgument saying what is wrong.
+absl::Status CheckClosedSolid(const RawMesh& surface);
+
+// Runs tetgen on `surface` (written to run.dir) with the quality bound -q1.414 and, when
+// max_tet_volume > 0, that volume bound in model units cubed; coordinates are multiplied by
+// unit_scale afterwards. InvalidArgument quoting tetgen when it refuses the surface (e.g. a
+// self-intersection), Cancelled, NotFound (no tetgen).
+// keep_surface false lets tetgen split surface triangles (points on them, the geometry stays).
+absl::StatusOr<TetMesh> Tetrahedralise(const RawMesh& surface, double unit_scale,
+                                       double max_tet_volume, bool keep_surface,
+                                       const ToolRun& run);
+
+// A tetgen output table (.node, .ele): the numbers of each non-comment line; the first row is
+// the header. InvalidArgument naming the file when it cannot be read or a number is malformed.
+absl::StatusOr<std::vector<std::vector<double>>> ReadTetgenTable(const std::string& path);
+
+}  // namespace femsimp::fecheck
