@@ -1,40 +1,11 @@
 #include "fecheck/solid_properties.h"
 
+#include "engine/inertia.h"
+
 #include <algorithm>
 #include <cmath>
 
 namespace femsimp::fecheck {
-
-std::array<double, 3> SymmetricEigenvalues(const std::array<std::array<double, 3>, 3>& m) {
-  std::array<std::array<double, 3>, 3> a = m;
-  for (int sweep = 0; sweep < 50; ++sweep) {
-    const double off = a[0][1] * a[0][1] + a[0][2] * a[0][2] + a[1][2] * a[1][2];
-    const double scale = a[0][0] * a[0][0] + a[1][1] * a[1][1] + a[2][2] * a[2][2];
-    if (off <= 1e-30 * scale || off == 0) break;
-    for (int p = 0; p < 2; ++p)
-      for (int q = p + 1; q < 3; ++q) {
-        if (a[p][q] == 0) continue;
-        // The rotation that zeroes a[p][q] (Numerical Recipes' form, stable for small angles).
-        const double theta = (a[q][q] - a[p][p]) / (2 * a[p][q]);
-        const double t =
-            (theta >= 0 ? 1.0 : -1.0) / (std::abs(theta) + std::sqrt(theta * theta + 1));
-        const double c = 1 / std::sqrt(t * t + 1), s = t * c;
-        for (int k = 0; k < 3; ++k) {  // columns p, q
-          const double akp = a[k][p], akq = a[k][q];
-          a[k][p] = c * akp - s * akq;
-          a[k][q] = s * akp + c * akq;
-        }
-        for (int k = 0; k < 3; ++k) {  // rows p, q
-          const double apk = a[p][k], aqk = a[q][k];
-          a[p][k] = c * apk - s * aqk;
-          a[q][k] = s * apk + c * aqk;
-        }
-      }
-  }
-  std::array<double, 3> eig{a[0][0], a[1][1], a[2][2]};
-  std::sort(eig.begin(), eig.end());
-  return eig;
-}
 
 SolidProperties MeasureSolid(const TetMesh& mesh, double density) {
   SolidProperties out;
@@ -89,7 +60,9 @@ SolidProperties MeasureSolid(const TetMesh& mesh, double density) {
   const double trace = central[0][0] + central[1][1] + central[2][2];
   for (int a = 0; a < 3; ++a)
     for (int b = 0; b < 3; ++b) inertia[a][b] = density * ((a == b ? trace : 0) - central[a][b]);
-  out.principal_moments = SymmetricEigenvalues(inertia);
+  const Eigen3 e = Eigen(
+      {inertia[0][0], inertia[1][1], inertia[2][2], inertia[0][1], inertia[1][2], inertia[2][0]});
+  out.principal_moments = {e.values[0], e.values[1], e.values[2]};
   return out;
 }
 

@@ -17,7 +17,4 @@ struct SolidProperties {
 
 SolidProperties MeasureSolid(const TetMesh& mesh, double density);
 
-// Eigenvalues of a symmetric 3x3 matrix, ascending (cyclic Jacobi rotations).
-std::array<double, 3> SymmetricEigenvalues(const std::array<std::array<double, 3>, 3>& m);
-
 }  // namespace femsimp::fecheck

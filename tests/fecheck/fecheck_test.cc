@@ -70,26 +70,6 @@ TEST(SolidProperties, BoxOfSixTetrahedra) {
   EXPECT_NEAR(p.diagonal, std::sqrt(a * a + b * b + c * c), 1e-12);
 }
 
-TEST(SolidProperties, EigenvaluesOfARotatedTensor) {
-  // R diag(1, 2, 5) R^T with R a rotation of 30 degrees about z, then 45 about x.
-  const double s = 0.5, c = std::sqrt(3.0) / 2, h = std::sqrt(0.5);
-  const double rz[3][3] = {{c, -s, 0}, {s, c, 0}, {0, 0, 1}};
-  const double rx[3][3] = {{1, 0, 0}, {0, h, -h}, {0, h, h}};
-  double r[3][3] = {};
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      for (int k = 0; k < 3; ++k) r[i][j] += rx[i][k] * rz[k][j];
-  const double d[3] = {5, 1, 2};
-  std::array<std::array<double, 3>, 3> m{};
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      for (int k = 0; k < 3; ++k) m[i][j] += r[i][k] * d[k] * r[j][k];
-  const std::array<double, 3> e = SymmetricEigenvalues(m);
-  EXPECT_NEAR(e[0], 1, 1e-12);
-  EXPECT_NEAR(e[1], 2, 1e-12);
-  EXPECT_NEAR(e[2], 5, 1e-12);
-}
-
 // The table as CalculiX 2.20 writes it (a free-free beam: six rigid-body modes, two of them
 // with small negative eigenvalues, then six bending modes).
 constexpr char kDat[] = R"(
