@@ -46,6 +46,15 @@ void AddServerFlags(flags::FlagSet& set, ServerConfig* c) {
              "style); a call without a valid token gets UNAUTHENTICATED, a tenant sees only its "
              "own jobs",
              &c->auth_tokens_file);
+  set.Number({.name = "--max_jobs_per_tenant",
+              .metavar = "N",
+              .help = "unfinished jobs (uploading, queued or running) one tenant may have; more "
+                      "get RESOURCE_EXHAUSTED with a retry pushback (without tenants: all calls)",
+              .kind = NumberKind::kInteger,
+              .range = kNonNegative,
+              .zero_means = "no limit",
+              .default_text = FormatNumber(static_cast<double>(d.max_jobs_per_tenant))},
+             &c->max_jobs_per_tenant);
   set.Switch("--reflection",
              "serve gRPC server reflection (lists the services to any client; default off)",
              &c->reflection);

@@ -41,6 +41,7 @@ struct ServerConfig {
   std::string tls_cert_file, tls_key_file, tls_client_ca_file;
   bool plaintext_remote = false;  // allow plaintext on an address reachable from the network
   std::string auth_tokens_file;
+  int max_jobs_per_tenant = 0;  // unfinished (uploading, queued, running) jobs a tenant may have
 };
 
 // femsimp-server's flags (--listen, --workers, --threads_per_job, ...), storing into *c, with

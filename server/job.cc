@@ -12,8 +12,7 @@ double Seconds(Job::Clock::time_point a, Job::Clock::time_point b) {
 }  // namespace
 
 Job::Job(std::string id, std::string label, SimplifyOptions options, uint64_t vertices,
-         uint64_t faces, std::string tenant,
-         std::optional<fecheck::FeCheckOptions> fe_check)
+         uint64_t faces, std::string tenant, std::optional<fecheck::FeCheckOptions> fe_check)
     : id_(std::move(id)),
       label_(std::move(label)),
       tenant_(std::move(tenant)),

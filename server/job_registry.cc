@@ -18,9 +18,17 @@ std::string JobRegistry::NewId() {
   }
 }
 
-void JobRegistry::Add(std::shared_ptr<Job> job) {
+void JobRegistry::Add(std::shared_ptr<Job> job) { AddWithin(std::move(job), 0); }
+
+bool JobRegistry::AddWithin(std::shared_ptr<Job> job, size_t max_per_tenant) {
   std::lock_guard<std::mutex> lock(mu_);
+  if (max_per_tenant > 0) {
+    size_t mine = 0;
+    for (const auto& [id, other] : active_) mine += other->tenant() == job->tenant();
+    if (mine >= max_per_tenant) return false;
+  }
   active_[job->id()] = std::move(job);
+  return true;
 }
 
 void JobRegistry::MarkFinished(const std::shared_ptr<Job>& job) {

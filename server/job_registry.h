@@ -20,6 +20,8 @@ class JobRegistry {
   // 128 random bits in hex: unguessable, so a job id is as good as a capability to it.
   std::string NewId();
   void Add(std::shared_ptr<Job> job);
+  // Adds the job unless its tenant already has `max_per_tenant` unfinished jobs (0: no limit).
+  bool AddWithin(std::shared_ptr<Job> job, size_t max_per_tenant);
   // Moves the job to the finished list (dropping the oldest beyond the limit).
   void MarkFinished(const std::shared_ptr<Job>& job);
   std::shared_ptr<Job> Find(const std::string& id) const;

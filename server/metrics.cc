@@ -160,8 +160,11 @@ int Metrics::port() const {
   return ports.empty() ? 0 : ports[0];
 }
 
-void Metrics::JobFinished(grpc::StatusCode code) {
-  jobs_.Add({{"status", StatusCodeName(code)}}).Increment();
+void Metrics::JobFinished(grpc::StatusCode code, const std::string& tenant) {
+  if (tenant.empty())
+    jobs_.Add({{"status", StatusCodeName(code)}}).Increment();
+  else
+    jobs_.Add({{"status", StatusCodeName(code)}, {"tenant", tenant}}).Increment();
 }
 
 void Metrics::SetQueueDepth(size_t waiting) { queue_depth_.Set(static_cast<double>(waiting)); }

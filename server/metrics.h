@@ -32,7 +32,8 @@ class Metrics {
   absl::Status StartExposer(const std::string& address);
   int port() const;  // the exposer's port, 0 when not started
 
-  void JobFinished(grpc::StatusCode code);
+  // femsimp_jobs_total{status[, tenant]}: the tenant label only on a server with tenants.
+  void JobFinished(grpc::StatusCode code, const std::string& tenant = "");
   void SetQueueDepth(size_t waiting);
   void SetRunning(int running);
   void PassFinished(Backend backend, const PassStats& p);

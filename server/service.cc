@@ -163,7 +163,16 @@ grpc::Status SimplifierService::Simplify(grpc::ServerContext* ctx, Stream* strea
     }
     auto job = std::make_shared<Job>(registry_.NewId(), spec->client_label(), *options,
                                      spec->vertex_count(), spec->face_count(), tenant, fe_check);
-    registry_.Add(job);
+    // One tenant may not take every slot: its unfinished jobs are bounded, atomically with
+    // their registration.
+    if (!registry_.AddWithin(job, static_cast<size_t>(config_.max_jobs_per_tenant))) {
+      queue_.CancelReservation();
+      ctx->AddTrailingMetadata("grpc-retry-pushback-ms", std::to_string(config_.retry_pushback_ms));
+      return grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
+                          absl::StrCat("tenant '", tenant, "' has ", config_.max_jobs_per_tenant,
+                                       " unfinished jobs (--max_jobs_per_tenant); retry after ",
+                                       config_.retry_pushback_ms, " ms"));
+    }
     grpc::Status s;
     try {
       s = RunJob(ctx, stream, job, reader, *spec, upload);
@@ -177,7 +186,9 @@ grpc::Status SimplifierService::Simplify(grpc::ServerContext* ctx, Stream* strea
     registry_.MarkFinished(job);
     return s;
   }();
-  metrics_.JobFinished(status.error_code());
+  std::string tenant;  // an unauthenticated call counts without a tenant
+  if (!auth_.Authenticate(*ctx, &tenant).ok()) tenant.clear();
+  metrics_.JobFinished(status.error_code(), tenant);
   return status;
 }
 

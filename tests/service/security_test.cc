@@ -200,6 +200,45 @@ TEST(Tenants, SeeReadAndCancelOnlyTheirOwnJobs) {
   EXPECT_EQ(s_cancel.error_message(), absl::StrCat("no job '", job.job_id, "'"));
 }
 
+// One tenant cannot hold every slot: its unfinished jobs are bounded, other tenants go on; the
+// job counter carries the tenant.
+TEST(Tenants, UnfinishedJobsAreBoundedPerTenant) {
+  const std::string dir = testing::MakeTempDir("femsimp_tenant_limit");
+  WriteFile(dir + "/tokens.csv", "token-alice,alice\ntoken-bob,bob\n");
+  server::ServerConfig c = testing::TestConfig();
+  c.auth_tokens_file = dir + "/tokens.csv";
+  c.max_jobs_per_tenant = 1;
+  InProcessServer s(c);
+  const auto as = [&](const std::string& token) {
+    cli::ChannelSecurity security;
+    security.token = token;
+    return cli::MakeChannel(s.address(), security);
+  };
+  // Alice's first job stays unfinished: its spec is sent, its mesh never comes.
+  auto alice = v1::Simplifier::NewStub(as("token-alice"));
+  grpc::ClientContext held;
+  auto stream = alice->Simplify(&held);
+  v1::SimplifyRequest spec;
+  *spec.mutable_spec() = testing::RatioSpec(0.5);
+  spec.mutable_spec()->set_vertex_count(3);
+  spec.mutable_spec()->set_face_count(1);
+  ASSERT_TRUE(stream->Write(spec));
+  v1::SimplifyResponse accepted;
+  ASSERT_TRUE(stream->Read(&accepted));  // registered: Accepted comes once the upload may start
+  const cli::RemoteOutcome second = RunJob(as("token-alice"));
+  EXPECT_EQ(second.status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
+  EXPECT_NE(second.status.error_message().find("--max_jobs_per_tenant"), std::string::npos)
+      << second.status.error_message();
+  const cli::RemoteOutcome bobs = RunJob(as("token-bob"));
+  EXPECT_TRUE(bobs.status.ok()) << bobs.status.error_message();
+  held.TryCancel();
+  stream->Finish().IgnoreError();
+  const std::map<std::string, double> m =
+      testing::ParseMetrics(testing::HttpGet(s.server().metrics_port(), "/metrics"));
+  EXPECT_EQ(m.count("femsimp_jobs_total{status=\"OK\",tenant=\"bob\"}"), 1u);
+  EXPECT_EQ(m.count("femsimp_jobs_total{status=\"RESOURCE_EXHAUSTED\",tenant=\"alice\"}"), 1u);
+}
+
 // Tokens ride on TLS the same way.
 TEST_F(Certificates, TokensOverTls) {
   const std::string dir = testing::MakeTempDir("femsimp_tokens_tls");
