@@ -25,7 +25,7 @@ RunReport StartReport(const SimplifyArgs& args) {
 
 std::optional<RawMesh> ReadInput(const SimplifyArgs& args, RunReport& report,
                                  GroupNames* group_names) {
-  absl::StatusOr<RawMesh> raw = ReadMeshFile(args.input, group_names);
+  absl::StatusOr<RawMesh> raw = ReadMeshFile(args.input, group_names, &report.input_warnings);
   if (!raw.ok()) {
     PrintError("femsimp: cannot read %s: %s\n", args.input.c_str(),
                std::string(raw.status().message()).c_str());

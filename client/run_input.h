@@ -17,7 +17,8 @@ RunReport StartReport(const SimplifyArgs& args);
 
 // Reads args.input and records its vertex and face counts and face data; on failure prints the
 // reason on stderr and returns nullopt (the caller exits with kExitInputUnreadable). OBJ group
-// names go to group_names, for writing OUT.
+// names and MSH physical names go to group_names, for writing OUT; what the reader left out of
+// the file to report.input_warnings.
 std::optional<RawMesh> ReadInput(const SimplifyArgs& args, RunReport& report,
                                  GroupNames* group_names);
 

@@ -4,6 +4,7 @@
 //   format  face groups                               face fields
 //   OBJ     `g NAME` statements                        -
 //   PLY     integer face property `group`              float/double face properties, by name
+//   MSH     physical groups (msh.h)                    -
 //   OFF     -                                          -
 //   STL     -                                          -
 #pragma once
@@ -19,8 +20,8 @@
 
 namespace femsimp {
 
-// Names of face groups by id, for formats that name groups (OBJ). Ids missing here are written
-// with their default name (ObjGroupName).
+// Names of face groups by id, for formats that name groups (OBJ, MSH's $PhysicalNames). Ids missing
+// here are written with their default name (ObjGroupName).
 using GroupNames = std::map<uint32_t, std::string>;
 
 // ------------------------------------------------------------------------------------ OBJ
@@ -75,8 +76,12 @@ std::string PlyBytes(const RawMesh& mesh, bool binary);
 std::string OffText(const RawMesh& mesh);
 std::string StlBytes(const RawMesh& mesh, bool binary);
 
+// Appends the shortest decimal that reads back as the same float (the writers' number text).
+void AppendFloat(std::string* s, float v);
+
 // What the writers need beyond a well-formed soup: finite field values; for PLY, field names
-// that read back as fields (IsPlyFieldName, no blanks); for OBJ, group names on one line.
+// that read back as fields (IsPlyFieldName, no blanks); for OBJ, group names on one line; for MSH,
+// group names that fit gmsh's quotes (CheckMshGroupNames).
 absl::Status CheckFaceData(absl::string_view ext, const RawMesh& mesh, const GroupNames& names);
 
 }  // namespace femsimp
