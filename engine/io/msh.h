@@ -27,8 +27,9 @@ namespace femsimp {
 absl::Status ParseMsh(absl::string_view data, ParsedMeshFile* out);
 
 // MSH 4.1 ASCII, as gmsh writes it: $PhysicalNames for the groups named in `names`, one surface
-// entity per face group (group 0: a surface in no physical group), every node in one block, the
-// faces as 3-node triangles, each group's in the mesh's order.
+// entity per face group (its physical tag the group id; group 0 of a mesh with groups has
+// physical tag 0, which the reader reads back as group 0), every node in one block, the faces as
+// 3-node triangles, each group's in the mesh's order.
 std::string MshText(const RawMesh& mesh, const GroupNames& names);
 
 // What CheckFaceData asks of MSH group names: quoted on one line, as gmsh reads them.

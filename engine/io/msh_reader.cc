@@ -41,6 +41,8 @@ enum Family : uint8_t {
 constexpr uint16_t kFirstOrderNodes[] = {1, 2, 3, 4, 4, 8, 6, 5};
 constexpr const char* kPlural[] = {"points",     "lines",     "triangles", "quadrangles",
                                    "tetrahedra", "hexahedra", "prisms",    "pyramids"};
+constexpr const char* kSingular[] = {"point",       "line",       "triangle", "quadrangle",
+                                     "tetrahedron", "hexahedron", "prism",    "pyramid"};
 
 struct ElementType {
   int type;
@@ -97,9 +99,11 @@ const ElementType* FindType(int64_t type) {
   return it != std::end(kElementTypes) && it->type == type ? it : nullptr;
 }
 
-std::string TypeName(const ElementType& t) {
-  if (t.nodes == kFirstOrderNodes[t.family]) return kPlural[t.family];
-  return absl::StrCat(t.nodes, "-node ", kPlural[t.family]);
+// "1234 tetrahedra", "1 line", "56 10-node tetrahedra".
+std::string CountOf(uint64_t n, const ElementType& t) {
+  const char* name = (n == 1 ? kSingular : kPlural)[t.family];
+  if (t.nodes == kFirstOrderNodes[t.family]) return absl::StrCat(n, " ", name);
+  return absl::StrCat(n, " ", t.nodes, "-node ", name);
 }
 
 // Int, Size and Double are the format's int, size_t and double: binary in the binary parts of a
@@ -142,8 +146,10 @@ class MshReader {
 
  private:
   // ------------------------------------------------------------------------- positions
+  // Where the value at or after `at` starts.
   std::string Where(size_t at) const {
     if (binary_) return absl::StrCat(" (byte ", at, ")");
+    while (at < data_.size() && absl::ascii_isspace(data_[at])) ++at;
     return absl::StrCat(" (line ", 1 + std::count(data_.begin(), data_.begin() + at, '\n'), ")");
   }
   static std::string Clip(absl::string_view s) {
@@ -389,9 +395,10 @@ class MshReader {
           const size_t at = pos_;
           if (absl::Status s = Integer(Kind::kInt, "a physical tag", &phys); !s.ok()) return s;
           if (dim != 2) continue;
-          if (phys <= 0)
+          // 0 is femsimp's own "no group" in a file with groups (msh_writer.cc).
+          if (phys < 0 || phys > int64_t{std::numeric_limits<uint32_t>::max()})
             return Bad("$Entities", Where(at), ": surface ", tag, " has physical tag ", phys,
-                       ", not a group id in [1, 2^32)");
+                       ", not a group id in [0, 2^32)");
           if (k == 0) surface_group_[tag] = uint32_t(phys);
           if (k == 1) ++surfaces_in_several_groups_;
         }
@@ -602,8 +609,7 @@ class MshReader {
     std::stable_sort(left.begin(), left.end(),
                      [](const auto& a, const auto& b) { return a.second > b.second; });
     std::vector<std::string> parts;
-    for (const auto& [type, n] : left)
-      parts.push_back(absl::StrCat(n, " ", TypeName(*FindType(type))));
+    for (const auto& [type, n] : left) parts.push_back(CountOf(n, *FindType(type)));
     if (triangles_.empty() && !parts.empty())
       return Bad("no 3-node triangles (element type 2) in the file, only ",
                  absl::StrJoin(parts, ", "),
@@ -624,7 +630,8 @@ class MshReader {
     mesh.face_groups = std::move(groups_);
     if (!HasFaceGroups(mesh)) mesh.face_groups.clear();
 
-    if (unused > 0) parts.push_back(absl::StrCat(unused, " nodes no triangle uses"));
+    if (unused > 0)
+      parts.push_back(absl::StrCat(unused, unused == 1 ? " node" : " nodes", " no triangle uses"));
     if (!parts.empty())
       out_->warnings.push_back(absl::StrCat("msh: left out ", absl::StrJoin(parts, ", ")));
     if (!data_sections_.empty()) {

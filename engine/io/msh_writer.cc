@@ -1,6 +1,6 @@
 // gmsh MSH 4.1 ASCII (msh.h). Version 4.1 because it is gmsh's own format since gmsh 4 and its
 // surface entities carry the physical groups: one entity per face group, so that a group needs no
-// tag on each element and group 0 (no group) is simply an entity in no physical group.
+// tag on each element.
 #include <algorithm>
 #include <array>
 #include <limits>
@@ -61,6 +61,7 @@ absl::Status CheckMshGroupNames(const RawMesh& mesh, const GroupNames& names) {
 std::string MshText(const RawMesh& mesh, const GroupNames& names) {
   const size_t nv = mesh.num_vertices(), nf = mesh.num_faces();
   const GroupFaces groups = FacesByGroup(mesh);
+  const bool has_groups = HasFaceGroups(mesh);
   std::string s = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n";
   s.reserve(s.size() + 48 * nv + 32 * nf);
 
@@ -92,7 +93,10 @@ std::string MshText(const RawMesh& mesh, const GroupNames& names) {
     s += ' ';
     AppendPoint(&s, hi.data());
     const uint32_t id = groups.ids[k];
-    absl::StrAppend(&s, id != 0 ? absl::StrCat(" 1 ", id) : std::string(" 0"), " 0\n");
+    // Group 0 has physical tag 0 when there are groups: meshio refuses a file where only some
+    // surfaces have a physical tag, and gmsh reads 0 as one more physical group.
+    absl::StrAppend(&s, id != 0 || has_groups ? absl::StrCat(" 1 ", id) : std::string(" 0"),
+                    " 0\n");
   }
   s += "$EndEntities\n";
 
