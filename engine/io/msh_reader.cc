@@ -411,6 +411,11 @@ class MshReader {
     return End();
   }
 
+  // The header's count is not trusted for memory: a node takes at least 8 bytes of the file.
+  void ReserveNodes(size_t count) {
+    nodes_.reserve(nodes_.size() + 3 * std::min(count, data_.size() / 8));
+  }
+
   absl::Status AddNode(int64_t tag, size_t at, const float xyz[3]) {
     if (tag <= 0) return Bad("$Nodes", Where(at), ": node tag ", tag, " is not positive");
     if (!node_index_.try_emplace(tag, uint32_t(nodes_.size() / 3)).second)
@@ -428,7 +433,7 @@ class MshReader {
     if (absl::Status s = Count(Kind::kSize, "a node count", &total); !s.ok()) return s;
     for (int k = 0; k < 2; ++k)  // the lowest and highest tag
       if (absl::Status s = Integer(Kind::kSize, "a node tag", &ignored); !s.ok()) return s;
-    nodes_.reserve(nodes_.size() + 3 * total);
+    ReserveNodes(total);
     std::vector<std::pair<int64_t, size_t>> tags;
     for (size_t b = 0; b < blocks; ++b) {
       int64_t dim, parametric;
@@ -473,7 +478,7 @@ class MshReader {
     n = size_t(count);
     if (binary_ && pos_ < data_.size() && data_[pos_] == '\r') ++pos_;
     if (binary_ && pos_ < data_.size() && data_[pos_] == '\n') ++pos_;
-    nodes_.reserve(nodes_.size() + 3 * n);
+    ReserveNodes(n);
     for (size_t i = 0; i < n; ++i) {
       const size_t tag_at = pos_;
       int64_t tag;
