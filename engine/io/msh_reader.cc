@@ -128,8 +128,8 @@ class MshReader {
       absl::Status s;
       if (header == "$PhysicalNames") {
         s = ReadPhysicalNames();
-      } else if (header == "$Entities") {
-        s = v4_ ? ReadEntities() : SkipSection();
+      } else if (header == "$Entities" || header == "$PartitionedEntities") {
+        s = v4_ ? ReadEntities(header == "$PartitionedEntities") : SkipSection();
       } else if (header == "$Nodes") {
         s = v4_ ? ReadNodes4() : ReadNodes2();
       } else if (header == "$Elements") {
@@ -377,8 +377,20 @@ class MshReader {
     return End();
   }
 
-  // Physical tags of every entity; the surfaces' first one is their triangles' group.
-  absl::Status ReadEntities() {
+  // Physical tags of every entity; the surfaces' first one is their triangles' group. A
+  // partitioned mesh's elements are on its partition entities ($PartitionedEntities, which
+  // follows $Entities): they replace the model's.
+  absl::Status ReadEntities(bool partitioned) {
+    int64_t ignored;
+    if (partitioned) {
+      surface_group_.clear();
+      surfaces_in_several_groups_ = 0;
+      size_t ghosts;
+      if (absl::Status s = Count(Kind::kSize, "a partition count", &ghosts); !s.ok()) return s;
+      if (absl::Status s = Count(Kind::kSize, "a ghost entity count", &ghosts); !s.ok()) return s;
+      for (size_t k = 0; k < 2 * ghosts; ++k)  // ghost entity tag, partition
+        if (absl::Status s = Integer(Kind::kInt, "a ghost entity", &ignored); !s.ok()) return s;
+    }
     size_t count[4];
     for (size_t& c : count)
       if (absl::Status s = Count(Kind::kSize, "an entity count", &c); !s.ok()) return s;
@@ -386,10 +398,18 @@ class MshReader {
       for (size_t i = 0; i < count[dim]; ++i) {
         int64_t tag, phys;
         if (absl::Status s = Integer(Kind::kInt, "an entity tag", &tag); !s.ok()) return s;
+        size_t n;
+        if (partitioned) {  // parent dimension and tag, the partitions
+          for (int k = 0; k < 2; ++k)
+            if (absl::Status s = Integer(Kind::kInt, "a parent entity", &ignored); !s.ok())
+              return s;
+          if (absl::Status s = Count(Kind::kSize, "a partition count", &n); !s.ok()) return s;
+          for (size_t k = 0; k < n; ++k)
+            if (absl::Status s = Integer(Kind::kInt, "a partition", &ignored); !s.ok()) return s;
+        }
         double box;
         for (int k = 0; k < (dim == 0 ? 3 : 6); ++k)
           if (absl::Status s = Double("a coordinate", &box); !s.ok()) return s;
-        size_t n;
         if (absl::Status s = Count(Kind::kSize, "a physical tag count", &n); !s.ok()) return s;
         for (size_t k = 0; k < n; ++k) {
           const size_t at = pos_;
@@ -397,7 +417,7 @@ class MshReader {
           if (dim != 2) continue;
           // 0 is femsimp's own "no group" in a file with groups (msh_writer.cc).
           if (phys < 0 || phys > int64_t{std::numeric_limits<uint32_t>::max()})
-            return Bad("$Entities", Where(at), ": surface ", tag, " has physical tag ", phys,
+            return Bad(section_, Where(at), ": surface ", tag, " has physical tag ", phys,
                        ", not a group id in [0, 2^32)");
           if (k == 0) surface_group_[tag] = uint32_t(phys);
           if (k == 1) ++surfaces_in_several_groups_;
