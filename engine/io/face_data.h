@@ -1,5 +1,6 @@
 // Face groups and face fields in mesh files: which format holds what, the naming rules shared by
-// the readers (mesh_readers.cc) and the writers, and femsimp's writers of OBJ, PLY, OFF and STL (MSH's: msh.h).
+// the readers (mesh_readers.cc) and the writers, and femsimp's writers of OBJ, PLY, OFF and STL
+// (MSH's: msh.h).
 //
 //   format  face groups                               face fields
 //   OBJ     `g NAME` statements                        -

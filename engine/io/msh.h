@@ -3,11 +3,11 @@
 //
 // Faces are the 3-node triangles (element type 2); their physical group is their face group (the
 // uint32 id is the physical tag): in 4.1 the first physical tag of the surface entity they belong
-// to ($Entities, or $PartitionedEntities in a partitioned mesh), in 2.2 the element's first tag. $PhysicalNames of dimension 2 are the groups'
-// names (GroupNames, as OBJ's). Every other element (points, lines, quadrangles, volumes,
-// higher-order elements) is left out and counted in a warning, and so are the nodes no triangle
-// uses and post-processing sections ($NodeData, $ElementData, ...): femsimp carries no face fields
-// in MSH files.
+// to ($Entities, or $PartitionedEntities in a partitioned mesh), in 2.2 the element's first tag.
+// $PhysicalNames of dimension 2 are the groups' names (GroupNames, as OBJ's). Every other element
+// (points, lines, quadrangles, volumes, higher-order elements) is left out and counted in a
+// warning, and so are the nodes no triangle uses and post-processing sections ($NodeData,
+// $ElementData, ...): femsimp carries no face fields in MSH files.
 #pragma once
 
 #include <string>
