@@ -22,10 +22,11 @@ RunReport StartReport(const SimplifyArgs& args);
 std::optional<RawMesh> ReadInput(const SimplifyArgs& args, RunReport& report,
                                  GroupNames* group_names);
 
-// Before the run: can OUT's format hold the input's face groups and fields? If not, prints why
-// and returns false (the caller exits with kExitOutputFailed), unless --drop-face-data, which
-// records what OUT will lack in the report.
-bool CheckOutputFormat(const SimplifyArgs& args, const RawMesh& input, RunReport& report);
+// Before the run: can OUT's format hold the input's face groups and fields, and its group names
+// (an OBJ name in an MSH file)? If not, prints why and returns false (the caller exits with
+// kExitOutputFailed), unless --drop-face-data, which records what OUT will lack in the report.
+bool CheckOutputFormat(const SimplifyArgs& args, const RawMesh& input,
+                       const GroupNames& group_names, RunReport& report);
 
 // The end of a run: writes OUT (dropping what its format cannot hold under --drop-face-data),
 // records its size and the time the write took, prints the summary and writes --stats-json.

@@ -32,7 +32,8 @@ absl::Status ParseMsh(absl::string_view data, ParsedMeshFile* out);
 // 3-node triangles, each group's in the mesh's order.
 std::string MshText(const RawMesh& mesh, const GroupNames& names);
 
-// What CheckFaceData asks of MSH group names: quoted on one line, as gmsh reads them.
+// What CheckFaceData asks of the names of the mesh's groups in an MSH file: at most 127
+// characters on one line without a double quote, as gmsh reads them.
 absl::Status CheckMshGroupNames(const RawMesh& mesh, const GroupNames& names);
 
 }  // namespace femsimp

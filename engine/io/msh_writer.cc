@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "absl/container/flat_hash_map.h"
+#include "absl/container/flat_hash_set.h"
 #include "absl/status/status.h"
 #include "absl/strings/str_cat.h"
 #include "engine/io/msh.h"
@@ -49,9 +50,11 @@ void AppendPoint(std::string* s, const float* p) {
 }  // namespace
 
 absl::Status CheckMshGroupNames(const RawMesh& mesh, const GroupNames& names) {
-  if (mesh.face_groups.empty()) return absl::OkStatus();
-  for (const auto& [id, name] : names)
-    if (name.size() > kMaxMshName || name.find_first_of("\"\r\n") != std::string::npos)
+  if (mesh.face_groups.empty() || names.empty()) return absl::OkStatus();
+  const absl::flat_hash_set<uint32_t> used(mesh.face_groups.begin(), mesh.face_groups.end());
+  for (const auto& [id, name] : names)  // only the names MshText writes
+    if (used.contains(id) &&
+        (name.size() > kMaxMshName || name.find_first_of("\"\r\n") != std::string::npos))
       return absl::InvalidArgumentError(absl::StrCat(
           "group ", id, ": name '", name.substr(0, 40),
           "' cannot be an MSH physical name (at most 127 characters, no quote, one line)"));

@@ -121,6 +121,15 @@ TEST_F(CliFaceDataTest, MshPhysicalGroupsKeepTheirNames) {
   }
 }
 
+TEST_F(CliFaceDataTest, ObjNameThatMshCannotHoldStopsBeforeTheRun) {
+  RawMesh mesh = testing::WithGroupsAndFields(testing::MakeTorus(40, 24));
+  mesh.face_fields.clear();
+  ASSERT_TRUE(WriteMeshFile(Path("in.obj"), mesh, {{10, "the \"inlet\""}}).ok());
+  EXPECT_EQ(Run({Path("in.obj"), Path("out.msh")}), cli::kExitOutputFailed);
+  EXPECT_FALSE(fs::exists(Path("out.msh")));
+  EXPECT_EQ(Run({Path("in.obj"), Path("out.obj")}), cli::kExitOk);  // OBJ holds it
+}
+
 TEST_F(CliFaceDataTest, UnheldFaceDataStopsBeforeTheRun) {
   for (const char* name : {"out.stl", "out.off", "out.obj", "out.msh"}) {
     EXPECT_EQ(Run({input_, Path(name)}), cli::kExitOutputFailed) << name;
