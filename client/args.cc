@@ -68,7 +68,7 @@ flags::FlagSet SimplifyFlags(SimplifyArgs* out) {
   set.Switch("--quiet", "no per-pass rows, summary only", &out->quiet);
   set.Switch("--drop-face-data",
              "write OUT without the face groups and fields its format cannot hold (OFF, STL: "
-             "neither; OBJ: groups only) instead of refusing to run",
+             "neither; OBJ, MSH: groups only) instead of refusing to run",
              &out->drop_face_data);
   set.Section("FE check (tetgen + CalculiX on IN and OUT after the run, as femsimp check does):");
   set.Switch("--fe-check",
@@ -137,8 +137,8 @@ Usage:
   femsimp options [--markdown]           every engine option: name, flag, range, default
   femsimp --help                         this text
 
-Mesh formats (by extension): .off .obj .stl .ply
-Face groups are kept through .obj and .ply files, face fields through .ply files.
+Mesh formats (by extension): .off .obj .stl .ply .msh (gmsh 2.2 and 4.1; written as 4.1)
+Face groups are kept through .obj, .ply and .msh files, face fields through .ply files.
 
 )",
                       kExitCodes);
@@ -150,9 +150,10 @@ std::string SimplifyUsage() {
 
 Reads the mesh IN, removes vertices by parallel half-edge collapses and writes OUT. Prints one
 row per pass and a summary. Options take their value as `--flag VALUE` or `--flag=VALUE`.
-Face groups (.obj `g` names, .ply "group") and face fields (.ply float face properties, at
-most 3) of IN are carried to OUT; a format of OUT that cannot hold them stops the run before it
-starts (exit code 5) unless --drop-face-data is given.
+Face groups (.obj `g` names, .ply "group", .msh physical groups and their names) and face
+fields (.ply float face properties, at most 3) of IN are carried to OUT; a format of OUT that
+cannot hold them stops the run before it starts (exit code 5) unless --drop-face-data is given.
+Of a .msh IN only the 3-node triangles are read; the other elements are counted in a warning.
 
 )",
                       SimplifyFlags(&unused).Help(), "\n", kExitCodes);

@@ -28,7 +28,7 @@ int RunLocal(const SimplifyArgs& args) {
   GroupNames group_names;
   std::optional<RawMesh> raw = ReadInput(args, report, &group_names);
   if (!raw) return kExitInputUnreadable;
-  if (!CheckOutputFormat(args, *raw, report)) return kExitOutputFailed;
+  if (!CheckOutputFormat(args, *raw, group_names, report)) return kExitOutputFailed;
   absl::StatusOr<PreparedMesh> prepared = PrepareMesh(*std::move(raw), RepairOptionsFor(args));
   *raw = RawMesh();  // the engine's arrays are the only copy from here on
   if (!prepared.ok()) {

@@ -60,7 +60,7 @@ int RunRemote(const SimplifyArgs& args) {
   GroupNames group_names;  // the server knows group ids only; names stay here for OUT
   std::optional<RawMesh> raw = ReadInput(args, report, &group_names);
   if (!raw) return kExitInputUnreadable;
-  if (!CheckOutputFormat(args, *raw, report)) return kExitOutputFailed;
+  if (!CheckOutputFormat(args, *raw, group_names, report)) return kExitOutputFailed;
   report.load_seconds = SecondsSince(t0);
 
   v1::JobSpec spec;

@@ -20,6 +20,12 @@ uint64_t TotalRejections(const PassStats& p) {
   return n;
 }
 
+std::string JsonStrings(const std::vector<std::string>& list) {
+  std::string s = "[";
+  for (size_t i = 0; i < list.size(); ++i) absl::StrAppend(&s, i ? ", " : "", JsonString(list[i]));
+  return s + "]";
+}
+
 std::string CellJson(const CellPassCounters& c) {
   return absl::StrCat(
       "{\"cache_hits\": ", c.cache_hits, ", \"cache_misses\": ", c.cache_misses,
@@ -105,10 +111,9 @@ std::string FidelityJson(const FidelityFigures& f) {
 }
 
 std::string FaceDataJson(const RunReport& r) {
-  std::string s = absl::StrCat("{\"groups\": ", r.face_groups, ", \"fields\": [");
-  for (size_t i = 0; i < r.face_fields.size(); ++i)
-    absl::StrAppend(&s, i ? ", " : "", JsonString(r.face_fields[i]));
-  absl::StrAppend(&s, "], \"dropped\": ",
+  std::string s =
+      absl::StrCat("{\"groups\": ", r.face_groups, ", \"fields\": ", JsonStrings(r.face_fields));
+  absl::StrAppend(&s, ", \"dropped\": ",
                   r.dropped_face_data.empty() ? "null" : JsonString(r.dropped_face_data), "}");
   return s;
 }
@@ -227,6 +232,7 @@ std::string Summary(const RunReport& r) {
       "vertices: %u -> %u (%.1f%%)\nfaces:    %u -> %u (%.1f%%)\npasses:   %u, stop reason: %s\n",
       r.input_vertices, r.output_vertices, pct(r.output_vertices, r.input_vertices), r.input_faces,
       r.output_faces, pct(r.output_faces, r.input_faces), r.passes.size(), why);
+  for (const std::string& w : r.input_warnings) absl::StrAppend(&s, "warning:  ", w, "\n");
   absl::StrAppend(&s, RepairSummary(r.repair, r.repair_details ? r.repair.records.size()
                                                                : kSummaryRepairRecords));
   const FidelityFigures& f = r.fidelity;
@@ -272,7 +278,8 @@ std::string Summary(const RunReport& r) {
 std::string ReportJson(const RunReport& r) {
   std::string s = absl::StrCat(
       "{\n  \"input\": {\"path\": ", JsonString(r.input_path), ", \"vertices\": ", r.input_vertices,
-      ", \"faces\": ", r.input_faces, "},\n  \"output\": {\"path\": ", JsonString(r.output_path),
+      ", \"faces\": ", r.input_faces, ", \"warnings\": ", JsonStrings(r.input_warnings),
+      "},\n  \"output\": {\"path\": ", JsonString(r.output_path),
       ", \"vertices\": ", r.output_vertices, ", \"faces\": ", r.output_faces,
       "},\n  \"engine_seconds\": ", JsonNumber(r.engine_seconds),
       ",\n  \"busy_seconds\": ", JsonNumber(r.busy_seconds), ",\n  \"parallel_speedup\": ",

@@ -47,6 +47,8 @@ struct RunReport {
   uint64_t face_groups = 0;
   std::vector<std::string> face_fields;
   std::string dropped_face_data;
+  // What the reader left out of IN (MSH: elements other than triangles), one line each.
+  std::vector<std::string> input_warnings;
   // What the repair stage changed (local: PrepareMesh; remote: the server's Result); with
   // repair_details every record in the summary, else the first kSummaryRepairRecords.
   RepairReport repair;

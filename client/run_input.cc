@@ -10,6 +10,7 @@
 #include "absl/strings/str_replace.h"
 #include "client/exit_codes.h"
 #include "engine/io/mesh_io.h"
+#include "engine/io/msh.h"
 
 namespace femsimp::cli {
 
@@ -25,7 +26,7 @@ RunReport StartReport(const SimplifyArgs& args) {
 
 std::optional<RawMesh> ReadInput(const SimplifyArgs& args, RunReport& report,
                                  GroupNames* group_names) {
-  absl::StatusOr<RawMesh> raw = ReadMeshFile(args.input, group_names);
+  absl::StatusOr<RawMesh> raw = ReadMeshFile(args.input, group_names, &report.input_warnings);
   if (!raw.ok()) {
     PrintError("femsimp: cannot read %s: %s\n", args.input.c_str(),
                std::string(raw.status().message()).c_str());
@@ -40,8 +41,15 @@ std::optional<RawMesh> ReadInput(const SimplifyArgs& args, RunReport& report,
   return *std::move(raw);
 }
 
-bool CheckOutputFormat(const SimplifyArgs& args, const RawMesh& input, RunReport& report) {
+bool CheckOutputFormat(const SimplifyArgs& args, const RawMesh& input,
+                       const GroupNames& group_names, RunReport& report) {
   const std::string ext = MeshFileExtension(args.output);
+  // The names are checked on the input's groups: the output's are a subset.
+  if (absl::Status names = CheckMshGroupNames(input, group_names); ext == ".msh" && !names.ok()) {
+    PrintError("femsimp: cannot write %s: %s\n", args.output.c_str(),
+               std::string(names.message()).c_str());
+    return false;
+  }
   absl::Status holds = CheckFormatHolds(ext, input);
   if (holds.ok()) return true;
   if (!args.drop_face_data) {

@@ -17,14 +17,16 @@ RunReport StartReport(const SimplifyArgs& args);
 
 // Reads args.input and records its vertex and face counts and face data; on failure prints the
 // reason on stderr and returns nullopt (the caller exits with kExitInputUnreadable). OBJ group
-// names go to group_names, for writing OUT.
+// names and MSH physical names go to group_names, for writing OUT; what the reader left out of
+// the file to report.input_warnings.
 std::optional<RawMesh> ReadInput(const SimplifyArgs& args, RunReport& report,
                                  GroupNames* group_names);
 
-// Before the run: can OUT's format hold the input's face groups and fields? If not, prints why
-// and returns false (the caller exits with kExitOutputFailed), unless --drop-face-data, which
-// records what OUT will lack in the report.
-bool CheckOutputFormat(const SimplifyArgs& args, const RawMesh& input, RunReport& report);
+// Before the run: can OUT's format hold the input's face groups and fields, and its group names
+// (an OBJ name in an MSH file)? If not, prints why and returns false (the caller exits with
+// kExitOutputFailed), unless --drop-face-data, which records what OUT will lack in the report.
+bool CheckOutputFormat(const SimplifyArgs& args, const RawMesh& input,
+                       const GroupNames& group_names, RunReport& report);
 
 // The end of a run: writes OUT (dropping what its format cannot hold under --drop-face-data),
 // records its size and the time the write took, prints the summary and writes --stats-json.

@@ -13,8 +13,8 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size == 0) return 0;
-  static constexpr absl::string_view kExtensions[] = {".off", ".obj", ".stl", ".ply"};
-  const absl::string_view ext = kExtensions[data[0] % 4];
+  static constexpr absl::string_view kExtensions[] = {".off", ".obj", ".stl", ".ply", ".msh"};
+  const absl::string_view ext = kExtensions[data[0] % 5];
   const absl::string_view file(reinterpret_cast<const char*>(data + 1), size - 1);
   absl::StatusOr<femsimp::ParsedMeshFile> parsed = femsimp::ParseMeshFile(ext, file);
   if (!parsed.ok()) {

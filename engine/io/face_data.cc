@@ -14,6 +14,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
 #include "absl/strings/strip.h"
+#include "engine/io/msh.h"
 
 namespace femsimp {
 namespace {
@@ -37,23 +38,17 @@ const char* FormatName(absl::string_view ext) {
   if (ext == ".ply") return "PLY";
   if (ext == ".off") return "OFF";
   if (ext == ".stl") return "STL";
+  if (ext == ".msh") return "MSH";
   return "these";
 }
 
-bool HoldsGroups(absl::string_view ext) { return ext == ".obj" || ext == ".ply"; }
+bool HoldsGroups(absl::string_view ext) { return ext == ".obj" || ext == ".ply" || ext == ".msh"; }
 bool HoldsFields(absl::string_view ext) { return ext == ".ply"; }
 
 std::vector<std::string> FieldNames(const RawMesh& mesh) {
   std::vector<std::string> names;
   for (const FaceField& f : mesh.face_fields) names.push_back(f.name);
   return names;
-}
-
-// Shortest decimal that reads back as the same float.
-void AppendFloat(std::string* s, float v) {
-  char buf[32];
-  auto [end, ec] = std::to_chars(buf, buf + sizeof(buf), v);
-  s->append(buf, ec == std::errc() ? end : buf);
 }
 
 template <typename T>
@@ -64,6 +59,12 @@ void AppendLittleEndian(std::string* s, T v) {
 }
 
 }  // namespace
+
+void AppendFloat(std::string* s, float v) {
+  char buf[32];
+  auto [end, ec] = std::to_chars(buf, buf + sizeof(buf), v);
+  s->append(buf, ec == std::errc() ? end : buf);
+}
 
 std::string ObjGroupName(uint32_t id, const GroupNames& names) {
   if (auto it = names.find(id); it != names.end()) return it->second;
@@ -118,7 +119,7 @@ absl::Status CheckFormatHolds(absl::string_view ext, const RawMesh& mesh) {
                     absl::StrJoin(FieldNames(mesh), ", "), ")");
   return absl::InvalidArgumentError(
       absl::StrCat(FormatName(ext), " files cannot hold ", what, "; write ",
-                   lost_fields ? ".ply to keep them" : ".obj or .ply to keep them"));
+                   lost_fields ? ".ply to keep them" : ".obj, .ply or .msh to keep them"));
 }
 
 void DropUnheldFaceData(absl::string_view ext, RawMesh* mesh) {
@@ -133,6 +134,7 @@ absl::Status CheckFaceData(absl::string_view ext, const RawMesh& mesh, const Gro
         return absl::InvalidArgumentError(absl::StrCat(
             "group ", id, ": name '", name, "' cannot be an OBJ group name (empty or multi-line)"));
   }
+  if (ext == ".msh") return CheckMshGroupNames(mesh, names);
   if (ext != ".ply") return absl::OkStatus();
   if (mesh.face_fields.size() > kMaxFaceFields)
     return absl::InvalidArgumentError(

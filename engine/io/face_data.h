@@ -1,9 +1,11 @@
 // Face groups and face fields in mesh files: which format holds what, the naming rules shared by
-// the readers (mesh_readers.cc) and the writers, and femsimp's writers of the four formats.
+// the readers (mesh_readers.cc) and the writers, and femsimp's writers of OBJ, PLY, OFF and STL
+// (MSH's: msh.h).
 //
 //   format  face groups                               face fields
 //   OBJ     `g NAME` statements                        -
 //   PLY     integer face property `group`              float/double face properties, by name
+//   MSH     physical groups (msh.h)                    -
 //   OFF     -                                          -
 //   STL     -                                          -
 #pragma once
@@ -19,8 +21,8 @@
 
 namespace femsimp {
 
-// Names of face groups by id, for formats that name groups (OBJ). Ids missing here are written
-// with their default name (ObjGroupName).
+// Names of face groups by id, for formats that name groups (OBJ, MSH's $PhysicalNames). Ids missing
+// here are written with their default name (ObjGroupName).
 using GroupNames = std::map<uint32_t, std::string>;
 
 // ------------------------------------------------------------------------------------ OBJ
@@ -75,8 +77,12 @@ std::string PlyBytes(const RawMesh& mesh, bool binary);
 std::string OffText(const RawMesh& mesh);
 std::string StlBytes(const RawMesh& mesh, bool binary);
 
+// Appends the shortest decimal that reads back as the same float (the writers' number text).
+void AppendFloat(std::string* s, float v);
+
 // What the writers need beyond a well-formed soup: finite field values; for PLY, field names
-// that read back as fields (IsPlyFieldName, no blanks); for OBJ, group names on one line.
+// that read back as fields (IsPlyFieldName, no blanks); for OBJ, group names on one line; for MSH,
+// group names that fit gmsh's quotes (CheckMshGroupNames).
 absl::Status CheckFaceData(absl::string_view ext, const RawMesh& mesh, const GroupNames& names);
 
 }  // namespace femsimp

@@ -14,6 +14,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
 #include "engine/io/mesh_readers.h"
+#include "engine/io/msh.h"
 
 namespace femsimp {
 namespace {
@@ -100,6 +101,7 @@ absl::Status WriteMesh(const std::string& path, const RawMesh& mesh, bool binary
 
   const std::string bytes = ext == ".obj"   ? ObjText(mesh, group_names)
                             : ext == ".ply" ? PlyBytes(mesh, binary)
+                            : ext == ".msh" ? MshText(mesh, group_names)
                             : ext == ".off" ? OffText(mesh)
                                             : StlBytes(mesh, binary);
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
@@ -115,11 +117,12 @@ absl::Status WriteMesh(const std::string& path, const RawMesh& mesh, bool binary
 }  // namespace
 
 const std::vector<std::string>& SupportedMeshExtensions() {
-  static const std::vector<std::string> kExt = {".off", ".obj", ".stl", ".ply"};
+  static const std::vector<std::string> kExt = {".off", ".obj", ".stl", ".ply", ".msh"};
   return kExt;
 }
 
-absl::StatusOr<RawMesh> ReadMeshFile(const std::string& path, GroupNames* group_names) {
+absl::StatusOr<RawMesh> ReadMeshFile(const std::string& path, GroupNames* group_names,
+                                     std::vector<std::string>* warnings) {
   const std::string ext = LowerExtension(path);
   if (absl::Status s = CheckExtension(path, ext); !s.ok()) return s;
   absl::StatusOr<std::string> data = ReadWholeFile(path);
@@ -128,6 +131,7 @@ absl::StatusOr<RawMesh> ReadMeshFile(const std::string& path, GroupNames* group_
   absl::StatusOr<ParsedMeshFile> parsed = ParseMeshFile(ext, *data);
   if (!parsed.ok()) return Prefixed(path, parsed.status());
   if (group_names) *group_names = std::move(parsed->group_names);
+  if (warnings) *warnings = std::move(parsed->warnings);
   return std::move(parsed->mesh);
 }
 

@@ -19,11 +19,18 @@
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
+#include "engine/io/msh.h"
+#include "engine/io/reader_util.h"
 
 namespace femsimp {
 namespace {
 
-absl::Status Bad(auto&&... parts) { return absl::InvalidArgumentError(absl::StrCat(parts...)); }
+using io_internal::Bad;
+using io_internal::FiniteAsFloat;
+using io_internal::LoadBytes;
+using io_internal::ParseDouble;
+using io_internal::ParseFloat;
+using io_internal::ParseInt;
 
 constexpr absl::string_view kTrianglesOnly = "femsimp accepts triangles only; triangulate first";
 
@@ -81,32 +88,6 @@ void Split(absl::string_view line, std::vector<absl::string_view>* out) {
   }
 }
 
-// A number as a C++ stream reads a float (and so as OpenMesh's readers did): correctly rounded;
-// beyond the float range it reads as an infinity, below it as a denormal or zero. Accepts a
-// leading '+', and "nan" and "inf" so that they can be reported as such.
-bool ParseFloat(absl::string_view s, float* out) {
-  if (!s.empty() && s[0] == '+') s.remove_prefix(1);
-  auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), *out);
-  if (p != s.data() + s.size()) return false;
-  if (ec == std::errc::result_out_of_range) *out = std::strtof(std::string(s).c_str(), nullptr);
-  return ec == std::errc() || ec == std::errc::result_out_of_range;
-}
-
-bool ParseDouble(absl::string_view s, double* out) {
-  if (!s.empty() && s[0] == '+') s.remove_prefix(1);
-  auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), *out);
-  return ec == std::errc() && p == s.data() + s.size();
-}
-
-bool ParseInt(absl::string_view s, int64_t* out) {
-  if (!s.empty() && s[0] == '+') s.remove_prefix(1);
-  auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), *out);
-  return ec == std::errc() && p == s.data() + s.size();
-}
-
-// Coordinates are stored as float: a double that overflows float is as bad as "inf".
-bool FiniteAsFloat(double d) { return std::isfinite(static_cast<float>(d)); }
-
 // Parses tok[first..first+2] as a finite vertex position and appends it; `where` names the
 // vertex.
 absl::Status AddPosition(const std::vector<absl::string_view>& tok, size_t first,
@@ -136,14 +117,6 @@ absl::Status Polygon(size_t face, size_t corners, absl::string_view where) {
 }
 
 // ---------------------------------------------------------------------------------- OFF
-
-template <typename T>
-T LoadBytes(const char* p, bool swap) {
-  std::array<char, sizeof(T)> b;
-  std::memcpy(b.data(), p, sizeof(T));
-  if (swap) std::reverse(b.begin(), b.end());
-  return std::bit_cast<T>(b);
-}
 
 // Binary OFF: three 32-bit counts, then per vertex 3 floats (and what the header's prefixes
 // add: normal, colour, texture coordinates), per face a count and the indices. Little-endian as
@@ -726,6 +699,8 @@ absl::StatusOr<ParsedMeshFile> ParseMeshFile(absl::string_view ext, absl::string
     s = ParseStl(data, &parsed);
   } else if (ext == ".ply") {
     s = ParsePly(data, &parsed);
+  } else if (ext == ".msh") {
+    s = ParseMsh(data, &parsed.file);
   } else {
     s = Bad("no reader for extension '", ext, "'");
   }

@@ -1,6 +1,7 @@
 // femsimp's own mesh file readers: one pass over the bytes of an OFF (text or binary), OBJ, STL
-// (ASCII or binary) or PLY (ASCII, binary little- or big-endian) file yields the triangle soup
-// with its face groups and fields (face_data.h says which format holds what).
+// (ASCII or binary), PLY (ASCII, binary little- or big-endian) or gmsh MSH (2.2 or 4.1, ASCII or
+// binary; msh.h) file yields the triangle soup with its face groups and fields (face_data.h says
+// which format holds what).
 //
 // A reader refuses what makes the file unreadable, and says where: a number it cannot parse, a
 // coordinate that is not a finite float, a face that is not a triangle, a negative vertex index
@@ -14,6 +15,9 @@
 // a vertex where their corners are equal (the first appearance gives the vertex its index).
 #pragma once
 
+#include <string>
+#include <vector>
+
 #include "absl/status/statusor.h"
 #include "absl/strings/string_view.h"
 #include "engine/io/face_data.h"
@@ -22,8 +26,12 @@
 namespace femsimp {
 
 struct ParsedMeshFile {
-  RawMesh mesh;            // with face groups (OBJ, PLY) and fields (PLY) where the file has them
-  GroupNames group_names;  // OBJ: the names that are not "default" or "group_<id>"
+  RawMesh mesh;  // with face groups (OBJ, PLY, MSH) and fields (PLY) where the file has them
+  GroupNames
+      group_names;  // OBJ: the names that are not "default" or "group_<id>"; MSH: $PhysicalNames
+  // What the reader read past without refusing the file, one line each for the CLI's summary
+  // (MSH: "msh: left out 1234 tetrahedra, 56 lines").
+  std::vector<std::string> warnings;
 };
 
 // `ext` is the lower-case extension with the dot. Errors are InvalidArgument with a message

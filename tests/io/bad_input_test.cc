@@ -80,8 +80,9 @@ TEST_F(BadInputTest, UnreadableFile) {
 }
 
 TEST_F(BadInputTest, UnknownExtension) {
-  ExpectReadError(Write("mesh.xyz", "OFF\n"), kInvalid,
-                  "unsupported mesh file extension '.xyz' (supported: .off, .obj, .stl, .ply)");
+  ExpectReadError(
+      Write("mesh.xyz", "OFF\n"), kInvalid,
+      "unsupported mesh file extension '.xyz' (supported: .off, .obj, .stl, .ply, .msh)");
   ExpectReadError(Write("mesh", "OFF\n"), kInvalid, "unsupported mesh file extension ''");
 }
 

@@ -312,7 +312,7 @@ TEST_F(WriteFaceDataTest, FormatsThatCannotHoldThemRefuse) {
                    "OFF files cannot hold face groups and face fields (pressure, shear); write "
                    ".ply to keep them");
   ExpectWriteError("m.stl", groups_only,
-                   "STL files cannot hold face groups; write .obj or .ply to keep them");
+                   "STL files cannot hold face groups; write .obj, .ply or .msh to keep them");
   ExpectWriteError("m.obj", both, "OBJ files cannot hold face fields (pressure, shear)");
   EXPECT_TRUE(WriteMeshFile(Path("m.obj"), groups_only).ok());
 

@@ -59,7 +59,8 @@ INSTANTIATE_TEST_SUITE_P(
     Formats, RoundTripTest,
     ::testing::Values(testing::FileFormat{".off", true}, testing::FileFormat{".obj", true},
                       testing::FileFormat{".stl", false}, testing::FileFormat{".stl", true},
-                      testing::FileFormat{".ply", false}, testing::FileFormat{".ply", true}),
+                      testing::FileFormat{".ply", false}, testing::FileFormat{".ply", true},
+                      testing::FileFormat{".msh", true}),
     testing::FileFormatName);
 
 class WriteTest : public TempDirTest {};
@@ -145,7 +146,8 @@ TEST_F(WriteTest, MissingDirectory) {
 TEST_F(WriteTest, UnknownExtension) {
   absl::Status s = WriteMeshFile(Path("mesh.vtk"), testing::PreciseTetrahedron());
   EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
-  EXPECT_NE(s.message().find("'.vtk' (supported: .off, .obj, .stl, .ply)"), std::string::npos) << s;
+  EXPECT_NE(s.message().find("'.vtk' (supported: .off, .obj, .stl, .ply, .msh)"), std::string::npos)
+      << s;
 }
 
 // The output of an assembly keeps its seams (an edge of three faces): every format writes it as

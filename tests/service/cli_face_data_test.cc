@@ -1,7 +1,8 @@
-// `femsimp simplify` (local mode, in process) with face groups and fields: they reach OUT, OBJ
-// group names survive, and an OUT format that cannot hold them stops the run before it starts
-// unless --drop-face-data.
+// `femsimp simplify` (in process; local, and remote for MSH) with face groups and fields: they
+// reach OUT, OBJ group names and MSH physical names survive, and an OUT format that cannot hold
+// them stops the run before it starts unless --drop-face-data.
 
+#include <algorithm>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -9,6 +10,7 @@
 #include "client/args.h"
 #include "client/exit_codes.h"
 #include "client/local_run.h"
+#include "client/remote_run.h"
 #include "engine/io/mesh_io.h"
 #include "gtest/gtest.h"
 #include "tests/service/test_util.h"
@@ -33,7 +35,9 @@ class CliFaceDataTest : public testing::TempDirTest {
     args.insert(args.end(), {"--preset", "paper", "--ratio", "0.5", "--quiet", "--threads", "2"});
     absl::StatusOr<cli::Command> cmd = cli::ParseCommandLine(args);
     EXPECT_TRUE(cmd.ok()) << cmd.status();
-    return cmd.ok() ? cli::RunLocal(cmd->simplify) : -1;
+    if (!cmd.ok()) return -1;
+    return cmd->simplify.server.empty() ? cli::RunLocal(cmd->simplify)
+                                        : cli::RunRemote(cmd->simplify);
   }
 
   std::string input_;
@@ -78,8 +82,56 @@ TEST_F(CliFaceDataTest, ObjGroupNamesSurvive) {
   for (size_t n : per_name) EXPECT_GT(n, 0u);
 }
 
+TEST_F(CliFaceDataTest, MshPhysicalGroupsKeepTheirNames) {
+  RawMesh mesh = testing::WithGroupsAndFields(testing::MakeTorus(40, 24));
+  mesh.face_fields.clear();
+  const GroupNames names = {{10, "inlet"}, {11, "wall"}, {13, "outlet"}};  // 12: no name
+  ASSERT_TRUE(WriteMeshFile(Path("in.msh"), mesh, names).ok());
+  // A second $Elements section with a tetrahedron: left out, and said so.
+  const std::string text = testing::ReadFileBytes(Path("in.msh")) +
+                           "$Elements\n1 1 1 1\n3 1 4 1\n9999 1 2 3 4\n$EndElements\n";
+  Write("in.msh", text);
+  // Locally and through a server: the file I/O is the client's either way.
+  testing::InProcessServer server;
+  for (const std::string where : {"", "--server"}) {
+    SCOPED_TRACE(where.empty() ? "local" : "remote");
+    std::vector<std::string> args = {Path("in.msh"), Path("out.msh"), "--stats-json",
+                                     Path("stats.json")};
+    if (!where.empty()) args.insert(args.end(), {"--server", server.address()});
+    ::testing::internal::CaptureStdout();
+    const int code = Run(args);
+    const std::string summary = ::testing::internal::GetCapturedStdout();
+    ASSERT_EQ(code, cli::kExitOk);
+    EXPECT_NE(summary.find("\nwarning:  msh: left out 1 tetrahedron\n"), std::string::npos)
+        << summary;
+    const std::string json = testing::ReadFileBytes(Path("stats.json"));
+    EXPECT_NE(json.find("\"warnings\": [\"msh: left out 1 tetrahedron\"]"), std::string::npos)
+        << json;
+    const std::string out_text = testing::ReadFileBytes(Path("out.msh"));
+    EXPECT_NE(out_text.find("$PhysicalNames\n3\n"), std::string::npos) << out_text.substr(0, 200);
+    for (const char* line : {"\n2 10 \"inlet\"\n", "\n2 11 \"wall\"\n", "\n2 13 \"outlet\"\n"})
+      EXPECT_NE(out_text.find(line), std::string::npos) << line;
+    GroupNames read_names;
+    absl::StatusOr<RawMesh> out = ReadMeshFile(Path("out.msh"), &read_names);
+    ASSERT_TRUE(out.ok()) << out.status();
+    EXPECT_EQ(read_names, names);
+    EXPECT_EQ(out->num_faces(), 960u);
+    for (uint32_t g : {10u, 11u, 12u, 13u})
+      EXPECT_GT(std::count(out->face_groups.begin(), out->face_groups.end(), g), 0) << g;
+  }
+}
+
+TEST_F(CliFaceDataTest, ObjNameThatMshCannotHoldStopsBeforeTheRun) {
+  RawMesh mesh = testing::WithGroupsAndFields(testing::MakeTorus(40, 24));
+  mesh.face_fields.clear();
+  ASSERT_TRUE(WriteMeshFile(Path("in.obj"), mesh, {{10, "the \"inlet\""}}).ok());
+  EXPECT_EQ(Run({Path("in.obj"), Path("out.msh")}), cli::kExitOutputFailed);
+  EXPECT_FALSE(fs::exists(Path("out.msh")));
+  EXPECT_EQ(Run({Path("in.obj"), Path("out.obj")}), cli::kExitOk);  // OBJ holds it
+}
+
 TEST_F(CliFaceDataTest, UnheldFaceDataStopsBeforeTheRun) {
-  for (const char* name : {"out.stl", "out.off", "out.obj"}) {
+  for (const char* name : {"out.stl", "out.off", "out.obj", "out.msh"}) {
     EXPECT_EQ(Run({input_, Path(name)}), cli::kExitOutputFailed) << name;
     EXPECT_FALSE(fs::exists(Path(name))) << name;
   }
