@@ -5,8 +5,8 @@
 #include <vector>
 
 #include "absl/status/statusor.h"
-#include "client/security_flags.h"
 #include "client/check_cmd.h"
+#include "client/security_flags.h"
 #include "common/flags.h"
 #include "engine/simplify.h"
 #include "fecheck/fe_check.h"
