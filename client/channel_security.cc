@@ -1,24 +1,12 @@
 #include "client/channel_security.h"
 
 #include <cstdlib>
-#include <fstream>
-#include <sstream>
 
 #include "absl/strings/ascii.h"
 #include "absl/strings/str_cat.h"
+#include "common/text_file.h"
 
 namespace femsimp::cli {
-namespace {
-
-absl::StatusOr<std::string> ReadFile(const char* flag, const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return absl::NotFoundError(absl::StrCat(flag, ": cannot read ", path));
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-}  // namespace
 
 absl::StatusOr<ChannelSecurity> ResolveSecurity(const SecurityFlags& f) {
   ChannelSecurity s;
@@ -27,14 +15,14 @@ absl::StatusOr<ChannelSecurity> ResolveSecurity(const SecurityFlags& f) {
   if (f.tls || !f.tls_ca_file.empty() || !f.tls_cert_file.empty()) {
     grpc::SslCredentialsOptions options;
     if (!f.tls_ca_file.empty()) {
-      absl::StatusOr<std::string> ca = ReadFile("--tls-ca-file", f.tls_ca_file);
+      absl::StatusOr<std::string> ca = ReadTextFile("--tls-ca-file", f.tls_ca_file);
       if (!ca.ok()) return ca.status();
       options.pem_root_certs = *ca;
     }
     if (!f.tls_cert_file.empty()) {
-      absl::StatusOr<std::string> cert = ReadFile("--tls-cert-file", f.tls_cert_file);
+      absl::StatusOr<std::string> cert = ReadTextFile("--tls-cert-file", f.tls_cert_file);
       if (!cert.ok()) return cert.status();
-      absl::StatusOr<std::string> key = ReadFile("--tls-key-file", f.tls_key_file);
+      absl::StatusOr<std::string> key = ReadTextFile("--tls-key-file", f.tls_key_file);
       if (!key.ok()) return key.status();
       options.pem_cert_chain = *cert;
       options.pem_private_key = *key;
@@ -48,7 +36,7 @@ absl::StatusOr<ChannelSecurity> ResolveSecurity(const SecurityFlags& f) {
     from = "FEMSIMP_TOKEN_FILE";
   }
   if (!token_file.empty()) {
-    absl::StatusOr<std::string> token = ReadFile(from, token_file);
+    absl::StatusOr<std::string> token = ReadTextFile(from, token_file);
     if (!token.ok()) return token.status();
     s.token = std::string(absl::StripAsciiWhitespace(*token));
     if (s.token.empty())

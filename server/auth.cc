@@ -1,13 +1,11 @@
 #include "server/auth.h"
 
-#include <fstream>
-#include <sstream>
-
 #include "absl/container/flat_hash_set.h"
 #include "absl/strings/ascii.h"
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_split.h"
+#include "common/text_file.h"
 
 namespace femsimp::server {
 
@@ -39,11 +37,9 @@ absl::StatusOr<TokenAuthenticator> TokenAuthenticator::Parse(const std::string& 
 }
 
 absl::StatusOr<TokenAuthenticator> TokenAuthenticator::FromFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return absl::NotFoundError(absl::StrCat("--auth_tokens_file: cannot read ", path));
-  std::stringstream text;
-  text << in.rdbuf();
-  return Parse(text.str(), path);
+  absl::StatusOr<std::string> text = ReadTextFile("--auth_tokens_file", path);
+  if (!text.ok()) return text.status();
+  return Parse(*text, path);
 }
 
 size_t TokenAuthenticator::tenants() const {

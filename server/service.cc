@@ -108,10 +108,10 @@ SimplifierService::SimplifierService(const ServerConfig& config, JobQueue& queue
 void SimplifierService::UpdateQueueGauge() { metrics_.SetQueueDepth(queue_.waiting()); }
 
 grpc::Status SimplifierService::Simplify(grpc::ServerContext* ctx, Stream* stream) {
+  std::string tenant;  // the job counter's label; none for a call that is not authenticated
   grpc::Status status = [&]() -> grpc::Status {
     if (shutting_down_.load())
       return grpc::Status(grpc::StatusCode::UNAVAILABLE, "server is shutting down");
-    std::string tenant;
     if (grpc::Status s = auth_.Authenticate(*ctx, &tenant); !s.ok()) return s;
     CallWatchdog::Watch upload(watchdog_, ctx,
                                {.idle_seconds = config_.upload_idle_seconds,
@@ -186,8 +186,6 @@ grpc::Status SimplifierService::Simplify(grpc::ServerContext* ctx, Stream* strea
     registry_.MarkFinished(job);
     return s;
   }();
-  std::string tenant;  // an unauthenticated call counts without a tenant
-  if (!auth_.Authenticate(*ctx, &tenant).ok()) tenant.clear();
   metrics_.JobFinished(status.error_code(), tenant);
   return status;
 }

@@ -1,23 +1,18 @@
 #include "server/transport_security.h"
 
-#include <fstream>
-#include <sstream>
-
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
+#include "common/text_file.h"
 #include "grpcpp/security/server_credentials.h"
 
 namespace femsimp::server {
 namespace {
 
 absl::StatusOr<std::string> ReadPem(const char* flag, const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return absl::NotFoundError(absl::StrCat(flag, ": cannot read ", path));
-  std::stringstream text;
-  text << in.rdbuf();
-  if (text.str().find("-----BEGIN ") == std::string::npos)
+  absl::StatusOr<std::string> text = ReadTextFile(flag, path);
+  if (text.ok() && text->find("-----BEGIN ") == std::string::npos)
     return absl::InvalidArgumentError(absl::StrCat(flag, ": ", path, " is not a PEM file"));
-  return text.str();
+  return text;
 }
 
 bool Tls(const ServerConfig& c) { return !c.tls_cert_file.empty(); }

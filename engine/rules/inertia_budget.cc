@@ -20,7 +20,7 @@ namespace {
 class InertiaBudgetRule final : public MassBudgetRule {
  public:
   InertiaBudgetRule(double max_change, const RuleSetup& s)
-      : MassBudgetRule(s.closed), closed_(s.closed), origin_(s.mass_origin) {
+      : MassBudgetRule(s.closed), origin_(s.mass_origin) {
     const MassSummary input = Summarize(*s.mass, s.closed, s.mass_origin);
     allowed_ = max_change * std::min({std::fabs(input.principal_moments[0]),
                                       std::fabs(input.principal_moments[1]),
@@ -29,7 +29,7 @@ class InertiaBudgetRule final : public MassBudgetRule {
   Reject reason() const override { return Reject::kInertia; }
   Verdict Check(RuleStage stage, CollapseProposal& p) const override {
     MassBudgetRule::Check(stage, p);
-    CollapseSecondMomentDelta(*p.fan, p.target, closed_, origin_, &p.delta);
+    CollapseSecondMomentDelta(*p.fan, p.target, closed(), origin_, &p.delta);
     p.cycles += 60 * p.fan->faces;
     return Verdict::kPass;
   }
@@ -43,7 +43,6 @@ class InertiaBudgetRule final : public MassBudgetRule {
   }
 
  private:
-  bool closed_;
   DVec3 origin_;  // the input's centroid, where the ledger's second moments are taken
   double allowed_;
 };

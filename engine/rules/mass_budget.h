@@ -20,6 +20,9 @@ class MassBudgetRule : public CollapseRule {
     return Verdict::kPass;
   }
 
+ protected:
+  bool closed() const { return closed_; }
+
  private:
   bool closed_;  // the solid's mass properties rather than the surface's
 };
