@@ -70,9 +70,9 @@ std::string PassJson(const PassStats& p) {
       "{\"pass\": ", p.pass, ", \"candidates\": ", p.candidates, ", \"tried\": ", p.tried,
       ", \"removed\": ", p.removed, ", \"lock_conflicts\": ", p.lock_conflicts,
       ", \"inconsistent\": ", p.inconsistent, ", \"rounds\": ", p.rounds,
-      ", \"seam_points_removed\": ", p.seam_points_removed, ", \"rejections\": ", rej,
-      ", \"vertices_left\": ", p.vertices_left, ", \"seconds\": ", JsonNumber(p.seconds),
-      ", \"busy_seconds\": ", JsonNumber(p.busy_seconds));
+      ", \"seam_points_removed\": ", p.seam_points_removed, ", \"placed\": ", p.placed,
+      ", \"rejections\": ", rej, ", \"vertices_left\": ", p.vertices_left,
+      ", \"seconds\": ", JsonNumber(p.seconds), ", \"busy_seconds\": ", JsonNumber(p.busy_seconds));
   if (p.cell) {
     absl::StrAppend(&s, ", \"cell\": ", CellJson(*p.cell), ", \"cell_per_spe\": [");
     for (size_t i = 0; i < p.cell_per_spe.size(); ++i)
@@ -251,6 +251,12 @@ std::string Summary(const RunReport& r) {
   if (seam_points > 0)
     absl::StrAppend(&s, "seams:    ", seam_points,
                     " seam points slid along their seams (every part at once)\n");
+  uint64_t placed = 0;
+  for (const PassStats& p : r.passes) placed += p.placed;
+  if (r.options.placement == Placement::kOptimal)
+    absl::StrAppend(&s, "placement: ", placed,
+                    " full-edge collapses (vertices merged where a mass budget refused the "
+                    "half-edge collapse)\n");
   if (r.face_groups > 0 || !r.face_fields.empty()) {
     absl::StrAppend(&s, "face data: ", r.face_groups, " groups");
     if (!r.face_fields.empty())

@@ -8,6 +8,7 @@
 
 #include "cellsim/cellsim.h"
 #include "engine/mesh.h"
+#include "engine/ring.h"
 
 namespace femsimp {
 
@@ -43,6 +44,13 @@ class CellPort {
   void WriteTwin(uint32_t h, uint32_t t) { WriteWord(&h_[h], &HalfEdgeQ::twin, t); }
   void WriteFlags(uint32_t h, uint32_t f) { WriteWord(&h_[h], &HalfEdgeQ::flags, f); }
   void WriteOut(uint32_t v, uint32_t h) { WriteWord(&v_[v], &VertexQ::out, h); }
+  void WritePosition(uint32_t v, const Vec3& p) {
+    VertexQ q = Read<VertexQ>(&v_[v], Poison(&v_[v]));
+    q.x = p.x;
+    q.y = p.y;
+    q.z = p.z;
+    Put(&v_[v], q);
+  }
 
   uint32_t LoadStatus(uint32_t v) { return Check(spe_.atomic().Load(&s_[v]), uint32_t{kRemoved}); }
   bool CasStatus(uint32_t v, uint32_t expected, uint32_t desired) {

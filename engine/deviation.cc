@@ -40,6 +40,14 @@ bool Overlap(const P2* t, const P2* u, double eps) {
   return true;
 }
 
+// Two unit vectors spanning the plane perpendicular to the unit normal n.
+void PlaneBasis(const DVec3& n, DVec3* u, DVec3* w) {
+  const DVec3 helper = std::fabs(n.x) < 0.6 ? DVec3{1, 0, 0} : DVec3{0, 1, 0};
+  *u = Cross(n, helper);
+  *u = (1.0 / Norm(*u)) * *u;
+  *w = Cross(n, *u);
+}
+
 // Barycentric coordinates of p in (a, b, c), given twice its signed area.
 void Barycentric(P2 p, P2 a, P2 b, P2 c, double area2, double* l) {
   l[0] = Orient(p, b, c) / area2;
@@ -63,11 +71,8 @@ bool BoundDeviation(const Ring& ring, int target, int line_other, const float* o
   for (int f = 0; f < nf; ++f) normal += Cross(p[f] - v, p[(f + 1) % n] - v);
   const double nlen = Norm(normal);
   if (!(nlen > 0.0)) return false;
-  normal = (1.0 / nlen) * normal;
-  const DVec3 helper = std::fabs(normal.x) < 0.6 ? DVec3{1, 0, 0} : DVec3{0, 1, 0};
-  DVec3 u = Cross(normal, helper);
-  u = (1.0 / Norm(u)) * u;
-  const DVec3 w = Cross(normal, u);
+  DVec3 u, w;
+  PlaneBasis((1.0 / nlen) * normal, &u, &w);
   P2 q[kMaxRing + 1];
   double scale = 0.0;
   for (int k = 0; k < n; ++k) {
@@ -179,6 +184,113 @@ bool BoundDeviation(const Ring& ring, int target, int line_other, const float* o
       bound = std::max(bound, double(old_error[f]) + worst);
     }
     // Round up: the float must not fall below the double bound.
+    new_error[g] = std::nextafter(static_cast<float>(bound + eps_len), 1e30f);
+  }
+  *work = tests;
+  return true;
+}
+
+namespace {
+
+// A triangle of one of the two layouts: its plane corners and the surface points they lift to.
+struct Lifted {
+  P2 q[3];
+  DVec3 p[3];
+  double area2;
+  DVec3 At(P2 x) const {
+    double l[3];
+    Barycentric(x, q[0], q[1], q[2], area2, l);
+    return l[0] * p[0] + l[1] * p[1] + l[2] * p[2];
+  }
+  bool Holds(P2 x) const {
+    double l[3];
+    Barycentric(x, q[0], q[1], q[2], area2, l);
+    return l[0] >= -1e-9 && l[1] >= -1e-9 && l[2] >= -1e-9;
+  }
+};
+
+// The largest displacement over the overlay cell of old triangle f and new triangle g (their
+// projections overlap): at the corners of the cell, which are corners of one inside the other
+// or crossings of their edges.
+double CellDisplacement(const Lifted& f, const Lifted& g, double scale, int* tests) {
+  double worst = 0.0;
+  const auto at = [&](P2 x) { worst = std::max(worst, Norm(f.At(x) - g.At(x))); };
+  for (int k = 0; k < 3; ++k) {
+    if (g.Holds(f.q[k])) at(f.q[k]);
+    if (f.Holds(g.q[k])) at(g.q[k]);
+  }
+  for (int i = 0; i < 3; ++i) {
+    const P2 a0 = f.q[i], da = Sub2(f.q[(i + 1) % 3], a0);
+    for (int j = 0; j < 3; ++j) {
+      ++*tests;
+      const P2 b0 = g.q[j], db = Sub2(g.q[(j + 1) % 3], b0);
+      const double denom = Cross2(da, db);
+      if (std::fabs(denom) <= 1e-15 * scale * scale) continue;  // parallel: corners cover it
+      const P2 r = Sub2(b0, a0);
+      const double s = Cross2(r, db) / denom, t = Cross2(r, da) / denom;
+      if (s < -1e-9 || s > 1 + 1e-9 || t < -1e-9 || t > 1 + 1e-9) continue;
+      at({a0.x + s * da.x, a0.y + s * da.y});
+    }
+  }
+  return worst;
+}
+
+}  // namespace
+
+bool BoundStarDeviation(const EdgeStar& star, const float* old_error, float* new_error, int* work) {
+  DVec3 normal{0, 0, 0};
+  for (int k = 0; k < star.count; ++k)
+    normal += Cross(star.b[k] - star.a[k], star.c[k] - star.a[k]);
+  const double nlen = Norm(normal);
+  if (!(nlen > 0.0)) return false;
+  DVec3 u, w;
+  PlaneBasis((1.0 / nlen) * normal, &u, &w);
+  const DVec3 origin = 0.5 * (star.v + star.vd);
+  double scale = Norm(star.hi - star.lo);
+  if (!(scale > 0.0)) return false;
+  const auto plane = [&](const DVec3& x) { return P2{Dot(x - origin, u), Dot(x - origin, w)}; };
+  const double eps_len = 1e-9 * scale, eps_area = 1e-12 * scale * scale;
+
+  // Both layouts, each checked to tile the link polygon once.
+  Lifted old_t[kMaxStar], new_t[kMaxStar];
+  const P2 v2 = plane(star.v), vd2 = plane(star.vd), p2 = plane(star.p);
+  double angle_v = 0.0, angle_vd = 0.0, angle_p = 0.0;
+  for (int k = 0; k < star.count; ++k) {
+    Lifted& t = old_t[k];
+    t.p[0] = star.a[k];
+    t.p[1] = star.b[k];
+    t.p[2] = star.c[k];
+    for (int i = 0; i < 3; ++i) t.q[i] = plane(t.p[i]);
+    t.area2 = Orient(t.q[0], t.q[1], t.q[2]);
+    if (!(t.area2 > eps_area)) return false;
+    if (k < star.fan_faces) angle_v += AngleAt(v2, t.q[1], t.q[2]);
+    for (int i = 0; i < 3; ++i)
+      if (t.p[i].x == star.vd.x && t.p[i].y == star.vd.y && t.p[i].z == star.vd.z)
+        angle_vd += AngleAt(vd2, t.q[(i + 1) % 3], t.q[(i + 2) % 3]);
+    if (!star.survives[k]) continue;
+    Lifted& n = new_t[k];
+    n = t;
+    n.p[0] = star.p;
+    n.q[0] = p2;
+    n.area2 = Orient(n.q[0], n.q[1], n.q[2]);
+    if (!(n.area2 > eps_area)) return false;
+    angle_p += AngleAt(p2, n.q[1], n.q[2]);
+  }
+  const double full = 2.0 * std::numbers::pi;
+  if (std::fabs(angle_v - full) > 1e-6 || std::fabs(angle_vd - full) > 1e-6 ||
+      std::fabs(angle_p - full) > 1e-6)
+    return false;
+
+  int tests = 0;
+  for (int g = 0; g < star.count; ++g) {
+    if (!star.survives[g]) continue;
+    double bound = 0.0;
+    for (int f = 0; f < star.count; ++f) {
+      ++tests;
+      if (!Overlap(old_t[f].q, new_t[g].q, eps_len)) continue;
+      bound = std::max(bound,
+                       double(old_error[f]) + CellDisplacement(old_t[f], new_t[g], scale, &tests));
+    }
     new_error[g] = std::nextafter(static_cast<float>(bound + eps_len), 1e30f);
   }
   *work = tests;

@@ -13,6 +13,7 @@
 #pragma once
 
 #include "engine/ring.h"
+#include "engine/star.h"
 
 namespace femsimp {
 
@@ -23,5 +24,14 @@ namespace femsimp {
 // *work counts the elementary tests (the cell back end's cycle model).
 bool BoundDeviation(const Ring& ring, int target, int line_other, const float* old_error,
                     float* new_error, int* work);
+
+// The same for a full-edge collapse (engine/star.h): both patches are projected onto the plane
+// perpendicular to the old star's area-weighted normal, where each must tile the link polygon
+// (every triangle counter-clockwise, the angles around V, Vd and P each a full turn), points
+// with the same projection correspond, and the displacement, affine on every cell of the
+// overlay, is largest at a cell corner: a corner of either triangle inside the other, or a
+// crossing of their edges. old_error / new_error are indexed by star face (new_error for the
+// faces that survive). False when the projection does not tile (the placement is refused).
+bool BoundStarDeviation(const EdgeStar& star, const float* old_error, float* new_error, int* work);
 
 }  // namespace femsimp

@@ -28,11 +28,13 @@
 #include "engine/ring.h"
 #include "engine/rule.h"
 #include "engine/simplify.h"
+#include "engine/star.h"
 
 namespace femsimp {
 
 struct KernelStats {
   uint64_t tried = 0, removed = 0, lock_conflicts = 0, inconsistent = 0;
+  uint64_t placed = 0;  // of the removals: full-edge collapses (option placement)
   uint64_t stale_reread = 0;
   std::array<uint64_t, static_cast<int>(Reject::kCount)> rejections{};
 };
@@ -72,9 +74,16 @@ template <class Port>
 class RemovalKernel final : private NeighbourhoodReader {
  public:
   // quadric: the quadric cost is on (directions ranked by it, Vd absorbs V's quadric).
+  // placement: try a full-edge collapse first where V and Vd are both free to move
+  // (engine/star.h), when every rule of the run judges them.
   RemovalKernel(Port& port, const RuleSet& rules, bool quadric, RemovalBudget& budget,
-                KernelStats& stats)
-      : port_(port), rules_(rules), quadric_(quadric), budget_(budget), stats_(stats) {}
+                KernelStats& stats, bool placement = false)
+      : port_(port),
+        rules_(rules),
+        quadric_(quadric),
+        placement_(placement && rules.judges_placement()),
+        budget_(budget),
+        stats_(stats) {}
 
   Outcome TryRemove(uint32_t v) {
     ++stats_.tried;
@@ -85,9 +94,11 @@ class RemovalKernel final : private NeighbourhoodReader {
       return Outcome::kSkipped;  // no longer removable (changed since the sort)
     }
     if (std::optional<Outcome> failed = ReadAndLockFan(v)) return *failed;
-    const Directions directions = AllowedDirections();
+    const Directions directions = AllowedDirections(ring_);
     if (directions.fixed) return Fix(v);
     refusal_ = Refusal{};
+    // A full-edge collapse moves V off its place: only where V is on no line.
+    const bool v_free = placement_ && !directions.on_line() && !ring_.boundary;
     const int ranked = RankDirections(directions);
     for (int k = 0; k < ranked; ++k) {
       const int i = order_[k];
@@ -101,13 +112,17 @@ class RemovalKernel final : private NeighbourhoodReader {
       if (fidelity != Verdict::kPass) continue;
       if (!budget_.Reserve()) return GiveUp(v, Outcome::kBudgetSpent);
       Reject refused = Reject::kCount;
-      if (!rules_.SpendBudgets(ring_.center, proposal_.delta, &refused)) {
-        budget_.Unreserve();
-        Note(RuleStage::kBudget, refused);
-        continue;
+      if (rules_.SpendBudgets(ring_.center, proposal_.delta, &refused)) {
+        Commit(v, i);
+        return Outcome::kRemoved;
       }
-      Commit(v, i);
-      return Outcome::kRemoved;
+      budget_.Unreserve();
+      Note(RuleStage::kBudget, refused);
+      // A mass budget refuses the half-edge collapse: V and Vd merged where the volume stays
+      // may pass. Only then: off the input surface a vertex spends more of the deviation bound
+      // than a half-edge collapse, which keeps it on (docs/FIDELITY.md § 11).
+      if (v_free)
+        if (std::optional<Outcome> placed = TryPlaced(v, i)) return *placed;
     }
     return MarkNotRemovable(v, refusal_.reason);
   }
@@ -130,8 +145,9 @@ class RemovalKernel final : private NeighbourhoodReader {
     if (LockNeighbours() != LockResult::kHeld) return FailHold(Verdict::kConflict);
     proposal_.fan = &ring_;
     proposal_.reader = this;
+    proposal_.star = nullptr;
     refusal_ = Refusal{};
-    const Directions directions = AllowedDirections();
+    const Directions directions = AllowedDirections(ring_);
     int i = 0;
     while (i < ring_.neighbours() && ring_.nbr[i] != vd) ++i;
     if (directions.fixed || i == ring_.neighbours() || !directions.Allows(i)) {
@@ -164,11 +180,11 @@ class RemovalKernel final : private NeighbourhoodReader {
     return v;
   }
 
-  // The kDirections rules on V's fan.
-  Directions AllowedDirections() const {
+  // The kDirections rules on a fan (V's, or Vd's for a full-edge collapse).
+  Directions AllowedDirections(const Ring& fan) const {
     Directions directions;
     for (const CollapseRule* rule : rules_.stage(RuleStage::kDirections))
-      rule->Restrict(ring_, &directions);
+      rule->Restrict(fan, &directions);
     return directions;
   }
 
@@ -216,6 +232,8 @@ class RemovalKernel final : private NeighbourhoodReader {
     }
     proposal_.fan = &ring_;
     proposal_.reader = this;
+    proposal_.star = nullptr;
+    if (placement_) RefreshPositions(ring_);
     return std::nullopt;
   }
 
@@ -224,24 +242,112 @@ class RemovalKernel final : private NeighbourhoodReader {
   LockResult LockNeighbours() {
     const int n = ring_.neighbours();
     for (int i = 0; i < n; ++i) {
-      const uint32_t u = ring_.nbr[i];
-      const uint32_t s = port_.LoadStatus(u);
-      LockResult fail = LockResult::kHeld;
-      if (s & kLockedBit) {
-        fail = LockResult::kConflict;
-      } else if ((s & kStateMask) == kRemoved) {
-        fail = LockResult::kStale;
-      } else if (!port_.CasStatus(u, s, s | kLockedBit)) {
-        fail = LockResult::kConflict;
-      }
-      if (fail != LockResult::kHeld) {
+      if (const LockResult r = LockOne(ring_.nbr[i]); r != LockResult::kHeld) {
         UnlockNeighbours();
-        return fail;
+        return r;
       }
-      locked_[nlocked_] = u;
-      locked_state_[nlocked_++] = s;
     }
     return LockResult::kHeld;
+  }
+
+  LockResult LockOne(uint32_t u) {
+    const uint32_t s = port_.LoadStatus(u);
+    if (s & kLockedBit) return LockResult::kConflict;
+    if ((s & kStateMask) == kRemoved) return LockResult::kStale;
+    if (!port_.CasStatus(u, s, s | kLockedBit)) return LockResult::kConflict;
+    locked_[nlocked_] = u;
+    locked_state_[nlocked_++] = s;
+    return LockResult::kHeld;
+  }
+
+  // A full-edge collapse also locks the rest of Vd's one-ring: the star's outer corners, which
+  // no other full-edge collapse may move meanwhile. On failure only those are unlocked again.
+  LockResult LockRestOf(const Ring& fan) {
+    const int base = nlocked_;
+    for (int a = 0; a < fan.neighbours(); ++a) {
+      const uint32_t u = fan.nbr[a];
+      if (u == ring_.center || std::find(locked_, locked_ + nlocked_, u) != locked_ + nlocked_)
+        continue;
+      if (const LockResult r = LockOne(u); r != LockResult::kHeld) {
+        UnlockFrom(base);
+        return r;
+      }
+    }
+    return LockResult::kHeld;
+  }
+  void UnlockFrom(int base) {
+    for (int i = base; i < nlocked_; ++i) port_.StoreStatus(locked_[i], locked_state_[i]);
+    nlocked_ = base;
+  }
+
+  // Positions move in full-edge collapses; nothing moves a vertex of a fan whose centre this
+  // context holds, but the cell port's cache may still have its old place.
+  void RefreshPositions(Ring& fan) {
+    const VertexQ c = port_.ReadVertexFresh(fan.center);
+    fan.center_pos = {c.x, c.y, c.z};
+    for (int i = 0; i < fan.neighbours(); ++i) {
+      const VertexQ q = port_.ReadVertexFresh(fan.nbr[i]);
+      fan.pos[i] = {q.x, q.y, q.z};
+    }
+  }
+
+  // The full-edge collapse of V and ring_.nbr[i] (its topology already checked), at the first
+  // of a few points that passes every rule; nullopt when none does (or Vd may not move), with
+  // the extra locks released again.
+  std::optional<Outcome> TryPlaced(uint32_t v, int i) {
+    if ((locked_state_[i] & kStateMask) == kFixed || other_.boundary) return std::nullopt;
+    const Directions vd_directions = AllowedDirections(other_);
+    if (vd_directions.fixed || vd_directions.on_line()) return std::nullopt;
+    const int base = nlocked_;
+    const LockResult locked = LockRestOf(other_);
+    if (locked == LockResult::kConflict) return GiveUp(v, Outcome::kConflict);
+    if (locked == LockResult::kStale) return GiveUp(v, Outcome::kInconsistent);
+    RefreshPositions(other_);
+    if (!star_.Build(ring_, i, other_)) {
+      UnlockFrom(base);
+      return std::nullopt;
+    }
+    if (rules_.reads_face_attrs())
+      for (int k = 0; k < star_.extra_faces(); ++k)
+        extra_attr_[k] = port_.ReadFaceAttr(star_.face[star_.fan_faces + k]);
+    proposal_.extra_attr = extra_attr_;
+    // The optimal point, then back along the way from Vd to it (clamped to what the bounds
+    // allow: nearer Vd the deviation spent is smaller, nearer the optimum the volume's), then
+    // the edge's midpoint.
+    const DVec3 optimal = OptimalPosition(star_);
+    const DVec3 towards = optimal - star_.vd;
+    const DVec3 tries[] = {optimal, star_.vd + 0.5 * towards, star_.vd + 0.25 * towards,
+                           0.5 * (star_.v + star_.vd)};
+    for (const DVec3& at : tries) {
+      // Judged where the float it is stored as puts it.
+      const Vec3 stored{static_cast<float>(at.x), static_cast<float>(at.y),
+                        static_cast<float>(at.z)};
+      star_.p = ToD(stored);
+      if (!star_.Contains(star_.p)) continue;
+      proposal_.star = &star_;
+      proposal_.geometry.Build(star_);
+      port_.ChargeCompute((kGeometryCyclesPerFace + rules_.shape_cycles_per_face()) *
+                          proposal_.geometry.faces);
+      Reject refused = Reject::kCount;
+      if (rules_.Check(RuleStage::kShape, proposal_, &refused) != Verdict::kPass) {
+        Note(RuleStage::kShape, refused);
+        continue;
+      }
+      const Verdict fidelity = CheckFidelity();
+      if (fidelity == Verdict::kConflict) return GiveUp(v, Outcome::kConflict);
+      if (fidelity != Verdict::kPass) continue;
+      if (!budget_.Reserve()) return GiveUp(v, Outcome::kBudgetSpent);
+      if (!rules_.SpendBudgets(ring_.center, proposal_.delta, &refused)) {
+        budget_.Unreserve();
+        Note(RuleStage::kBudget, refused);
+        continue;
+      }
+      Commit(v, i, &stored);
+      return Outcome::kRemoved;
+    }
+    proposal_.star = nullptr;
+    UnlockFrom(base);
+    return std::nullopt;
   }
 
   // Also the end of every candidate that got its fan: the rules give back what they took.
@@ -379,6 +485,9 @@ class RemovalKernel final : private NeighbourhoodReader {
         attrs_loaded_ = true;
       }
       for (int f = 0; f < nf; ++f) proposal_.new_attr[f] = fan_attr_[f];
+      if (proposal_.star != nullptr)
+        for (int k = 0; k < proposal_.star->extra_faces(); ++k)
+          proposal_.new_extra_attr[k] = extra_attr_[k];
     }
     proposal_.fan_attr = fan_attr_;
     proposal_.delta = CollapseDelta{};
@@ -391,15 +500,23 @@ class RemovalKernel final : private NeighbourhoodReader {
     return v;
   }
 
-  // Applies the collapse onto ring_.nbr[i], writes the side data the rules proposed, and
-  // releases the locks with V removed.
-  void Commit(uint32_t v, int i) {
+  // Applies the collapse onto ring_.nbr[i] (a full-edge collapse: and moves it to `placed`),
+  // writes the side data the rules proposed, and releases the locks with V removed.
+  void Commit(uint32_t v, int i, const Vec3* placed = nullptr) {
     Apply(i);
+    if (placed != nullptr) {
+      port_.WritePosition(ring_.nbr[i], *placed);
+      if (rules_.reads_face_attrs())
+        for (int k = 0; k < star_.extra_faces(); ++k)
+          port_.WriteFaceAttr(star_.face[star_.fan_faces + k], proposal_.new_extra_attr[k]);
+      ++stats_.placed;
+    }
     WriteSideData(i);
     rules_.Commit(proposal_);
     budget_.Removed();
     port_.StoreStatus(v, kRemoved);
     UnlockNeighbours();
+    proposal_.star = nullptr;
     ++stats_.removed;
   }
 
@@ -537,6 +654,7 @@ class RemovalKernel final : private NeighbourhoodReader {
   Port& port_;
   const RuleSet& rules_;
   const bool quadric_;
+  const bool placement_;
   RemovalBudget& budget_;
   KernelStats& stats_;
   Ring ring_, other_;
@@ -546,8 +664,12 @@ class RemovalKernel final : private NeighbourhoodReader {
   QuadricQ own_quadric_{};
   bool attrs_loaded_ = false;
   FaceAttrQ fan_attr_[kMaxRing];  // the fan faces' side quadwords, read once per candidate
-  uint32_t locked_[kMaxRing + 1];
-  uint32_t locked_state_[kMaxRing + 1];
+  // Full-edge collapses: the star, and the side quadwords of Vd's other faces.
+  EdgeStar star_;
+  FaceAttrQ extra_attr_[kMaxRing];
+
+  uint32_t locked_[2 * kMaxRing + 2];  // V's one-ring, then (full-edge) the rest of Vd's
+  uint32_t locked_state_[2 * kMaxRing + 2];
   int nlocked_ = 0;
   uint32_t held_v_ = kNone, held_state_ = 0;  // HoldCollapse
   int held_i_ = -1;

@@ -168,6 +168,51 @@ void CollapseSecondMomentDelta(const Ring& ring, int target, bool closed, const 
   }
 }
 
+void StarMassDelta(const EdgeStar& star, bool closed, CollapseDelta* delta) {
+  // Closed: tetrahedra from the edge's midpoint (near the patch, so no large terms cancel);
+  // both patches share their border, so the sum does not depend on that point.
+  const DVec3 o = 0.5 * (star.v + star.vd);
+  MassProperties d;
+  const auto add = [&](const DVec3& a, const DVec3& b, const DVec3& c, double sign) {
+    if (closed) {
+      const double vol = sign * Dot(a - o, Cross(b - o, c - o)) / 6.0;
+      d.measure += vol;
+      d.moment += (vol / 4.0) * (o + a + b + c);
+    } else {
+      const double area = sign * 0.5 * Norm(Cross(b - a, c - a));
+      d.measure += area;
+      d.moment += (area / 3.0) * (a + b + c);
+    }
+  };
+  for (int k = 0; k < star.count; ++k) {
+    add(star.a[k], star.b[k], star.c[k], -1.0);
+    if (star.survives[k]) add(star.p, star.b[k], star.c[k], 1.0);
+  }
+  delta->mass = d;
+}
+
+void StarSecondMomentDelta(const EdgeStar& star, bool closed, const DVec3& origin,
+                           CollapseDelta* delta) {
+  const DVec3 o = 0.5 * (star.v + star.vd) - origin;
+  Sym3& d = delta->mass.second;
+  const auto add = [&](DVec3 a, DVec3 b, DVec3 c, bool added) {
+    a = a - origin;
+    b = b - origin;
+    c = c - origin;
+    const Sym3 j = closed
+                       ? TetrahedronSecondMoment(o, a, b, c, Dot(a - o, Cross(b - o, c - o)) / 6.0)
+                       : TriangleSecondMoment(a, b, c, 0.5 * Norm(Cross(b - a, c - a)));
+    if (added)
+      d += j;
+    else
+      d -= j;
+  };
+  for (int k = 0; k < star.count; ++k) {
+    add(star.a[k], star.b[k], star.c[k], false);
+    if (star.survives[k]) add(star.p, star.b[k], star.c[k], true);
+  }
+}
+
 void TransferFields(const Ring& ring, int target, int fields, const FaceAttrQ* fan_attr,
                     const int* group_slot, FaceAttrQ* new_attr, CollapseDelta* delta) {
   const int n = ring.neighbours();

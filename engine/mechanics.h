@@ -14,6 +14,7 @@
 #include "engine/mesh.h"
 #include "engine/ring.h"
 #include "engine/simplify.h"
+#include "engine/star.h"
 #include "engine/vec.h"
 
 namespace femsimp {
@@ -74,6 +75,12 @@ void CollapseMassDelta(const Ring& ring, int target, bool closed, CollapseDelta*
 // Adds the collapse's change of the second moment about `origin` to delta->mass.second.
 void CollapseSecondMomentDelta(const Ring& ring, int target, bool closed, const DVec3& origin,
                                CollapseDelta* delta);
+
+// The same two for a full-edge collapse (engine/star.h): the new faces at star.p replace the
+// old ones.
+void StarMassDelta(const EdgeStar& star, bool closed, CollapseDelta* delta);
+void StarSecondMomentDelta(const EdgeStar& star, bool closed, const DVec3& origin,
+                           CollapseDelta* delta);
 
 // New field values for the fan faces that survive the collapse: per group, the smallest
 // area-weighted change that keeps the group's resultant over the fan; what cannot be kept

@@ -9,6 +9,7 @@ namespace femsimp {
 void AddKernelStats(const KernelStats& k, PassStats& stats) {
   stats.tried += k.tried;
   stats.removed += k.removed;
+  stats.placed += k.placed;
   stats.lock_conflicts += k.lock_conflicts;
   stats.inconsistent += k.inconsistent;
   for (size_t r = 0; r < k.rejections.size(); ++r) stats.rejections[r] += k.rejections[r];
@@ -31,7 +32,7 @@ class NativeBackend final : public RemovalBackend {
       const auto start = std::chrono::steady_clock::now();
       NativePort port(mesh_);
       RemovalKernel<NativePort> kernel(port, *kernel_.rules, kernel_.quadric, *phase.budget,
-                                       per_context[c]);
+                                       per_context[c], kernel_.placement);
       const size_t step = phase.blocks ? 1 : n;
       size_t next = phase.blocks ? phase.count * c / n : c;
       const size_t end = phase.blocks ? phase.count * (c + 1) / n : phase.count;

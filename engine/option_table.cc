@@ -79,6 +79,13 @@ std::vector<OptionSpec> MakeTable() {
        .choices = {{"gaussian_curvature", "gaussian"}, {"quadric", "quadric"},
                    {"deviation", "deviation"}},
        .field = &S::cost},
+      {.name = "placement", .flag = "--placement", .section = "fidelity", .type = T::kEnum,
+       .help = "endpoint: the paper's half-edge collapse (a vertex moves onto a neighbour); "
+               "optimal: where both ends of an edge are free to move (no feature line, boundary "
+               "or seam), merge them at the point nearest the old faces that keeps the volume, "
+               "or else at the edge's midpoint, if that passes every bound",
+       .choices = {{"endpoint", "endpoint"}, {"optimal", "optimal"}},
+       .field = &S::placement},
       {.name = "tolerance", .flag = "--tolerance", .metavar = "D", .section = "fidelity",
        .range = Range::AtLeast(0), .unit = "model units", .zero_means = "off",
        .help = "guaranteed (Hausdorff) deviation from the input", .field = &S::tolerance},

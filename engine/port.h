@@ -6,6 +6,7 @@
 //   HalfEdgeQ ReadHalfEdge(uint32_t h);
 //   HalfEdgeQ ReadHalfEdgeFresh(uint32_t h);   // bypasses any cached copy (and ReadVertexFresh)
 //   void WriteTarget(uint32_t h, uint32_t v);  // and WriteTwin, WriteFlags, WriteOut
+//   void WritePosition(uint32_t v, const Vec3& p);  // a full-edge collapse's new vertex
 //   uint32_t LoadStatus(uint32_t v);
 //   bool CasStatus(uint32_t v, uint32_t expected, uint32_t desired);  // acquire
 //   void StoreStatus(uint32_t v, uint32_t value);                       // release
@@ -20,6 +21,7 @@
 #include <atomic>
 
 #include "engine/mesh.h"
+#include "engine/ring.h"
 
 namespace femsimp {
 
@@ -37,10 +39,12 @@ class NativePort {
   // A ring is gathered before its neighbours are locked, so a word it reads (a link edge's
   // twin or flags) may be rewritten meanwhile by a context that locked both ends of that edge;
   // the kernel never uses such a word unvalidated. Words are relaxed atomics so that such a read
-  // is defined behaviour (plain moves on x86); positions are never written during a pass.
+  // is defined behaviour (plain moves on x86). Positions change only in a full-edge collapse
+  // (option placement), under the locks of the vertex and its ring; a kernel that may see them
+  // move re-reads them once it holds its locks.
   VertexQ ReadVertex(uint32_t v) const {
-    const VertexQ& q = v_[v];
-    return {q.x, q.y, q.z, Load(v_[v].out)};
+    VertexQ& q = v_[v];
+    return {Load(q.x), Load(q.y), Load(q.z), Load(q.out)};
   }
   HalfEdgeQ ReadHalfEdge(uint32_t h) const {
     HalfEdgeQ& q = h_[h];
@@ -52,6 +56,11 @@ class NativePort {
   void WriteTwin(uint32_t h, uint32_t t) { Store(h_[h].twin, t); }
   void WriteFlags(uint32_t h, uint32_t f) { Store(h_[h].flags, f); }
   void WriteOut(uint32_t v, uint32_t h) { Store(v_[v].out, h); }
+  void WritePosition(uint32_t v, const Vec3& p) {
+    Store(v_[v].x, p.x);
+    Store(v_[v].y, p.y);
+    Store(v_[v].z, p.z);
+  }
   uint32_t LoadStatus(uint32_t v) const { return s_[v].load(std::memory_order_acquire); }
   bool CasStatus(uint32_t v, uint32_t expected, uint32_t desired) {
     return s_[v].compare_exchange_strong(expected, desired, std::memory_order_acq_rel,
@@ -67,11 +76,13 @@ class NativePort {
   void WriteQuadric(uint32_t v, const QuadricQ& q) { q_[v] = q; }
 
  private:
-  static uint32_t Load(uint32_t& word) {
-    return std::atomic_ref<uint32_t>(word).load(std::memory_order_relaxed);
+  template <class W>
+  static W Load(W& word) {
+    return std::atomic_ref<W>(word).load(std::memory_order_relaxed);
   }
-  static void Store(uint32_t& word, uint32_t value) {
-    std::atomic_ref<uint32_t>(word).store(value, std::memory_order_relaxed);
+  template <class W>
+  static void Store(W& word, W value) {
+    std::atomic_ref<W>(word).store(value, std::memory_order_relaxed);
   }
 
   VertexQ* v_;

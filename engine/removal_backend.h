@@ -23,7 +23,8 @@ namespace femsimp {
 // What every context's kernel runs with.
 struct KernelConfig {
   const RuleSet* rules = nullptr;
-  bool quadric = false;  // quadric cost: rank directions by it, Vd absorbs V's quadric
+  bool quadric = false;    // quadric cost: rank directions by it, Vd absorbs V's quadric
+  bool placement = false;  // full-edge collapses where both ends may move (engine/star.h)
 };
 
 // Every context polls the caller's cancellation every this many candidates (a few

@@ -34,8 +34,9 @@ uint64_t CellKey(int64_t x, int64_t y, int64_t z) {
 
 }  // namespace
 
-RoundScheduler::RoundScheduler(Mesh& mesh, WorkerPool& pool, FaceGrid* grid, const RuleSet& rules)
-    : mesh_(mesh), pool_(pool), grid_(grid), rules_(rules) {}
+RoundScheduler::RoundScheduler(Mesh& mesh, WorkerPool& pool, FaceGrid* grid, const RuleSet& rules,
+                               bool placement)
+    : mesh_(mesh), pool_(pool), grid_(grid), rules_(rules), placement_(placement) {}
 
 void RoundScheduler::ReadFans(const RemovalPhase& phase) {
   const size_t m = window_.size();
@@ -50,8 +51,7 @@ void RoundScheduler::ReadFans(const RemovalPhase& phase) {
   const int n = pool_.size();
   pool_.Run([&](int c) {
     NativePort port(mesh_);
-    Ring ring;
-    DVec3 points[kMaxRing + 2];
+    Ring ring, outer;
     for (size_t i = m * c / n; i < m * (c + 1) / n; ++i) {
       if (i % kCancelPollInterval == 0 && (phase.Stopped() || phase.PollCancelled())) return;
       const uint32_t k = by_vertex_[i];
@@ -60,11 +60,23 @@ void RoundScheduler::ReadFans(const RemovalPhase& phase) {
       live_[k] = 1;
       // A fan that cannot be read is V alone: the kernel refuses it without a neighbour.
       const VertexQ q = port.ReadVertex(v);
-      points[0] = {q.x, q.y, q.z};
-      int count = 1;
-      if (GatherRing(port, v, ring) == RingResult::kOk)
-        for (int i = 0; i < ring.neighbours(); ++i) points[count++] = ToD(ring.pos[i]);
-      FaceGrid::Box b = FaceGrid::BoxOf(points, count);
+      const DVec3 at{q.x, q.y, q.z};
+      FaceGrid::Box b{at, at};
+      const auto grow = [&b](const Vec3& p) {
+        b.lo = {std::min(b.lo.x, double(p.x)), std::min(b.lo.y, double(p.y)),
+                std::min(b.lo.z, double(p.z))};
+        b.hi = {std::max(b.hi.x, double(p.x)), std::max(b.hi.y, double(p.y)),
+                std::max(b.hi.z, double(p.z))};
+      };
+      if (GatherRing(port, v, ring) == RingResult::kOk) {
+        for (int i = 0; i < ring.neighbours(); ++i) {
+          grow(ring.pos[i]);
+          // A full-edge collapse onto this neighbour reaches its one-ring (and places the
+          // vertex inside their box). A ring that cannot be read is refused by the kernel.
+          if (placement_ && GatherRing(port, ring.nbr[i], outer) == RingResult::kOk)
+            for (int j = 0; j < outer.neighbours(); ++j) grow(outer.pos[j]);
+        }
+      }
       const double scale =
           std::max({std::fabs(b.lo.x), std::fabs(b.lo.y), std::fabs(b.lo.z), std::fabs(b.hi.x),
                     std::fabs(b.hi.y), std::fabs(b.hi.z), Norm(b.hi - b.lo)});

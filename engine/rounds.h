@@ -4,8 +4,9 @@
 //
 // A round takes a window of the pass's candidates in cost order (the losers of the last round
 // first, then fresh ones) and
-//   1. reads, in parallel, each candidate's fan and its bounding box (V and its one-ring):
-//      everything its collapse can lock, write or create lies in that box;
+//   1. reads, in parallel, each candidate's fan and its bounding box (V and its one-ring; with
+//      full-edge collapses, its two-ring): everything its collapse can lock, write or create
+//      lies in that box;
 //   2. picks the winners greedily in cost order: a candidate wins unless its box overlaps the
 //      box of a better-ranked winner (touching counts; found through a hashed grid of the
 //      winners' boxes; with a vertex target, only as many winners as removals remain). The
@@ -37,8 +38,10 @@ namespace femsimp {
 
 class RoundScheduler {
  public:
-  // grid: the self-intersection rule's index, or nullptr when that rule is off.
-  RoundScheduler(Mesh& mesh, WorkerPool& pool, FaceGrid* grid, const RuleSet& rules);
+  // grid: the self-intersection rule's index, or nullptr when that rule is off. placement:
+  // full-edge collapses may run, which lock, move and rewrite within V's two-ring.
+  RoundScheduler(Mesh& mesh, WorkerPool& pool, FaceGrid* grid, const RuleSet& rules,
+                 bool placement = false);
 
   // Runs the pass's candidates (phase.candidates[0, phase.count)) to the end in rounds.
   absl::Status RunPass(RemovalBackend& backend, const RemovalPhase& phase, PassStats& stats);
@@ -53,6 +56,7 @@ class RoundScheduler {
   WorkerPool& pool_;
   FaceGrid* grid_;
   const RuleSet& rules_;
+  const bool placement_;
   // Per window entry (reused between rounds).
   std::vector<uint32_t> window_;
   std::vector<FaceGrid::Box> box_;

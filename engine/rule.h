@@ -24,19 +24,25 @@
 #include "engine/quadword.h"
 #include "engine/ring.h"
 #include "engine/simplify.h"
+#include "engine/star.h"
 #include "engine/triangle_intersection.h"
 #include "engine/vec.h"
 
 namespace femsimp {
 
-// The fan faces of V that survive the collapse, as (V, b, c) before and (Vd, b, c) after.
+// The fan faces of V that survive the collapse, as (V, b, c) before and (Vd, b, c) after; for a
+// full-edge collapse (engine/star.h) every surviving star face, as (V or Vd, b, c) before and
+// (P, b, c) after, with vd = P: the first fan_faces come from V's fan.
 struct CollapseGeometry {
   int faces = 0;
-  DVec3 old_normal[kMaxRing];  // unnormalised (twice the area)
-  DVec3 new_normal[kMaxRing];
-  DVec3 b[kMaxRing], c[kMaxRing], vd;
+  int fan_faces = 0;
+  DVec3 old_normal[kMaxStar];  // unnormalised (twice the area)
+  DVec3 new_normal[kMaxStar];
+  DVec3 b[kMaxStar], c[kMaxStar], vd;
+  DVec3 old_apex[kMaxStar];  // the corner that moves, before (full-edge collapses only)
 
   void Build(const Ring& ring, int target_index);
+  void Build(const EdgeStar& star);
 
   // Smallest cosine between old and new normals, computed once per Build: the normal rule
   // tests it and the kernel ranks directions by it (largest bends the surface least).
@@ -91,6 +97,8 @@ struct CollapseProposal {
   // that needs them until the candidate is done.
   std::vector<uint32_t> held_cells;
   bool cells_acquired = false;
+  bool cells_for_star = false;  // held over the box of the star onto cells_vd
+  uint32_t cells_vd = kNone;
   // The faces in those cells but outside V's fan that some new triangle of any direction could
   // meet (by their boxes), as they are while the cells are held, and their ids.
   std::vector<uint32_t> nearby_faces;
@@ -98,6 +106,14 @@ struct CollapseProposal {
   // Compound collapses (engine/seam_collapse.h): faces the compound's other collapses rewrite;
   // the compound tests its new triangles against each other itself.
   std::span<const uint32_t> also_replaced;
+
+  // A full-edge collapse (option placement = optimal): V and Vd merge at star->p; the rules
+  // judge the star. Null for the paper's half-edge collapse.
+  const EdgeStar* star = nullptr;
+  // kFidelity, full-edge collapses: the side quadwords of Vd's other faces (star face
+  // fan_faces + k), as read and as they will be written.
+  const FaceAttrQ* extra_attr = nullptr;
+  FaceAttrQ new_extra_attr[kMaxRing];
 
   uint32_t vd() const { return fan->nbr[target]; }
   // Fan face f is one of the two that contain V - Vd (and disappear).
@@ -169,6 +185,9 @@ class CollapseRule {
   virtual bool reads_face_attrs() const { return false; }
   // Whether the rule spends from the mass (volume, centroid) totals of the ledger.
   virtual bool tracks_mass() const { return false; }
+  // Whether the rule judges full-edge collapses (CollapseProposal::star); a run with a rule
+  // that does not collapses half-edges only.
+  virtual bool judges_placement() const { return true; }
 
   bool in(RuleStage s) const { return (stages() & static_cast<uint32_t>(s)) != 0; }
 };
@@ -184,6 +203,7 @@ class RuleSet {
   }
   bool reads_face_attrs() const { return reads_face_attrs_; }
   bool tracks_mass() const { return tracks_mass_; }
+  bool judges_placement() const { return judges_placement_; }
   uint32_t shape_cycles_per_face() const { return shape_cycles_; }
 
   // Runs the stage's checks in order; on a refusal sets *refused to the rule's reason.
@@ -221,6 +241,7 @@ class RuleSet {
   std::vector<const CollapseRule*> stateful_;
   bool reads_face_attrs_ = false;
   bool tracks_mass_ = false;
+  bool judges_placement_ = true;
   uint32_t shape_cycles_ = 0;
   std::unique_ptr<MechanicsLedger> ledger_;
 };

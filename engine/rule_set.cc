@@ -34,6 +34,7 @@ RuleSet RuleSet::Build(const SimplifyOptions& options, const RuleSetup& setup) {
     if (rule->in(RuleStage::kShape)) set.shape_cycles_ += rule->cycles_per_face();
     set.reads_face_attrs_ |= rule->reads_face_attrs();
     set.tracks_mass_ |= rule->tracks_mass();
+    set.judges_placement_ &= rule->judges_placement();
     if (rule->keeps_state()) set.stateful_.push_back(rule.get());
   }
   if (!set.stage(RuleStage::kBudget).empty())
@@ -96,6 +97,24 @@ void CollapseGeometry::Build(const Ring& ring, int target_index) {
     b[faces] = ToD(ring.pos[i]);
     c[faces] = ToD(ring.pos[j]);
     old_normal[faces] = Cross(b[faces] - v, c[faces] - v);
+    new_normal[faces] = Cross(b[faces] - vd, c[faces] - vd);
+    ++faces;
+  }
+  fan_faces = faces;
+}
+
+void CollapseGeometry::Build(const EdgeStar& star) {
+  vd = star.p;
+  faces = 0;
+  fan_faces = 0;
+  min_normal_cosine_ = 2.0;
+  for (int k = 0; k < star.count; ++k) {
+    if (!star.survives[k]) continue;
+    if (k < star.fan_faces) ++fan_faces;
+    b[faces] = star.b[k];
+    c[faces] = star.c[k];
+    old_apex[faces] = star.a[k];
+    old_normal[faces] = Cross(b[faces] - star.a[k], c[faces] - star.a[k]);
     new_normal[faces] = Cross(b[faces] - vd, c[faces] - vd);
     ++faces;
   }

@@ -268,7 +268,7 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
     cost = std::make_unique<DeviationCost>(mesh.face_attrs(), setup.tolerance);
   else
     cost = std::make_unique<GaussianCurvatureCost>();
-  const KernelConfig kernel{&rules, quadric};
+  const KernelConfig kernel{&rules, quadric, options.placement == Placement::kOptimal};
   std::unique_ptr<RemovalBackend> backend;
   if (options.backend == Backend::kCell) {
     absl::StatusOr<std::unique_ptr<RemovalBackend>> cell =
@@ -289,7 +289,7 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
 
   std::optional<RoundScheduler> rounds;
   if (options.schedule == Schedule::kDeterministic)
-    rounds.emplace(mesh, pool, face_grid ? &*face_grid : nullptr, rules);
+    rounds.emplace(mesh, pool, face_grid ? &*face_grid : nullptr, rules, kernel.placement);
 
   result.stop_reason = StopReason::kMaxPasses;
   ProgressWatch watch(options.reconsider_every);

@@ -32,6 +32,13 @@ enum class Schedule { kDeterministic, kFree };
 // kDeviation: the deviation bound already spent around the vertex (the Gaussian curvature in a
 // run without a tolerance).
 enum class CostKind { kGaussianCurvature, kQuadric, kDeviation };
+
+// Where a collapse puts the vertex that stays: kEndpoint, the paper's half-edge collapse (V
+// moves onto a neighbour Vd); kOptimal, a full-edge collapse where V and Vd are both free to
+// move (no feature line, boundary or seam), V and Vd merging at the quadric-optimal point that
+// keeps the volume (else at the edge's midpoint) when it passes every rule, and the half-edge
+// collapse otherwise (engine/star.h).
+enum class Placement { kEndpoint, kOptimal };
 const char* CostKindName(CostKind c);  // "gaussian_curvature", "quadric", "deviation"
 
 // Why a candidate was given up (each counted per pass): the rule that refused it
@@ -67,6 +74,7 @@ struct SimplifyOptions {
   Schedule schedule = Schedule::kDeterministic;
   bool topology_only = false;
   CostKind cost = CostKind::kDeviation;
+  Placement placement = Placement::kEndpoint;
 
   // Fidelity (docs/FIDELITY.md). 0 turns a bound off.
   // Guaranteed two-sided (Hausdorff) deviation from the input surface, absolute and/or as a
@@ -141,6 +149,7 @@ struct PassStats {
   uint64_t inconsistent = 0;         // ring did not close or referenced a removed element
   uint64_t rounds = 0;               // deterministic schedule: rounds of non-interacting collapses
   uint64_t seam_points_removed = 0;  // assemblies: seam points slid along their seam (all copies)
+  uint64_t placed = 0;  // of the removals: full-edge collapses (option placement = optimal)
   std::array<uint64_t, static_cast<int>(Reject::kCount)> rejections{};
   uint64_t vertices_left = 0;
   double seconds = 0.0;       // wall time of the pass

@@ -148,6 +148,7 @@ void ToProto(const PassStats& p, v1::Progress* out) {
   out->set_inconsistent(p.inconsistent);
   out->set_rounds(p.rounds);
   out->set_seam_points_removed(p.seam_points_removed);
+  out->set_placed(p.placed);
   for (int i = 0; i < static_cast<int>(Reject::kCount); ++i)
     (*out->mutable_rejections())[RejectName(static_cast<Reject>(i))] = p.rejections[i];
   out->set_seconds(p.seconds);
@@ -183,6 +184,7 @@ PassStats FromProto(const v1::Progress& in) {
   p.inconsistent = in.inconsistent();
   p.rounds = in.rounds();
   p.seam_points_removed = in.seam_points_removed();
+  p.placed = in.placed();
   for (int i = 0; i < static_cast<int>(Reject::kCount); ++i) {
     auto it = in.rejections().find(RejectName(static_cast<Reject>(i)));
     if (it != in.rejections().end()) p.rejections[i] = it->second;

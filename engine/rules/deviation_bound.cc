@@ -14,6 +14,7 @@ class DeviationBoundRule final : public CollapseRule {
   bool reads_face_attrs() const override { return true; }
 
   Verdict Check(RuleStage, CollapseProposal& p) const override {
+    if (p.star != nullptr) return CheckStar(p);
     const int nf = p.fan->faces;
     float old_error[kMaxRing] = {}, new_error[kMaxRing];
     for (int f = 0; f < nf; ++f) old_error[f] = p.fan_attr[f].error;
@@ -31,6 +32,25 @@ class DeviationBoundRule final : public CollapseRule {
   }
 
  private:
+  Verdict CheckStar(CollapseProposal& p) const {
+    const EdgeStar& star = *p.star;
+    float old_error[kMaxStar], new_error[kMaxStar];
+    for (int k = 0; k < star.count; ++k)
+      old_error[k] =
+          k < star.fan_faces ? p.fan_attr[k].error : p.extra_attr[k - star.fan_faces].error;
+    int work = 0;
+    const bool bounded = BoundStarDeviation(star, old_error, new_error, &work);
+    p.cycles += static_cast<uint32_t>(24 * work);
+    if (!bounded) return Verdict::kReject;
+    for (int k = 0; k < star.count; ++k) {
+      if (!star.survives[k]) continue;
+      if (new_error[k] > tolerance_) return Verdict::kReject;
+      FaceAttrQ& attr = k < star.fan_faces ? p.new_attr[k] : p.new_extra_attr[k - star.fan_faces];
+      attr.error = new_error[k];
+    }
+    return Verdict::kPass;
+  }
+
   float tolerance_;
 };
 

@@ -14,6 +14,9 @@ class FieldResultantRule final : public CollapseRule {
   Reject reason() const override { return Reject::kFieldResultant; }
   uint32_t stages() const override { return Stages(RuleStage::kFidelity, RuleStage::kBudget); }
   bool reads_face_attrs() const override { return true; }
+  // TransferFields keeps the resultant over V's fan; a full-edge collapse would also reshape
+  // Vd's faces, whose values it does not move. Runs with fields collapse half-edges.
+  bool judges_placement() const override { return false; }
 
   Verdict Check(RuleStage, CollapseProposal& p) const override {
     const int nf = p.fan->faces;

@@ -29,8 +29,13 @@ class InertiaBudgetRule final : public MassBudgetRule {
   Reject reason() const override { return Reject::kInertia; }
   Verdict Check(RuleStage stage, CollapseProposal& p) const override {
     MassBudgetRule::Check(stage, p);
-    CollapseSecondMomentDelta(*p.fan, p.target, closed(), origin_, &p.delta);
-    p.cycles += 60 * p.fan->faces;
+    if (p.star != nullptr) {
+      StarSecondMomentDelta(*p.star, closed(), origin_, &p.delta);
+      p.cycles += 60 * p.star->count;
+    } else {
+      CollapseSecondMomentDelta(*p.fan, p.target, closed(), origin_, &p.delta);
+      p.cycles += 60 * p.fan->faces;
+    }
     return Verdict::kPass;
   }
   bool WithinBudget(const LedgerView& t, const CollapseDelta&) const override {

@@ -13,8 +13,13 @@ class MassBudgetRule : public CollapseRule {
   bool tracks_mass() const override { return true; }
   Verdict Check(RuleStage, CollapseProposal& p) const override {
     if (!p.mass_measured) {
-      CollapseMassDelta(*p.fan, p.target, closed_, &p.delta);
-      p.cycles += 40 * p.fan->faces;
+      if (p.star != nullptr) {
+        StarMassDelta(*p.star, closed_, &p.delta);
+        p.cycles += 40 * p.star->count;
+      } else {
+        CollapseMassDelta(*p.fan, p.target, closed_, &p.delta);
+        p.cycles += 40 * p.fan->faces;
+      }
       p.mass_measured = true;
     }
     return Verdict::kPass;

@@ -1,8 +1,9 @@
 // Every interior angle of every new triangle at least min_angle_deg (paper: 10 degrees), or, in
 // the default relaxed form, the new triangles' smallest angle no smaller than the smallest angle
-// of the triangles they replace (V's whole fan): on a sliver-rich CAD export, where most
-// triangles are below any useful threshold, collapses may then only improve the worst angle,
-// instead of none being allowed at all. Off in the topology-only mode.
+// of the triangles they replace (V's whole fan, and Vd's for a full-edge collapse): on a
+// sliver-rich CAD export, where most triangles are below any useful threshold, collapses may then
+// only improve the worst angle, instead of none being allowed at all. Off in the topology-only
+// mode.
 #include <algorithm>
 
 #include "engine/rule.h"
@@ -63,6 +64,9 @@ class MinAngleRule final : public CollapseRule {
     for (int f = 0; f < fan.faces; ++f)
       worst_old = std::max(worst_old, SmallestAngleCos2(v, ToD(fan.pos[f]),
                                                         ToD(fan.pos[(f + 1) % fan.neighbours()])));
+    // A full-edge collapse also replaces Vd's other faces.
+    for (int i = g.fan_faces; i < g.faces; ++i)
+      worst_old = std::max(worst_old, SmallestAngleCos2(g.old_apex[i], g.b[i], g.c[i]));
     return worst_new <= worst_old;
   }
 

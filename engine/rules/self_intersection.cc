@@ -23,13 +23,22 @@ class SelfIntersectionRule final : public CollapseRule {
 
   Verdict Check(RuleStage, CollapseProposal& p) const override {
     const Ring& fan = *p.fan;
+    const bool star = p.star != nullptr;
+    // A star's neighbourhood is its own (each direction has another Vd).
+    if (p.cells_acquired && (p.cells_for_star != star || (star && p.cells_vd != p.star->vd_id)))
+      Release(p);
     if (!p.cells_acquired) {
       if (Verdict v = HoldNeighbourhood(p); v != Verdict::kPass) return v;
     }
-    PreparedTriangle fresh[kMaxRing];
+    PreparedTriangle fresh[kMaxStar];
     int count = 0;
-    for (int f = 0; f < fan.faces; ++f)
-      if (!p.IsDeleted(f)) fresh[count++] = PreparedTriangle(NewTriangle(p, f));
+    if (star) {
+      for (int k = 0; k < p.star->count; ++k)
+        if (p.star->survives[k]) fresh[count++] = PreparedTriangle(NewStarTriangle(*p.star, k));
+    } else {
+      for (int f = 0; f < fan.faces; ++f)
+        if (!p.IsDeleted(f)) fresh[count++] = PreparedTriangle(NewTriangle(p, f));
+    }
     // The cell back end's cycle model charges every pair tested (boxes overlapping, for the
     // faces nearby) up to the first hit, in the order new triangle by new triangle, nearby
     // faces by id: counted so whatever order they are tested in.
@@ -61,6 +70,7 @@ class SelfIntersectionRule final : public CollapseRule {
   }
 
   void Commit(CollapseProposal& p) const override {
+    if (p.star != nullptr) return CommitStar(*p.star);
     const Ring& fan = *p.fan;
     double length_change = 0;
     int64_t face_change = 0;
@@ -89,19 +99,26 @@ class SelfIntersectionRule final : public CollapseRule {
 
  private:
   // Holds the cells over V's fan (V and its one-ring: every direction's new triangles lie in
-  // its box) and reads the faces there once for all directions: those whose boxes could
+  // its box), or for a full-edge collapse over the star's box (P stays inside it), and reads
+  // the faces there once for all directions (or positions of P): those whose boxes could
   // overlap a new triangle's.
   Verdict HoldNeighbourhood(CollapseProposal& p) const {
     const Ring& fan = *p.fan;
+    const EdgeStar* star = p.star;
     DVec3 points[kMaxRing + 2];
     points[0] = ToD(fan.center_pos);
     for (int i = 0; i < fan.neighbours(); ++i) points[i + 1] = ToD(fan.pos[i]);
-    const FaceGrid::Box box = FaceGrid::BoxOf(points, fan.neighbours() + 1);
+    const FaceGrid::Box box = star != nullptr ? FaceGrid::Box{star->lo, star->hi}
+                                              : FaceGrid::BoxOf(points, fan.neighbours() + 1);
     const FaceGrid::Hold hold = grid_->Acquire(box, &p.held_cells);
     if (hold == FaceGrid::Hold::kBusy) return Verdict::kConflict;
     if (hold == FaceGrid::Hold::kFull) return Verdict::kReject;  // cannot prove it safe
     p.cells_acquired = true;
-    const TriangleBox reach = NewTrianglesReach(fan, points + 1);
+    p.cells_for_star = star != nullptr;
+    p.cells_vd = star != nullptr ? star->vd_id : kNone;
+    const DVec3 corners[2] = {box.lo, box.hi};
+    const TriangleBox reach = star != nullptr ? NewTrianglesReach(corners, 2)
+                                              : NewTrianglesReach(points + 1, fan.neighbours());
     p.nearby.clear();
     p.nearby_faces.clear();
     // The cells list the faces' plain boxes: widened by the most any face's box is widened.
@@ -113,8 +130,11 @@ class SelfIntersectionRule final : public CollapseRule {
     // ahead, so that the reads of scattered faces overlap.
     uint64_t fan_bits = 0;
     for (int f = 0; f < fan.faces; ++f) fan_bits |= uint64_t{1} << (FaceOf(fan.out[f]) & 63);
+    if (star != nullptr)
+      for (int k = 0; k < star->count; ++k) fan_bits |= uint64_t{1} << (star->face[k] & 63);
     grid_->ForEachFaceNear(box, p.held_cells, near, [&](uint32_t g) {
-      if ((fan_bits >> (g & 63) & 1) != 0 && InFan(fan, g)) return;
+      if ((fan_bits >> (g & 63) & 1) != 0 && (star != nullptr ? InStar(*star, g) : InFan(fan, g)))
+        return;
       if (!p.also_replaced.empty() &&
           std::find(p.also_replaced.begin(), p.also_replaced.end(), g) != p.also_replaced.end())
         return;
@@ -136,11 +156,11 @@ class SelfIntersectionRule final : public CollapseRule {
   }
 
   // A box that holds the (widened) box of every new triangle of every direction: they use the
-  // one-ring's points only. A new triangle's slack is 1e-9 times the sum of the magnitudes of
-  // its box's six coordinates, at most twice the ring's largest magnitudes per axis; this one's
-  // is twice that, and rounding is monotonic.
-  static TriangleBox NewTrianglesReach(const Ring& fan, const DVec3* ring) {
-    const FaceGrid::Box b = FaceGrid::BoxOf(ring, fan.neighbours());
+  // one-ring's points only (or the star's box's). A new triangle's slack is 1e-9 times the sum of
+  // the magnitudes of its box's six coordinates, at most twice the ring's largest magnitudes per
+  // axis; this one's is twice that, and rounding is monotonic.
+  static TriangleBox NewTrianglesReach(const DVec3* ring, int n) {
+    const FaceGrid::Box b = FaceGrid::BoxOf(ring, n);
     const double magnitude = std::max(std::fabs(b.lo.x), std::fabs(b.hi.x)) +
                              std::max(std::fabs(b.lo.y), std::fabs(b.hi.y)) +
                              std::max(std::fabs(b.lo.z), std::fabs(b.hi.z));
@@ -164,6 +184,43 @@ class SelfIntersectionRule final : public CollapseRule {
     t.p[0] = ToD(p.fan->pos[p.target]);
     t.id[0] = grid_->PointId(p.vd());
     return t;
+  }
+  Triangle OldStarTriangle(const EdgeStar& star, int k) const {
+    return Triangle{
+        {star.a[k], star.b[k], star.c[k]},
+        {grid_->PointId(star.a_id[k]), grid_->PointId(star.b_id[k]), grid_->PointId(star.c_id[k])}};
+  }
+  Triangle NewStarTriangle(const EdgeStar& star, int k) const {
+    Triangle t = OldStarTriangle(star, k);
+    t.p[0] = star.p;
+    t.id[0] = grid_->PointId(star.vd_id);
+    return t;
+  }
+
+  void CommitStar(const EdgeStar& star) const {
+    double length_change = 0;
+    int64_t face_change = 0;
+    for (int k = 0; k < star.count; ++k) {
+      const Triangle before = OldStarTriangle(star, k);
+      const FaceGrid::Box old_box = FaceGrid::BoxOf(before.p, 3);
+      length_change -= Perimeter(before);
+      if (!star.survives[k]) {
+        grid_->Move(star.face[k], old_box, nullptr);
+        --face_change;
+      } else {
+        const Triangle after = NewStarTriangle(star, k);
+        const FaceGrid::Box new_box = FaceGrid::BoxOf(after.p, 3);
+        grid_->Move(star.face[k], old_box, &new_box);
+        length_change += Perimeter(after);
+      }
+    }
+    grid_->Track(length_change, face_change);
+  }
+
+  static bool InStar(const EdgeStar& star, uint32_t face) {
+    for (int k = 0; k < star.count; ++k)
+      if (star.face[k] == face) return true;
+    return false;
   }
   static double Perimeter(const Triangle& t) {
     return Norm(t.p[1] - t.p[0]) + Norm(t.p[2] - t.p[1]) + Norm(t.p[0] - t.p[2]);

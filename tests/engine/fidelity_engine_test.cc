@@ -20,34 +20,12 @@ DVec3 Pos(const RawMesh& m, uint32_t v) {
   return {m.positions[3 * v], m.positions[3 * v + 1], m.positions[3 * v + 2]};
 }
 
-// Closest point of triangle abc to p (Ericson, Real-Time Collision Detection, 5.1.5).
-double PointTriangleDistance(const DVec3& p, const DVec3& a, const DVec3& b, const DVec3& c) {
-  const DVec3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = Dot(ab, ap), d2 = Dot(ac, ap);
-  if (d1 <= 0 && d2 <= 0) return Norm(p - a);
-  const DVec3 bp = p - b;
-  const double d3 = Dot(ab, bp), d4 = Dot(ac, bp);
-  if (d3 >= 0 && d4 <= d3) return Norm(p - b);
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return Norm(p - (a + (d1 / (d1 - d3)) * ab));
-  const DVec3 cp = p - c;
-  const double d5 = Dot(ab, cp), d6 = Dot(ac, cp);
-  if (d6 >= 0 && d5 <= d6) return Norm(p - c);
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return Norm(p - (a + (d2 / (d2 - d6)) * ac));
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
-    return Norm(p - (b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b)));
-  const double denom = 1.0 / (va + vb + vc);
-  return Norm(p - (a + (vb * denom) * ab + (vc * denom) * ac));
-}
-
 double DistanceToSurface(const DVec3& p, const RawMesh& m) {
   double best = 1e300;
   for (size_t f = 0; f < m.num_faces(); ++f)
-    best = std::min(
-        best, PointTriangleDistance(p, Pos(m, m.triangles[3 * f]), Pos(m, m.triangles[3 * f + 1]),
-                                    Pos(m, m.triangles[3 * f + 2])));
+    best = std::min(best, testing::PointTriangleDistance(p, Pos(m, m.triangles[3 * f]),
+                                                         Pos(m, m.triangles[3 * f + 1]),
+                                                         Pos(m, m.triangles[3 * f + 2])));
   return best;
 }
 

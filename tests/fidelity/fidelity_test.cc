@@ -35,6 +35,7 @@ struct Case {
   double max_volume_change = 0.0;
   double max_centroid_shift = 0.0;
   double max_inertia_change = 0.0;
+  Placement placement = Placement::kEndpoint;
 };
 
 std::string CaseName(const Case& c) {
@@ -50,6 +51,7 @@ std::string CaseName(const Case& c) {
   if (c.max_volume_change > 0) name += "_volume";
   if (c.max_centroid_shift > 0) name += "_centroid";
   if (c.max_inertia_change > 0) name += "_inertia";
+  if (c.placement == Placement::kOptimal) name += "_placed";
   return name;
 }
 std::string ParamName(const ::testing::TestParamInfo<Case>& info) { return CaseName(info.param); }
@@ -139,6 +141,7 @@ Outcome Simplified(const Case& c) {
   o.options.max_centroid_shift = c.max_centroid_shift;
   o.options.max_inertia_change = c.max_inertia_change;
   o.options.max_field_change = 0.01;
+  o.options.placement = c.placement;
   // Every blade triangle has an angle below 10 degrees, so the default minimum angle would
   // forbid every collapse there and leave the tolerance untested.
   if (c.mesh == "blade.off") o.options.min_angle_deg = 1.0;
@@ -435,6 +438,57 @@ INSTANTIATE_TEST_SUITE_P(Meshes, CellBackend,
                                                 .tolerance_relative = 0.01,
                                                 .cost = CostKind::kGaussianCurvature,
                                                 .backend = Backend::kCell}),
+                         ParamName);
+
+// ---- full-edge collapses with placement (option placement = optimal) ----------------------------
+
+// The same guarantees with vertices placed off their input positions, on both back ends; the
+// mass budgets keep the volume and the moments; the feature lines stay.
+std::vector<Case> PlacementCases() {
+  const Placement placed = Placement::kOptimal;
+  std::vector<Case> cases;
+  for (const char* mesh : {"fandisk.off", "femur.off", "rotor_small.off"})
+    for (double tol : {0.001, 0.01})
+      cases.push_back({.mesh = mesh,
+                       .tolerance_relative = tol,
+                       .cost = CostKind::kDeviation,
+                       .placement = placed});
+  cases.push_back({.mesh = "fandisk.off",
+                   .tolerance_relative = 0.001,
+                   .cost = CostKind::kDeviation,
+                   .backend = Backend::kCell,
+                   .placement = placed});
+  cases.push_back({.mesh = "rotor_small.off",
+                   .tolerance_relative = 0.01,
+                   .cost = CostKind::kQuadric,
+                   .backend = Backend::kCell,
+                   .placement = placed});
+  return cases;
+}
+INSTANTIATE_TEST_SUITE_P(Placement, SurfaceFidelity, ::testing::ValuesIn(PlacementCases()),
+                         ParamName);
+
+std::vector<Case> PlacementFeatureCases() {
+  return {{.mesh = "fandisk.off",
+           .tolerance_relative = 0.01,
+           .cost = CostKind::kDeviation,
+           .placement = Placement::kOptimal}};
+}
+INSTANTIATE_TEST_SUITE_P(Placement, FeatureLines, ::testing::ValuesIn(PlacementFeatureCases()),
+                         ParamName);
+
+std::vector<Case> PlacementBudgetCases() {
+  std::vector<Case> cases;
+  for (const char* mesh : {"fandisk.off", "femur.off", "rotor_small.off"})
+    cases.push_back({.mesh = mesh,
+                     .tolerance_relative = 0.01,
+                     .cost = CostKind::kDeviation,
+                     .max_volume_change = 0.001,
+                     .max_inertia_change = 0.005,
+                     .placement = Placement::kOptimal});
+  return cases;
+}
+INSTANTIATE_TEST_SUITE_P(Placement, Budgets, ::testing::ValuesIn(PlacementBudgetCases()),
                          ParamName);
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include "engine/mesh.h"
 #include "engine/raw_mesh.h"
 #include "engine/simplify.h"
+#include "engine/vec.h"
 
 namespace femsimp::testing {
 
@@ -67,5 +68,8 @@ std::function<bool()> CancelOnceRemoving(const Mesh& mesh);
 
 // Smallest interior angle (degrees) of a triangle of the soup.
 double MinAngleDegrees(const RawMesh& mesh, size_t face);
+
+// Distance from p to triangle abc (Ericson, Real-Time Collision Detection, 5.1.5).
+double PointTriangleDistance(const DVec3& p, const DVec3& a, const DVec3& b, const DVec3& c);
 
 }  // namespace femsimp::testing

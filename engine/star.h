@@ -1,0 +1,53 @@
+// The edge star of a full-edge collapse (option placement = optimal; engine/kernel.h): V and Vd
+// merge into one vertex placed at P. The old patch is V's fan and Vd's fan (the two faces on the
+// edge V - Vd counted once); the new patch is P's fan over the same link, one new face per old
+// face that survives, with V or Vd replaced by P. The rules judge the collapse on it (its
+// shape, deviation bound and mass change), and the kernel commits it under the locks of V's and
+// Vd's one-rings.
+#pragma once
+
+#include <cstdint>
+
+#include "engine/ring.h"
+#include "engine/vec.h"
+
+namespace femsimp {
+
+// A star wider than a fan may be is left to the half-edge collapse (the kernel's state lives in
+// an SPE's local store on the cell back end; a fan of 64 is never seen in CAD).
+inline constexpr int kMaxStar = kMaxRing;
+
+struct EdgeStar {
+  // Old face k is (a[k], b[k], c[k]), counter-clockwise, with a[k] = V or Vd; when it survives,
+  // its new face is (p, b[k], c[k]). The first fan_faces are V's fan faces in fan order (face k
+  // is fan face k, the two on V - Vd among them); the rest are Vd's other faces.
+  int count = 0;
+  int fan_faces = 0;
+  DVec3 a[kMaxStar], b[kMaxStar], c[kMaxStar];
+  bool survives[kMaxStar];
+  uint32_t face[kMaxStar];                                  // face ids
+  uint32_t a_id[kMaxStar], b_id[kMaxStar], c_id[kMaxStar];  // vertex ids of the corners
+  uint32_t vd_id = kNone;                                   // the vertex that stays, at p
+  DVec3 v{0, 0, 0}, vd{0, 0, 0};                            // where V and Vd are
+  DVec3 p{0, 0, 0};
+  // The box of V, Vd and their one-rings: P stays in it, so that everything the collapse
+  // creates lies where its locks and the round scheduler's boxes reach.
+  DVec3 lo{0, 0, 0}, hi{0, 0, 0};
+
+  // Builds the star of V = fan.center and Vd = fan.nbr[target], whose one-ring is target_fan.
+  // Returns false when the star has more than kMaxStar faces.
+  bool Build(const Ring& fan, int target, const Ring& target_fan);
+  bool Contains(const DVec3& q) const {
+    return q.x >= lo.x && q.y >= lo.y && q.z >= lo.z && q.x <= hi.x && q.y <= hi.y && q.z <= hi.z;
+  }
+  int extra_faces() const { return count - fan_faces; }
+};
+
+// Where P is best: the point that minimises the squared distances to the old faces' planes
+// (area-weighted: the quadric of the old patch), kept on the plane that leaves the volume under
+// the star unchanged, with a small pull towards the edge's midpoint that decides where the
+// quadric alone does not (a flat or cylindrical patch). Falls back to the midpoint when the
+// system is singular.
+DVec3 OptimalPosition(const EdgeStar& star);
+
+}  // namespace femsimp
