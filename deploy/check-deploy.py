@@ -377,10 +377,22 @@ def check_k8s(objects, args, dev_secrets, tmp):
         conv = quantity_cpu if r == "cpu" else quantity_bytes
         if conv(res["requests"][r]) > conv(res["limits"][r]):
             problem(f"{r} request above its limit")
-    held = int(flags["workers"]) + int(flags["queue_capacity"])
-    need = 64 * 2**20 + held * int(flags["max_faces"]) * 125
-    if need > quantity_bytes(res["limits"]["memory"]):
-        problem(f"{held} jobs of {flags['max_faces']} faces need ~{need / 2**30:.1f} GiB, above the memory limit")
+    # Memory: the admitted jobs' estimates (server/memory_budget.h) are bounded by the budget;
+    # the idle server and its buffers need ~128 MiB beside it. A largest job must fit alone.
+    if "memory_budget_mib" not in flags:
+        problem("the ConfigMap does not set --memory_budget_mib (the default reads the node's memory)")
+        return None
+    budget = int(flags["memory_budget_mib"]) * 2**20
+    if budget + 128 * 2**20 > quantity_bytes(res["limits"]["memory"]):
+        problem(f"--memory_budget_mib={flags['memory_budget_mib']} leaves under 128 MiB of the memory limit")
+    header = open(os.path.join(DEPLOY, "..", "server", "memory_budget.h")).read()
+    factor = {k: int(re.search(rf"{k} = (\d+);", header).group(1))
+              for k in ("kBytesPerVertex", "kBytesPerFace")}
+    base = int(re.search(r"kJobBaseBytes = uint64_t\{(\d+)\} << 20;", header).group(1)) * 2**20
+    largest = base + factor["kBytesPerVertex"] * int(flags.get("max_vertices", 20_000_000)) + \
+        factor["kBytesPerFace"] * int(flags["max_faces"])
+    if largest > budget:
+        problem(f"a largest job (--max_faces, --max_vertices) needs ~{largest >> 20} MiB, above the budget")
     grace = float(flags["grace_period_seconds"])
     pre_stop = 5
     if pod["spec"]["terminationGracePeriodSeconds"] < grace + pre_stop + 5:

@@ -85,8 +85,8 @@ absl::Status FemsimpServer::Start() {
       "), metrics on ", config_.metrics_listen.empty() ? "(off)" : config_.metrics_listen,
       " (port ", metrics_.port(), "), workers=", config_.workers,
       " queue_capacity=", config_.queue_capacity, " threads_per_job=", config_.threads_per_job,
-      " reflection=", config_.reflection ? "on" : "off",
-      " transport=", TransportDescription(config_), " tenants=",
+      " memory_budget=", config_.memory_budget_mib, "MiB", " reflection=",
+      config_.reflection ? "on" : "off", " transport=", TransportDescription(config_), " tenants=",
       service_->tenants() > 0 ? absl::StrCat(service_->tenants(), " (bearer tokens)")
                               : std::string("off")));
   return absl::OkStatus();
