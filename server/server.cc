@@ -9,6 +9,7 @@
 #include "grpcpp/health_check_service_interface.h"
 #include "grpcpp/security/server_credentials.h"
 #include "grpcpp/server_builder.h"
+#include "server/decode_errors.h"
 #include "server/log.h"
 #include "server/transport_security.h"
 
@@ -69,6 +70,9 @@ absl::Status FemsimpServer::Start() {
   builder.SetMaxReceiveMessageSize(static_cast<int>(
       std::min<uint64_t>(config_.max_request_bytes, std::numeric_limits<int>::max())));
   builder.RegisterService(service_.get());
+  std::vector<std::unique_ptr<grpc::experimental::ServerInterceptorFactoryInterface>> interceptors;
+  interceptors.push_back(std::make_unique<UndecodableRequestInterceptorFactory>());
+  builder.experimental().SetInterceptorCreators(std::move(interceptors));
   if (config_.max_connection_age_seconds > 0)
     builder.AddChannelArgument(
         GRPC_ARG_MAX_CONNECTION_AGE_MS,
