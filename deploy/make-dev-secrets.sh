@@ -33,7 +33,8 @@ if [ -e "$dir" ]; then
   exit 1
 fi
 command -v openssl >/dev/null || { echo "make-dev-secrets: openssl not found" >&2; exit 1; }
-mkdir -m 0700 -p "$dir"
+mkdir -p "$(dirname "$dir")"
+mkdir -m 0700 "$dir"
 cd "$dir"
 log=$(mktemp)
 trap 'rm -f "$log" ./*.csr ./*.ext ./*.srl' EXIT
