@@ -427,6 +427,16 @@ TEST(Service, JobThatDoesNotFitBesideTheAdmittedOnesGetsPushbackUntilMemoryFrees
     cli::RemoteOutcome small = cli::RemoteSimplify(s.stub(), ctx, RatioSpec(0.5), fandisk);
     EXPECT_TRUE(small.status.ok()) << small.status.error_message();
   }
+  EXPECT_EQ(AdmittedBytes(s), big);  // the small job's estimate was given back with its call
+  {  // and a failed job's (an index past the vertices, refused after the upload)
+    RawMesh bad;
+    bad.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    bad.triangles = {0, 1, 7};
+    grpc::ClientContext ctx;
+    EXPECT_EQ(cli::RemoteSimplify(s.stub(), ctx, RatioSpec(0.5), bad).status.error_code(),
+              grpc::StatusCode::INVALID_ARGUMENT);
+  }
+  EXPECT_EQ(AdmittedBytes(s), big);
   // The held call ends: its estimate is given back, and the big job is admitted again.
   hold_ctx.TryCancel();
   hold->Finish();
