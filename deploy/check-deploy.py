@@ -526,6 +526,13 @@ def check_dockerfile(container, pod_security):
     ports = {p["containerPort"] for p in container["ports"]}
     if exposed != ports:
         problem(f"the Dockerfile exposes {sorted(exposed)}, the Deployment uses {sorted(ports)}")
+    # The image builds with tests, benchmarks and fuzzing off: every other directory the
+    # top-level CMakeLists.txt adds must be in the build stage.
+    top = open(os.path.join(DEPLOY, "..", "CMakeLists.txt")).read()
+    needed = set(re.findall(r"^\s*add_subdirectory\((\w+)\)", top, re.M)) - {"tests", "bench", "fuzz"}
+    copied = set(re.findall(r"^COPY (\w+) \1$", text, re.M))
+    if needed - copied:
+        problem(f"the Dockerfile's build stage lacks {sorted(needed - copied)} (add_subdirectory in CMakeLists.txt)")
     cmd = re.search(r"^CMD \[(.*?)\]$", text, re.M | re.S)
     cmd_flags = parse_flags(re.findall(r'"([^"]+)"', cmd.group(1))) if cmd else {}
     check_tls_flags(cmd_flags, "the Dockerfile's CMD")
