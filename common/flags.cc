@@ -172,7 +172,8 @@ absl::StatusOr<FlagSet::Parsed> FlagSet::Parse(const std::vector<std::string>& r
   Parsed parsed;
   for (const std::string& a : raw) {
     if (a == "--") break;
-    if (a == "--help" || a == "-h") {
+    // --helpfull: Abseil's name for it (every flag is always listed here).
+    if (a == "--help" || a == "--helpfull" || a == "-h") {
       parsed.help = true;
       return parsed;
     }
@@ -229,7 +230,7 @@ std::string FlagSet::Help() const {
   if (flagfile_)
     absl::StrAppend(&out, HelpEntry("--flagfile FILE",
                                     "read more flags from FILE, one a line (`#` lines skipped)"));
-  absl::StrAppend(&out, HelpEntry("--help", "this text"));
+  absl::StrAppend(&out, HelpEntry("--help", "this text (also --helpfull)"));
   return out;
 }
 

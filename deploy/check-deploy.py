@@ -9,12 +9,17 @@ checks what ties the files together: selectors and labels, ports, probes, the Co
 (accepted by the real femsimp-server), resources against those flags, the HPA and the PDB. The
 compose stack is checked with docker-compose and its flags against the ConfigMap's, Prometheus'
 config with promtool, nginx's with `nginx -t`, and the Dockerfile against the Deployment.
+Transport security everywhere (issue 15): no --plaintext_remote in any file, TLS and a tokens
+file from mounted Secrets (compose secrets), probes over TLS, a NetworkPolicy; the Secrets that
+deploy/make-dev-secrets.sh writes are checked against the API types and the mounts, and the
+real server is started with them.
 
   deploy/check-deploy.py --server-bin build/server/femsimp-server --client-bin build/client/femsimp
 
 Exit codes: 0 passed, 1 a check failed, 77 a required tool is missing (kubectl, python3-kubernetes).
 """
 import argparse
+import base64
 import os
 import re
 import shutil
@@ -58,7 +63,11 @@ MODELS = {
     ("apps/v1", "Deployment"): "V1Deployment",
     ("autoscaling/v2", "HorizontalPodAutoscaler"): "V2beta2HorizontalPodAutoscaler",
     ("policy/v1", "PodDisruptionBudget"): "V1PodDisruptionBudget",
+    ("networking.k8s.io/v1", "NetworkPolicy"): "V1NetworkPolicy",
+    ("v1", "Secret"): "V1Secret",
 }
+# What the deployments must carry (flags of femsimp-server).
+TLS_FLAGS = ("tls_cert_file", "tls_key_file", "auth_tokens_file")
 # Fields newer than the library: gRPC probes (Kubernetes 1.24, GA in 1.27).
 NEWER_FIELDS = {"V1Probe": {"grpc": {"port": int, "service": str}}}
 
@@ -113,6 +122,35 @@ def check_required(obj, model_name, path):
         problem(f"{path}: {e}")
 
 
+def make_dev_secrets(tmp):
+    """deploy/make-dev-secrets.sh into tmp/dev: the files, and its Kubernetes Secrets."""
+    out_dir = os.path.join(tmp, "dev")
+    out = subprocess.run([os.path.join(DEPLOY, "make-dev-secrets.sh"), out_dir],
+                         capture_output=True, text=True)
+    if out.returncode != 0:
+        problem(f"make-dev-secrets.sh failed: {out.stderr.strip()}")
+        return None, []
+    ok("make-dev-secrets.sh makes a CA, server and client certificates, tokens, k8s Secrets")
+    with open(os.path.join(out_dir, "k8s-secrets.yaml")) as f:
+        return out_dir, [d for d in yaml.safe_load_all(f) if d]
+
+
+def materialize_mounts(secrets, mounts, volumes, root):
+    """Writes each mounted Secret's keys under root + its mountPath, as the kubelet would."""
+    by_name = {s["metadata"]["name"]: s for s in secrets}
+    for vname, path in mounts.items():
+        secret_name = volumes.get(vname, {}).get("secret", {}).get("secretName")
+        if not secret_name:
+            continue
+        if secret_name not in by_name:
+            problem(f"volume {vname} mounts Secret {secret_name}, which make-dev-secrets.sh does not make")
+            continue
+        os.makedirs(root + path, exist_ok=True)
+        for key, b64 in by_name[secret_name]["data"].items():
+            with open(os.path.join(root + path, key), "wb") as f:
+                f.write(base64.b64decode(b64))
+
+
 def rendered_objects():
     kubectl = shutil.which("kubectl")
     if not kubectl:
@@ -141,12 +179,13 @@ def parse_flags(lines):
     return flags
 
 
-def run_server_with_flagfile(server_bin, client_bin, flag_text):
-    """The real femsimp-server must accept the ConfigMap's flags, serve, and stop on SIGTERM."""
+def run_server_with_flagfile(server_bin, client_bin, flag_text, root, probe):
+    """The real femsimp-server must accept the ConfigMap's flags with the Secrets mounted (under
+    root), answer the Deployment's probe command over TLS, and stop on SIGTERM."""
     with tempfile.TemporaryDirectory() as tmp:
         flagfile = os.path.join(tmp, "femsimp.flags")
         with open(flagfile, "w") as f:
-            f.write(flag_text)
+            f.write(re.sub(r"=(/etc/femsimp/)", lambda m: "=" + root + m.group(1), flag_text))
         log_path = os.path.join(tmp, "server.log")
         with open(log_path, "w") as log:
             proc = subprocess.Popen([server_bin, f"--flagfile={flagfile}",
@@ -166,16 +205,25 @@ def run_server_with_flagfile(server_bin, client_bin, flag_text):
             if not port:
                 problem(f"femsimp-server rejected the ConfigMap's flags: {open(log_path).read()[-500:]}")
                 return
-            health = subprocess.run([client_bin, "health", "--server", f"127.0.0.1:{port}"],
-                                    capture_output=True, text=True)
+            # The probe as the Deployment runs it, on this port and with the mounts under root.
+            cmd = [client_bin] + [re.sub(r":\d+$", f":{port}", a) if a.startswith("127.0.0.1:")
+                                  else root + a if a.startswith("/etc/femsimp/") else a
+                                  for a in probe[1:]]
+            health = subprocess.run(cmd, capture_output=True, text=True)
             if health.returncode != 0:
-                problem(f"femsimp-server with the ConfigMap's flags is not SERVING: {health.stderr}")
+                problem(f"the probe does not find femsimp-server with the ConfigMap's flags "
+                        f"SERVING: {health.stdout}{health.stderr}")
+            plain = subprocess.run([client_bin, "health", "--server", f"127.0.0.1:{port}",
+                                    "--timeout", "2"], capture_output=True, text=True)
+            if plain.returncode == 0:
+                problem("femsimp-server with the ConfigMap's flags answers plaintext calls")
             proc.send_signal(signal.SIGTERM)
             rc = proc.wait(timeout=60)
             if rc != 0:
                 problem(f"femsimp-server exited {rc} on SIGTERM")
             else:
-                ok("femsimp-server accepts the ConfigMap's flags, serves, stops on SIGTERM")
+                ok("femsimp-server accepts the ConfigMap's flags with the dev Secrets mounted, "
+                   "answers the probe over TLS (not plaintext), stops on SIGTERM")
         finally:
             if proc.poll() is None:
                 proc.kill()
@@ -193,8 +241,11 @@ def quantity_bytes(q):
     return float(m.group(1)) * units.get(m.group(2), 1)
 
 
-def check_k8s(objects, args):
+def check_k8s(objects, args, dev_secrets, tmp):
     by_kind = {}
+    if any(o.get("kind") == "Secret" for o in objects):
+        problem("deploy/k8s renders a Secret: keys do not belong in git")
+    objects = objects + dev_secrets
     for obj in objects:
         key = (obj.get("apiVersion"), obj.get("kind"))
         name = f"{key[1]}/{obj.get('metadata', {}).get('name')}"
@@ -208,7 +259,7 @@ def check_k8s(objects, args):
         return None
     ok(f"{len(objects)} objects match the Kubernetes API types ({', '.join(sorted(by_kind))})")
     for kind in ("Namespace", "ConfigMap", "Deployment", "Service", "HorizontalPodAutoscaler",
-                 "PodDisruptionBudget"):
+                 "PodDisruptionBudget", "NetworkPolicy"):
         if kind not in by_kind:
             problem(f"no {kind} in deploy/k8s")
     if problems:
@@ -235,10 +286,15 @@ def check_k8s(objects, args):
     for p in svc["spec"]["ports"]:
         if p["targetPort"] not in ports:
             problem(f"Service port {p['name']} targets {p['targetPort']}, not a container port")
+    # The kubelet's gRPC probe has no TLS: `femsimp health` over TLS on the grpc port instead.
+    probe_cmd = None
     for probe in ("readinessProbe", "livenessProbe"):
-        grpc = container.get(probe, {}).get("grpc")
-        if not grpc or grpc["port"] != ports.get("grpc"):
-            problem(f"{probe} is not a gRPC probe on the grpc port")
+        cmd = container.get(probe, {}).get("exec", {}).get("command", [])
+        want = ["/usr/local/bin/femsimp", "health", "--server", f"127.0.0.1:{ports.get('grpc')}"]
+        if cmd[:4] != want or "--tls-ca-file" not in cmd:
+            problem(f"{probe} is not `femsimp health --server 127.0.0.1:GRPC_PORT --tls-ca-file ...`")
+        else:
+            probe_cmd = cmd
     ann = pod["metadata"].get("annotations", {})
     if ann.get("prometheus.io/scrape") != "true" or int(ann.get("prometheus.io/port", 0)) != ports.get("metrics"):
         problem("the Prometheus annotations do not point at the metrics port")
@@ -262,7 +318,45 @@ def check_k8s(objects, args):
         return None
     flag_text = cm["data"][os.path.basename(flagfile)]
     flags = parse_flags(flag_text.splitlines())
-    run_server_with_flagfile(args.server_bin, args.client_bin, flag_text)
+    check_tls_flags(flags, "the ConfigMap")
+    # Every file the flags and the probe name lies in a mounted Secret and is one of its keys.
+    secret_mounts = {path.rstrip("/"): volumes[v]["secret"]["secretName"]
+                     for v, path in mounts.items() if "secret" in volumes.get(v, {})}
+    secrets = {o["metadata"]["name"]: o for o in dev_secrets}
+    probe_ca = probe_cmd[probe_cmd.index("--tls-ca-file") + 1] if probe_cmd else None
+    for what, path in [(f"--{f}", flags.get(f)) for f in TLS_FLAGS] + [("the probe's CA", probe_ca)]:
+        if not path:
+            continue
+        name = secret_mounts.get(os.path.dirname(path))
+        if not name:
+            problem(f"{what} {path} is not in a mounted Secret")
+        elif os.path.basename(path) not in secrets.get(name, {}).get("data", {}):
+            problem(f"{what} {path}: Secret {name} has no key {os.path.basename(path)}")
+    for v in volumes.values():
+        if "secret" not in v:
+            continue
+        mode = v["secret"].get("defaultMode", 0o644)
+        if mode & 0o007:
+            problem(f"Secret volume {v['name']} is readable by others (defaultMode {mode:o})")
+    root = os.path.join(tmp, "pod")
+    materialize_mounts(dev_secrets, mounts, volumes, root)
+    if probe_cmd:
+        run_server_with_flagfile(args.server_bin, args.client_bin, flag_text, root, probe_cmd)
+
+    # The NetworkPolicy: the pods, both directions, ingress only to the pod's ports.
+    netpol = by_kind["NetworkPolicy"][0]
+    selects(netpol["spec"]["podSelector"]["matchLabels"], "NetworkPolicy")
+    if set(netpol["spec"].get("policyTypes", [])) != {"Ingress", "Egress"}:
+        problem("the NetworkPolicy does not restrict both ingress and egress")
+    allowed = set()
+    for rule in netpol["spec"].get("ingress", []):
+        if not rule.get("from") or not rule.get("ports"):
+            problem("a NetworkPolicy ingress rule admits any source or any port")
+        for p in rule.get("ports", []):
+            port = p.get("port")
+            allowed.add(port if port in ports else {v: k for k, v in ports.items()}.get(port))
+    if allowed != set(ports):
+        problem(f"the NetworkPolicy admits {sorted(map(str, allowed))}, the pod serves {sorted(ports)}")
     # Set explicitly: the defaults follow the host's cores, not the pod's CPU limit.
     missing = [f for f in ("workers", "threads_per_job", "queue_capacity", "max_faces",
                            "grace_period_seconds", "listen", "metrics_listen") if f not in flags]
@@ -283,10 +377,22 @@ def check_k8s(objects, args):
         conv = quantity_cpu if r == "cpu" else quantity_bytes
         if conv(res["requests"][r]) > conv(res["limits"][r]):
             problem(f"{r} request above its limit")
-    held = int(flags["workers"]) + int(flags["queue_capacity"])
-    need = 64 * 2**20 + held * int(flags["max_faces"]) * 125
-    if need > quantity_bytes(res["limits"]["memory"]):
-        problem(f"{held} jobs of {flags['max_faces']} faces need ~{need / 2**30:.1f} GiB, above the memory limit")
+    # Memory: the admitted jobs' estimates (server/memory_budget.h) are bounded by the budget;
+    # the idle server and its buffers need ~128 MiB beside it. A largest job must fit alone.
+    if "memory_budget_mib" not in flags:
+        problem("the ConfigMap does not set --memory_budget_mib (the default reads the node's memory)")
+        return None
+    budget = int(flags["memory_budget_mib"]) * 2**20
+    if budget + 128 * 2**20 > quantity_bytes(res["limits"]["memory"]):
+        problem(f"--memory_budget_mib={flags['memory_budget_mib']} leaves under 128 MiB of the memory limit")
+    header = open(os.path.join(DEPLOY, "..", "server", "memory_budget.h")).read()
+    factor = {k: int(re.search(rf"{k} = (\d+);", header).group(1))
+              for k in ("kBytesPerVertex", "kBytesPerFace")}
+    base = int(re.search(r"kJobBaseBytes = uint64_t\{(\d+)\} << 20;", header).group(1)) * 2**20
+    largest = base + factor["kBytesPerVertex"] * int(flags.get("max_vertices", 20_000_000)) + \
+        factor["kBytesPerFace"] * int(flags["max_faces"])
+    if largest > budget:
+        problem(f"a largest job (--max_faces, --max_vertices) needs ~{largest >> 20} MiB, above the budget")
     grace = float(flags["grace_period_seconds"])
     pre_stop = 5
     if pod["spec"]["terminationGracePeriodSeconds"] < grace + pre_stop + 5:
@@ -294,6 +400,8 @@ def check_k8s(objects, args):
     sec = pod["spec"].get("securityContext", {})
     if not sec.get("runAsNonRoot"):
         problem("the pod may run as root")
+    if sec.get("fsGroup") != sec.get("runAsGroup"):
+        problem("fsGroup is not the server's group: it cannot read the 0440 Secret files")
 
     hpa = by_kind["HorizontalPodAutoscaler"][0]
     ref = hpa["spec"]["scaleTargetRef"]
@@ -304,8 +412,27 @@ def check_k8s(objects, args):
     if pdb["spec"].get("maxUnavailable", 0) >= hpa["spec"]["minReplicas"]:
         problem("the PDB lets every replica go at once")
     if not problems:
-        ok("selectors, ports, gRPC probes, scrape annotations, flagfile, resources, HPA, PDB agree")
+        ok("selectors, ports, TLS probes, scrape annotations, flagfile, Secrets, resources, "
+           "HPA, PDB, NetworkPolicy agree")
     return flags, container, sec
+
+
+def check_tls_flags(flags, where):
+    """A listener beyond loopback only with TLS, never --plaintext_remote, and tenants on."""
+    if "plaintext_remote" in flags:
+        problem(f"{where} passes --plaintext_remote")
+    missing = [f for f in TLS_FLAGS if not flags.get(f)]
+    if missing:
+        problem(f"{where} does not set --{', --'.join(missing)}")
+
+
+def check_no_plaintext_anywhere():
+    files = [os.path.join(DEPLOY, f) for f in ("compose.yaml", "Dockerfile")]
+    for d in ("k8s", "nginx", "prometheus"):
+        files += [os.path.join(DEPLOY, d, f) for f in sorted(os.listdir(os.path.join(DEPLOY, d)))]
+    for path in files:
+        if "plaintext_remote" in open(path).read():
+            problem(f"{os.path.relpath(path, DEPLOY)} mentions --plaintext_remote")
 
 
 def check_compose(k8s_flags):
@@ -315,8 +442,25 @@ def check_compose(k8s_flags):
     flags = parse_flags(cmd)
     differ = {k for k in set(flags) | set(k8s_flags) if flags.get(k) != k8s_flags.get(k)}
     differ -= {"max_connection_age_seconds"}  # behind nginx, clients do not resolve replicas
+    differ -= set(TLS_FLAGS)  # compose mounts its secrets in /run/secrets
     if differ:
         problem(f"compose and the ConfigMap size the replicas differently: {sorted(differ)}")
+    check_tls_flags(flags, "compose's femsimp")
+    declared = compose.get("secrets", {})
+    targets = {}
+    for name, svc in compose["services"].items():
+        for sref in svc.get("secrets", []):
+            if sref["source"] not in declared:
+                problem(f"compose service {name} uses the undeclared secret {sref['source']}")
+            targets.setdefault(name, set()).add("/run/secrets/" + sref.get("target", sref["source"]))
+    for f in TLS_FLAGS:
+        if flags.get(f) and flags[f] not in targets.get("femsimp", set()):
+            problem(f"compose's --{f}={flags[f]} is not one of femsimp's secrets")
+    if "/run/secrets/ca.pem" not in targets.get("femsimp", set()):
+        problem("compose's femsimp lacks the CA its HEALTHCHECK trusts (/run/secrets/ca.pem)")
+    nginx_files = set(re.findall(r"(/run/secrets/\S+);", open(os.path.join(DEPLOY, "nginx", "nginx.conf")).read()))
+    if not nginx_files or not nginx_files <= targets.get("lb", set()):
+        problem(f"nginx.conf reads {sorted(nginx_files)}, compose's lb mounts {sorted(targets.get('lb', []))}")
     for name, svc in compose["services"].items():
         for p in svc.get("ports", []):
             if not str(p).startswith("127.0.0.1:"):
@@ -346,7 +490,7 @@ def check_prometheus():
         ok("promtool accepts the Prometheus config and rules")
 
 
-def check_nginx():
+def check_nginx(dev_dir):
     nginx = shutil.which("nginx") or "/usr/sbin/nginx"
     if not os.path.exists(nginx):
         print("note: nginx not installed, nginx.conf not checked")
@@ -357,6 +501,12 @@ def check_nginx():
         conf = conf.replace("/tmp/", tmp + "/")
         conf = conf.replace("server femsimp:50051", "server 127.0.0.1:1")
         conf = conf.replace("/etc/nginx/grpc-proxy.conf", os.path.join(DEPLOY, "nginx", "grpc-proxy.conf"))
+        conf = conf.replace("/run/secrets/", dev_dir + "/")
+        proxy = open(os.path.join(DEPLOY, "nginx", "grpc-proxy.conf")).read()
+        if not re.search(r"^\s*listen [^;]*\bssl\b", conf, re.M):
+            problem("nginx.conf listens without TLS")
+        if "grpc_pass grpcs://" not in proxy or not re.search(r"grpc_ssl_verify on;", proxy):
+            problem("grpc-proxy.conf does not pass to the replicas over verified TLS")
         with open(os.path.join(tmp, "nginx.conf"), "w") as f:
             f.write(conf)
         out = subprocess.run([nginx, "-t", "-p", tmp, "-c", os.path.join(tmp, "nginx.conf")],
@@ -376,8 +526,20 @@ def check_dockerfile(container, pod_security):
     ports = {p["containerPort"] for p in container["ports"]}
     if exposed != ports:
         problem(f"the Dockerfile exposes {sorted(exposed)}, the Deployment uses {sorted(ports)}")
+    # The image builds with tests, benchmarks and fuzzing off: every other directory the
+    # top-level CMakeLists.txt adds must be in the build stage.
+    top = open(os.path.join(DEPLOY, "..", "CMakeLists.txt")).read()
+    needed = set(re.findall(r"^\s*add_subdirectory\((\w+)\)", top, re.M)) - {"tests", "bench", "fuzz"}
+    copied = set(re.findall(r"^COPY (\w+) \1$", text, re.M))
+    if needed - copied:
+        problem(f"the Dockerfile's build stage lacks {sorted(needed - copied)} (add_subdirectory in CMakeLists.txt)")
+    cmd = re.search(r"^CMD \[(.*?)\]$", text, re.M | re.S)
+    cmd_flags = parse_flags(re.findall(r'"([^"]+)"', cmd.group(1))) if cmd else {}
+    check_tls_flags(cmd_flags, "the Dockerfile's CMD")
+    if not re.search(r"^HEALTHCHECK[^\n]*(\\\n[^\n]*)*--tls-ca-file", text, re.M):
+        problem("the Dockerfile's HEALTHCHECK does not use TLS")
     if not problems:
-        ok("Dockerfile user and ports match the Deployment")
+        ok("Dockerfile user, ports, TLS command and HEALTHCHECK match the Deployment")
 
 
 def main():
@@ -385,14 +547,18 @@ def main():
     parser.add_argument("--server-bin", required=True)
     parser.add_argument("--client-bin", required=True)
     args = parser.parse_args()
-    objects = rendered_objects()
-    result = check_k8s(objects, args) if objects else None
-    if result:
-        flags, container, sec = result
-        check_compose(flags)
-        check_dockerfile(container, sec)
-    check_prometheus()
-    check_nginx()
+    with tempfile.TemporaryDirectory() as tmp:
+        dev_dir, dev_secrets = make_dev_secrets(tmp)
+        objects = rendered_objects()
+        result = check_k8s(objects, args, dev_secrets, tmp) if objects and dev_dir else None
+        if result:
+            flags, container, sec = result
+            check_compose(flags)
+            check_dockerfile(container, sec)
+        check_no_plaintext_anywhere()
+        check_prometheus()
+        if dev_dir:
+            check_nginx(dev_dir)
     if problems:
         print(f"check-deploy: {len(problems)} problems", file=sys.stderr)
         return 1

@@ -2,8 +2,9 @@
 # Container test: starts Debian's Docker daemon by hand (its own data and exec roots in a
 # temporary folder, no bridge, no iptables or forwarding changes), builds deploy/Dockerfile, runs
 # the image with host networking on free loopback ports, and checks it: non-root, the server is
-# PID 1, health SERVING (femsimp health from the host and Docker's own HEALTHCHECK), fandisk
-# simplified through it with the host's client, verified jobs, /metrics, and a SIGTERM stop that
+# PID 1, health SERVING over TLS (femsimp health from the host and Docker's own HEALTHCHECK),
+# plaintext and token-less calls refused, fandisk simplified through it with the host's client,
+# verified jobs, /metrics, and a SIGTERM stop that
 # exits 0 well before Docker would SIGKILL; then builds the compose stack's nginx and Prometheus
 # images and checks their configs inside them. Reports the build time and image size. Stops and
 # removes everything it started (containers, images, daemon, mounts) on any exit.
@@ -171,37 +172,51 @@ a, b = socket.socket(), socket.socket()
 a.bind(("127.0.0.1", 0)); b.bind(("127.0.0.1", 0))
 print(a.getsockname()[1], b.getsockname()[1])')
 addr=127.0.0.1:$grpc_port
+# As deployed: TLS and tokens from files in /run/secrets (each file mounted, as compose does).
+deploy/make-dev-secrets.sh "$work/secrets" >/dev/null
+secret_mounts=()
+for f in server.pem server.key ca.pem tokens.csv; do
+  secret_mounts+=(-v "$work/secrets/$f:/run/secrets/$f:ro")
+done
+tls=(--tls-ca-file "$work/secrets/ca.pem")
+auth=("${tls[@]}" --token-file "$work/secrets/token-dev")
 container=$(D run -d --name "femsimp-test-$$" --network host -e "FEMSIMP_HEALTH_ADDR=$addr" \
-  "$image" --listen="$addr" --metrics_listen="127.0.0.1:$metrics_port" --workers=2 \
-  --threads_per_job=1 --grace_period_seconds=10)
+  "${secret_mounts[@]}" "$image" --listen="$addr" --tls_cert_file=/run/secrets/server.pem \
+  --tls_key_file=/run/secrets/server.key --auth_tokens_file=/run/secrets/tokens.csv \
+  --metrics_listen="127.0.0.1:$metrics_port" --workers=2 --threads_per_job=1 \
+  --grace_period_seconds=10)
 
 serving() {
   for _ in $(seq 1 300); do
-    "$client_bin" health --server "$addr" --timeout 1 >/dev/null 2>&1 && return 0
+    "$client_bin" health --server "$addr" "${tls[@]}" --timeout 1 >/dev/null 2>&1 && return 0
     sleep 0.1
   done
   return 1
 }
-check "health SERVING from the host (femsimp health --server $addr)" serving
+check "health SERVING over TLS from the host (femsimp health --server $addr)" serving
+check "a plaintext call is refused" sh -c "! '$client_bin' health --server '$addr' --timeout 2"
+check "a call without a token is refused" sh -c "! '$client_bin' simplify tests/data/fandisk.off \
+  '$work/no-token.off' --server '$addr' --tls-ca-file '$work/secrets/ca.pem' --max-attempts 1"
 check "runs as uid 10001, not root" test "$(D exec "$container" id -u)" = 10001
 check "femsimp-server is PID 1" \
   test "$(D exec "$container" cat /proc/1/cmdline | tr '\0' ' ' | cut -d' ' -f1)" = \
   /usr/local/bin/femsimp-server
 check "the image's probe works inside it" D exec "$container" /usr/local/bin/femsimp health \
-  --server "$addr" --service femsimp.v1.Simplifier
+  --server "$addr" --tls-ca-file /run/secrets/ca.pem --service femsimp.v1.Simplifier
 
-"$client_bin" simplify tests/data/fandisk.off "$work/fandisk-out.off" --server "$addr" \
+"$client_bin" simplify tests/data/fandisk.off "$work/fandisk-out.off" --server "$addr" "${auth[@]}" \
   --ratio 0.3 --quiet --stats-json "$work/fandisk.json"
 out_vertices=$(/usr/bin/python3 -c \
   'import json,sys; print(json.load(open(sys.argv[1]))["output"]["vertices"])' "$work/fandisk.json")
 check "fandisk simplified through the container (6475 -> $out_vertices vertices)" \
   test "$out_vertices" -gt 0 -a "$out_vertices" -lt 6475 -a -s "$work/fandisk-out.off"
-check "20 jobs through the container, outputs verified" "$load_bin" --server "$addr" \
+check "20 jobs through the container, outputs verified" "$load_bin" --server "$addr" "${auth[@]}" \
   --clients 2 --jobs 20 --verify tests/data/fandisk.off tests/data/femur.off
 
 metrics=$(curl -sf "http://127.0.0.1:$metrics_port/metrics")
-ok_jobs=$(awk '$1 == "femsimp_jobs_total{status=\"OK\"}" { print $2 + 0 }' <<<"$metrics")
-check "/metrics counts the 21 jobs (femsimp_jobs_total{status=\"OK\"} = ${ok_jobs:-none})" \
+ok_jobs=$(awk '$1 ~ /^femsimp_jobs_total\{/ && $1 ~ /status="OK"/ { s += $2 } END { print s + 0 }' \
+  <<<"$metrics")
+check "/metrics counts the 21 jobs (femsimp_jobs_total{status=\"OK\",tenant=\"dev\"} = ${ok_jobs:-none})" \
   test "${ok_jobs:-0}" -eq 21
 
 healthy() {
@@ -227,7 +242,7 @@ check "the server logged the SIGTERM and a clean stop" \
 D build --network host --build-arg "DEBIAN_IMAGE=$base" -t "$lb_image" deploy/nginx \
   >>"$work/build.log" 2>&1 || { echo "docker build deploy/nginx failed" >&2; exit 1; }
 check "the compose stack's nginx image accepts its config" D run --rm --network none \
-  --add-host femsimp:127.0.0.1 "$lb_image" -t -c /etc/nginx/nginx.conf
+  --add-host femsimp:127.0.0.1 "${secret_mounts[@]}" "$lb_image" -t -c /etc/nginx/nginx.conf
 D build --network host --build-arg "DEBIAN_IMAGE=$base" -t "$prom_image" deploy/prometheus \
   >>"$work/build.log" 2>&1 || { echo "docker build deploy/prometheus failed" >&2; exit 1; }
 check "the compose stack's Prometheus image accepts its config and rules" D run --rm \

@@ -5,6 +5,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "common/range.h"
+#include "server/memory_budget.h"
 
 namespace femsimp::server {
 
@@ -17,6 +18,7 @@ constexpr Range kMaxFaces = Range::AtLeast(1);
 constexpr Range kMaxRequestBytes = Range::AtLeast(64 << 10);
 constexpr Range kMaxSpes = Range::Closed(1, 256);
 constexpr Range kMaxCellMemory = Range::AtLeast(1);
+constexpr Range kMemoryBudget = Range::AtLeast(0);
 
 // "" when v is in r, else the flag's out-of-range message.
 std::string Check(const char* flag, double v, const Range& r, const char* unit = "") {
@@ -106,6 +108,18 @@ void AddServerFlags(flags::FlagSet& set, ServerConfig* c) {
               .unit = "bytes",
               .default_text = FormatNumber(static_cast<double>(d.max_request_bytes))},
              &c->max_request_bytes);
+  set.Number({.name = "--memory_budget_mib",
+              .metavar = "N",
+              .help = "admit a job only while the estimated peak memory of the admitted jobs "
+                      "(from their declared vertex and face counts) stays within N MiB; a job "
+                      "that does not fit beside them gets RESOURCE_EXHAUSTED with a retry "
+                      "pushback, one above N alone RESOURCE_EXHAUSTED without",
+              .kind = NumberKind::kInteger,
+              .range = kMemoryBudget,
+              .unit = "MiB",
+              .zero_means = "3/4 of the memory the server may use (physical or cgroup limit)",
+              .default_text = "0"},
+             &c->memory_budget_mib);
   set.Number({.name = "--max_spes",
               .metavar = "N",
               .help = "most SPEs a cell back-end job may ask for (each is a host thread)",
@@ -188,6 +202,9 @@ std::string NormalizeConfig(ServerConfig* c) {
   // More threads than cores only adds contention to a shared-memory pass.
   if (c->threads_per_job == 0) c->threads_per_job = std::max(1, cores / c->workers);
   c->threads_per_job = std::min(c->threads_per_job, cores);
+  if (c->memory_budget_mib == 0) c->memory_budget_mib = AvailableMemoryBytes() / 4 * 3 >> 20;
+  if (c->memory_budget_mib == 0)
+    return "--memory_budget_mib: cannot read this machine's memory; set it";
   return "";
 }
 

@@ -17,6 +17,9 @@ struct ServerConfig {
   uint64_t max_vertices = 20'000'000;
   uint64_t max_faces = 40'000'000;
   uint64_t max_request_bytes = 8 << 20;  // per received message
+  // What the admitted jobs' estimated peaks (server/memory_budget.h) may add up to; 0 until
+  // NormalizeConfig sets 3/4 of the memory this process may use (physical or cgroup limit).
+  uint64_t memory_budget_mib = 0;
   // The cell back end per job: each SPE is a host thread with its own emulated local store.
   int max_spes = 32;
   int max_cell_local_store_mib = 256;  // SPEs x local store size

@@ -50,6 +50,18 @@ Metrics::Metrics()
                    .Help("Jobs running on a worker")
                    .Register(*registry_)
                    .Add({})),
+      memory_admitted_(prometheus::BuildGauge()
+                           .Name("femsimp_memory_admitted_bytes")
+                           .Help("Estimated peak memory of the admitted jobs (uploading, "
+                                 "queued, running or streaming their result)")
+                           .Register(*registry_)
+                           .Add({})),
+      memory_budget_(prometheus::BuildGauge()
+                         .Name("femsimp_memory_budget_bytes")
+                         .Help("Memory the admitted jobs' estimates may add up to "
+                               "(--memory_budget_mib)")
+                         .Register(*registry_)
+                         .Add({})),
       job_seconds_(prometheus::BuildHistogram()
                        .Name("femsimp_job_duration_seconds")
                        .Help("Engine wall time of finished jobs")
@@ -169,6 +181,10 @@ void Metrics::JobFinished(grpc::StatusCode code, const std::string& tenant) {
 
 void Metrics::SetQueueDepth(size_t waiting) { queue_depth_.Set(static_cast<double>(waiting)); }
 void Metrics::SetRunning(int running) { running_.Set(running); }
+void Metrics::SetMemoryAdmitted(uint64_t bytes) {
+  memory_admitted_.Set(static_cast<double>(bytes));
+}
+void Metrics::SetMemoryBudget(uint64_t bytes) { memory_budget_.Set(static_cast<double>(bytes)); }
 
 void Metrics::PassFinished(Backend backend, const PassStats& p) {
   const std::string b = backend == Backend::kCell ? "cell" : "native";

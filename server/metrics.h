@@ -36,6 +36,10 @@ class Metrics {
   void JobFinished(grpc::StatusCode code, const std::string& tenant = "");
   void SetQueueDepth(size_t waiting);
   void SetRunning(int running);
+  // femsimp_memory_admitted_bytes (the estimates of the admitted jobs) and
+  // femsimp_memory_budget_bytes (--memory_budget_mib).
+  void SetMemoryAdmitted(uint64_t bytes);
+  void SetMemoryBudget(uint64_t bytes);
   void PassFinished(Backend backend, const PassStats& p);
   // The repair stage's changes to an uploaded mesh, per kind (femsimp_repairs_total{kind}).
   void Repaired(const RepairReport& report);
@@ -49,6 +53,8 @@ class Metrics {
   prometheus::Family<prometheus::Counter>& jobs_;
   prometheus::Gauge& queue_depth_;
   prometheus::Gauge& running_;
+  prometheus::Gauge& memory_admitted_;
+  prometheus::Gauge& memory_budget_;
   prometheus::Family<prometheus::Histogram>& job_seconds_;
   prometheus::Family<prometheus::Histogram>& queue_seconds_;
   prometheus::Family<prometheus::Histogram>& pass_seconds_;

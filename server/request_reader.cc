@@ -31,7 +31,11 @@ absl::Status CheckSpec(const v1::JobSpec& spec, const ServerConfig& config) {
 absl::StatusOr<v1::JobSpec> RequestReader::ReadSpec() {
   v1::SimplifyRequest req;
   if (!read_(&req))
-    return absl::InvalidArgumentError("stream ended before the job spec (send a spec first)");
+    // gRPC ends a stream whose next message cannot be decoded as it ends a half-closed one.
+    return absl::InvalidArgumentError(
+        "stream ended before the job spec: the client half-closed without sending one, or its "
+        "first message could not be decoded as a femsimp.v1.SimplifyRequest (send a spec "
+        "first)");
   if (req.payload_case() != v1::SimplifyRequest::kSpec)
     return absl::InvalidArgumentError(
         req.payload_case() == v1::SimplifyRequest::kChunk
@@ -59,7 +63,13 @@ absl::StatusOr<RawMesh> RequestReader::ReadMesh(const v1::JobSpec& spec) {
             absl::StrCat("message ", assembler.chunks() + 2, " is empty (neither spec nor chunk)"));
     }
   }
-  return assembler.Finish();
+  absl::StatusOr<RawMesh> mesh = assembler.Finish();
+  if (!mesh.ok())  // the stream ended early, for either reason ReadSpec names
+    return absl::InvalidArgumentError(
+        absl::StrCat(mesh.status().message(),
+                     " (the client half-closed, or a message could not be decoded as a "
+                     "femsimp.v1.SimplifyRequest)"));
+  return mesh;
 }
 
 }  // namespace femsimp::server

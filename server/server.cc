@@ -9,6 +9,7 @@
 #include "grpcpp/health_check_service_interface.h"
 #include "grpcpp/security/server_credentials.h"
 #include "grpcpp/server_builder.h"
+#include "server/decode_errors.h"
 #include "server/log.h"
 #include "server/transport_security.h"
 
@@ -69,6 +70,9 @@ absl::Status FemsimpServer::Start() {
   builder.SetMaxReceiveMessageSize(static_cast<int>(
       std::min<uint64_t>(config_.max_request_bytes, std::numeric_limits<int>::max())));
   builder.RegisterService(service_.get());
+  std::vector<std::unique_ptr<grpc::experimental::ServerInterceptorFactoryInterface>> interceptors;
+  interceptors.push_back(std::make_unique<UndecodableRequestInterceptorFactory>());
+  builder.experimental().SetInterceptorCreators(std::move(interceptors));
   if (config_.max_connection_age_seconds > 0)
     builder.AddChannelArgument(
         GRPC_ARG_MAX_CONNECTION_AGE_MS,
@@ -85,8 +89,8 @@ absl::Status FemsimpServer::Start() {
       "), metrics on ", config_.metrics_listen.empty() ? "(off)" : config_.metrics_listen,
       " (port ", metrics_.port(), "), workers=", config_.workers,
       " queue_capacity=", config_.queue_capacity, " threads_per_job=", config_.threads_per_job,
-      " reflection=", config_.reflection ? "on" : "off",
-      " transport=", TransportDescription(config_), " tenants=",
+      " memory_budget=", config_.memory_budget_mib, "MiB", " reflection=",
+      config_.reflection ? "on" : "off", " transport=", TransportDescription(config_), " tenants=",
       service_->tenants() > 0 ? absl::StrCat(service_->tenants(), " (bearer tokens)")
                               : std::string("off")));
   return absl::OkStatus();

@@ -103,9 +103,19 @@ SimplifierService::SimplifierService(const ServerConfig& config, JobQueue& queue
       registry_(registry),
       runner_(runner),
       metrics_(metrics),
-      auth_(std::move(auth)) {}
+      memory_(config.memory_budget_mib << 20,
+              [&metrics](uint64_t admitted) { metrics.SetMemoryAdmitted(admitted); }),
+      auth_(std::move(auth)) {
+  metrics_.SetMemoryBudget(memory_.budget());
+}
 
 void SimplifierService::UpdateQueueGauge() { metrics_.SetQueueDepth(queue_.waiting()); }
+
+grpc::Status SimplifierService::Pushback(grpc::ServerContext* ctx, const std::string& why) const {
+  ctx->AddTrailingMetadata("grpc-retry-pushback-ms", std::to_string(config_.retry_pushback_ms));
+  return grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
+                      absl::StrCat(why, "; retry after ", config_.retry_pushback_ms, " ms"));
+}
 
 grpc::Status SimplifierService::Simplify(grpc::ServerContext* ctx, Stream* stream) {
   std::string tenant;  // the job counter's label; none for a call that is not authenticated
@@ -153,13 +163,27 @@ grpc::Status SimplifierService::Simplify(grpc::ServerContext* ctx, Stream* strea
                             absl::StrCat("fe_check: this server cannot run it: ", tools.message()));
       fe_check = *fe;
     }
-    // Admission before the upload, so a full server does not receive the mesh first.
-    if (!queue_.TryReserve()) {
-      ctx->AddTrailingMetadata("grpc-retry-pushback-ms", std::to_string(config_.retry_pushback_ms));
+    // Memory by the declared size: a job that could never fit is refused for good, one that
+    // does not fit beside the admitted jobs is told to come back (as for a full queue).
+    const uint64_t need = EstimateJobBytes(spec->vertex_count(), spec->face_count(), *options);
+    const auto mib = [](uint64_t bytes) { return (bytes + (1 << 20) - 1) >> 20; };
+    if (need > memory_.budget())
       return grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
-                          absl::StrCat("job queue is full (queue_capacity = ", queue_.capacity(),
-                                       ", ", runner_.running(), " jobs running); retry after ",
-                                       config_.retry_pushback_ms, " ms"));
+                          absl::StrCat("the job needs an estimated ", mib(need), " MiB (",
+                                       spec->vertex_count(), " vertices, ", spec->face_count(),
+                                       " faces declared), above this server's memory budget of ",
+                                       memory_.budget() >> 20, " MiB (--memory_budget_mib)"));
+    // Admission before the upload, so a full server does not receive the mesh first.
+    if (!queue_.TryReserve())
+      return Pushback(ctx, absl::StrCat("job queue is full (queue_capacity = ", queue_.capacity(),
+                                        ", ", runner_.running(), " jobs running)"));
+    std::optional<MemoryBudget::Lease> memory = memory_.TryAdmit(need);
+    if (!memory) {
+      queue_.CancelReservation();
+      return Pushback(ctx, absl::StrCat("not enough memory now: the job needs an estimated ",
+                                        mib(need), " MiB; jobs admitted: ", memory_.leases(),
+                                        ", holding ", mib(memory_.admitted()), " of ",
+                                        memory_.budget() >> 20, " MiB (--memory_budget_mib)"));
     }
     auto job = std::make_shared<Job>(registry_.NewId(), spec->client_label(), *options,
                                      spec->vertex_count(), spec->face_count(), tenant, fe_check);
@@ -167,11 +191,8 @@ grpc::Status SimplifierService::Simplify(grpc::ServerContext* ctx, Stream* strea
     // their registration.
     if (!registry_.AddWithin(job, static_cast<size_t>(config_.max_jobs_per_tenant))) {
       queue_.CancelReservation();
-      ctx->AddTrailingMetadata("grpc-retry-pushback-ms", std::to_string(config_.retry_pushback_ms));
-      return grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
-                          absl::StrCat("tenant '", tenant, "' has ", config_.max_jobs_per_tenant,
-                                       " unfinished jobs (--max_jobs_per_tenant); retry after ",
-                                       config_.retry_pushback_ms, " ms"));
+      return Pushback(ctx, absl::StrCat("tenant '", tenant, "' has ", config_.max_jobs_per_tenant,
+                                        " unfinished jobs (--max_jobs_per_tenant)"));
     }
     grpc::Status s;
     try {

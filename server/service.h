@@ -10,6 +10,7 @@
 #include "server/job_queue.h"
 #include "server/job_registry.h"
 #include "server/job_runner.h"
+#include "server/memory_budget.h"
 #include "server/metrics.h"
 
 namespace femsimp::server {
@@ -21,6 +22,7 @@ class SimplifierService final : public v1::Simplifier::Service {
   SimplifierService(const ServerConfig& config, JobQueue& queue, JobRegistry& registry,
                     JobRunner& runner, Metrics& metrics, TokenAuthenticator auth = {});
   size_t tenants() const { return auth_.tenants(); }
+  const MemoryBudget& memory() const { return memory_; }
 
   grpc::Status Simplify(
       grpc::ServerContext* ctx,
@@ -49,6 +51,9 @@ class SimplifierService final : public v1::Simplifier::Service {
                       grpc::ServerReaderWriter<v1::SimplifyResponse, v1::SimplifyRequest>* stream,
                       const std::shared_ptr<Job>& job, const RepairReport& repair);
   void UpdateQueueGauge();
+  // RESOURCE_EXHAUSTED with the server's retry pushback: capacity that frees up (queue slots,
+  // a tenant's jobs, memory).
+  grpc::Status Pushback(grpc::ServerContext* ctx, const std::string& why) const;
   // The caller's job `id`, when it exists and is the caller's tenant's (another tenant's job is
   // NOT_FOUND, as if it did not exist).
   grpc::Status FindOwnJob(const grpc::ServerContext* ctx, const std::string& id,
@@ -59,6 +64,7 @@ class SimplifierService final : public v1::Simplifier::Service {
   JobRegistry& registry_;
   JobRunner& runner_;
   Metrics& metrics_;
+  MemoryBudget memory_;
   CallWatchdog watchdog_;
   std::atomic<bool> shutting_down_{false};
   const TokenAuthenticator auth_;

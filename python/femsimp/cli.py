@@ -13,6 +13,16 @@ from .errors import FemsimpError, FemsimpWarning, MeshError, OptionError
 EXIT_USAGE, EXIT_INPUT_UNREADABLE, EXIT_INPUT_INVALID, EXIT_OUTPUT_FAILED = 2, 3, 4, 5
 
 
+# Control characters (but newline and tab) as \xNN, as the C++ CLI shows them (common/escape.h).
+_CONTROL = {c: f"\\x{c:02x}" for c in [*range(0x20), 0x7f] if chr(c) not in "\n\t"}
+
+
+def _say(text, file=None):
+    """print, with control characters escaped: a label, a file name or a server message (which
+    may quote a client's strings) never reaches the terminal as an escape sequence."""
+    print(str(text).translate(_CONTROL), file=file or sys.stdout)
+
+
 def _add_server_flags(p):
     p.add_argument("--server", required=True, metavar="HOST:PORT", help="the femsimp-server")
     p.add_argument("--token", help="sent as 'authorization: Bearer TOKEN'")
@@ -73,47 +83,47 @@ def _simplify(a):
             opts.OPTIONS[path].check(value, opts.OPTIONS[path].flag)
         checked = opts.check(given)
     except OptionError as e:
-        print(f"femsimp: {e}", file=sys.stderr)
+        _say(f"femsimp: {e}", file=sys.stderr)
         return EXIT_USAGE
     if a.deadline is not None and not a.deadline > 0:
-        print(f"femsimp: --deadline = {a.deadline} is out of range: must be > 0 seconds",
+        _say(f"femsimp: --deadline = {a.deadline} is out of range: must be > 0 seconds",
               file=sys.stderr)
         return EXIT_USAGE
     if a.max_attempts < 1 or a.max_attempts > 100:
-        print(f"femsimp: --max-attempts = {a.max_attempts} is out of range: must be in [1, 100]",
+        _say(f"femsimp: --max-attempts = {a.max_attempts} is out of range: must be in [1, 100]",
               file=sys.stderr)
         return EXIT_USAGE
     client = _client(a, max_attempts=a.max_attempts, progress_bar=False if a.quiet else None)
     with warnings.catch_warnings():
         warnings.simplefilter("always", FemsimpWarning)
-        warnings.showwarning = lambda m, *r: print(f"femsimp: warning: {m}", file=sys.stderr)
+        warnings.showwarning = lambda m, *r: _say(f"femsimp: warning: {m}", file=sys.stderr)
         try:
             out = client.run(a.input, output=a.output, strict=a.strict, deadline=a.deadline,
                              label=a.label, **checked)
         except FileNotFoundError as e:
-            print(f"femsimp: {e}", file=sys.stderr)
+            _say(f"femsimp: {e}", file=sys.stderr)
             return EXIT_INPUT_UNREADABLE
         except MeshError as e:
             unreadable = "cannot read it" in str(e)
-            print(f"femsimp: {a.input}: {e}" if not unreadable else f"femsimp: {e}",
+            _say(f"femsimp: {a.input}: {e}" if not unreadable else f"femsimp: {e}",
                   file=sys.stderr)
             return EXIT_INPUT_UNREADABLE if unreadable else EXIT_INPUT_INVALID
         except FemsimpError as e:
-            print(f"femsimp: {e}", file=sys.stderr)
+            _say(f"femsimp: {e}", file=sys.stderr)
             if e.pushback_ms is not None and e.pushback_ms >= 0:
-                print(f"femsimp: the server suggests retrying after {e.pushback_ms} ms",
+                _say(f"femsimp: the server suggests retrying after {e.pushback_ms} ms",
                       file=sys.stderr)
             return e.exit_code
         except OSError as e:
-            print(f"femsimp: {a.output}: cannot write it: {e}", file=sys.stderr)
+            _say(f"femsimp: {a.output}: cannot write it: {e}", file=sys.stderr)
             return EXIT_OUTPUT_FAILED
         except KeyboardInterrupt:  # the call was cancelled, so the server stops the job
-            print("femsimp: interrupted; the job was cancelled", file=sys.stderr)
+            _say("femsimp: interrupted; the job was cancelled", file=sys.stderr)
             return 20 + 1  # CANCELLED, as the C++ client
         finally:
             client.close()
     r = out.result
-    print(f"{a.input} -> {a.output}: {r.input_vertices} -> {r.output_vertices} vertices, "
+    _say(f"{a.input} -> {a.output}: {r.input_vertices} -> {r.output_vertices} vertices, "
           f"{r.input_faces} -> {r.output_faces} faces in {r.passes} passes, stop {r.stop_reason}"
           + (f" ({r.limiting_rule})" if r.limiting_rule else "")
           + f"; engine {r.engine_seconds:.3f} s, job {out.job_id}, {out.attempts} attempt(s)")
@@ -128,7 +138,7 @@ def main(argv=None):
     except SystemExit as e:
         return e.code if isinstance(e.code, int) else EXIT_USAGE
     if a.command == "options":
-        print(opts.table_text())
+        _say(opts.table_text())
         return 0
     if a.command == "simplify":
         return _simplify(a)
@@ -136,11 +146,11 @@ def main(argv=None):
         with _client(a) as client:
             if a.command == "jobs":
                 for j in client.jobs():
-                    print(f"{j.job_id} {j.state:9} {j.passes_done:4} passes {j.input_faces:>10} "
+                    _say(f"{j.job_id} {j.state:9} {j.passes_done:4} passes {j.input_faces:>10} "
                           f"faces {j.status_code:12} {j.label}")
             else:
-                print(f"{a.job_id}: was {client.cancel(a.job_id)}")
+                _say(f"{a.job_id}: was {client.cancel(a.job_id)}")
     except FemsimpError as e:
-        print(f"femsimp: {e}", file=sys.stderr)
+        _say(f"femsimp: {e}", file=sys.stderr)
         return e.exit_code
     return 0

@@ -104,7 +104,11 @@ TEST(Flags, HelpWinsAndHasOneLayout) {
       << help;
   EXPECT_NE(help.find("  --share F                 a share, in [0, 1] (0: off)\n"),
             std::string::npos);
-  EXPECT_NE(help.find("  --help                    this text\n"), std::string::npos);
+  EXPECT_NE(help.find("  --help                    this text (also --helpfull)\n"),
+            std::string::npos);
+  auto full = set.Parse({"--helpfull"});
+  ASSERT_TRUE(full.ok());
+  EXPECT_TRUE(full->help);
   for (absl::string_view line : absl::StrSplit(help, '\n')) EXPECT_LE(line.size(), kHelpWidth);
   const std::string long_entry = HelpEntry("--a-very-long-flag-name VALUE", std::string(30, 'w'));
   EXPECT_EQ(long_entry, "  --a-very-long-flag-name VALUE\n" + std::string(kHelpColumn, ' ') +

@@ -60,3 +60,21 @@ def test_options_lists_the_table():
     done = run("options")
     assert done.returncode == 0
     assert "tolerance_relative" in done.stdout and "--tolerance-relative" in done.stdout
+
+
+def test_outside_text_reaches_the_terminal_escaped(server, sphere_file, tmp_path):
+    # A label listed by `jobs` and a file name in an error are shown with their control
+    # characters as \xNN (as the C++ CLI does), never as a raw escape sequence (issue 15, item 4).
+    out = tmp_path / "out.ply"
+    done = run("simplify", str(sphere_file), str(out), "--server", server.address, "--quiet",
+               "--label", "evil\x1b[2Jlabel")
+    assert done.returncode == 0, done.stderr
+    jobs = run("jobs", "--server", server.address)
+    assert jobs.returncode == 0, jobs.stderr
+    assert "evil\\x1b[2Jlabel" in jobs.stdout, jobs.stdout
+    assert "\x1b" not in jobs.stdout
+    missing = run("simplify", str(tmp_path / "no\x1b]0;title\x07.vtu"), str(out),
+                  "--server", server.address)
+    assert missing.returncode == 3, missing.stderr
+    assert "no\\x1b]0;title\\x07.vtu" in missing.stderr, missing.stderr
+    assert "\x1b" not in missing.stderr and "\x07" not in missing.stderr

@@ -218,6 +218,30 @@ TEST_F(CliRepairTest, ServerRepairsAndReportsInResultAndMetrics) {
             2);
 }
 
+// Status messages are bounded (issue 15, item 4): a strict refusal of a mesh with thousands of
+// defects of four kinds names five of each and the counts (2.3 KB), well inside gRPC's 8 KiB
+// trailer.
+TEST_F(CliRepairTest, ServerStrictRefusalOfThousandsOfDefectsIsBounded) {
+  testing::InProcessServer s;
+  v1::JobSpec spec = testing::RatioSpec(0.5);
+  spec.mutable_options()->set_repair(v1::REPAIR_MODE_OFF);
+  RawMesh mesh = testing::MakeTorus(100, 100);
+  const size_t faces = mesh.num_faces();
+  for (size_t f = 0; f < faces; f += 7) mesh.triangles[3 * f + 2] = mesh.triangles[3 * f];
+  for (size_t f = 1; f < faces; f += 7)  // duplicates of faces that stay whole
+    mesh.triangles.insert(mesh.triangles.end(), mesh.triangles.begin() + 3 * f,
+                          mesh.triangles.begin() + 3 * f + 3);
+  for (size_t f = 3; f < faces; f += 7) std::swap(mesh.triangles[3 * f], mesh.triangles[3 * f + 1]);
+  grpc::ClientContext ctx;
+  cli::RemoteOutcome out = cli::RemoteSimplify(s.stub(), ctx, spec, mesh);
+  EXPECT_EQ(out.status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  const std::string& m = out.status.error_message();
+  EXPECT_HAS(m, "invalid mesh: repair is off and the mesh has ");
+  EXPECT_HAS(m, absl::StrCat("(", (faces + 6) / 7, " degenerate facets"));
+  EXPECT_HAS(m, "and 2853 more degenerate facets");
+  EXPECT_LE(m.size(), 6100u) << m.size() << " bytes";
+}
+
 TEST_F(CliRepairTest, ServerStrictModeIsRefusedByNameAndSeamsAreKept) {
   testing::InProcessServer s;
   v1::JobSpec spec = testing::RatioSpec(0.5);

@@ -93,6 +93,30 @@ try:
     except grpc.RpcError as e:
         assert e.code() == grpc.StatusCode.UNIMPLEMENTED, e.code()
         print("reflection off by default:", e.code())
+    # A message gRPC cannot decode (issue 15, item 6): a unary call gets INVALID_ARGUMENT naming
+    # the request type, not gRPC's INTERNAL with an empty message; Simplify says that its stream
+    # ended or a message could not be decoded, before the spec and in the mesh.
+    garbage = b"\xff\xff\xff\xff\x0f"  # a field tag whose varint never ends
+    for method in ("GetJob", "CancelJob", "ListJobs", "ServerInfo"):
+        try:
+            plain_channel.unary_unary(f"/femsimp.v1.Simplifier/{method}")(garbage, timeout=10)
+            raise AssertionError(f"{method} accepted an undecodable request")
+        except grpc.RpcError as e:
+            assert e.code() == grpc.StatusCode.INVALID_ARGUMENT, (method, e.code(), e.details())
+            want = f"could not be decoded as femsimp.v1.{method}Request"
+            assert want in e.details(), (method, e.details())
+    spec = femsimp_pb2.SimplifyRequest(spec=femsimp_pb2.JobSpec(vertex_count=3, face_count=1))
+    simplify = plain_channel.stream_stream("/femsimp.v1.Simplifier/Simplify")
+    for messages, want in (([garbage], "stream ended before the job spec"),
+                           ([spec.SerializeToString(), garbage], "stream ended early")):
+        try:
+            list(simplify(iter(messages), timeout=10))
+            raise AssertionError("Simplify accepted an undecodable message")
+        except grpc.RpcError as e:
+            assert e.code() == grpc.StatusCode.INVALID_ARGUMENT, (e.code(), e.details())
+            assert want in e.details(), e.details()
+            assert "could not be decoded as a femsimp.v1.SimplifyRequest" in e.details(), e.details()
+    print("undecodable requests: INVALID_ARGUMENT, naming the message type")
 finally:
     stop_server(plain)
 

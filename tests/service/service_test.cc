@@ -14,6 +14,7 @@
 #include "engine/mesh.h"
 #include "gtest/gtest.h"
 #include "proto/wire.h"
+#include "server/memory_budget.h"
 #include "tests/service/test_util.h"
 
 namespace femsimp {
@@ -354,6 +355,101 @@ TEST(Service, QueueFullIsResourceExhaustedWithPushback) {
 
   hold_ctx.TryCancel();
   hold->Finish();
+}
+
+// Memory admission by the declared size (issue 15, item 2).
+uint64_t AdmittedBytes(InProcessServer& s) {
+  return static_cast<uint64_t>(testing::ParseMetrics(
+      testing::HttpGet(s.server().metrics_port(), "/metrics"))["femsimp_memory_admitted_bytes"]);
+}
+
+TEST(Service, JobAboveTheMemoryBudgetAloneIsRefusedBeforeItsUpload) {
+  server::ServerConfig config = testing::TestConfig();
+  config.memory_budget_mib = 64;
+  InProcessServer s(config);
+  const uint64_t need =
+      server::EstimateJobBytes(1'000'000, 2'000'000, SimplifyOptions{});  // ~554 MiB
+  ASSERT_GT(need, uint64_t{64} << 20);
+  // Only the spec is sent, and the stream stays open: the answer comes before any chunk.
+  grpc::ClientContext ctx;
+  auto call = s.stub().Simplify(&ctx);
+  ASSERT_TRUE(call->Write(SpecRequest(1'000'000, 2'000'000)));
+  v1::SimplifyResponse resp;
+  EXPECT_FALSE(call->Read(&resp)) << "accepted: " << resp.ShortDebugString();
+  const grpc::Status st = call->Finish();
+  EXPECT_EQ(st.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
+  EXPECT_EQ(st.error_message(),
+            absl::StrCat("the job needs an estimated ", (need + (1 << 20) - 1) >> 20,
+                         " MiB (1000000 vertices, 2000000 faces declared), above this server's "
+                         "memory budget of 64 MiB (--memory_budget_mib)"));
+  // Never admissible here: no pushback, so clients do not retry it.
+  EXPECT_EQ(ctx.GetServerTrailingMetadata().count("grpc-retry-pushback-ms"), 0u);
+  EXPECT_EQ(AdmittedBytes(s), 0u);
+}
+
+TEST(Service, JobThatDoesNotFitBesideTheAdmittedOnesGetsPushbackUntilMemoryFrees) {
+  const uint64_t big = server::EstimateJobBytes(200'000, 400'000, SimplifyOptions{});
+  server::ServerConfig config = testing::TestConfig();
+  // One big job fits, two do not; fandisk fits beside one.
+  config.memory_budget_mib = (big + big / 2) >> 20;
+  InProcessServer s(config);
+  EXPECT_EQ(testing::ParseMetrics(testing::HttpGet(s.server().metrics_port(),
+                                                   "/metrics"))["femsimp_memory_budget_bytes"],
+            static_cast<double>(config.memory_budget_mib << 20));
+  // A call that sent its spec holds its estimate while it "uploads".
+  grpc::ClientContext hold_ctx;
+  auto hold = s.stub().Simplify(&hold_ctx);
+  ASSERT_TRUE(hold->Write(SpecRequest(200'000, 400'000)));
+  v1::SimplifyResponse accepted;
+  ASSERT_TRUE(hold->Read(&accepted));
+  ASSERT_TRUE(accepted.has_accepted());
+  EXPECT_EQ(AdmittedBytes(s), big);
+
+  grpc::ClientContext second_ctx;
+  auto second = s.stub().Simplify(&second_ctx);
+  ASSERT_TRUE(second->Write(SpecRequest(200'000, 400'000)));
+  v1::SimplifyResponse resp;
+  EXPECT_FALSE(second->Read(&resp));
+  const grpc::Status refused = second->Finish();
+  EXPECT_EQ(refused.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
+  EXPECT_NE(refused.error_message().find("not enough memory now"), std::string::npos)
+      << refused.error_message();
+  EXPECT_NE(refused.error_message().find("jobs admitted: 1, holding "), std::string::npos)
+      << refused.error_message();
+  const auto trailer = second_ctx.GetServerTrailingMetadata().find("grpc-retry-pushback-ms");
+  ASSERT_NE(trailer, second_ctx.GetServerTrailingMetadata().end());
+  EXPECT_EQ(std::string(trailer->second.data(), trailer->second.size()), "250");
+
+  // Admission is by the sum of the estimates, not a count: a small job runs beside the big one.
+  const RawMesh fandisk = testing::LoadTestMesh("fandisk.off");
+  {
+    grpc::ClientContext ctx;
+    cli::RemoteOutcome small = cli::RemoteSimplify(s.stub(), ctx, RatioSpec(0.5), fandisk);
+    EXPECT_TRUE(small.status.ok()) << small.status.error_message();
+  }
+  EXPECT_EQ(AdmittedBytes(s), big);  // the small job's estimate was given back with its call
+  {  // and a failed job's (an index past the vertices, refused after the upload)
+    RawMesh bad;
+    bad.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    bad.triangles = {0, 1, 7};
+    grpc::ClientContext ctx;
+    EXPECT_EQ(cli::RemoteSimplify(s.stub(), ctx, RatioSpec(0.5), bad).status.error_code(),
+              grpc::StatusCode::INVALID_ARGUMENT);
+  }
+  EXPECT_EQ(AdmittedBytes(s), big);
+  // The held call ends: its estimate is given back, and the big job is admitted again.
+  hold_ctx.TryCancel();
+  hold->Finish();
+  for (int i = 0; i < 500 && AdmittedBytes(s) != 0; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  EXPECT_EQ(AdmittedBytes(s), 0u);
+  grpc::ClientContext again_ctx;
+  auto again = s.stub().Simplify(&again_ctx);
+  ASSERT_TRUE(again->Write(SpecRequest(200'000, 400'000)));
+  ASSERT_TRUE(again->Read(&resp));
+  EXPECT_TRUE(resp.has_accepted());
+  again_ctx.TryCancel();
+  again->Finish();
 }
 
 // The cell back end runs a host thread and a local store per SPE: a job may not ask for more

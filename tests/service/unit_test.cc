@@ -13,6 +13,7 @@
 #include "server/job_queue.h"
 #include "server/job_registry.h"
 #include "server/log.h"
+#include "server/memory_budget.h"
 #include "server/request_reader.h"
 #include "tests/service/test_util.h"
 
@@ -561,4 +562,54 @@ TEST(Report, JsonHasEveryField) {
 }
 
 }  // namespace
+TEST(MemoryBudget, AdmitsWhileTheEstimatesFitAndTakesThemBackWithTheLease) {
+  uint64_t gauge = 99;
+  server::MemoryBudget budget(100, [&gauge](uint64_t admitted) { gauge = admitted; });
+  EXPECT_EQ(gauge, 0u);
+  std::optional<server::MemoryBudget::Lease> a = budget.TryAdmit(60);
+  ASSERT_TRUE(a.has_value());
+  EXPECT_EQ(gauge, 60u);
+  EXPECT_FALSE(budget.TryAdmit(41).has_value());  // 60 + 41 > 100
+  EXPECT_EQ(budget.admitted(), 60u);
+  {
+    std::optional<server::MemoryBudget::Lease> b = budget.TryAdmit(40);  // exactly full
+    ASSERT_TRUE(b.has_value());
+    EXPECT_EQ(budget.leases(), 2u);
+    EXPECT_EQ(gauge, 100u);
+    EXPECT_FALSE(budget.TryAdmit(1).has_value());
+  }
+  EXPECT_EQ(gauge, 60u);
+  server::MemoryBudget::Lease moved = std::move(*a);
+  a.reset();  // the moved-from lease gives nothing back
+  EXPECT_EQ(budget.admitted(), 60u);
+  EXPECT_EQ(moved.bytes(), 60u);
+  EXPECT_FALSE(budget.TryAdmit(101).has_value());  // never, even when empty
+}
+
+TEST(MemoryBudget, EstimateGrowsWithTheDeclaredSizeAndTheCellLocalStores) {
+  SimplifyOptions native;
+  const uint64_t small = server::EstimateJobBytes(1000, 2000, native);
+  EXPECT_EQ(small,
+            server::kJobBaseBytes + 1000 * server::kBytesPerVertex + 2000 * server::kBytesPerFace);
+  EXPECT_LT(small, server::EstimateJobBytes(2000, 2000, native));
+  EXPECT_LT(small, server::EstimateJobBytes(1000, 4000, native));
+  SimplifyOptions cell;
+  cell.backend = Backend::kCell;
+  cell.cell.spes = 8;
+  cell.cell.local_store_kib = 256;
+  EXPECT_EQ(server::EstimateJobBytes(1000, 2000, cell), small + 8 * 256 * 1024);
+}
+
+TEST(MemoryBudget, DefaultIsThreeQuartersOfTheMemoryTheServerMayUse) {
+  const uint64_t available = server::AvailableMemoryBytes();
+  ASSERT_GT(available, 0u);
+  server::ServerConfig c;
+  ASSERT_EQ(server::NormalizeConfig(&c), "");
+  EXPECT_EQ(c.memory_budget_mib, available / 4 * 3 >> 20);
+  server::ServerConfig set;
+  set.memory_budget_mib = 512;
+  ASSERT_EQ(server::NormalizeConfig(&set), "");
+  EXPECT_EQ(set.memory_budget_mib, 512u);
+}
+
 }  // namespace femsimp
