@@ -1,0 +1,28 @@
+// One simplifier run of the fidelity table (bench/fidelity_table.cc): each tool's adapter takes
+// the same input soup and a tolerance and hands back its output soup and its engine time.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "engine/raw_mesh.h"
+
+namespace femsimp::bench {
+
+struct PeerRun {
+  std::string error;  // empty when the run worked
+  RawMesh output;
+  // The tool's own work only: turning the input soup into the tool's mesh and the output back
+  // into a soup are not counted, for any tool.
+  double seconds = 0.0;
+  bool timed_out = false;  // stopped at the time limit: `output` is where it had got to
+};
+
+// The faces `triangles` (nf of them, indices into `positions`) with only the vertices they use,
+// numbered in order of first use: for tools that return an index buffer into the input's
+// vertices.
+RawMesh CompactSoup(const std::vector<float>& positions, const uint32_t* triangles, size_t nf);
+
+}  // namespace femsimp::bench
