@@ -1,6 +1,5 @@
 #include "bench/peers/cgal_envelope.h"
 
-#include <chrono>
 #include <cstddef>
 #include <vector>
 
@@ -19,27 +18,25 @@ namespace {
 namespace SMS = CGAL::Surface_mesh_simplification;
 using Kernel = CGAL::Simple_cartesian<double>;
 using Surface = CGAL::Surface_mesh<Kernel::Point_3>;
-using Clock = std::chrono::steady_clock;
 
 // Count_stop_predicate(0) never stops (the edge count cannot fall below 0), so the run ends
-// when no edge passes the filters; the deadline is checked before each collapse, which is
-// where the time goes (the envelope tests of the new faces).
-class DeadlineStop {
+// when no edge passes the filters; the limit (CPU seconds, like the reported times) is checked
+// before each collapse, which is where the time goes (the envelope tests of the new faces).
+class LimitStop {
  public:
-  DeadlineStop(Clock::time_point deadline, bool enabled, bool* timed_out)
-      : deadline_(deadline), enabled_(enabled), timed_out_(timed_out) {}
+  LimitStop(double cpu_deadline, bool* timed_out)
+      : cpu_deadline_(cpu_deadline), timed_out_(timed_out) {}
   template <typename F, typename Profile>
   bool operator()(const F& cost, const Profile& profile, std::size_t initial,
                   std::size_t current) const {
     if (count_(cost, profile, initial, current)) return true;
-    if (enabled_ && Clock::now() > deadline_) *timed_out_ = true;
+    if (cpu_deadline_ > 0 && ProcessCpuSeconds() > cpu_deadline_) *timed_out_ = true;
     return *timed_out_;
   }
 
  private:
   SMS::Count_stop_predicate<Surface> count_{0};
-  Clock::time_point deadline_;
-  bool enabled_;
+  double cpu_deadline_;  // 0: none
   bool* timed_out_;
 };
 
@@ -61,16 +58,14 @@ PeerRun RunCgalEnvelope(const RawMesh& input, double tolerance, double time_limi
     }
 
   using Filter = SMS::Polyhedral_envelope_filter<Kernel, SMS::Bounded_normal_change_filter<>>;
-  const auto start = Clock::now();
-  const auto deadline = start + std::chrono::duration_cast<Clock::duration>(
-                                    std::chrono::duration<double>(time_limit));
-  DeadlineStop stop(deadline, time_limit > 0, &run.timed_out);
+  RunTimer timer(run);
+  LimitStop stop(time_limit > 0 ? ProcessCpuSeconds() + time_limit : 0.0, &run.timed_out);
   Filter filter(tolerance);  // builds the envelope at its first use, inside the timed part
   SMS::edge_collapse(mesh, stop,
                      CGAL::parameters::get_cost(SMS::LindstromTurk_cost<Surface>())
                          .get_placement(SMS::LindstromTurk_placement<Surface>())
                          .filter(filter));
-  run.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  timer.Stop();
 
   mesh.collect_garbage();  // vertices and faces numbered 0..n-1 again
   for (Surface::Vertex_index v : mesh.vertices()) {

@@ -8,8 +8,8 @@ namespace femsimp::bench {
 
 // Configured as CGAL 5.5's own example (edge_collapse_envelope.cpp): Lindstrom-Turk cost and
 // placement, Bounded_normal_change_filter inside Polyhedral_envelope_filter(tolerance), no
-// count target (Count_stop_predicate 0: until the queue is empty). Stops at `time_limit`
-// seconds (0: none) and says so (timed_out). An input CGAL's Surface_mesh refuses (e.g. a
+// count target (Count_stop_predicate 0: until the queue is empty). Stops after `time_limit`
+// CPU seconds (0: none) and says so (timed_out). An input CGAL's Surface_mesh refuses (e.g. a
 // non-manifold one) is an error.
 PeerRun RunCgalEnvelope(const RawMesh& input, double tolerance, double time_limit);
 

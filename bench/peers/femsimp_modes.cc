@@ -64,12 +64,13 @@ PeerRun RunFemsimp(const RawMesh& input, SimplifyOptions options) {
     run.error = mesh.status().ToString();
     return run;
   }
+  RunTimer timer(run);
   absl::StatusOr<SimplifyResult> result = Simplify(*mesh, options);
+  timer.Stop();
   if (!result.ok()) {
     run.error = result.status().ToString();
     return run;
   }
-  run.seconds = result->engine_seconds;
   run.output = mesh->ToRaw();
   return run;
 }

@@ -1,6 +1,5 @@
 #include "bench/peers/meshopt_error.h"
 
-#include <chrono>
 #include <vector>
 
 #include <meshoptimizer.h>
@@ -16,12 +15,12 @@ PeerRun RunMeshoptError(const RawMesh& input, double tolerance) {
   const float scale = meshopt_simplifyScale(input.positions.data(), nv, 3 * sizeof(float));
   const float target_error = scale > 0 ? static_cast<float>(tolerance / scale) : 0.0f;
   std::vector<uint32_t> out(input.triangles.size());  // the worst case: nothing removed
-  const auto start = std::chrono::steady_clock::now();
+  RunTimer timer(run);
   const size_t n = meshopt_simplify(out.data(), input.triangles.data(), input.triangles.size(),
                                     input.positions.data(), nv, 3 * sizeof(float),
                                     /*target_index_count=*/0, target_error, /*options=*/0,
                                     /*result_error=*/nullptr);
-  run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  timer.Stop();
   run.output = CompactSoup(input.positions, out.data(), n / 3);
   return run;
 }

@@ -1,6 +1,5 @@
 #include "bench/peers/openmesh_hausdorff.h"
 
-#include <chrono>
 #include <vector>
 
 #include "engine/io/openmesh.h"
@@ -30,7 +29,7 @@ PeerRun RunOpenMeshHausdorff(const RawMesh& input, double tolerance) {
   mesh.request_face_normals();  // ModNormalFlipping needs them
   mesh.update_face_normals();
   PeerRun run;
-  const auto start = std::chrono::steady_clock::now();
+  RunTimer timer(run);
   {
     OpenMesh::Decimater::DecimaterT<TriMesh> dec(mesh);
     OpenMesh::Decimater::ModQuadricT<TriMesh>::Handle quadric;
@@ -44,7 +43,7 @@ PeerRun RunOpenMeshHausdorff(const RawMesh& input, double tolerance) {
     dec.decimate();             // 0 collapses asked: as many as the modules allow
     mesh.garbage_collection();  // before the decimater releases its status flags
   }
-  run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  timer.Stop();
   for (auto v : mesh.vertices()) {
     const auto& p = mesh.point(v);
     run.output.positions.insert(run.output.positions.end(), {p[0], p[1], p[2]});
