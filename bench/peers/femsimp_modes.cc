@@ -49,12 +49,14 @@ absl::StatusOr<FemsimpMode> ParseFemsimpMode(const std::string& spec) {
 
 std::vector<std::string> DefaultFemsimpModes() {
   // Bound only: the fe preset without the volume bound, with minimum angle 0 and normals free
-  // up to 180 degrees, so that the tolerance decides. Kept: topology, no self-intersection (an
-  // output that intersects itself cannot be tet-meshed) and the feature lines (sliding along
-  // them keeps fewer vertices than --feature-angle 180: fandisk 179 against 195 at 1 %).
+  // up to 180 degrees, so that the tolerance decides; topology and no self-intersection stay (an
+  // output that intersects itself cannot be tet-meshed). With the feature lines (sliding along
+  // them keeps fewer vertices on CAD parts: fandisk 179 against 195 at 1 %) and without
+  // (--feature-angle 180: boundaries only; the organic femur has thousands of 30-degree edges).
   const std::string bound = "--max-volume-change 0 --min-angle 0 --max-normal-deviation 180";
   return {"fe=", "fe_quadric=--cost quadric", "bound=" + bound,
-          "bound_quadric=" + bound + " --cost quadric"};
+          "bound_quadric=" + bound + " --cost quadric",
+          "bound_nofeatures=" + bound + " --feature-angle 180"};
 }
 
 PeerRun RunFemsimp(const RawMesh& input, SimplifyOptions options) {

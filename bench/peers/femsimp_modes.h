@@ -25,8 +25,9 @@ struct FemsimpMode {
 absl::StatusOr<FemsimpMode> ParseFemsimpMode(const std::string& spec);
 
 // The modes the table runs unless told otherwise: the `fe` preset (a plain call with the
-// tolerance) and "bound only" (the tolerance, topology, features and no self-intersection; the
-// volume, angle and normal criteria off), each with the deviation and the quadric order.
+// tolerance) and "bound only" (the tolerance, topology, no self-intersection, feature lines; the
+// volume, angle and normal criteria off), each with the deviation and the quadric order, and
+// bound only without feature lines.
 std::vector<std::string> DefaultFemsimpModes();
 
 // The mode's options with tolerance_relative set; Mesh::Build is not timed (the peers' mesh
