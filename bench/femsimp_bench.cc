@@ -27,6 +27,7 @@
 
 #include <meshoptimizer.h>
 
+#include "bench/peers/peer_run.h"
 #include "common/flags.h"
 #include "engine/io/mesh_io.h"
 #include "engine/io/openmesh.h"
@@ -249,21 +250,6 @@ struct Row {
   }
 };
 
-RawMesh Compact(const std::vector<float>& positions, const uint32_t* tris, size_t nf) {
-  RawMesh out;
-  std::vector<uint32_t> remap(positions.size() / 3, femsimp::kNone);
-  for (size_t i = 0; i < 3 * nf; ++i) {
-    uint32_t& r = remap[tris[i]];
-    if (r == femsimp::kNone) {
-      r = static_cast<uint32_t>(out.positions.size() / 3);
-      out.positions.insert(out.positions.end(), &positions[3 * tris[i]],
-                           &positions[3 * tris[i]] + 3);
-    }
-    out.triangles.push_back(r);
-  }
-  return out;
-}
-
 bool RunFemsimp(const RawMesh& in, Row& row, bool keep) {
   const int64_t live0 = g_live.load();
   ResetPeak();
@@ -374,7 +360,7 @@ bool RunMeshopt(const RawMesh& in, Row& row, bool keep) {
   s.cpu_seconds = CpuSeconds() - cpu0;
   s.total_bytes = s.work_bytes = g_peak.load() - live0;
   row.samples.push_back(s);
-  if (keep) row.output = Compact(in.positions, dst.data(), n / 3);
+  if (keep) row.output = femsimp::bench::CompactSoup(in.positions, dst.data(), n / 3);
   return true;
 }
 

@@ -1,66 +1,67 @@
-// Fidelity comparison (docs/FIDELITY.md): femsimp with a guaranteed tolerance against OpenMesh's
-// Decimater bounded by its Hausdorff module at the same tolerance, both run until they can
-// remove nothing more; the judge (tests/judge) measures the real two-sided Hausdorff distance
-// of each output. Prints a markdown table.
-//
-//   fidelity_table [--data DIR] [--meshes a.off,b.off] [--tolerances 0.001,0.01]
-//                  [--costs quadric,gaussian_curvature] [--repeats N] [--threads N]
-//                  [--write DIR]   (every output as DIR/<mesh>_<tolerance>_<tool>.off)
+// Fidelity at a guaranteed tolerance, femsimp against its peers (docs/FIDELITY.md, issue 13):
+// for each mesh and tolerance (a share of the bounding-box diagonal), every femsimp mode and
+// every peer simplifies the same input soup as far as its own bound allows; the judge
+// (tests/judge) measures the real two-sided Hausdorff distance of each output. Prints a markdown
+// table; with --write, every output and a runs.tsv that bench/fe_check_table.py reads for the FE
+// check's figures. The peers, one adapter each in bench/peers/:
+//   cgal      CGAL edge_collapse with Polyhedral_envelope_filter (time-limited)
+//   openmesh  OpenMesh Decimater with ModHausdorff
+//   meshopt   meshoptimizer's meshopt_simplify with target_error
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <optional>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "absl/strings/str_cat.h"
+#include "absl/strings/str_join.h"
+#include "bench/peers/cgal_envelope.h"
+#include "bench/peers/femsimp_modes.h"
+#include "bench/peers/meshopt_error.h"
+#include "bench/peers/openmesh_hausdorff.h"
 #include "common/flags.h"
 #include "engine/io/mesh_io.h"
-#include "engine/io/openmesh.h"
-#include "engine/mesh.h"
 #include "engine/option_table.h"
-#include "engine/simplify.h"
 #include "tests/judge/judge.h"
-
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-#include <OpenMesh/Tools/Decimater/DecimaterT.hh>
-#include <OpenMesh/Tools/Decimater/ModHausdorffT.hh>
-#include <OpenMesh/Tools/Decimater/ModNormalFlippingT.hh>
-#include <OpenMesh/Tools/Decimater/ModQuadricT.hh>
-#pragma GCC diagnostic pop
 
 namespace {
 
 using femsimp::RawMesh;
-using Clock = std::chrono::steady_clock;
-using TriMesh = OpenMesh::TriMesh_ArrayKernelT<>;
+using femsimp::bench::PeerRun;
 
-double Since(Clock::time_point t) {
-  return std::chrono::duration<double>(Clock::now() - t).count();
-}
+const std::vector<std::string> kPeers = {"cgal", "openmesh", "meshopt"};
 
 struct Config {
   std::string data = "tests/data";
   std::vector<std::string> meshes = {"fandisk.off", "femur.off", "blade.off", "rotor_small.off"};
   std::vector<double> tolerances = {0.001, 0.01};
-  std::vector<femsimp::CostKind> costs = {femsimp::CostKind::kQuadric,
-                                          femsimp::CostKind::kGaussianCurvature};
+  std::vector<femsimp::bench::FemsimpMode> modes;
+  std::vector<std::string> peers = kPeers;
   int repeats = 3;
+  double repeat_under = 5.0;
+  double cgal_time_limit = 300.0;
   int threads = 1;
   std::string write_dir;
 };
 
-// The flags; list values are comma-separated, each item checked as the option table checks
-// the engine option it stands for.
-femsimp::flags::FlagSet Flags(Config* c) {
+absl::Status AddMode(Config* c, const std::string& spec) {
+  absl::StatusOr<femsimp::bench::FemsimpMode> mode = femsimp::bench::ParseFemsimpMode(spec);
+  if (!mode.ok()) return mode.status();
+  c->modes.push_back(*std::move(mode));
+  return absl::OkStatus();
+}
+
+// The flags; list values are comma-separated, each tolerance checked as the option table checks
+// tolerance_relative.
+femsimp::flags::FlagSet Flags(Config* c, bool* modes_given) {
   using femsimp::flags::FlagSet;
   using femsimp::flags::NumberKind;
   FlagSet set("fidelity_table");
-  set.String("--data", "DIR", "folder of the meshes (default tests/data)", &c->data);
-  set.Value("--meshes", "A,B", "mesh files in --data (default the four test meshes)",
+  set.String("--data", "DIR", "folder of relative --meshes paths (default tests/data)", &c->data);
+  set.Value("--meshes", "A,B", "mesh files, relative to --data (default the four test meshes)",
             [c](const std::string& v) {
               c->meshes = femsimp::flags::SplitList(v);
               return absl::OkStatus();
@@ -77,127 +78,104 @@ femsimp::flags::FlagSet Flags(Config* c) {
               }
               return absl::OkStatus();
             });
-  set.Value("--costs", "K,L", "costs: quadric, gaussian_curvature (default both)",
+  set.Value("--femsimp-mode", "NAME=FLAGS",
+            "a femsimp mode: engine option flags as femsimp simplify takes them, e.g. "
+            "'quadric=--cost quadric'; repeat for more (default: " +
+                absl::StrJoin(femsimp::bench::DefaultFemsimpModes(), "; ") + ")",
+            [c, modes_given](const std::string& v) {
+              if (!*modes_given) c->modes.clear();
+              *modes_given = true;
+              return AddMode(c, v);
+            });
+  set.Value("--peers", "P,Q", "peers run: cgal, openmesh, meshopt (default all; 'none': none)",
             [c](const std::string& v) -> absl::Status {
-              const femsimp::OptionSpec& spec = *femsimp::FindOption("cost");
-              c->costs.clear();
-              for (const std::string& k : femsimp::flags::SplitList(v)) {
-                size_t i = 0;
-                while (i < spec.choices.size() && k != spec.choices[i].name) ++i;
-                if (i == spec.choices.size())
+              c->peers.clear();
+              for (const std::string& p : femsimp::flags::SplitList(v)) {
+                if (p == "none") continue;
+                if (std::find(kPeers.begin(), kPeers.end(), p) == kPeers.end())
                   return absl::InvalidArgumentError(
-                      absl::StrCat("--costs: '", k, "' is not one of quadric, gaussian_curvature"));
-                c->costs.push_back(static_cast<femsimp::CostKind>(i));
+                      absl::StrCat("--peers: '", p, "' is not one of cgal, openmesh, meshopt"));
+                c->peers.push_back(p);
               }
               return absl::OkStatus();
             });
   set.Number({.name = "--repeats",
               .metavar = "N",
-              .help = "runs per configuration (the best counts)",
+              .help = "runs per configuration, interleaved (the fastest counts)",
               .kind = NumberKind::kInteger,
               .range = femsimp::Range::Closed(1, 1000),
               .default_text = "3"},
              &c->repeats);
+  set.Number({.name = "--repeat-under",
+              .metavar = "S",
+              .help = "repeat a tool's run only while it took less CPU time than this",
+              .kind = NumberKind::kReal,
+              .range = femsimp::Range::AtLeast(0),
+              .unit = "seconds",
+              .default_text = "5"},
+             &c->repeat_under);
+  set.Number({.name = "--cgal-time-limit",
+              .metavar = "S",
+              .help = "stop a CGAL run after this much CPU time and report it as timed out",
+              .kind = NumberKind::kReal,
+              .range = femsimp::Range::Above(0),
+              .unit = "seconds",
+              .zero_means = "none",
+              .default_text = "300"},
+             &c->cgal_time_limit);
   set.Number({.name = "--threads",
               .metavar = "N",
-              .help = "femsimp threads",
+              .help = "femsimp threads (unless a mode sets --threads)",
               .kind = NumberKind::kInteger,
               .range = femsimp::FindOption("threads")->range,
               .default_text = "1"},
              &c->threads);
-  set.String("--write", "DIR", "write every output as DIR/<mesh>_<tolerance>_<tool>.off",
+  set.String("--write", "DIR",
+             "write every output as DIR/<mesh>_<tolerance>_<tool>.off and list the runs in "
+             "DIR/runs.tsv",
              &c->write_dir);
   return set;
 }
 
-// Share of the input's triangles with an angle below `deg`.
-double ShareBelow(const RawMesh& m, double deg) {
-  size_t below = 0;
-  for (size_t f = 0; f < m.num_faces(); ++f) {
-    double p[3][3];
-    for (int i = 0; i < 3; ++i)
-      for (int k = 0; k < 3; ++k) p[i][k] = m.positions[3 * m.triangles[3 * f + i] + k];
-    double smallest = 180.0;
-    for (int i = 0; i < 3; ++i) {
-      double u[3], w[3];
-      for (int k = 0; k < 3; ++k)
-        u[k] = p[(i + 1) % 3][k] - p[i][k], w[k] = p[(i + 2) % 3][k] - p[i][k];
-      const double cx = u[1] * w[2] - u[2] * w[1], cy = u[2] * w[0] - u[0] * w[2],
-                   cz = u[0] * w[1] - u[1] * w[0];
-      const double dot = u[0] * w[0] + u[1] * w[1] + u[2] * w[2];
-      smallest = std::min(smallest,
-                          std::atan2(std::sqrt(cx * cx + cy * cy + cz * cz), dot) * 180.0 / M_PI);
-    }
-    below += smallest < deg;
-  }
-  return m.num_faces() ? double(below) / double(m.num_faces()) : 0.0;
-}
-
-struct Run {
-  std::string error;  // empty when the run worked
-  RawMesh output;
-  double best_seconds = 1e300;
-  femsimp::judge::Hausdorff hausdorff;
+// One column of the table: a femsimp mode or a peer, run on the input at a tolerance.
+struct Tool {
+  std::string name;
+  std::function<PeerRun(const RawMesh& input, double tolerance_relative, double tolerance)> run;
 };
 
-// femsimp from the raw soup: Build is not timed (the OpenMesh side's mesh set-up is not either).
-void RunFemsimp(const RawMesh& input, const femsimp::SimplifyOptions& options, Run& run) {
-  absl::StatusOr<femsimp::Mesh> mesh = femsimp::Mesh::Build(input);
-  if (!mesh.ok()) {
-    run.error = mesh.status().ToString();
-    return;
+std::vector<Tool> Tools(const Config& config) {
+  std::vector<Tool> tools;
+  for (const femsimp::bench::FemsimpMode& mode : config.modes)
+    tools.push_back(
+        {"femsimp " + mode.name, [&config, &mode](const RawMesh& in, double rel, double) {
+           femsimp::SimplifyOptions options = mode.options;
+           options.tolerance_relative = rel;
+           if (!mode.threads_given) options.threads = config.threads;
+           return femsimp::bench::RunFemsimp(in, options);
+         }});
+  for (const std::string& peer : config.peers) {
+    if (peer == "cgal")
+      tools.push_back({"CGAL envelope", [&config](const RawMesh& in, double, double tol) {
+                         return femsimp::bench::RunCgalEnvelope(in, tol, config.cgal_time_limit);
+                       }});
+    if (peer == "openmesh")
+      tools.push_back({"OpenMesh Hausdorff", [](const RawMesh& in, double, double tol) {
+                         return femsimp::bench::RunOpenMeshHausdorff(in, tol);
+                       }});
+    if (peer == "meshopt")
+      tools.push_back({"meshoptimizer", [](const RawMesh& in, double, double tol) {
+                         return femsimp::bench::RunMeshoptError(in, tol);
+                       }});
   }
-  absl::StatusOr<femsimp::SimplifyResult> result = femsimp::Simplify(*mesh, options);
-  if (!result.ok()) {
-    run.error = result.status().ToString();
-    return;
-  }
-  run.best_seconds = std::min(run.best_seconds, result->engine_seconds);
-  run.output = mesh->ToRaw();
+  return tools;
 }
 
-// The Decimater with quadric priorities, collapses bounded by its Hausdorff module (distance of
-// the removed vertices to the new faces) and by normal flips, run until nothing more goes.
-void RunOpenMesh(const RawMesh& input, double tolerance, Run& run) {
-  TriMesh mesh;
-  std::vector<TriMesh::VertexHandle> vh;
-  vh.reserve(input.num_vertices());
-  for (size_t v = 0; v < input.num_vertices(); ++v)
-    vh.push_back(mesh.add_vertex(TriMesh::Point(input.positions[3 * v], input.positions[3 * v + 1],
-                                                input.positions[3 * v + 2])));
-  for (size_t f = 0; f < input.num_faces(); ++f)
-    mesh.add_face(vh[input.triangles[3 * f]], vh[input.triangles[3 * f + 1]],
-                  vh[input.triangles[3 * f + 2]]);
-  mesh.request_face_normals();  // ModNormalFlipping needs them
-  mesh.update_face_normals();
-  const auto start = Clock::now();
-  {
-    OpenMesh::Decimater::DecimaterT<TriMesh> dec(mesh);
-    OpenMesh::Decimater::ModQuadricT<TriMesh>::Handle quadric;
-    OpenMesh::Decimater::ModHausdorffT<TriMesh>::Handle hausdorff;
-    OpenMesh::Decimater::ModNormalFlippingT<TriMesh>::Handle flipping;
-    dec.add(quadric);
-    dec.add(hausdorff);
-    dec.add(flipping);
-    dec.module(hausdorff).set_tolerance(static_cast<float>(tolerance));
-    dec.initialize();
-    dec.decimate();             // 0 collapses asked: as many as the modules allow
-    mesh.garbage_collection();  // before the decimater releases its status flags
-  }
-  run.best_seconds = std::min(run.best_seconds, Since(start));
-  run.output = {};
-  for (auto v : mesh.vertices()) {
-    const auto& p = mesh.point(v);
-    run.output.positions.insert(run.output.positions.end(), {p[0], p[1], p[2]});
-  }
-  for (auto f : mesh.faces())
-    for (auto v : mesh.fv_range(f)) run.output.triangles.push_back(static_cast<uint32_t>(v.idx()));
-}
-
-void Write(const std::string& path, const RawMesh& mesh) {
-  if (absl::Status s = femsimp::WriteMeshFile(path, mesh); !s.ok())
-    std::fprintf(stderr, "%s\n", s.ToString().c_str());
-}
+struct Result {
+  PeerRun run;  // the last run's output, the fastest run's time
+  int runs = 0;
+  femsimp::judge::Hausdorff hausdorff;
+  bool self_intersects = false;
+};
 
 std::string Percent(double x) {
   char buf[32];
@@ -205,13 +183,15 @@ std::string Percent(double x) {
   return buf;
 }
 
-// Hausdorff distance as a share of the diagonal, flagged when over the tolerance; "(self-int.)"
-// when the output intersects itself.
-std::string Fidelity(const Run& run, double diag, double tolerance) {
-  if (!run.error.empty()) return "error";
-  std::string s = Percent(run.hausdorff.two_sided() / diag);
-  if (run.hausdorff.two_sided() > tolerance) s = "**" + s + "** over";
-  if (femsimp::judge::SelfIntersects(run.output)) s += " (self-int.)";
+std::string FileStem(const std::string& path) {
+  const size_t slash = path.find_last_of('/');
+  const std::string base = slash == std::string::npos ? path : path.substr(slash + 1);
+  return base.substr(0, base.find('.'));
+}
+
+std::string FileTool(const std::string& tool) {
+  std::string s;
+  for (char ch : tool) s += (ch == ' ') ? '_' : static_cast<char>(std::tolower(ch));
   return s;
 }
 
@@ -219,86 +199,128 @@ std::string Fidelity(const Run& run, double diag, double tolerance) {
 
 int main(int argc, char** argv) {
   Config config;
+  bool modes_given = false;
   femsimp::flags::FlagSet::Parsed parsed;
-  if (std::optional<int> exit = Flags(&config).ParseMain(
-          argc, argv, "Usage: fidelity_table [flags]\n\nPrints a markdown table.\n\n", "", &parsed))
+  if (std::optional<int> exit = Flags(&config, &modes_given)
+                                    .ParseMain(argc, argv,
+                                               "Usage: fidelity_table [flags]\n\nPrints a "
+                                               "markdown table.\n\n",
+                                               "", &parsed))
     return *exit;
   if (!parsed.positional.empty()) {
     std::fprintf(stderr, "fidelity_table: unexpected argument '%s'\n",
                  parsed.positional[0].c_str());
     return femsimp::flags::kUsageExit;
   }
+  if (!modes_given)
+    for (const std::string& spec : femsimp::bench::DefaultFemsimpModes())
+      if (absl::Status s = AddMode(&config, spec); !s.ok()) {
+        std::fprintf(stderr, "%s\n", s.ToString().c_str());
+        return 1;
+      }
+  const std::vector<Tool> tools = Tools(config);
+
+  std::FILE* tsv = nullptr;
+  if (!config.write_dir.empty()) {
+    tsv = std::fopen((config.write_dir + "/runs.tsv").c_str(), "w");
+    if (tsv == nullptr) {
+      std::fprintf(stderr, "cannot write %s/runs.tsv\n", config.write_dir.c_str());
+      return 1;
+    }
+    std::fprintf(tsv,
+                 "mesh\tinput\ttolerance\ttool\toutput\tvertices\thausdorff_rel\twithin\t"
+                 "cpu_seconds\twall_seconds\ttimed_out\n");
+  }
   std::printf(
-      "| mesh | tolerance | input vertices | femsimp cost | femsimp vertices | femsimp Hausdorff "
-      "| OpenMesh vertices | OpenMesh Hausdorff | femsimp engine s | OpenMesh s |\n"
-      "|---|---:|---:|---|---:|---:|---:|---:|---:|---:|\n");
-  std::vector<std::string> notes;
+      "| mesh | V in | tolerance | tool | V out | Hausdorff | within | CPU s |\n"
+      "|---|---:|---:|---|---:|---:|---|---:|\n");
   for (const std::string& name : config.meshes) {
-    absl::StatusOr<RawMesh> input = femsimp::ReadMeshFile(config.data + "/" + name);
+    const std::string path = name.starts_with('/') ? name : config.data + "/" + name;
+    absl::StatusOr<RawMesh> input = femsimp::ReadMeshFile(path);
     if (!input.ok()) {
       std::fprintf(stderr, "%s\n", input.status().ToString().c_str());
       return 1;
     }
     const double diag = femsimp::judge::BoundingBoxDiagonal(*input);
-    femsimp::SimplifyOptions base;
-    base.threads = config.threads;
-    // Where most input triangles already have an angle below the default minimum (blade: all
-    // of them), that floor would forbid every collapse: it drops to 1 degree.
-    if (ShareBelow(*input, base.min_angle_deg) > 0.5) {
-      notes.push_back(name + ": femsimp min_angle 1 degree (most input triangles are below " +
-                      std::to_string(static_cast<int>(base.min_angle_deg)) + ")");
-      base.min_angle_deg = 1.0;
-    }
-    const std::string short_name = name.substr(0, name.find('.'));
+    const std::string stem = FileStem(name);
     for (double tol_rel : config.tolerances) {
       const double tolerance = tol_rel * diag;
-      std::vector<Run> femsimp_runs(config.costs.size());
-      Run openmesh;
-      // Interleaved, best of N: the machines' timings drift over minutes.
-      for (int r = 0; r < config.repeats; ++r) {
-        for (size_t c = 0; c < config.costs.size(); ++c) {
-          femsimp::SimplifyOptions options = base;
-          options.tolerance_relative = tol_rel;
-          options.cost = config.costs[c];
-          RunFemsimp(*input, options, femsimp_runs[c]);
+      std::vector<Result> results(tools.size());
+      // Interleaved, the least of N: the machine's timings drift over minutes. A run that
+      // took longer than --repeat-under (a CGAL run of minutes) is not repeated.
+      for (int r = 0; r < config.repeats; ++r)
+        for (size_t t = 0; t < tools.size(); ++t) {
+          Result& res = results[t];
+          if (r > 0 && (!res.run.error.empty() || res.run.timed_out ||
+                        res.run.seconds >= config.repeat_under))
+            continue;
+          PeerRun run = tools[t].run(*input, tol_rel, tolerance);
+          const double best = res.runs ? std::min(res.run.seconds, run.seconds) : run.seconds;
+          const double best_wall =
+              res.runs ? std::min(res.run.wall_seconds, run.wall_seconds) : run.wall_seconds;
+          res.run = std::move(run);
+          res.run.seconds = best;
+          res.run.wall_seconds = best_wall;
+          ++res.runs;
         }
-        RunOpenMesh(*input, tolerance, openmesh);
-      }
       const double error = femsimp::judge::HausdorffErrorFor(tolerance);
-      openmesh.hausdorff = femsimp::judge::HausdorffDistance(*input, openmesh.output, error);
-      const std::string prefix =
-          config.write_dir + "/" + short_name + "_" + std::to_string(tol_rel);
-      if (!config.write_dir.empty()) Write(prefix + "_openmesh.off", openmesh.output);
-      for (size_t c = 0; c < config.costs.size(); ++c) {
-        Run& run = femsimp_runs[c];
-        if (run.error.empty()) {
-          run.hausdorff = femsimp::judge::HausdorffDistance(*input, run.output, error);
-          if (!config.write_dir.empty())
-            Write(prefix + "_femsimp_" + femsimp::CostKindName(config.costs[c]) + ".off",
-                  run.output);
+      for (size_t t = 0; t < tools.size(); ++t) {
+        Result& res = results[t];
+        const PeerRun& run = res.run;
+        std::string vertices = "error", hausdorff = "error", within = "-", seconds = "-";
+        if (!run.error.empty()) {
+          std::fprintf(stderr, "%s, %s: %s\n", name.c_str(), tools[t].name.c_str(),
+                       run.error.c_str());
+        } else {
+          res.hausdorff = femsimp::judge::HausdorffDistance(*input, run.output, error);
+          res.self_intersects = femsimp::judge::SelfIntersects(run.output);
+          vertices = std::to_string(run.output.num_vertices());
+          hausdorff = Percent(res.hausdorff.two_sided() / diag);
+          within = res.hausdorff.two_sided() <= tolerance ? "yes" : "**no**";
+          if (res.self_intersects) within += " (self-int.)";
+          seconds = absl::StrCat(absl::SixDigits(run.seconds));
+          if (run.timed_out) seconds = absl::StrCat("timed out at ", seconds);
+          if (tsv != nullptr) {
+            const std::string out = absl::StrCat(config.write_dir, "/", stem, "_", tol_rel, "_",
+                                                 FileTool(tools[t].name), ".off");
+            if (absl::Status s = femsimp::WriteMeshFile(out, run.output); !s.ok())
+              std::fprintf(stderr, "%s\n", s.ToString().c_str());
+            std::fprintf(tsv, "%s\t%s\t%g\t%s\t%s\t%zu\t%.6g\t%d\t%.6g\t%.6g\t%d\n", stem.c_str(),
+                         path.c_str(), tol_rel, tools[t].name.c_str(), out.c_str(),
+                         run.output.num_vertices(), res.hausdorff.two_sided() / diag,
+                         res.hausdorff.two_sided() <= tolerance, run.seconds, run.wall_seconds,
+                         run.timed_out);
+            std::fflush(tsv);
+          }
         }
-        if (!run.error.empty()) std::fprintf(stderr, "%s: %s\n", name.c_str(), run.error.c_str());
-        char seconds[32] = "-";
-        if (run.error.empty()) std::snprintf(seconds, sizeof seconds, "%.3f", run.best_seconds);
-        std::printf("| %s | %s | %zu | %s | %s | %s | %zu | %s | %s | %.3f |\n", short_name.c_str(),
-                    Percent(tol_rel).c_str(), input->num_vertices(),
-                    femsimp::CostKindName(config.costs[c]),
-                    run.error.empty() ? std::to_string(run.output.num_vertices()).c_str() : "error",
-                    Fidelity(run, diag, tolerance).c_str(), openmesh.output.num_vertices(),
-                    Fidelity(openmesh, diag, tolerance).c_str(), seconds, openmesh.best_seconds);
+        std::printf("| %s | %zu | %s | %s | %s | %s | %s | %s |\n", stem.c_str(),
+                    input->num_vertices(), Percent(tol_rel).c_str(), tools[t].name.c_str(),
+                    vertices.c_str(), hausdorff.c_str(), within.c_str(), seconds.c_str());
         std::fflush(stdout);
       }
     }
   }
+  if (tsv != nullptr) std::fclose(tsv);
+
   std::printf(
-      "\nTolerance and Hausdorff distances in %% of the bounding-box diagonal. Hausdorff: "
-      "two-sided, measured by the judge (CGAL bounded-error, certified lower bound within 1 %% "
-      "of the tolerance); **over**: above the tolerance; (self-int.): the output intersects "
-      "itself. Times: best of %d, engine only (mesh set-up excluded on both sides), femsimp "
-      "with %d thread(s), interleaved runs. OpenMesh: Decimater with ModQuadric, ModHausdorff "
-      "(tolerance), ModNormalFlipping (default 90 degrees), decimate() to the end. femsimp: "
-      "default options but tolerance_relative and cost. %u hardware threads.\n",
-      config.repeats, config.threads, std::thread::hardware_concurrency());
-  for (const std::string& n : notes) std::printf("- %s\n", n.c_str());
+      "\nTolerance and Hausdorff distance in %% of the bounding-box diagonal. Hausdorff: "
+      "two-sided, measured by the judge (CGAL bounded-error: a certified lower bound, the truth "
+      "within 1 %% of the tolerance above it); within: Hausdorff <= tolerance; (self-int.): the "
+      "output intersects itself. CPU s: CPU seconds of the process (the wall time depends on the "
+      "other work on the machine), the least of up to %d interleaved runs (a run over %g s is "
+      "not repeated), the tool's own work only (building its mesh from the soup and the soup "
+      "from its output not counted). femsimp with %d thread(s); modes:\n",
+      config.repeats, config.repeat_under, config.threads);
+  for (const femsimp::bench::FemsimpMode& mode : config.modes)
+    std::printf("- femsimp %s: `%s`\n", mode.name.c_str(),
+                mode.flags.empty() ? "(defaults: the fe preset)" : mode.flags.c_str());
+  std::printf(
+      "\nPeers: CGAL envelope: edge_collapse, Lindstrom-Turk cost and placement, "
+      "Polyhedral_envelope_filter(tolerance) around Bounded_normal_change_filter, until no edge "
+      "passes (stopped after %g CPU s: timed out, its output as far as it got). OpenMesh: "
+      "Decimater, ModQuadric, ModHausdorff(tolerance), ModNormalFlipping, decimate() to the end. "
+      "meshoptimizer: meshopt_simplify, target index count 0, target_error = tolerance / "
+      "meshopt_simplifyScale (its extent), options 0. %u hardware threads.\n",
+      config.cgal_time_limit, std::thread::hardware_concurrency());
   return 0;
 }
