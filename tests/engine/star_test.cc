@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <vector>
 
@@ -196,6 +197,50 @@ TEST(EdgeStar, FlatPatchStaysOnItsPlaneWithItsBound) {
   // A point outside the link polygon cannot tile it.
   star.p = star.v + 10.0 * (star.vd - star.v);
   EXPECT_FALSE(BoundStarDeviation(star, old_error, new_error, &work));
+}
+
+uint64_t Placed(const SimplifyResult& r) {
+  uint64_t placed = 0;
+  for (const PassStats& p : r.passes) placed += p.placed;
+  return placed;
+}
+
+// Full-edge collapses run where a mass budget refuses a half-edge collapse, and never in a run
+// with face fields (their transfer keeps resultants over V's fan only).
+TEST(Placement, RescuesBudgetRefusalsButNotWithFaceFields) {
+  SimplifyOptions o;
+  o.threads = 2;
+  o.tolerance_relative = 0.01;
+  o.max_volume_change = 0.001;
+  o.max_inertia_change = 0.005;
+  o.placement = Placement::kOptimal;
+  const RawMesh fandisk = testing::LoadTestMesh("fandisk.off");
+  const testing::SimplifyRun placed = testing::SimplifyChecked(fandisk, o);
+  EXPECT_GT(Placed(placed.result), 20u);  // 62 at the time of writing
+  EXPECT_LE(std::fabs(placed.result.volume_change), 0.001);
+  // Vertices off their input positions: some output point is no input point.
+  std::vector<std::array<float, 3>> input_points;
+  for (size_t v = 0; v < fandisk.num_vertices(); ++v)
+    input_points.push_back(
+        {fandisk.positions[3 * v], fandisk.positions[3 * v + 1], fandisk.positions[3 * v + 2]});
+  std::sort(input_points.begin(), input_points.end());
+  size_t moved = 0;
+  for (size_t v = 0; v < placed.output.num_vertices(); ++v)
+    moved += !std::binary_search(
+        input_points.begin(), input_points.end(),
+        std::array<float, 3>{placed.output.positions[3 * v], placed.output.positions[3 * v + 1],
+                             placed.output.positions[3 * v + 2]});
+  EXPECT_GT(moved, 0u);
+
+  o.placement = Placement::kEndpoint;
+  const testing::SimplifyRun endpoint = testing::SimplifyChecked(fandisk, o);
+  EXPECT_EQ(Placed(endpoint.result), 0u);
+  EXPECT_LT(placed.output.num_vertices(), endpoint.output.num_vertices());
+
+  o.placement = Placement::kOptimal;
+  const testing::SimplifyRun fields =
+      testing::SimplifyChecked(testing::WithGroupsAndFields(fandisk), o);
+  EXPECT_EQ(Placed(fields.result), 0u);
 }
 
 }  // namespace
