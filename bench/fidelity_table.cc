@@ -8,6 +8,7 @@
 //   openmesh  OpenMesh Decimater with ModHausdorff
 //   meshopt   meshoptimizer's meshopt_simplify with target_error
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <functional>
