@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds, and runs every test through ctest (the deployment tests,
 # label deploy, and the replays of the fuzz seeds and kept crashes, label fuzz, included); then
-# the engine and cellsim tests under ThreadSanitizer; then each fuzz target (every mesh reader
-# and the server's request decoder) under libFuzzer for a short while; then the container test
+# every test again on an AddressSanitizer + UndefinedBehaviorSanitizer build; then the engine
+# and cellsim tests under ThreadSanitizer; then each fuzz target (every mesh reader and the
+# server's request decoder) under libFuzzer for a short while; then the container test
 # (deploy/test-container.sh) where a Docker daemon can be started. Fails when any test fails.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -18,6 +19,17 @@ cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release
 timed cmake --build build -j "$jobs"
 # No reruns: a test that fails once is a bug to find.
 timed ctest --test-dir build --output-on-failure --no-tests=error -j "$jobs"
+
+# Every test again with AddressSanitizer and UndefinedBehaviorSanitizer (gcc, FEMSIMP_ASAN):
+# any report fails its test (-fno-sanitize-recover). Debian's gRPC, protobuf and abseil are not
+# instrumented: ASan needs no instrumented library to check our code (it intercepts malloc for
+# every library), and LeakSanitizer (on by default) sees their leaks too. No suppressions.
+# Options beyond the defaults: strict_init_order (static initialisation order bugs);
+# print_stacktrace (UBSan prints only the line otherwise).
+cmake -S . -B build-asan -G Ninja -DFEMSIMP_ASAN=ON
+timed cmake --build build-asan -j "$jobs"
+ASAN_OPTIONS="strict_init_order=1" UBSAN_OPTIONS="print_stacktrace=1" \
+  timed ctest --test-dir build-asan --output-on-failure --no-tests=error -j "$jobs"
 
 cmake -S . -B build-tsan -G Ninja -DFEMSIMP_TSAN=ON
 timed cmake --build build-tsan -j "$jobs"
