@@ -2,7 +2,8 @@
 // fails while the mesh is received and prepared, or while the engine runs, fails that job with
 // RESOURCE_EXHAUSTED and a message that says so, frees its queue slot, and the server goes on.
 // This binary replaces operator new: once armed, any allocation above the limit throws
-// std::bad_alloc, as a real shortage would (the mesh's arrays are by far the largest).
+// std::bad_alloc (the nothrow forms return null), as a real shortage would (the mesh's arrays
+// are by far the largest).
 #include <atomic>
 #include <chrono>
 #include <cstdlib>
@@ -33,6 +34,25 @@ void operator delete(void* p) noexcept { std::free(p); }
 void operator delete[](void* p) noexcept { std::free(p); }
 void operator delete(void* p, size_t) noexcept { std::free(p); }
 void operator delete[](void* p, size_t) noexcept { std::free(p); }
+// The nothrow forms too (gRPC uses them): left to the runtime's, they allocated with its own
+// operator new while the replaced delete above freed with free(), a mismatch AddressSanitizer
+// reported (alloc-dealloc-mismatch in grpc_core::ChannelInit::Builder::Build).
+void* operator new(size_t size, const std::nothrow_t&) noexcept {
+  try {
+    return operator new(size);
+  } catch (const std::bad_alloc&) {
+    return nullptr;
+  }
+}
+void* operator new[](size_t size, const std::nothrow_t&) noexcept {
+  try {
+    return operator new(size);
+  } catch (const std::bad_alloc&) {
+    return nullptr;
+  }
+}
+void operator delete(void* p, const std::nothrow_t&) noexcept { std::free(p); }
+void operator delete[](void* p, const std::nothrow_t&) noexcept { std::free(p); }
 #pragma GCC diagnostic pop
 
 namespace femsimp {
