@@ -4,6 +4,7 @@ cut down by femsimp itself to a few dozen vertices (so that a seed stays a few K
 the fuzzers' -max_len) and written by femsimp's writers and by meshio's (another library's idea
 of each format: ASCII and binary STL, PLY and gmsh MSH 2.2 and 4.1), then the request decoder's
 seeds from some of them (make_request_seeds). The hand-made tetra_* seeds stay as they are.
+femsimp's files come out byte-identical from run to run; meshio's carry the date in a comment.
 
     fuzz/make_seeds.py BUILD_DIR [TOOL_BUILD_DIR]
 
