@@ -97,19 +97,7 @@ absl::Status SoftThreadScheduler::Run(int k, size_t stack_bytes, const Body& bod
   stack_bytes_ = stack_bytes;
   last_ = k - 1;  // So that thread 0 runs first.
   scheduler_tsan_fiber_ = CurrentTsanFiber();
-  const uintptr_t self = reinterpret_cast<uintptr_t>(this);
-  for (int i = 0; i < k; ++i) {
-    Fiber& f = fibers[i];
-    std::memset(f.stack, kCanary, kCanaryBytes);
-    getcontext(&f.context);
-    f.context.uc_stack.ss_sp = f.stack;
-    f.context.uc_stack.ss_size = stack_bytes;
-    f.context.uc_link = nullptr;
-    makecontext(&f.context, reinterpret_cast<void (*)()>(&Trampoline), 2,
-                static_cast<unsigned>(self & 0xffffffffu), static_cast<unsigned>(self >> 32));
-    f.ready_at = clock_->Now();
-    f.tsan_fiber = CreateTsanFiber();
-  }
+  for (int i = 0; i < k; ++i) InitFiber(fibers[i]);
 
   int alive = k;
   bool first = true;
@@ -137,6 +125,21 @@ absl::Status SoftThreadScheduler::Run(int k, size_t stack_bytes, const Body& bod
   num_threads_ = 0;
   ls_->Release(mark);
   return absl::OkStatus();
+}
+
+// Its own function: getcontext returns twice in principle, and no local of Run may live across it
+// (-Wclobbered).
+void SoftThreadScheduler::InitFiber(Fiber& f) {
+  const uintptr_t self = reinterpret_cast<uintptr_t>(this);
+  std::memset(f.stack, kCanary, kCanaryBytes);
+  getcontext(&f.context);
+  f.context.uc_stack.ss_sp = f.stack;
+  f.context.uc_stack.ss_size = stack_bytes_;
+  f.context.uc_link = nullptr;
+  makecontext(&f.context, reinterpret_cast<void (*)()>(&Trampoline), 2,
+              static_cast<unsigned>(self & 0xffffffffu), static_cast<unsigned>(self >> 32));
+  f.ready_at = clock_->Now();
+  f.tsan_fiber = CreateTsanFiber();
 }
 
 int SoftThreadScheduler::PickNext() {

@@ -58,6 +58,7 @@ class SoftThreadScheduler {
  private:
   struct Fiber;
   static void Trampoline(unsigned lo, unsigned hi);
+  void InitFiber(Fiber& f);
   void SwitchToScheduler();
   void Resume(int index);
   int PickNext();

@@ -10,12 +10,15 @@ packages=(
   python3-protobuf python3-meshio python3-pytest  # the Python client (python/) and its tests
   calculix-ccx  # femsimp check and --fe-check (with tetgen): the CalculiX solver, ccx
   gdb  # scripts/watchdog.sh prints a hung test's stacks
-  clang libclang-rt-14-dev  # the readers' fuzz target (libFuzzer, ASan, UBSan)
+  clang libclang-rt-14-dev  # the fuzz targets (libFuzzer, ASan, UBSan)
 )
-# The deployment checks (tests/deploy) only read and render configs: no daemons, so without
-# the packages these recommend (docker.io, prometheus-node-exporter). Debian's kubectl
+# The deployment checks (tests/deploy) only read and render configs, so without the packages
+# these recommend (prometheus-node-exporter, ...). The container test (deploy/test-container.sh)
+# starts Debian's Docker daemon by hand (docker.io: its own daemon, apart from the one the
+# package starts where systemd runs) and makes its Debian base image with debootstrap (no
+# registry needed). Debian's kubectl
 # (kubernetes-client) conflicts with other kubectl packages, so only when there is none.
-deploy_packages=(python3-kubernetes python3-yaml prometheus docker-compose)
+deploy_packages=(python3-kubernetes python3-yaml prometheus docker-compose docker.io debootstrap)
 command -v kubectl >/dev/null || deploy_packages+=(kubernetes-client)
 
 missing_of() {

@@ -2,7 +2,8 @@
 // fails while the mesh is received and prepared, or while the engine runs, fails that job with
 // RESOURCE_EXHAUSTED and a message that says so, frees its queue slot, and the server goes on.
 // This binary replaces operator new: once armed, any allocation above the limit throws
-// std::bad_alloc, as a real shortage would (the mesh's arrays are by far the largest).
+// std::bad_alloc (the nothrow forms return null), as a real shortage would (the mesh's arrays
+// are by far the largest).
 #include <atomic>
 #include <chrono>
 #include <cstdlib>
@@ -18,6 +19,10 @@ namespace {
 std::atomic<size_t> g_fail_above{0};  // 0: never fail
 }  // namespace
 
+// GCC 12 with -fsanitize=address (FEMSIMP_ASAN) inlines these into gtest's `new TestClass` and
+// takes the free() for a mismatch with operator new: both sides are replaced here, malloc and free.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
 void* operator new(size_t size) {
   const size_t limit = g_fail_above.load(std::memory_order_relaxed);
   if (limit != 0 && size > limit) throw std::bad_alloc();
@@ -29,6 +34,26 @@ void operator delete(void* p) noexcept { std::free(p); }
 void operator delete[](void* p) noexcept { std::free(p); }
 void operator delete(void* p, size_t) noexcept { std::free(p); }
 void operator delete[](void* p, size_t) noexcept { std::free(p); }
+// The nothrow forms too (gRPC uses them): left to the runtime's, they allocated with its own
+// operator new while the replaced delete above freed with free(), a mismatch AddressSanitizer
+// reported (alloc-dealloc-mismatch in grpc_core::ChannelInit::Builder::Build).
+void* operator new(size_t size, const std::nothrow_t&) noexcept {
+  try {
+    return operator new(size);
+  } catch (const std::bad_alloc&) {
+    return nullptr;
+  }
+}
+void* operator new[](size_t size, const std::nothrow_t&) noexcept {
+  try {
+    return operator new(size);
+  } catch (const std::bad_alloc&) {
+    return nullptr;
+  }
+}
+void operator delete(void* p, const std::nothrow_t&) noexcept { std::free(p); }
+void operator delete[](void* p, const std::nothrow_t&) noexcept { std::free(p); }
+#pragma GCC diagnostic pop
 
 namespace femsimp {
 namespace {

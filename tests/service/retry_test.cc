@@ -185,8 +185,9 @@ pid_t SpawnServer(const std::string& address) {
 
 // A replica SIGKILLed while it runs the job (no GOAWAY: the channel sees a dead connection) and
 // started again on the same port: the job is retried and lands on the new process soon after
-// it is up. Without the reconnect request between attempts every attempt failed at once on the
-// stale connection state for over 8 s.
+// it is up (its Accepted arrives within 8 s; the engine's run after that is not timed, so the
+// bound holds on a slow or sanitizer build too). Without the reconnect request between
+// attempts every attempt failed at once on the stale connection state for over 8 s.
 TEST(Retry, KilledAndRestartedServerGetsTheJobSoon) {
   const std::string address = absl::StrCat("127.0.0.1:", testing::FreePort());
   pid_t pid = SpawnServer(address);
@@ -199,7 +200,11 @@ TEST(Retry, KilledAndRestartedServerGetsTheJobSoon) {
   cli::RetryCounters counters;
   cli::RemoteOutcome out;
   std::atomic<bool> running{false};
-  options.callbacks.on_accepted = [&](const v1::Accepted&) { running.store(true); };
+  std::atomic<int64_t> last_accepted_ns{0};  // steady clock
+  options.callbacks.on_accepted = [&](const v1::Accepted&) {
+    last_accepted_ns.store(std::chrono::steady_clock::now().time_since_epoch().count());
+    running.store(true);
+  };
   std::thread client([&] {
     out = cli::SimplifyWithRetry(*stub, RatioSpec(0.01, 1), testing::MakeTorus(600, 600), options,
                                  &counters);
@@ -217,7 +222,10 @@ TEST(Retry, KilledAndRestartedServerGetsTheJobSoon) {
   waitpid(pid, nullptr, 0);
   ASSERT_TRUE(out.status.ok()) << out.status.error_message();
   EXPECT_GE(counters.unavailable, 1);
-  EXPECT_LT(SecondsSince(up), 8.0) << counters.attempts << " attempts";
+  const std::chrono::steady_clock::time_point accepted{
+      std::chrono::steady_clock::duration{last_accepted_ns.load()}};
+  EXPECT_LT(std::chrono::duration<double>(accepted - up).count(), 8.0)
+      << counters.attempts << " attempts";
 }
 
 TEST(Retry, UnreachableServerGivesUpAfterMaxAttempts) {
@@ -321,8 +329,14 @@ TEST(Health, NotServingWhileShuttingDown) {
     out = cli::RemoteSimplify(s.stub(), ctx, RatioSpec(0.01, 1), testing::MakeTorus(700, 700), cb,
                               false);
   });
-  for (int i = 0; i < 600 && !accepted.load(); ++i) std::this_thread::sleep_for(milliseconds(10));
-  ASSERT_TRUE(accepted.load());
+  // The first pass's progress: the job runs (60 s at most: the torus takes a few seconds to
+  // build and simplify a pass on a sanitizer build).
+  for (int i = 0; i < 6000 && !accepted.load(); ++i) std::this_thread::sleep_for(milliseconds(10));
+  if (!accepted.load()) {
+    ctx.TryCancel();
+    job.join();
+    FAIL() << "the job made no progress in 60 s: " << out.status.error_message();
+  }
   std::thread stopper([&] { s.server().Shutdown(); });
   std::string seen;
   for (int i = 0; i < 200; ++i) {
