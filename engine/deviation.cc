@@ -251,8 +251,10 @@ bool BoundStarDeviation(const EdgeStar& star, const float* old_error, float* new
   const auto plane = [&](const DVec3& x) { return P2{Dot(x - origin, u), Dot(x - origin, w)}; };
   const double eps_len = 1e-9 * scale, eps_area = 1e-12 * scale * scale;
 
-  // Both layouts, each checked to tile the link polygon once.
-  Lifted old_t[kMaxStar], new_t[kMaxStar];
+  // Both layouts, each checked to tile the link polygon once. Off the stack (an SPE software
+  // thread's is small), per OS thread: the software threads of an SPE switch only at DMA waits,
+  // never inside this function.
+  thread_local Lifted old_t[kMaxStar], new_t[kMaxStar];
   const P2 v2 = plane(star.v), vd2 = plane(star.vd), p2 = plane(star.p);
   double angle_v = 0.0, angle_vd = 0.0, angle_p = 0.0;
   for (int k = 0; k < star.count; ++k) {

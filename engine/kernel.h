@@ -20,6 +20,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cstdint>
+#include <memory>
 
 #include <optional>
 #include <span>
@@ -83,7 +84,9 @@ class RemovalKernel final : private NeighbourhoodReader {
         quadric_(quadric),
         placement_(placement && rules.judges_placement()),
         budget_(budget),
-        stats_(stats) {}
+        stats_(stats) {
+    if (placement_) placing_ = std::make_unique<Placing>();
+  }
 
   Outcome TryRemove(uint32_t v) {
     ++stats_.tried;
@@ -303,29 +306,32 @@ class RemovalKernel final : private NeighbourhoodReader {
     if (locked == LockResult::kConflict) return GiveUp(v, Outcome::kConflict);
     if (locked == LockResult::kStale) return GiveUp(v, Outcome::kInconsistent);
     RefreshPositions(other_);
-    if (!star_.Build(ring_, i, other_)) {
+    EdgeStar& star = placing_->star;
+    FaceAttrQ* extra_attr = placing_->extra_attr;
+    if (!star.Build(ring_, i, other_)) {
       UnlockFrom(base);
       return std::nullopt;
     }
     if (rules_.reads_face_attrs())
-      for (int k = 0; k < star_.extra_faces(); ++k)
-        extra_attr_[k] = port_.ReadFaceAttr(star_.face[star_.fan_faces + k]);
-    proposal_.extra_attr = extra_attr_;
+      for (int k = 0; k < star.extra_faces(); ++k)
+        extra_attr[k] = port_.ReadFaceAttr(star.face[star.fan_faces + k]);
+    proposal_.extra_attr = extra_attr;
+    proposal_.new_extra_attr = placing_->new_extra_attr;
     // The optimal point, then back along the way from Vd to it (clamped to what the bounds
     // allow: nearer Vd the deviation spent is smaller, nearer the optimum the volume's), then
     // the edge's midpoint.
-    const DVec3 optimal = OptimalPosition(star_);
-    const DVec3 towards = optimal - star_.vd;
-    const DVec3 tries[] = {optimal, star_.vd + 0.5 * towards, star_.vd + 0.25 * towards,
-                           0.5 * (star_.v + star_.vd)};
+    const DVec3 optimal = OptimalPosition(star);
+    const DVec3 towards = optimal - star.vd;
+    const DVec3 tries[] = {optimal, star.vd + 0.5 * towards, star.vd + 0.25 * towards,
+                           0.5 * (star.v + star.vd)};
     for (const DVec3& at : tries) {
       // Judged where the float it is stored as puts it.
       const Vec3 stored{static_cast<float>(at.x), static_cast<float>(at.y),
                         static_cast<float>(at.z)};
-      star_.p = ToD(stored);
-      if (!star_.Contains(star_.p)) continue;
-      proposal_.star = &star_;
-      proposal_.geometry.Build(star_);
+      star.p = ToD(stored);
+      if (!star.Contains(star.p)) continue;
+      proposal_.star = &star;
+      proposal_.geometry.Build(star, placing_->apex);
       port_.ChargeCompute((kGeometryCyclesPerFace + rules_.shape_cycles_per_face()) *
                           proposal_.geometry.faces);
       Reject refused = Reject::kCount;
@@ -487,7 +493,7 @@ class RemovalKernel final : private NeighbourhoodReader {
       for (int f = 0; f < nf; ++f) proposal_.new_attr[f] = fan_attr_[f];
       if (proposal_.star != nullptr)
         for (int k = 0; k < proposal_.star->extra_faces(); ++k)
-          proposal_.new_extra_attr[k] = extra_attr_[k];
+          proposal_.new_extra_attr[k] = placing_->extra_attr[k];
     }
     proposal_.fan_attr = fan_attr_;
     proposal_.delta = CollapseDelta{};
@@ -507,8 +513,9 @@ class RemovalKernel final : private NeighbourhoodReader {
     if (placed != nullptr) {
       port_.WritePosition(ring_.nbr[i], *placed);
       if (rules_.reads_face_attrs())
-        for (int k = 0; k < star_.extra_faces(); ++k)
-          port_.WriteFaceAttr(star_.face[star_.fan_faces + k], proposal_.new_extra_attr[k]);
+        for (int k = 0; k < placing_->star.extra_faces(); ++k)
+          port_.WriteFaceAttr(placing_->star.face[placing_->star.fan_faces + k],
+                              proposal_.new_extra_attr[k]);
       ++stats_.placed;
     }
     WriteSideData(i);
@@ -665,8 +672,14 @@ class RemovalKernel final : private NeighbourhoodReader {
   bool attrs_loaded_ = false;
   FaceAttrQ fan_attr_[kMaxRing];  // the fan faces' side quadwords, read once per candidate
   // Full-edge collapses: the star, and the side quadwords of Vd's other faces.
-  EdgeStar star_;
-  FaceAttrQ extra_attr_[kMaxRing];
+  // On the heap, and only with placement: on the cell back end the kernel lives on an SPE
+  // software thread's stack in the local store, which has no room for it.
+  struct Placing {
+    EdgeStar star;
+    FaceAttrQ extra_attr[kMaxRing], new_extra_attr[kMaxRing];
+    DVec3 apex[kMaxStar];
+  };
+  std::unique_ptr<Placing> placing_;
 
   uint32_t locked_[2 * kMaxRing + 2];  // V's one-ring, then (full-edge) the rest of Vd's
   uint32_t locked_state_[2 * kMaxRing + 2];

@@ -39,10 +39,12 @@ struct CollapseGeometry {
   DVec3 old_normal[kMaxStar];  // unnormalised (twice the area)
   DVec3 new_normal[kMaxStar];
   DVec3 b[kMaxStar], c[kMaxStar], vd;
-  DVec3 old_apex[kMaxStar];  // the corner that moves, before (full-edge collapses only)
+  // The corner that moves, before, per face (full-edge collapses only: the kernel's storage).
+  const DVec3* old_apex = nullptr;
 
   void Build(const Ring& ring, int target_index);
-  void Build(const EdgeStar& star);
+  // apex: room for star.count points, which old_apex then points to.
+  void Build(const EdgeStar& star, DVec3* apex);
 
   // Smallest cosine between old and new normals, computed once per Build: the normal rule
   // tests it and the kernel ranks directions by it (largest bends the surface least).
@@ -113,7 +115,7 @@ struct CollapseProposal {
   // kFidelity, full-edge collapses: the side quadwords of Vd's other faces (star face
   // fan_faces + k), as read and as they will be written.
   const FaceAttrQ* extra_attr = nullptr;
-  FaceAttrQ new_extra_attr[kMaxRing];
+  FaceAttrQ* new_extra_attr = nullptr;
 
   uint32_t vd() const { return fan->nbr[target]; }
   // Fan face f is one of the two that contain V - Vd (and disappear).

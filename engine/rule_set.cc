@@ -103,8 +103,9 @@ void CollapseGeometry::Build(const Ring& ring, int target_index) {
   fan_faces = faces;
 }
 
-void CollapseGeometry::Build(const EdgeStar& star) {
+void CollapseGeometry::Build(const EdgeStar& star, DVec3* apex) {
   vd = star.p;
+  old_apex = apex;
   faces = 0;
   fan_faces = 0;
   min_normal_cosine_ = 2.0;
@@ -113,7 +114,7 @@ void CollapseGeometry::Build(const EdgeStar& star) {
     if (k < star.fan_faces) ++fan_faces;
     b[faces] = star.b[k];
     c[faces] = star.c[k];
-    old_apex[faces] = star.a[k];
+    apex[faces] = star.a[k];
     old_normal[faces] = Cross(b[faces] - star.a[k], c[faces] - star.a[k]);
     new_normal[faces] = Cross(b[faces] - vd, c[faces] - vd);
     ++faces;
