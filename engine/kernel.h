@@ -147,6 +147,7 @@ class RemovalKernel final : private NeighbourhoodReader {
     if (GatherRing(port_, v, ring_) != RingResult::kOk) return FailHold(Verdict::kStale);
     if (LockNeighbours() != LockResult::kHeld) return FailHold(Verdict::kConflict);
     proposal_.fan = &ring_;
+    proposal_.fan_smallest_angle_cos2 = -1.0;
     proposal_.reader = this;
     proposal_.star = nullptr;
     refusal_ = Refusal{};
@@ -234,6 +235,7 @@ class RemovalKernel final : private NeighbourhoodReader {
       return Count(Outcome::kInconsistent);
     }
     proposal_.fan = &ring_;
+    proposal_.fan_smallest_angle_cos2 = -1.0;
     proposal_.reader = this;
     proposal_.star = nullptr;
     if (placement_) RefreshPositions(ring_);

@@ -17,6 +17,9 @@ void AddKernelStats(const KernelStats& k, PassStats& stats) {
 
 namespace {
 
+// Candidates between a prefetch stage and its use (NativePort::PrefetchVertex, PrefetchFan).
+constexpr size_t kPrefetchAhead = 4;
+
 class NativeBackend final : public RemovalBackend {
  public:
   NativeBackend(Mesh& mesh, const KernelConfig& kernel, WorkerPool& pool)
@@ -38,6 +41,10 @@ class NativeBackend final : public RemovalBackend {
       const size_t end = phase.blocks ? phase.count * (c + 1) / n : phase.count;
       RunCandidates(kernel, phase, [&]() -> std::optional<uint32_t> {
         if (next >= end) return std::nullopt;
+        if (next + 2 * kPrefetchAhead * step < end)
+          port.PrefetchVertex(phase.candidates[next + 2 * kPrefetchAhead * step]);
+        if (next + kPrefetchAhead * step < end)
+          port.PrefetchFan(phase.candidates[next + kPrefetchAhead * step]);
         const uint32_t v = phase.candidates[next];
         next += step;
         return v;

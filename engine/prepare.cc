@@ -1,11 +1,13 @@
 #include "engine/prepare.h"
 
+#include <algorithm>
 #include <string>
 #include <utility>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
+#include "engine/spatial_order.h"
 
 namespace femsimp {
 namespace {
@@ -27,6 +29,21 @@ absl::Status DefectsLeft(const RepairReport& report) {
       absl::StrCat("the mesh has defects no repair fixes: ", absl::StrJoin(listed, "; ")));
 }
 
+// The seams' ends in the curve order, ordered by (a, b) again.
+void RenumberSeams(const std::vector<uint32_t>& new_id, std::vector<SeamEdge>& seams) {
+  for (SeamEdge& seam : seams) {
+    seam.a = new_id[seam.a];
+    seam.b = new_id[seam.b];
+    if (seam.a > seam.b) {
+      std::swap(seam.a, seam.b);
+      std::swap(seam.pa, seam.pb);
+    }
+  }
+  std::sort(seams.begin(), seams.end(), [](const SeamEdge& x, const SeamEdge& y) {
+    return x.a != y.a ? x.a < y.a : x.b < y.b;
+  });
+}
+
 }  // namespace
 
 absl::StatusOr<PreparedMesh> PrepareMesh(RawMesh raw, const RepairOptions& options) {
@@ -34,6 +51,11 @@ absl::StatusOr<PreparedMesh> PrepareMesh(RawMesh raw, const RepairOptions& optio
   if (!repaired.ok()) return repaired.status();
   if (repaired->report.num_defects_left() > repaired->report.count(RepairKind::kSeamEdge))
     return DefectsLeft(repaired->report);
+
+  // Curve order for the kernel's memory walks (engine/spatial_order.h); the repair's report
+  // keeps the input's facet and vertex ids.
+  const std::vector<uint32_t> new_id = SortSpatially(raw);
+  if (!new_id.empty()) RenumberSeams(new_id, repaired->seams);
 
   // Parts of an assembly that share faces or edges: cut into manifold sheets along the seams,
   // whose vertices are locked and joined again by OutputMesh.

@@ -32,7 +32,8 @@ struct PreparedMesh {
 //  - strict mode: every defect, by kind, facet and coordinates (options.max_records_per_kind
 //    per kind, then "and N more");
 //  - a component no orientation makes consistent (a Möbius-like surface), by facet.
-// A mesh with nothing to repair is built exactly as Mesh::Build builds it (byte-identical
+// The soup is renumbered in curve order (engine/spatial_order.h) before it is built: a mesh
+// with nothing to repair is built as Mesh::Build builds it after SortSpatially (byte-identical
 // output).
 absl::StatusOr<PreparedMesh> PrepareMesh(RawMesh raw, const RepairOptions& options);
 

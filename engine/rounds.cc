@@ -16,6 +16,8 @@ namespace {
 constexpr size_t kFirstWindowShare = 64;
 constexpr size_t kLargestWindowShare = 32;  // and short rounds answer a cancel sooner
 constexpr size_t kMinWindow = 256;
+// Fans read ahead of the one being read (NativePort::PrefetchVertex, PrefetchFan).
+constexpr size_t kPrefetchAhead = 4;
 
 // Boxes are widened by this much relative to their coordinates, so that two winners' new
 // triangles are never closer than the intersection test's own near-touching margin.
@@ -52,8 +54,13 @@ void RoundScheduler::ReadFans(const RemovalPhase& phase) {
   pool_.Run([&](int c) {
     NativePort port(mesh_);
     Ring ring, outer;
-    for (size_t i = m * c / n; i < m * (c + 1) / n; ++i) {
+    const size_t end = m * (c + 1) / n;
+    for (size_t i = m * c / n; i < end; ++i) {
       if (i % kCancelPollInterval == 0 && (phase.Stopped() || phase.PollCancelled())) return;
+      if (i + 2 * kPrefetchAhead < end)
+        port.PrefetchVertex(phase.candidates[window_[by_vertex_[i + 2 * kPrefetchAhead]]]);
+      if (i + kPrefetchAhead < end)
+        port.PrefetchFan(phase.candidates[window_[by_vertex_[i + kPrefetchAhead]]]);
       const uint32_t k = by_vertex_[i];
       const uint32_t v = phase.candidates[window_[k]];
       if (port.LoadStatus(v) != kRemovable) continue;

@@ -78,6 +78,9 @@ class NeighbourhoodReader {
 // fidelity rules propose for the commit.
 struct CollapseProposal {
   const Ring* fan = nullptr;  // V's one-ring
+  // cos^2 of the smallest angle of V's fan faces, for the relaxed minimum-angle rule: the same
+  // for every direction of a candidate, so computed once (negative: not yet).
+  double fan_smallest_angle_cos2 = -1.0;
   int target = -1;
   int line_other = -1;  // Directions::LineOther(target)
   CollapseGeometry geometry;

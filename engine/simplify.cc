@@ -63,6 +63,7 @@ uint32_t UnpackVertex(uint64_t key, bool scatter) {
 // pairwise in parallel. Returns the vertex ids in cost order, or a partial order once
 // `cancelled` (polled every kPollVertices vertices) says true.
 constexpr uint32_t kPollVertices = 1 << 14;
+constexpr uint32_t kPrefetchAhead = 4;  // fans read ahead of the one being costed
 std::vector<uint32_t> SortedCandidates(Mesh& mesh, WorkerPool& pool, const VertexCost& cost,
                                        bool reconsider, bool scatter,
                                        const std::function<bool()>& cancelled,
@@ -81,6 +82,7 @@ std::vector<uint32_t> SortedCandidates(Mesh& mesh, WorkerPool& pool, const Verte
     std::atomic<uint32_t>* status = mesh.status();
     for (uint32_t v = begin; v < end; ++v) {
       if ((v - begin) % kPollVertices == 0 && cancelled()) return;
+      if (v + kPrefetchAhead < end) port.PrefetchFan(v + kPrefetchAhead);
       uint32_t s = status[v].load(std::memory_order_relaxed);
       if (reconsider && s == kNotRemovable) {
         status[v].store(kRemovable, std::memory_order_relaxed);

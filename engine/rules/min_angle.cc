@@ -52,18 +52,23 @@ class MinAngleRule final : public CollapseRule {
     return true;
   }
 
-  bool MeetsThresholdOrImproves(const CollapseProposal& p) const {
+  bool MeetsThresholdOrImproves(CollapseProposal& p) const {
     const CollapseGeometry& g = p.geometry;
     double worst_new = 0.0;
     for (int i = 0; i < g.faces; ++i)
       worst_new = std::max(worst_new, SmallestAngleCos2(g.vd, g.b[i], g.c[i]));
     if (worst_new <= cos_max_ * cos_max_) return true;
-    const Ring& fan = *p.fan;
-    const DVec3 v = ToD(fan.center_pos);
-    double worst_old = 0.0;
-    for (int f = 0; f < fan.faces; ++f)
-      worst_old = std::max(worst_old, SmallestAngleCos2(v, ToD(fan.pos[f]),
-                                                        ToD(fan.pos[(f + 1) % fan.neighbours()])));
+    if (p.fan_smallest_angle_cos2 < 0.0) {
+      const Ring& fan = *p.fan;
+      const DVec3 v = ToD(fan.center_pos);
+      double fan_worst = 0.0;
+      for (int f = 0; f < fan.faces; ++f)
+        fan_worst = std::max(
+            fan_worst,
+            SmallestAngleCos2(v, ToD(fan.pos[f]), ToD(fan.pos[(f + 1) % fan.neighbours()])));
+      p.fan_smallest_angle_cos2 = fan_worst;
+    }
+    double worst_old = p.fan_smallest_angle_cos2;
     // A full-edge collapse also replaces Vd's other faces.
     for (int i = g.fan_faces; i < g.faces; ++i)
       worst_old = std::max(worst_old, SmallestAngleCos2(g.old_apex[i], g.b[i], g.c[i]));

@@ -7,7 +7,9 @@
 # A deliberate change of behaviour records new hashes in the same commit and says why. The
 # sets recorded before the FE defaults run with --preset paper (the old defaults). The fe sets
 # changed with the deterministic schedule (rounds, bucketed costs with scattered ties), and again
-# when the deviation cost became the default order of tolerance runs.
+# when the deviation cost became the default order of tolerance runs, and every set changed when
+# the inputs came to be renumbered in curve order before the build (engine/spatial_order.h: new
+# ids, so new tie-breaks in the cost order and a new output numbering).
 set -euo pipefail
 femsimp=$1 data=$2 hashes=$3 mode=${4:-check}
 declare -A option_sets=(
