@@ -45,11 +45,9 @@ void RoundScheduler::ReadFans(const RemovalPhase& phase) {
   box_.resize(m);
   live_.assign(m, 0);
   // Read in vertex order, for locality (the window is in cost order, scattered over the mesh).
-  by_vertex_.resize(m);
-  for (uint32_t k = 0; k < m; ++k) by_vertex_[k] = k;
-  std::sort(by_vertex_.begin(), by_vertex_.end(), [&](uint32_t a, uint32_t b) {
-    return phase.candidates[window_[a]] < phase.candidates[window_[b]];
-  });
+  by_vertex_.resize(m);  // (vertex, window entry), sorted as plain keys
+  for (uint32_t k = 0; k < m; ++k) by_vertex_[k] = uint64_t{phase.candidates[window_[k]]} << 32 | k;
+  std::sort(by_vertex_.begin(), by_vertex_.end());
   const int n = pool_.size();
   pool_.Run([&](int c) {
     NativePort port(mesh_);
@@ -58,11 +56,11 @@ void RoundScheduler::ReadFans(const RemovalPhase& phase) {
     for (size_t i = m * c / n; i < end; ++i) {
       if (i % kCancelPollInterval == 0 && (phase.Stopped() || phase.PollCancelled())) return;
       if (i + 2 * kPrefetchAhead < end)
-        port.PrefetchVertex(phase.candidates[window_[by_vertex_[i + 2 * kPrefetchAhead]]]);
+        port.PrefetchVertex(static_cast<uint32_t>(by_vertex_[i + 2 * kPrefetchAhead] >> 32));
       if (i + kPrefetchAhead < end)
-        port.PrefetchFan(phase.candidates[window_[by_vertex_[i + kPrefetchAhead]]]);
-      const uint32_t k = by_vertex_[i];
-      const uint32_t v = phase.candidates[window_[k]];
+        port.PrefetchFan(static_cast<uint32_t>(by_vertex_[i + kPrefetchAhead] >> 32));
+      const uint32_t k = static_cast<uint32_t>(by_vertex_[i]);
+      const uint32_t v = static_cast<uint32_t>(by_vertex_[i] >> 32);
       if (port.LoadStatus(v) != kRemovable) continue;
       live_[k] = 1;
       // A fan that cannot be read is V alone: the kernel refuses it without a neighbour.

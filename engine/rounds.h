@@ -61,7 +61,7 @@ class RoundScheduler {
   std::vector<uint32_t> window_;
   std::vector<FaceGrid::Box> box_;
   std::vector<uint8_t> live_, won_;
-  std::vector<uint32_t> by_vertex_;
+  std::vector<uint64_t> by_vertex_;
   // PickWinners: box extents, the winners so far, and a hashed grid of their boxes.
   std::vector<double> extent_;
   std::vector<uint32_t> order_, big_;
