@@ -29,6 +29,7 @@ using Clock = std::chrono::steady_clock;
 
 struct Args {
   int repeats = 5;
+  bool stages_only = false;
   std::string dir = "build/io_speed";
   std::vector<std::string> meshes;
 };
@@ -194,6 +195,8 @@ int main(int argc, char** argv) {
               .default_text = "5"},
              &args.repeats);
   set.String("--dir", "DIR", "scratch directory for the files (default build/io_speed)", &args.dir);
+  set.Switch("--stages-only", "the load's stages only, no formats (e.g. under a profiler)",
+             &args.stages_only);
   femsimp::flags::FlagSet::Parsed parsed;
   if (std::optional<int> exit =
           set.ParseMain(argc, argv, "Usage: io_speed [flags] MESH...\n\n", "", &parsed))
@@ -212,6 +215,7 @@ int main(int argc, char** argv) {
   std::printf("|---|---|---|---|---|---|\n");
   for (const std::string& m : args.meshes)
     if (!Stages(m, args.repeats)) return 1;
+  if (args.stages_only) return 0;
   std::printf("\nFormats, best of %d, interleaved; ratio = OpenMesh time / femsimp time\n\n",
               args.repeats);
   std::printf(
