@@ -27,10 +27,10 @@
 
 #include <meshoptimizer.h>
 
+#include "bench/peers/openmesh_mesh.h"
 #include "bench/peers/peer_run.h"
 #include "common/flags.h"
 #include "engine/io/mesh_io.h"
-#include "engine/io/openmesh.h"
 #include "engine/mesh.h"
 #include "engine/option_flags.h"
 #include "engine/option_table.h"
@@ -93,7 +93,7 @@ namespace {
 
 using femsimp::RawMesh;
 using Clock = std::chrono::steady_clock;
-using TriMesh = OpenMesh::TriMesh_ArrayKernelT<>;
+using femsimp::bench::TriMesh;
 bool g_pass_log = false;
 
 double Seconds(Clock::time_point a, Clock::time_point b) {
@@ -296,19 +296,10 @@ bool RunOpenMesh(const RawMesh& in, Row& row, bool keep) {
   const int64_t live0 = g_live.load();
   ResetPeak();
   Sample s;
-  TriMesh mesh;
   auto t0 = Clock::now();
-  std::vector<TriMesh::VertexHandle> vh;
-  vh.reserve(in.num_vertices());
-  for (size_t v = 0; v < in.num_vertices(); ++v)
-    vh.push_back(mesh.add_vertex(
-        TriMesh::Point(in.positions[3 * v], in.positions[3 * v + 1], in.positions[3 * v + 2])));
-  for (size_t f = 0; f < in.num_faces(); ++f)
-    mesh.add_face(vh[in.triangles[3 * f]], vh[in.triangles[3 * f + 1]],
-                  vh[in.triangles[3 * f + 2]]);
+  TriMesh mesh = femsimp::bench::ToOpenMesh(in);
   mesh.request_face_normals();  // ModNormalFlipping needs them
   mesh.update_face_normals();
-  std::vector<TriMesh::VertexHandle>().swap(vh);
   const int64_t live1 = g_live.load();
   s.build_seconds = Seconds(t0, Clock::now());
   t0 = Clock::now();

@@ -15,6 +15,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
+#include "engine/id_index.h"
 #include "engine/union_find.h"
 
 namespace femsimp {
@@ -223,22 +224,27 @@ void Repairer::Weld() {
   report.weld_tolerance_absolute = tol;
 
   if (!(tol > 0)) {  // exact duplicates only (+0 and -0 alike)
-    absl::flat_hash_map<std::array<float, 3>, uint32_t> seen;
-    seen.reserve(nv_);
-    for (uint32_t v = 0; v < nv_; ++v) {
-      if (first_facet_[v] == kNoIndex) continue;
-      std::array<float, 3> key = {Pos(v)[0] + 0.f, Pos(v)[1] + 0.f, Pos(v)[2] + 0.f};
-      rep_[v] = seen.try_emplace(key, v).first->second;
-    }
+    using Key = std::array<float, 3>;
+    const auto key_of = [this](uint32_t v) {
+      return Key{Pos(v)[0] + 0.f, Pos(v)[1] + 0.f, Pos(v)[2] + 0.f};
+    };
+    IdIndex<Key, decltype(key_of)> seen(nv_, key_of);
+    for (uint32_t v = 0; v < nv_; ++v)
+      if (first_facet_[v] != kNoIndex) rep_[v] = seen.FindOrInsert(key_of(v), v);
     return;
   }
-  // Cells eight tolerances wide: a point's tolerance ball touches 1 cell per axis, 2 with
-  // probability 1/4, so about two cells are looked up per point.
+  // A hash on quantised coordinates: cells eight tolerances wide, so that a point's tolerance
+  // ball touches 1 cell per axis, 2 with probability 1/4, and about two cells are looked up per
+  // point. The index holds each cell's last representative (its cell is computed again from its
+  // position), `next` the earlier ones in the same cell.
   const double cell = 8 * tol, tol2 = tol * tol;
-  absl::flat_hash_map<CellKey, uint32_t> head;  // cell -> last representative put there
-  std::vector<uint32_t> next(nv_, kNoIndex);    // earlier representative in the same cell
-  head.reserve(nv_);
   auto index = [&](double x, int k) { return int64_t(std::floor((x - lo[k]) / cell)); };
+  const auto cell_of = [&](uint32_t v) {
+    const float* p = Pos(v);
+    return CellKey{index(p[0], 0), index(p[1], 1), index(p[2], 2)};
+  };
+  IdIndex<CellKey, decltype(cell_of)> head(nv_, cell_of);
+  std::vector<uint32_t> next(nv_, kNoIndex);  // earlier representative in the same cell
   for (uint32_t v = 0; v < nv_; ++v) {
     if (first_facet_[v] == kNoIndex) continue;
     const float* p = Pos(v);
@@ -250,25 +256,18 @@ void Repairer::Weld() {
     uint32_t best = kNoIndex;
     for (int64_t x = a[0]; x <= b[0]; ++x)
       for (int64_t y = a[1]; y <= b[1]; ++y)
-        for (int64_t z = a[2]; z <= b[2]; ++z) {
-          auto it = head.find(CellKey{x, y, z});
-          if (it == head.end()) continue;
-          for (uint32_t r = it->second; r != kNoIndex; r = next[r]) {
+        for (int64_t z = a[2]; z <= b[2]; ++z)
+          for (uint32_t r = head.Find(CellKey{x, y, z}); r != kNoIndex; r = next[r]) {
             const float* q = Pos(r);
             double d2 = 0;
             for (int k = 0; k < 3; ++k) d2 += (double(p[k]) - q[k]) * (double(p[k]) - q[k]);
             if (d2 <= tol2 && r < best) best = r;
           }
-        }
     if (best != kNoIndex) {
       rep_[v] = best;
       continue;
     }
-    uint32_t& h =
-        head.try_emplace(CellKey{index(p[0], 0), index(p[1], 1), index(p[2], 2)}, kNoIndex)
-            .first->second;
-    next[v] = h;
-    h = v;
+    next[v] = head.Exchange(cell_of(v), v);
   }
 }
 

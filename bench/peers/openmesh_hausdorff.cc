@@ -2,7 +2,7 @@
 
 #include <vector>
 
-#include "engine/io/openmesh.h"
+#include "bench/peers/openmesh_mesh.h"
 
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
@@ -14,18 +14,8 @@
 
 namespace femsimp::bench {
 
-using TriMesh = OpenMesh::TriMesh_ArrayKernelT<>;
-
 PeerRun RunOpenMeshHausdorff(const RawMesh& input, double tolerance) {
-  TriMesh mesh;
-  std::vector<TriMesh::VertexHandle> vh;
-  vh.reserve(input.num_vertices());
-  for (size_t v = 0; v < input.num_vertices(); ++v)
-    vh.push_back(mesh.add_vertex(TriMesh::Point(input.positions[3 * v], input.positions[3 * v + 1],
-                                                input.positions[3 * v + 2])));
-  for (size_t f = 0; f < input.num_faces(); ++f)
-    mesh.add_face(vh[input.triangles[3 * f]], vh[input.triangles[3 * f + 1]],
-                  vh[input.triangles[3 * f + 2]]);
+  TriMesh mesh = ToOpenMesh(input);
   mesh.request_face_normals();  // ModNormalFlipping needs them
   mesh.update_face_normals();
   PeerRun run;

@@ -5,6 +5,7 @@
 #include <bit>
 #include <charconv>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <set>
 #include <system_error>
@@ -52,10 +53,24 @@ std::vector<std::string> FieldNames(const RawMesh& mesh) {
 }
 
 template <typename T>
-void AppendLittleEndian(std::string* s, T v) {
+std::array<char, sizeof(T)> LittleEndianBytes(T v) {
   auto bytes = std::bit_cast<std::array<char, sizeof(T)>>(v);
   if constexpr (std::endian::native == std::endian::big) std::reverse(bytes.begin(), bytes.end());
+  return bytes;
+}
+
+template <typename T>
+void AppendLittleEndian(std::string* s, T v) {
+  const auto bytes = LittleEndianBytes(v);
   s->append(bytes.data(), bytes.size());
+}
+
+// Writes v at *out and moves *out past it (into a buffer sized beforehand).
+template <typename T>
+void PutLittleEndian(char** out, T v) {
+  const auto bytes = LittleEndianBytes(v);
+  std::memcpy(*out, bytes.data(), bytes.size());
+  *out += bytes.size();
 }
 
 }  // namespace
@@ -216,15 +231,17 @@ std::string StlBytes(const RawMesh& mesh, bool binary) {
   };
   std::string s;
   if (binary) {
+    // Sized once and filled in place: 84 header bytes, then 50 per facet.
     static constexpr char kHeader[] = "femsimp binary STL";
-    s.assign(80, '\0');
+    s.assign(84 + 50 * mesh.num_faces(), '\0');
     std::copy(kHeader, kHeader + sizeof(kHeader) - 1, s.begin());
-    AppendLittleEndian(&s, static_cast<uint32_t>(mesh.num_faces()));
+    char* out = s.data() + 80;
+    PutLittleEndian(&out, static_cast<uint32_t>(mesh.num_faces()));
     for (size_t f = 0; f < mesh.num_faces(); ++f) {
-      for (float x : normal(f)) AppendLittleEndian(&s, x);
+      for (float x : normal(f)) PutLittleEndian(&out, x);
       for (int k = 0; k < 3; ++k)
-        for (float x : corner(f, k)) AppendLittleEndian(&s, x);
-      AppendLittleEndian(&s, uint16_t{0});
+        for (float x : corner(f, k)) PutLittleEndian(&out, x);
+      out += 2;  // attribute byte count 0
     }
     return s;
   }

@@ -6,13 +6,13 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <system_error>
 
 #include "absl/status/status.h"
 #include "absl/strings/ascii.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
+#include "engine/io/mapped_file.h"
 #include "engine/io/mesh_readers.h"
 #include "engine/io/msh.h"
 
@@ -32,28 +32,6 @@ absl::Status CheckExtension(const std::string& path, const std::string& ext) {
   if (std::find(ok.begin(), ok.end(), ext) != ok.end()) return absl::OkStatus();
   return absl::InvalidArgumentError(absl::StrCat(path, ": unsupported mesh file extension '", ext,
                                                  "' (supported: ", absl::StrJoin(ok, ", "), ")"));
-}
-
-absl::StatusOr<std::string> ReadWholeFile(const std::string& path) {
-  std::error_code ec;
-  const fs::file_status st = fs::status(path, ec);
-  if (st.type() == fs::file_type::not_found)
-    return absl::NotFoundError(absl::StrCat(path, ": no such file"));
-  if (ec)  // e.g. a parent directory that cannot be searched
-    return absl::FailedPreconditionError(absl::StrCat(path, ": cannot access: ", ec.message()));
-  if (fs::is_directory(st))
-    return absl::FailedPreconditionError(absl::StrCat(path, ": is a directory, not a mesh file"));
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    const int err = errno;
-    const std::string why = absl::StrCat(path, ": cannot open for reading: ", std::strerror(err));
-    return err == EACCES ? absl::PermissionDeniedError(why) : absl::FailedPreconditionError(why);
-  }
-  std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad())
-    return absl::FailedPreconditionError(
-        absl::StrCat(path, ": read error after ", data.size(), " bytes"));
-  return data;
 }
 
 absl::Status Prefixed(const std::string& path, const absl::Status& s) {
@@ -125,10 +103,11 @@ absl::StatusOr<RawMesh> ReadMeshFile(const std::string& path, GroupNames* group_
                                      std::vector<std::string>* warnings) {
   const std::string ext = LowerExtension(path);
   if (absl::Status s = CheckExtension(path, ext); !s.ok()) return s;
-  absl::StatusOr<std::string> data = ReadWholeFile(path);
-  if (!data.ok()) return data.status();
-  if (data->empty()) return absl::InvalidArgumentError(absl::StrCat(path, ": file is empty"));
-  absl::StatusOr<ParsedMeshFile> parsed = ParseMeshFile(ext, *data);
+  absl::StatusOr<MappedFile> file = MappedFile::Open(path);
+  if (!file.ok()) return file.status();
+  if (file->data().empty())
+    return absl::InvalidArgumentError(absl::StrCat(path, ": file is empty"));
+  absl::StatusOr<ParsedMeshFile> parsed = ParseMeshFile(ext, file->data());
   if (!parsed.ok()) return Prefixed(path, parsed.status());
   if (group_names) *group_names = std::move(parsed->group_names);
   if (warnings) *warnings = std::move(parsed->warnings);

@@ -13,12 +13,13 @@
 #include <unordered_map>
 #include <vector>
 
-#include "absl/container/flat_hash_map.h"
+#include "absl/hash/hash.h"
 #include "absl/status/status.h"
 #include "absl/strings/ascii.h"
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
+#include "engine/id_index.h"
 #include "engine/io/msh.h"
 #include "engine/io/reader_util.h"
 
@@ -88,16 +89,17 @@ void Split(absl::string_view line, std::vector<absl::string_view>* out) {
   }
 }
 
-// Parses tok[first..first+2] as a finite vertex position and appends it; `where` names the
-// vertex.
-absl::Status AddPosition(const std::vector<absl::string_view>& tok, size_t first,
-                         absl::string_view where, RawMesh* mesh) {
+// Parses tok[first..first+2] as a finite vertex position and appends it; `where()` names the
+// vertex (called only for a message, so that a good vertex formats nothing).
+template <typename Where>
+absl::Status AddPosition(const std::vector<absl::string_view>& tok, size_t first, Where where,
+                         RawMesh* mesh) {
   if (tok.size() < first + 3)
-    return Bad(where, ": expected 3 coordinates, found ", tok.size() - first);
+    return Bad(where(), ": expected 3 coordinates, found ", tok.size() - first);
   for (size_t i = first; i < first + 3; ++i) {
     float x;
-    if (!ParseFloat(tok[i], &x)) return Bad(where, ": cannot parse '", tok[i], "' as a number");
-    if (!std::isfinite(x)) return Bad(where, ": coordinate '", tok[i], "' is not a finite float");
+    if (!ParseFloat(tok[i], &x)) return Bad(where(), ": cannot parse '", tok[i], "' as a number");
+    if (!std::isfinite(x)) return Bad(where(), ": coordinate '", tok[i], "' is not a finite float");
     mesh->positions.push_back(x);
   }
   return absl::OkStatus();
@@ -153,17 +155,19 @@ absl::Status ParseOffBinary(absl::string_view rest, absl::string_view key, Readi
     }
   mesh.triangles.reserve(3 * size_t(nf));
   for (size_t f = 0; f < nf; ++f) {
-    const std::string where = absl::StrCat(" (byte ", p - rest.data(), " after the header)");
+    const auto where = [&] {
+      return absl::StrCat(" (byte ", p - rest.data(), " after the header)");
+    };
     if (p + 4 > rest.data() + rest.size())
-      return Bad("binary OFF truncated: the file ends inside face ", f, where);
+      return Bad("binary OFF truncated: the file ends inside face ", f, where());
     const int32_t n = LoadBytes<int32_t>(p, swap);
-    if (n != 3) return Polygon(f, size_t(std::max(n, 0)), where);
+    if (n != 3) return Polygon(f, size_t(std::max(n, 0)), where());
     if (p + 16 > rest.data() + rest.size())
-      return Bad("binary OFF truncated: the file ends inside face ", f, where);
+      return Bad("binary OFF truncated: the file ends inside face ", f, where());
     for (int i = 1; i <= 3; ++i) {
       const int32_t idx = LoadBytes<int32_t>(p + 4 * i, swap);
-      if (idx < 0) return Bad("face ", f, where, " has a negative vertex index ", idx);
-      if (uint32_t(idx) >= nv) return OutOfRange(f, where, uint32_t(idx), nv);
+      if (idx < 0) return Bad("face ", f, where(), " has a negative vertex index ", idx);
+      if (uint32_t(idx) >= nv) return OutOfRange(f, where(), uint32_t(idx), nv);
       mesh.triangles.push_back(uint32_t(idx));
     }
     p += 16;
@@ -202,8 +206,8 @@ absl::Status ParseOff(absl::string_view data, Reading* out) {
   for (size_t v = 0; v < size_t(nv); ++v) {
     if (!lines.NextContent(&line)) return truncated("vertices", v);
     Split(line, &tok);
-    absl::Status st =
-        AddPosition(tok, 0, absl::StrCat("vertex ", v, " (line ", lines.number(), ")"), &mesh);
+    absl::Status st = AddPosition(
+        tok, 0, [&] { return absl::StrCat("vertex ", v, " (line ", lines.number(), ")"); }, &mesh);
     if (!st.ok()) return st;
   }
   for (size_t f = 0; f < size_t(nf); ++f) {
@@ -256,7 +260,10 @@ absl::Status ParseObj(absl::string_view data, Reading* out) {
     Split(line, &tok);
     if (tok[0] == "v") {
       absl::Status st = AddPosition(
-          tok, 1, absl::StrCat("vertex ", mesh.num_vertices(), " (line ", lines.number(), ")"),
+          tok, 1,
+          [&] {
+            return absl::StrCat("vertex ", mesh.num_vertices(), " (line ", lines.number(), ")");
+          },
           &mesh);
       if (!st.ok()) return st;
     } else if (tok[0] == "g") {
@@ -267,19 +274,19 @@ absl::Status ParseObj(absl::string_view data, Reading* out) {
       const size_t f = out->face_lines.size();
       out->face_lines.push_back(lines.number());
       face_group_index.push_back(group);
-      const std::string where = absl::StrCat(" (line ", lines.number(), ")");
-      if (tok.size() != 4) return Polygon(f, tok.size() - 1, where);
+      const auto where = [&] { return absl::StrCat(" (line ", lines.number(), ")"); };
+      if (tok.size() != 4) return Polygon(f, tok.size() - 1, where());
       for (int i = 1; i <= 3; ++i) {
         int64_t idx;
         absl::string_view t = tok[i].substr(0, tok[i].find('/'));
         if (!ParseInt(t, &idx) || idx == 0)
-          return Bad("face ", f, where, ": invalid vertex index '", tok[i], "'");
+          return Bad("face ", f, where(), ": invalid vertex index '", tok[i], "'");
         if (idx < 0) idx += int64_t(mesh.num_vertices()) + 1;  // relative to the last vertex
         if (idx <= 0)
-          return Bad("face ", f, where, ": relative index '", tok[i],
+          return Bad("face ", f, where(), ": relative index '", tok[i],
                      "' points before the first vertex");
         if (!FitsIndex(idx - 1))
-          return Bad("face ", f, where, ": vertex index '", tok[i], "' is too large");
+          return Bad("face ", f, where(), ": vertex index '", tok[i], "' is too large");
         mesh.triangles.push_back(uint32_t(idx - 1));
       }
     } else if (std::find(std::begin(kIgnored), std::end(kIgnored), tok[0]) == std::end(kIgnored)) {
@@ -304,28 +311,55 @@ absl::Status ParseObj(absl::string_view data, Reading* out) {
 // appearance (0.0 and -0.0 are equal, as they were to OpenMesh's STL reader).
 class Welder {
  public:
-  explicit Welder(RawMesh* mesh) : mesh_(mesh) {}
-  void Reserve(size_t facets) {
-    index_.reserve(facets / 2);
+  explicit Welder(RawMesh* mesh, size_t facets = 0)
+      : mesh_(mesh), index_(facets / 2, KeyOfVertex{mesh}) {
     mesh_->positions.reserve(3 * facets / 2);
     mesh_->triangles.reserve(3 * facets);
   }
   void AddCorner(const float* p) {
-    std::array<uint32_t, 3> key;
-    for (int i = 0; i < 3; ++i) key[i] = std::bit_cast<uint32_t>(p[i] == 0.0f ? 0.0f : p[i]);
-    auto [it, fresh] = index_.try_emplace(key, uint32_t(mesh_->num_vertices()));
-    if (fresh) mesh_->positions.insert(mesh_->positions.end(), p, p + 3);
-    mesh_->triangles.push_back(it->second);
+    const Key key = KeyOf(p);
+    // Neighbouring facets share corners: a small table of recent corners answers most of them
+    // from cache before the index's lookup misses it.
+    Recent& recent = recent_[absl::HashOf(key) & (kRecent - 1)];
+    if (recent.id != kNone && recent.key == key) {
+      mesh_->triangles.push_back(recent.id);
+      return;
+    }
+    // The position goes in first: the index reads it back when it grows.
+    const size_t fresh = mesh_->num_vertices();
+    mesh_->positions.insert(mesh_->positions.end(), p, p + 3);
+    const uint32_t v = index_.FindOrInsert(key, uint32_t(fresh));
+    if (v != fresh) mesh_->positions.resize(3 * fresh);
+    mesh_->triangles.push_back(v);
+    recent = {key, v};
   }
 
  private:
+  using Key = std::array<uint32_t, 3>;
+  static Key KeyOf(const float* p) {
+    Key key;
+    for (int i = 0; i < 3; ++i) key[i] = std::bit_cast<uint32_t>(p[i] == 0.0f ? 0.0f : p[i]);
+    return key;
+  }
+  struct KeyOfVertex {
+    const RawMesh* mesh;
+    Key operator()(uint32_t v) const { return KeyOf(&mesh->positions[3 * size_t(v)]); }
+  };
+
+  static constexpr size_t kRecent = 4096;
+  static constexpr uint32_t kNone = std::numeric_limits<uint32_t>::max();
+  struct Recent {
+    Key key;
+    uint32_t id = kNone;
+  };
+
   RawMesh* mesh_;
-  absl::flat_hash_map<std::array<uint32_t, 3>, uint32_t> index_;
+  IdIndex<Key, KeyOfVertex> index_;
+  std::vector<Recent> recent_ = std::vector<Recent>(kRecent);
 };
 
 absl::Status ParseStlBinary(absl::string_view data, uint32_t n, Reading* out) {
-  Welder welder(&out->file.mesh);
-  welder.Reserve(n);
+  Welder welder(&out->file.mesh, n);
   for (uint32_t t = 0; t < n; ++t) {
     float c[9];  // the three corners, after the facet normal
     std::memcpy(c, data.data() + 84 + 50 * size_t(t) + 12, sizeof(c));
@@ -347,13 +381,13 @@ absl::Status ParseStlAscii(absl::string_view data, Reading* out) {
   while (lines.Next(&line)) {
     Split(line, &tok);
     if (tok.empty()) continue;
-    const std::string key = absl::AsciiStrToLower(tok[0]);
-    if (key == "endsolid") {
+    const auto is = [&](absl::string_view word) { return absl::EqualsIgnoreCase(tok[0], word); };
+    if (is("endsolid")) {
       ended = true;
       continue;
     }
-    if (key == "solid" || key == "facet" || key == "endloop" || key == "endfacet") continue;
-    if (key != "outer")
+    if (is("solid") || is("facet") || is("endloop") || is("endfacet")) continue;
+    if (!is("outer"))
       return Bad("line ", lines.number(), ": unexpected '", tok[0], "' in ASCII STL");
     // The three lines after "outer loop" are the corners.
     const size_t t = out->face_lines.size();
@@ -362,10 +396,11 @@ absl::Status ParseStlAscii(absl::string_view data, Reading* out) {
       if (!lines.Next(&line))
         return Bad("truncated: the file ends inside facet ", t, " (line ", lines.number(), ")");
       Split(line, &tok);
-      const std::string where =
-          absl::StrCat("facet ", t, " corner ", k, " (line ", lines.number(), ")");
-      if (tok.empty() || absl::AsciiStrToLower(tok[0]) != "vertex")
-        return Bad(where, ": expected 'vertex x y z'");
+      const auto where = [&] {
+        return absl::StrCat("facet ", t, " corner ", k, " (line ", lines.number(), ")");
+      };
+      if (tok.empty() || !absl::EqualsIgnoreCase(tok[0], "vertex"))
+        return Bad(where(), ": expected 'vertex x y z'");
       if (absl::Status st = AddPosition(tok, 1, where, &corners); !st.ok()) return st;
     }
     for (int k = 0; k < 3; ++k) welder.AddCorner(&corners.positions[3 * k]);
@@ -475,6 +510,10 @@ class PlyValues {
     return true;
   }
   bool ascii() const { return ascii_; }
+  bool swap() const { return swap_; }
+  // The binary data not read yet, and skipping what a caller read of it.
+  absl::string_view rest() const { return body_.substr(pos_); }
+  void Skip(size_t n) { pos_ += n; }
   bool error() const { return error_; }
   absl::string_view token() const { return token_; }
   // Where the reader stands, for messages.
@@ -504,6 +543,93 @@ class PlyValues {
   bool error_ = false;
   absl::string_view token_;
 };
+
+// What each property of a PLY element carries (ParsePly): a coordinate (0, 1, 2 for x, y, z),
+// a face's corners, its group, a field index (face_data.h), or nothing femsimp keeps.
+constexpr int kPlyOther = -3, kPlyCorners = -2, kPlyGroup = -1;
+
+// A binary element whose records all have one size (scalars, and triangles as the corner list),
+// read straight off the bytes: no per-value dispatch through PlyValues. Returns how many records
+// it read. It stops at the first record that is not plain (a list of another length, a value the
+// reader refuses, the end of the data) without keeping any of it, so that the general loop reads
+// that record and words any refusal exactly as it always has.
+size_t ReadPlyBinaryRecords(const PlyElement& e, const std::vector<int>& role, bool is_vertex,
+                            PlyValues& values, RawMesh& mesh) {
+  struct Slot {
+    size_t offset;
+    PlyType type;
+    int role;
+  };
+  std::vector<Slot> slots;
+  size_t stride = 0;
+  for (size_t k = 0; k < e.props.size(); ++k) {
+    const PlyProperty& p = e.props[k];
+    if (p.count_type == PlyType::kNone) {
+      if (role[k] != kPlyOther) slots.push_back({stride, p.type, role[k]});
+      stride += PlySize(p.type);
+    } else if (role[k] == kPlyCorners) {
+      slots.push_back({stride, p.count_type, kPlyCorners});
+      stride += PlySize(p.count_type) + 3 * PlySize(p.type);
+    } else {
+      return 0;  // a list of any length besides the corners: records differ in size
+    }
+  }
+  const PlyType index_type = [&] {
+    for (const PlyProperty& p : e.props)
+      if (p.count_type != PlyType::kNone) return p.type;
+    return PlyType::kNone;
+  }();
+  const bool swap = values.swap();
+  const absl::string_view data = values.rest();
+  const size_t records = stride == 0 ? 0 : std::min(e.count, data.size() / stride);
+  size_t i = 0;
+  for (; i < records; ++i) {
+    const char* r = data.data() + i * stride;
+    float xyz[3] = {0, 0, 0}, fields[kMaxFaceFields] = {};
+    uint32_t corners[3] = {0, 0, 0}, group = 0;
+    bool plain = true;
+    for (const Slot& s : slots) {
+      const char* p = r + s.offset;
+      if (is_vertex) {
+        if (s.role < 0) continue;
+        xyz[s.role] = static_cast<float>(LoadPly(p, s.type, swap));
+        plain = plain && std::isfinite(xyz[s.role]);
+      } else if (s.role == kPlyCorners) {
+        plain = plain && LoadPly(p, s.type, swap) == 3;
+        p += PlySize(s.type);
+        for (int c = 0; c < 3; ++c, p += PlySize(index_type)) {
+          const double v = LoadPly(p, index_type, swap);
+          plain = plain && v >= 0 && v == std::floor(v) &&
+                  v <= double(std::numeric_limits<uint32_t>::max());
+          corners[c] = plain ? uint32_t(v) : 0;
+        }
+      } else if (s.role == kPlyGroup) {
+        const double v = LoadPly(p, s.type, swap);
+        plain = plain && v >= 0 && v <= double(std::numeric_limits<uint32_t>::max()) &&
+                v == std::floor(v);
+        group = plain ? uint32_t(v) : 0;
+      } else {
+        const double v = LoadPly(p, s.type, swap);
+        plain = plain && FiniteAsFloat(v);
+        fields[s.role] = float(v);
+      }
+    }
+    if (!plain) break;
+    if (is_vertex) {
+      mesh.positions.insert(mesh.positions.end(), xyz, xyz + 3);
+      continue;
+    }
+    mesh.triangles.insert(mesh.triangles.end(), corners, corners + 3);
+    for (const Slot& s : slots)
+      if (s.role == kPlyGroup) {
+        mesh.face_groups.push_back(group);
+      } else if (s.role >= 0) {
+        mesh.face_fields[size_t(s.role)].values.push_back(fields[s.role]);
+      }
+  }
+  values.Skip(i * stride);
+  return i;
+}
 
 absl::Status ParsePly(absl::string_view data, Reading* out) {
   Lines lines(data);
@@ -555,10 +681,7 @@ absl::Status ParsePly(absl::string_view data, Reading* out) {
   PlyValues values(data.substr(lines.offset()), ascii, swap);
   for (const PlyElement& e : elements) {
     const bool is_vertex = e.name == "vertex", is_face = e.name == "face";
-    // What each property carries: a coordinate (0, 1, 2 for x, y, z), the face's corners, its
-    // group, a field index (face_data.h), or nothing femsimp keeps.
-    constexpr int kOther = -3, kCorners = -2, kGroup = -1;
-    std::vector<int> role(e.props.size(), kOther);
+    std::vector<int> role(e.props.size(), kPlyOther);
     // The header's count is not trusted for memory: every element takes at least a byte.
     const size_t expected = std::min(e.count, data.size());
     if (is_vertex) {
@@ -584,13 +707,13 @@ absl::Status ParsePly(absl::string_view data, Reading* out) {
         const bool scalar = p.count_type == PlyType::kNone;
         const bool floating = p.type == PlyType::kF32 || p.type == PlyType::kF64;
         if (!scalar && !corners && (p.name == "vertex_indices" || p.name == "vertex_index")) {
-          role[k] = kCorners;
+          role[k] = kPlyCorners;
           corners = true;
         } else if (p.name == kPlyGroupProperty) {
           if (!scalar || floating)
             return Bad("PLY header: face property '", kPlyGroupProperty,
                        "' must be a scalar of an integer type (one group id per face)");
-          role[k] = kGroup;
+          role[k] = kPlyGroup;
           groups = true;
         } else if (scalar && floating && IsPlyFieldName(p.name)) {
           role[k] = int(mesh.face_fields.size());
@@ -612,7 +735,10 @@ absl::Status ParsePly(absl::string_view data, Reading* out) {
       if (groups) mesh.face_groups.reserve(expected);
       for (FaceField& f : mesh.face_fields) f.values.reserve(expected);
     }
-    for (size_t i = 0; i < e.count; ++i) {
+    size_t i = 0;
+    if (!ascii && (is_vertex || is_face))
+      i = ReadPlyBinaryRecords(e, role, is_vertex, values, mesh);
+    for (; i < e.count; ++i) {
       float xyz[3] = {0, 0, 0};
       for (size_t k = 0; k < e.props.size(); ++k) {
         const PlyProperty& p = e.props[k];
@@ -635,7 +761,7 @@ absl::Status ParsePly(absl::string_view data, Reading* out) {
         }
         if (p.count_type == PlyType::kNone) {
           if (!values.Next(p.type, &v)) return fail();
-          if (role[k] == kGroup) {
+          if (role[k] == kPlyGroup) {
             // ASCII values are not bound by the declared type.
             if (!(v >= 0 && v <= double(std::numeric_limits<uint32_t>::max()) &&
                   v == std::floor(v)))
@@ -653,7 +779,7 @@ absl::Status ParsePly(absl::string_view data, Reading* out) {
         if (!values.Next(p.count_type, &n)) return fail();
         if (!(n >= 0 && n <= 1e9))  // also keeps the size_t conversion below defined
           return Bad(e.name, " ", i, where(), ": bad list length ", n);
-        const bool indices = role[k] == kCorners;
+        const bool indices = role[k] == kPlyCorners;
         if (indices && n != 3) return Polygon(i, size_t(n), where());
         for (size_t c = 0; c < size_t(n); ++c) {
           if (!values.Next(p.type, &v)) return fail();
