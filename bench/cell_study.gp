@@ -11,7 +11,7 @@ set datafile missing "NaN"
 set key top left Left reverse opaque box font ",9"
 set grid
 set logscale x 2
-set xrange [1:128]
+set xrange [0.9:145]
 set xtics (1, 2, 4, 8, 16, 32, 64, 128)
 set xlabel "SPEs (cell back end)"
 f = datadir."/".kind.".dat"
@@ -19,7 +19,7 @@ if (kind eq "modeled") {
   set title "Cell back end speedup, modeled (cellsim cycle model)"
   set ylabel "modeled speedup = cycles(1 SPE) / cycles(N)"
   set logscale y 2
-  set yrange [1:128]
+  set yrange [0.9:145]
   set ytics (1, 2, 4, 8, 16, 32, 64, 128)
   plot f using 1:2 with lines dashtype 2 lc rgb "gray40" title "ideal", \
        f using 1:3 with linespoints pt 7 title "fandisk default criteria", \
