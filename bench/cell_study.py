@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Tables and plot data of the cell speedup study (bench/cell_study.sh). Stdlib only.
 
-Reads DIR/<mesh>_<geo|topo>_cell_s<N>.json, <mesh>_<geo|topo>_native_t1.json and
+Reads DIR/<mesh>_<geo|topo|free>_cell_s<N>.json, <mesh>_<geo|topo|free>_native_t1.json and
 <mesh>_geo_cell_s8_c64_k<K>.json (femsimp --stats-json files), prints markdown tables on stdout and
 writes DIR/modeled.dat and DIR/measured.dat (speedup per SPE count, one column per series) for
 bench/cell_study.gp.
@@ -15,7 +15,9 @@ import math
 import os
 
 CLOCK_HZ = 3.2e9
-CRITS = [("geo", "geometric"), ("topo", "topology only"), ("geoma1", "geometric, --min-angle 1")]
+SPE_RUN_OVERHEAD = 30000  # cellsim CostModel::spe_run_overhead_cycles
+CRITS = [("geo", "default criteria"), ("topo", "topology only"),
+         ("free", "default criteria, --schedule free")]
 # Paper, Table 1 (one SPE on an IBM QS21): blade (882,954 vertices) and fandisk.
 PAPER = {"blade3": {"geo": 53.7, "topo": 9.0}, "fandisk": {"geo": 0.37, "topo": 0.05}}
 
@@ -31,7 +33,7 @@ def load(path):
 def summary(d):
     """Totals over passes of one run."""
     p1 = d["passes"][0].get("modeled_pass_cycles", 0) if d["passes"] else 0
-    hits = misses = stale = stale_reread = stale_skipped = switches = ppe = 0
+    hits = misses = stale = stale_reread = stale_skipped = switches = ppe = rounds = 0
     slowest = mean = 0.0
     for p in d["passes"]:
         c = p.get("cell") or {}
@@ -42,6 +44,7 @@ def summary(d):
         stale_skipped += c.get("stale_skipped", 0)
         switches += c.get("thread_switches", 0)
         ppe += p.get("ppe_cycles", 0)
+        rounds += p.get("rounds", 0)
         per = [s["modeled_cycles"] for s in p.get("cell_per_spe", [])]
         if per:
             slowest += max(per)
@@ -59,6 +62,8 @@ def summary(d):
         "stale_skipped": stale_skipped,
         "switches": switches,
         "ppe": ppe,
+        # Deterministic rounds start and stop the SPEs twice a round (fan boxes, removals).
+        "round_runs": 2 * rounds * SPE_RUN_OVERHEAD,
         "imbalance": slowest / mean if mean else float("nan"),
     }
 
@@ -70,7 +75,7 @@ def fmt_int(x):
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--dir", required=True)
-    ap.add_argument("--spes", default="1 2 4 8 16 32")
+    ap.add_argument("--spes", default="1 2 4 8 16 32 64 128")
     ap.add_argument("--meshes", default="fandisk blade3")
     a = ap.parse_args()
     spes = [int(s) for s in a.spes.split()]
@@ -98,7 +103,7 @@ def main():
     # Fixed column order of the plot data (bench/cell_study.gp).
     plot_series = [(m, c, f"{m} {dict(CRITS)[c]}") for m, c in
                    (("fandisk", "geo"), ("fandisk", "topo"), ("blade3", "geo"), ("blade3", "topo"),
-                    ("blade3", "geoma1"))]
+                    ("blade3", "free"))]
 
     w("### Speedup per SPE count (cell back end, default 64 KiB cache, 1 software thread)\n")
     w("Modeled = cellsim cycle model (seconds at 3.2 GHz); measured = host wall clock "
@@ -109,16 +114,17 @@ def main():
         if not base:
             continue
         w(f"\n**{title}** ({fmt_int(base['in_v'])} input vertices)\n")
-        w("| SPEs | modeled cycles | modeled s | modeled speedup | modeled speedup, pass 1 only | modeled PPE sort share "
-          "| modeled slowest/mean SPE | measured wall s | measured speedup (2 host cores) "
+        w("| SPEs | modeled cycles | modeled s | modeled speedup | modeled speedup, pass 1 only | modeled PPE share "
+          "| modeled rounds' SPE start/stop share | modeled slowest/mean SPE | measured wall s | measured speedup (2 host cores) "
           "| output vertices | passes | hit ratio | stale detected (re-read / skipped) |")
-        w("| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |")
+        w("| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |")
         for n in spes:
             r = runs.get((m, c, n))
             if not r:
                 continue
             w(f"| {n} | {fmt_int(r['cycles'])} | {r['cycles'] / CLOCK_HZ:.4f} "
               f"| {base['cycles'] / r['cycles']:.2f} | {base['p1'] / r['p1']:.2f} | {100 * r['ppe'] / r['cycles']:.1f} % "
+              f"| {100 * r['round_runs'] / r['cycles']:.1f} % "
               f"| {r['imbalance']:.2f} | {r['wall']:.3f} | {base['wall'] / r['wall']:.2f} "
               f"| {fmt_int(r['out_v'])} | {r['passes']} | {100 * r['hit']:.1f} % "
               f"| {r['stale']} ({r['stale_reread']} / {r['stale_skipped']}) |")
@@ -161,8 +167,8 @@ def main():
 
     # Plot data: N, ideal, then one column per series (NaN where missing).
     # The modeled data also has the pass-1-only speedup of the two blade3 geometric series.
-    pass1 = [("blade3", "geo", "blade3 geometric, pass 1"),
-             ("blade3", "geoma1", "blade3 geometric --min-angle 1, pass 1")]
+    pass1 = [("blade3", "geo", "blade3 default criteria, pass 1"),
+             ("blade3", "free", "blade3 default criteria --schedule free, pass 1")]
     for kind, key in (("modeled", "cycles"), ("measured", "wall")):
         with open(os.path.join(a.dir, f"{kind}.dat"), "w") as f:
             f.write("# SPEs ideal " + " ".join(f'"{t}"' for _, _, t in plot_series + pass1) + "\n")

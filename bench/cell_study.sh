@@ -1,16 +1,18 @@
 #!/usr/bin/env bash
 # The cell back end's speedup study (paper: Fig. 5 and Table 1), as one command:
 #
-#   bench/cell_study.sh [--reuse] [--spes "1 2 4 8 16 32"] [--meshes "fandisk blade3"]
+#   bench/cell_study.sh [--reuse] [--spes "1 2 4 8 16 32 64 128"] [--meshes "fandisk blade3"]
 #
 # 1. builds the femsimp CLI (Release) in build/ if it is missing;
-# 2. makes bench/data/blade3.off (turbine blade, 3 Loop subdivisions) if it is missing;
-# 3. runs fandisk and blade3, geometric and --topology-only, on 1..32 emulated SPEs, plus the
+# 2. makes bench/data/blade_loop3.ply (turbine blade, 3 Loop subdivisions, build/bench/make_meshes
+#    as for the other benchmarks) if it is missing;
+# 3. runs fandisk and blade3 with the default criteria (deterministic schedule), --topology-only,
+#    and the default criteria with the paper's --schedule free, on 1..128 emulated SPEs, plus the
 #    software-thread comparison (--spe-threads 1 vs 2, 64 KiB cache, 8 SPEs) and the native back
 #    end at 1 thread; every run writes a --stats-json file under bench/data/cell_study/;
 # 4. bench/cell_study.py turns the JSON files into markdown tables
 #    (bench/data/cell_study/tables.md) and gnuplot data, and gnuplot draws
-#    docs/cell-speedup.svg (modeled) and docs/cell-speedup-measured.svg (measured, 2 host cores).
+#    docs/cell-speedup.png (modeled) and docs/cell-speedup-measured.png (measured, 2 host cores).
 #
 # --reuse keeps JSON files of an earlier run instead of running them again.
 set -euo pipefail
@@ -21,7 +23,7 @@ FEMSIMP="$BUILD/client/femsimp"
 DATA="$ROOT/bench/data"
 OUT="$DATA/cell_study"
 REUSE=0
-SPES="1 2 4 8 16 32"
+SPES="1 2 4 8 16 32 64 128"
 MESHES="fandisk blade3"
 
 while [[ $# -gt 0 ]]; do
@@ -29,7 +31,7 @@ while [[ $# -gt 0 ]]; do
     --reuse) REUSE=1; shift ;;
     --spes) SPES="$2"; shift 2 ;;
     --meshes) MESHES="$2"; shift 2 ;;
-    -h|--help) sed -n '2,16p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,17p' "$0"; exit 0 ;;
     *) echo "cell_study.sh: unknown argument '$1'" >&2; exit 2 ;;
   esac
 done
@@ -50,12 +52,11 @@ build_type="$(sed -n 's/^CMAKE_BUILD_TYPE:STRING=//p' "$BUILD/CMakeCache.txt" 2>
 
 # 2. The 3-level Loop-subdivided blade (520,064 vertices, 1,038,208 faces).
 mkdir -p "$DATA" "$OUT"
-BLADE3="$DATA/blade3.off"
+BLADE3="$DATA/blade_loop3.ply"
 if [[ ! -f "$BLADE3" ]]; then
-  command -v OpenMesh-commandlineSubdivider >/dev/null ||
-    { echo "cell_study.sh: OpenMesh-commandlineSubdivider not found (apt: libopenmesh-apps)" >&2; exit 1; }
   log "subdividing tests/data/blade.off 3 times (Loop) -> $BLADE3"
-  OpenMesh-commandlineSubdivider -l 3 "$ROOT/tests/data/blade.off" "$BLADE3" >&2
+  ninja -C "$BUILD" make_meshes >&2
+  "$BUILD/bench/make_meshes" "$ROOT/tests/data/blade.off" "$DATA/blade_loop" 3 >&2
 fi
 
 mesh_path() {
@@ -80,15 +81,12 @@ run() {
 # 3. The runs.
 start=$SECONDS
 for mesh in $MESHES; do
-  # geo: the default (paper's) criteria; topo: --topology-only; geoma1: default criteria but
-  # --min-angle 1, because every triangle of the blade has an angle below 8.1 degrees, so the
-  # default 10-degree minimum rejects every collapse on blade3 (0 vertices removed).
-  crits="geo topo"
-  [[ $mesh == blade3 ]] && crits="geo topo geoma1"
-  for crit in $crits; do
+  # geo: the default criteria and schedule (deterministic rounds); topo: --topology-only;
+  # free: the default criteria with the paper's free schedule (SPEs race for neighbourhoods).
+  for crit in geo topo free; do
     extra=()
     [[ $crit == topo ]] && extra=(--topology-only)
-    [[ $crit == geoma1 ]] && extra=(--min-angle 1)
+    [[ $crit == free ]] && extra=(--schedule free)
     for n in $SPES; do
       run "${mesh}_${crit}_cell_s${n}" "$mesh" "${extra[@]}" --backend cell --spes "$n"
     done
@@ -97,10 +95,6 @@ for mesh in $MESHES; do
   for k in 1 2; do
     run "${mesh}_geo_cell_s8_c64_k${k}" "$mesh" --backend cell --spes 8 --ls-cache-kib 64 \
       --spe-threads "$k"
-    if [[ $mesh == blade3 ]]; then
-      run "${mesh}_geoma1_cell_s8_c64_k${k}" "$mesh" --min-angle 1 --backend cell --spes 8 \
-        --ls-cache-kib 64 --spe-threads "$k"
-    fi
   done
 done
 rm -f "$OUT/mesh_out.off"
@@ -117,11 +111,12 @@ log "all runs done in $((SECONDS - start)) s"
 cat "$OUT/machine.txt" "$OUT/tables.md"
 
 if command -v gnuplot >/dev/null; then
-  gnuplot -e "datadir='$OUT'; outfile='$ROOT/docs/cell-speedup.svg'; kind='modeled'" \
-    "$ROOT/bench/cell_study.gp"
-  gnuplot -e "datadir='$OUT'; outfile='$ROOT/docs/cell-speedup-measured.svg'; kind='measured'" \
-    "$ROOT/bench/cell_study.gp"
-  log "wrote docs/cell-speedup.svg and docs/cell-speedup-measured.svg"
+  for kind in modeled measured; do
+    suffix=""; [[ $kind == measured ]] && suffix="-measured"
+    gnuplot -e "datadir='$OUT'; outfile='$ROOT/docs/cell-speedup$suffix.png'; kind='$kind'" \
+      "$ROOT/bench/cell_study.gp"
+  done
+  log "wrote docs/cell-speedup.png and docs/cell-speedup-measured.png"
 else
-  log "gnuplot not found: no plots"
+  log "gnuplot not found (apt-get install -y gnuplot-nox): no plots"
 fi

@@ -34,6 +34,7 @@
 #include "cellsim/runtime.h"
 #include "cellsim/software_cache.h"
 #include "cellsim/spe_context.h"
+#include "cellsim/spe_sort.h"
 #include "cellsim/work_plan.h"
 
 #endif  // FEMSIMP_CELLSIM_CELLSIM_H_

@@ -28,6 +28,11 @@ struct CostModel {
   uint64_t atomic_putlluc_cycles = 100;
   uint64_t atomic_load_cycles = 400;
 
+  // One step of a merge on the SPU (cellsim/spe_sort.h): compare two 64-bit keys (no native
+  // 64-bit compare: a few word compares), select, store; the same figure as the PPE's
+  // comparison-and-move that the engine charges for its sequential sort.
+  uint64_t sort_merge_cycles = 8;
+
   // Saving and restoring the SPU registers of one software-managed thread.
   uint64_t thread_switch_cycles = 50;
 

@@ -1,5 +1,6 @@
 // The cell back end: the removal kernel on N emulated SPEs (cellsim), one kernel per software
 // thread, each SPE visiting its share of the candidates in cost order.
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <vector>
@@ -7,19 +8,24 @@
 #include "absl/strings/str_cat.h"
 #include "engine/cell_port.h"
 #include "engine/removal_backend.h"
+#include "engine/spatial_key.h"
 
 namespace femsimp {
 namespace {
 
 // Modeled cycles of the work done outside the SPE kernel (documented in docs/CELLSIM.md):
 // the cost of one vertex (one-ring walk and angle sum, parallel over the SPEs as in the paper)
-// and one comparison-and-move of the PPE's sequential sort.
+// and one comparison-and-move of a sort on the PPE. The pass's sort runs on the SPEs
+// (SortPass); the PPE sorts only in the rounds' choice of winners.
 constexpr uint64_t kCostCyclesPerVertex = 400;
 constexpr uint64_t kSortCyclesPerElementLevel = 8;
 // Deterministic rounds (engine/rounds.h): each candidate's fan box (its one-ring walk, as for
 // the cost) is one more SPE run, parallel over the SPEs; choosing the winners (a sort of the
-// boxes and a sweep) is PPE work, like the pass's sort.
+// boxes and a sweep, greedy in cost order) is PPE work.
 constexpr uint64_t kFanBoxCyclesPerCandidate = 400;
+// The free schedule's split (SplitBySpace): a candidate's spatial key, from the vertex the
+// cost phase has just read (three scalings and a bit interleave).
+constexpr uint64_t kSpatialKeyCyclesPerCandidate = 40;
 constexpr size_t kSoftwareThreadStack = 48 * 1024;
 
 CellPassCounters ToPassCounters(const cellsim::SpeCounters& c) {
@@ -41,21 +47,38 @@ class CellBackend final : public RemovalBackend {
  public:
   CellBackend(Mesh& mesh, const KernelConfig& kernel, const CellOptions& options,
               std::unique_ptr<cellsim::Runtime> runtime)
-      : mesh_(mesh), kernel_(kernel), options_(options), runtime_(std::move(runtime)) {}
+      : mesh_(mesh),
+        kernel_(kernel),
+        options_(options),
+        runtime_(std::move(runtime)),
+        spatial_(mesh.vertices(), mesh.vertex_capacity()) {}
 
   int contexts() const override { return runtime_->num_spes(); }
+
+  // Allocates the sort's keys and scratch (one per vertex, whole quadwords) and lets the SPEs
+  // reach them.
+  absl::Status AllocateSortKeys() {
+    const size_t n = std::max<size_t>(2, (size_t(mesh_.vertex_capacity()) + 1) & ~size_t{1});
+    for (int i = 0; i < 2; ++i) {
+      keys_[i].assign(n, 0);
+      if (absl::Status s = runtime_->RegisterMainMemory(keys_[i].data(), n * sizeof(uint64_t),
+                                                        i == 0 ? "sort keys" : "sort scratch");
+          !s.ok())
+        return s;
+    }
+    return absl::OkStatus();
+  }
 
   absl::Status RunRemoval(const RemovalPhase& phase, PassStats& stats) override {
     const int n = runtime_->num_spes();
     runtime_->ResetCounters();
-    uint64_t sort_cycles = 0, cost_cycles = 0, claim_cycles = 0;
+    uint64_t sort_cycles = 0, cost_cycles = 0, claim_cycles = 0, spe_sort_cycles = 0;
     if (phase.pass_start) {
-      // PPE: the sequential sort of the removable vertices.
-      const double sorted = static_cast<double>(phase.sorted);
-      sort_cycles = static_cast<uint64_t>(sorted * std::max(1.0, std::log2(std::max(2.0, sorted))) *
-                                          kSortCyclesPerElementLevel);
-      // SPEs: the cost of every vertex, split evenly.
+      // SPEs: the cost of every vertex, split evenly; then they sort the removable vertices.
       cost_cycles = kCostCyclesPerVertex * mesh_.vertex_capacity() / n;
+      absl::StatusOr<uint64_t> sorted = SortPass(phase);
+      if (!sorted.ok()) return sorted.status();
+      spe_sort_cycles = *sorted;
     }
     if (phase.claimed > 0) {
       const double claimed = static_cast<double>(phase.claimed);
@@ -66,8 +89,15 @@ class CellBackend final : public RemovalBackend {
     }
 
     std::vector<std::vector<uint32_t>> lists(n);
-    for (size_t i = 0; i < phase.count; ++i)
-      lists[phase.blocks ? i * n / phase.count : i % n].push_back(phase.candidates[i]);
+    uint64_t split_cycles = 0;
+    if (phase.blocks || n == 1) {
+      for (size_t i = 0; i < phase.count; ++i)
+        lists[i * n / phase.count].push_back(phase.candidates[i]);
+    } else {
+      absl::StatusOr<uint64_t> split = SplitBySpace(phase, lists);
+      if (!split.ok()) return split.status();
+      split_cycles = *split;
+    }
     std::vector<std::span<const uint32_t>> spans(lists.begin(), lists.end());
     std::vector<KernelStats> per_spe(n);
     const auto start = std::chrono::steady_clock::now();
@@ -107,18 +137,75 @@ class CellBackend final : public RemovalBackend {
       stats.cell_per_spe[i] += p;
     }
     stats.ppe_cycles += sort_cycles;
-    stats.modeled_pass_cycles +=
-        cost_cycles + sort_cycles + claim_cycles + runtime_->last_run_cycles();
+    stats.modeled_pass_cycles += cost_cycles + spe_sort_cycles + split_cycles + sort_cycles +
+                                 claim_cycles + runtime_->last_run_cycles();
     // Host threads run the SPEs; their summed time is the measured parallel work.
     stats.busy_seconds += wall * std::min(n, static_cast<int>(std::thread::hardware_concurrency()));
     return absl::OkStatus();
   }
 
  private:
+  // The pass's sort on the SPEs (cellsim/spe_sort.h); returns its modeled cycles. The SPEs
+  // sort what the cost phase leaves in main memory, one key per removable vertex in vertex
+  // order. The key used here is the vertex's rank in the order the engine made (its host
+  // sort) above its id: it orders as the cost keys do, so every comparison and move is the one
+  // the cost keys would take, and the SPEs' result can be checked against that order.
+  absl::StatusOr<uint64_t> SortPass(const RemovalPhase& phase) {
+    if (phase.sorted == 0) return 0;  // (an empty order may have no array at all)
+    if (phase.order == nullptr)
+      return absl::InternalError("cell back end: a pass started without its order of vertices");
+    const uint32_t nv = mesh_.vertex_capacity();
+    rank_.assign(nv, kNone);
+    for (size_t i = 0; i < phase.sorted; ++i) rank_[phase.order[i]] = static_cast<uint32_t>(i);
+    uint64_t* keys = keys_[0].data();
+    size_t m = 0;
+    for (uint32_t v = 0; v < nv; ++v)
+      if (rank_[v] != kNone) keys[m++] = (uint64_t{rank_[v]} << 32) | v;
+    if (m % 2 != 0) keys[m++] = ~uint64_t{0};  // the sort takes whole quadwords
+    absl::StatusOr<cellsim::SpeSortStats> sorted =
+        cellsim::SortOnSpes(*runtime_, keys, keys_[1].data(), m);
+    if (!sorted.ok()) return sorted.status();
+    for (size_t i = 0; i < phase.sorted; ++i)
+      if (keys[i] != ((uint64_t{i} << 32) | phase.order[i]))
+        return absl::InternalError(absl::StrCat(
+            "cell back end: the SPEs' sort put vertex ", uint32_t(keys[i]), " at position ", i,
+            " of the pass's order, which has vertex ", phase.order[i], " there"));
+    return sorted->elapsed_cycles;
+  }
+
+  // The free schedule's split: SPE i takes the candidates in the i-th of n equal ranges of a
+  // spatial order, each SPE in cost order (as the paper's split keeps them), so that its
+  // neighbourhoods lie together (more cache hits) and rarely touch another SPE's (fewer lock
+  // conflicts). The SPEs compute the candidates' spatial keys and sort them (with the index
+  // in cost order below the key); returns the modeled cycles. (Deterministic rounds hand their
+  // winners over in vertex order, and contiguous blocks of those are close in memory already.)
+  absl::StatusOr<uint64_t> SplitBySpace(const RemovalPhase& phase,
+                                        std::vector<std::vector<uint32_t>>& lists) {
+    const size_t n = lists.size(), count = phase.count;
+    uint64_t* keys = keys_[0].data();
+    for (size_t i = 0; i < count; ++i)
+      keys[i] = (uint64_t{spatial_(mesh_.vertices()[phase.candidates[i]])} << 32) | i;
+    size_t m = count;
+    if (m % 2 != 0) keys[m++] = ~uint64_t{0};
+    absl::StatusOr<cellsim::SpeSortStats> sorted =
+        cellsim::SortOnSpes(*runtime_, keys, keys_[1].data(), m);
+    if (!sorted.ok()) return sorted.status();
+    region_.resize(count);
+    for (size_t r = 0; r < count; ++r) region_[uint32_t(keys[r])] = uint32_t(r * n / count);
+    for (size_t i = 0; i < count; ++i) lists[region_[i]].push_back(phase.candidates[i]);
+    return kSpatialKeyCyclesPerCandidate * count / n + sorted->elapsed_cycles;
+  }
+
   Mesh& mesh_;
   const KernelConfig kernel_;
   CellOptions options_;
   std::unique_ptr<cellsim::Runtime> runtime_;
+  // The sort's keys and its scratch in main memory (registered), and the ranks it starts from.
+  // (operator new aligns them to 16 bytes, as DMA needs)
+  std::array<std::vector<uint64_t>, 2> keys_;
+  std::vector<uint32_t> rank_;
+  const SpatialKey spatial_;
+  std::vector<uint32_t> region_;  // SplitBySpace: each candidate's SPE
 };
 
 }  // namespace
@@ -152,8 +239,8 @@ absl::StatusOr<std::unique_ptr<RemovalBackend>> MakeCellBackend(Mesh& mesh,
             mesh.quadrics(), mesh.vertex_capacity() * sizeof(QuadricQ), "quadrics");
         !s.ok())
       return s;
-  // The software threads' stacks must fit next to the cache: fail now with a clear message
-  // rather than on the first pass.
+  // The software threads' stacks, and between runs the sort's buffers, must fit next to the
+  // cache: fail now with a clear message rather than on the first pass.
   const size_t ls = config.spe.local_store_bytes, cache = config.spe.cache.size_bytes;
   const size_t stacks = size_t(options.spe_threads) * kSoftwareThreadStack;
   if (cache + stacks + cache / 4 > ls)
@@ -161,8 +248,13 @@ absl::StatusOr<std::unique_ptr<RemovalBackend>> MakeCellBackend(Mesh& mesh,
         absl::StrCat("local store of ", ls / 1024, " KiB cannot hold a ", cache / 1024,
                      " KiB cache and ", options.spe_threads, " software thread stacks of ",
                      kSoftwareThreadStack / 1024, " KiB: lower --ls-cache-kib or --spe-threads"));
-  return std::unique_ptr<RemovalBackend>(
-      new CellBackend(mesh, kernel, options, *std::move(runtime)));
+  if (cache + cellsim::kSortLsBytes + cache / 4 > ls)
+    return absl::ResourceExhaustedError(absl::StrCat(
+        "local store of ", ls / 1024, " KiB cannot hold a ", cache / 1024, " KiB cache and the ",
+        cellsim::kSortLsBytes / 1024, " KiB the SPEs sort in: lower --ls-cache-kib"));
+  auto backend = std::make_unique<CellBackend>(mesh, kernel, options, *std::move(runtime));
+  if (absl::Status s = backend->AllocateSortKeys(); !s.ok()) return s;
+  return std::unique_ptr<RemovalBackend>(std::move(backend));
 }
 
 }  // namespace femsimp

@@ -1,6 +1,7 @@
 // A back end runs the removal phase of a pass: the sorted candidates, split uniformly over its
-// contexts (candidate i goes to context i mod N, so every context works in cost order; or in
-// contiguous blocks, RemovalPhase::blocks), each
+// contexts (candidate i goes to context i mod N, so every context works in cost order; the cell
+// back end gives each SPE a region of the mesh instead, still in cost order; or in contiguous
+// blocks, RemovalPhase::blocks), each
 // context running the one candidate loop (RunCandidates) through the back end's memory port.
 // The back end supplies memory access (the port), locking (the port's status words) and
 // scheduling (threads, or SPEs and their software threads); the loop and the kernel are shared.
@@ -45,6 +46,9 @@ struct RemovalPhase {
   // Each context takes a contiguous block of the candidates instead of every N-th one: the
   // rounds hand over their winners by vertex number, so a block is close in memory.
   bool blocks = false;
+  // The pass's removable vertices in the order sorted (`sorted` of them): the cell back end
+  // sorts them again on its SPEs, to model that sort's cost from the work it does.
+  const uint32_t* order = nullptr;
 
   bool Stopped() const {
     return stop->load(std::memory_order_relaxed) || budget->stop.load(std::memory_order_relaxed);

@@ -327,6 +327,7 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
                        sorted.size(), &budget,
                        &stop,         control.cancelled ? &control.cancelled : &no_cancel};
     phase.fresh_caches = seams_moved;
+    phase.order = sorted.data();
     // Remove: each context runs the kernel on its candidates.
     if (absl::Status s =
             rounds ? rounds->RunPass(*backend, phase, stats) : backend->RunRemoval(phase, stats);

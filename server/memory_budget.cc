@@ -22,7 +22,8 @@ uint64_t ReadLimit(const char* path) {
 uint64_t EstimateJobBytes(uint64_t vertices, uint64_t faces, const SimplifyOptions& options) {
   uint64_t bytes = kJobBaseBytes + kBytesPerVertex * vertices + kBytesPerFace * faces;
   if (options.backend == Backend::kCell)
-    bytes += uint64_t(options.cell.spes) * uint64_t(options.cell.local_store_kib) * 1024;
+    bytes += uint64_t(options.cell.spes) * uint64_t(options.cell.local_store_kib) * 1024 +
+             kCellBytesPerVertex * vertices;
   return bytes;
 }
 

@@ -20,10 +20,13 @@ namespace femsimp::server {
 // its ~F/2 vertices (femur subdivided: 33.6 MB for 125 k faces, 130 MB for 499 k; blade: 45 MB
 // for 260 k, 203 MB for 1.04 M), ~38 bytes more per vertex of an unwelded soup (3 per face,
 // welded by the repair). The factors bound every one of those by 13 % or more; the cell back
-// end adds its local stores. Face groups and fields (a few bytes per face each) are not counted.
+// end adds its local stores and, per vertex, the SPE sort's key and scratch (8 bytes each), the
+// rank it is made from and the free schedule's region (4 each). Face groups and fields (a few
+// bytes per face each) are not counted.
 inline constexpr uint64_t kJobBaseBytes = uint64_t{4} << 20;
 inline constexpr uint64_t kBytesPerVertex = 64;
 inline constexpr uint64_t kBytesPerFace = 256;
+inline constexpr uint64_t kCellBytesPerVertex = 24;
 uint64_t EstimateJobBytes(uint64_t vertices, uint64_t faces, const SimplifyOptions& options);
 
 // The memory this process may use: the smaller of the physical memory and the cgroup's limit

@@ -104,6 +104,27 @@ TEST(CellBackend, CancellationStopsInsideAPassWithAValidMesh) {
   }
 }
 
+// Far more SPEs than the paper's 8: the deterministic schedule's output does not depend on the
+// SPE count (the pass's sort runs on the SPEs and is checked against the engine's order), and
+// the modeled time still falls.
+TEST(CellBackend, ManySpesGiveTheNativeOutput) {
+  const RawMesh raw = testing::LoadTestMesh("fandisk.off");
+  SimplifyOptions native;
+  native.threads = 1;
+  const CellRun reference = testing::SimplifyChecked(raw, native);
+  const CellRun eight = RunCell(raw, 8, 64, 1);
+  for (int spes : {64, 128}) {
+    const CellRun run = RunCell(raw, spes, 64, 1);
+    ExpectValid(raw, run);
+    EXPECT_EQ(run.output.positions, reference.output.positions) << spes;
+    EXPECT_EQ(run.output.triangles, reference.output.triangles) << spes;
+    ASSERT_EQ(run.result.passes.size(), reference.result.passes.size()) << spes;
+    EXPECT_EQ(run.result.passes[0].cell_per_spe.size(), size_t(spes));
+    EXPECT_LT(run.result.passes[0].modeled_pass_cycles, eight.result.passes[0].modeled_pass_cycles)
+        << spes;
+  }
+}
+
 TEST(CellBackend, CacheThatIsNotAPowerOfTwoIsRejected) {
   SimplifyOptions options;
   options.backend = Backend::kCell;
@@ -111,17 +132,30 @@ TEST(CellBackend, CacheThatIsNotAPowerOfTwoIsRejected) {
   EXPECT_NE(ValidateOptions(options).message().find("ls_cache_kib"), std::string::npos);
 }
 
-TEST(CellBackend, CacheAndStacksThatDoNotFitAreRejected) {
-  SimplifyOptions options;
-  options.backend = Backend::kCell;
-  options.cell.ls_cache_kib = 128;
-  options.cell.spe_threads = 4;
+// A local store too small for what the cell back end puts in it fails before the first pass,
+// naming what does not fit.
+void ExpectLocalStoreRefused(const SimplifyOptions& options, const std::string& naming) {
   absl::StatusOr<Mesh> mesh = Mesh::Build(testing::LoadTestMesh("femur.off"));
   ASSERT_TRUE(mesh.ok());
   absl::StatusOr<SimplifyResult> r = Simplify(*mesh, options);
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.status().code(), absl::StatusCode::kResourceExhausted);
-  EXPECT_NE(r.status().message().find("local store"), std::string::npos) << r.status();
+  EXPECT_NE(r.status().message().find(naming), std::string::npos) << r.status();
+}
+
+TEST(CellBackend, CacheAndStacksThatDoNotFitAreRejected) {
+  SimplifyOptions options;
+  options.backend = Backend::kCell;
+  options.cell.ls_cache_kib = 128;
+  options.cell.spe_threads = 4;
+  ExpectLocalStoreRefused(options, "local store");
+}
+
+TEST(CellBackend, LocalStoreWithoutRoomForTheSortIsRejected) {
+  SimplifyOptions options;
+  options.backend = Backend::kCell;
+  options.cell.local_store_kib = 128;  // the 64 KiB cache and one 48 KiB stack fit, the sort not
+  ExpectLocalStoreRefused(options, "sort");
 }
 
 }  // namespace

@@ -597,7 +597,8 @@ TEST(MemoryBudget, EstimateGrowsWithTheDeclaredSizeAndTheCellLocalStores) {
   cell.backend = Backend::kCell;
   cell.cell.spes = 8;
   cell.cell.local_store_kib = 256;
-  EXPECT_EQ(server::EstimateJobBytes(1000, 2000, cell), small + 8 * 256 * 1024);
+  EXPECT_EQ(server::EstimateJobBytes(1000, 2000, cell),
+            small + 8 * 256 * 1024 + 1000 * server::kCellBytesPerVertex);
 }
 
 TEST(MemoryBudget, DefaultIsThreeQuartersOfTheMemoryTheServerMayUse) {
