@@ -5,34 +5,24 @@
 #include <cstdint>
 #include <vector>
 
+#include "engine/spatial_key.h"
+
 namespace femsimp {
 namespace {
 
 // 10 bits per axis: the 30-bit code and a 32-bit index share one 64-bit sort key; finer cells
 // would only reorder elements already within a few cache lines of each other.
-constexpr int kBitsPerAxis = 10;
-constexpr double kCells = double(1 << kBitsPerAxis);
-
-uint64_t Spread(uint64_t x) {  // the 10 bits of x to every third bit
-  x &= 0x3ff;
-  x = (x | (x << 16)) & 0x30000ff;
-  x = (x | (x << 8)) & 0x300f00f;
-  x = (x | (x << 4)) & 0x30c30c3;
-  x = (x | (x << 2)) & 0x9249249;
-  return x;
-}
+constexpr double kCells = double(1 << SpatialKey::kBitsPerAxis);
 
 struct Grid {
   double lo[3] = {0, 0, 0};
   double scale = 0.0;  // cells per model unit
   uint64_t Code(double x, double y, double z) const {
     const double p[3] = {x, y, z};
-    uint64_t code = 0;
-    for (int a = 0; a < 3; ++a) {
-      const double c = std::clamp((p[a] - lo[a]) * scale, 0.0, kCells - 1.0);
-      code |= Spread(static_cast<uint64_t>(c)) << a;
-    }
-    return code;
+    uint32_t cell[3];
+    for (int a = 0; a < 3; ++a)
+      cell[a] = static_cast<uint32_t>(std::clamp((p[a] - lo[a]) * scale, 0.0, kCells - 1.0));
+    return Morton3(cell[0], cell[1], cell[2]);
   }
 };
 
