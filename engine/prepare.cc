@@ -1,5 +1,6 @@
 #include "engine/prepare.h"
 
+#include <chrono>
 #include <string>
 #include <utility>
 
@@ -30,6 +31,12 @@ absl::Status DefectsLeft(const RepairReport& report) {
 }  // namespace
 
 absl::StatusOr<PreparedMesh> PrepareMesh(RawMesh raw, const RepairOptions& options) {
+  using Clock = std::chrono::steady_clock;
+  const auto seconds_since = [](Clock::time_point t) {
+    return std::chrono::duration<double>(Clock::now() - t).count();
+  };
+  PrepareTimes times;
+  const Clock::time_point repair_start = Clock::now();
   absl::StatusOr<RepairResult> repaired = RepairMesh(raw, options);
   if (!repaired.ok()) return repaired.status();
   if (repaired->report.num_defects_left() > repaired->report.count(RepairKind::kSeamEdge))
@@ -43,10 +50,13 @@ absl::StatusOr<PreparedMesh> PrepareMesh(RawMesh raw, const RepairOptions& optio
     if (!split.ok()) return split.status();
     seam_map = *std::move(split);
   }
+  times.repair_seconds = seconds_since(repair_start);
+  const Clock::time_point build_start = Clock::now();
   absl::StatusOr<Mesh> mesh = Mesh::Build(raw);
   if (!mesh.ok()) return mesh.status();
+  times.build_seconds = seconds_since(build_start);
   return PreparedMesh{*std::move(mesh), std::move(repaired->report), std::move(repaired->seams),
-                      std::move(seam_map)};
+                      std::move(seam_map), times};
 }
 
 absl::StatusOr<RawMesh> OutputMesh(const Mesh& mesh, const SeamMap& seams) {
