@@ -8,7 +8,9 @@ For each option set, side by side in one run and interleaved (local, server, loc
   server    `femsimp simplify IN OUT --server` through a femsimp-server on loopback (the client's
             wall), a fresh server per repetition (--workers 1), its peak RSS (VmHWM) and its
             per-stage histograms (femsimp_stage_duration_seconds) scraped after the job.
-Best of REPS for each figure.
+Best of REPS for each figure. On a shared, loaded machine the engine's time varies more than
+the service adds, so the script also reports what each path adds around the engine: its wall
+minus that same run's engine seconds (the remote run's from the Result).
 
   bench/service_overhead.py [--mesh M] [--reps N] [--threads T]
 Default mesh: bench/data/blade_loop3.ply
@@ -101,14 +103,17 @@ def main():
                 engine = json.load(open(stats))["engine_seconds"]
                 keep("engine", engine)
                 keep("local", wall)
+                keep("local_around", wall - engine)
                 keep("local_rss", rss)
                 proc, port, metrics_port = start_server(args.build, args.threads,
                                                         os.path.join(work, "server.log"))
                 try:
                     wall, _ = timed([cli, "simplify", args.mesh, os.path.join(work, "remote" + ext),
-                                     "--quiet", "--threads", str(args.threads), "--server",
-                                     f"127.0.0.1:{port}"] + flags, work)
+                                     "--quiet", "--threads", str(args.threads), "--stats-json",
+                                     stats, "--server", f"127.0.0.1:{port}"] + flags, work)
                     keep("server", wall)
+                    keep("server_engine", json.load(open(stats))["engine_seconds"])
+                    keep("server_around", wall - json.load(open(stats))["engine_seconds"])
                     keep("server_rss", peak_rss_kib(proc.pid))
                     for stage, seconds in stage_seconds(metrics_port).items():
                         keep("stage_" + stage, seconds)
@@ -131,6 +136,18 @@ def main():
               f"{b['local'] / b['engine']:.2f} | {b['server'] / b['local']:.2f} | "
               f"{b['local_rss'] / 1024:.1f} | {b['server_rss'] / 1024:.1f} | "
               f"{b['server_rss'] / b['local_rss']:.2f} |")
+    print()
+    print("What each path adds around the engine (wall minus that run's own engine seconds, "
+          "best of the repetitions), and the ratio it gives at the best engine time: "
+          "(engine + server around) / (engine + local around):")
+    print()
+    print("| options | server's engine s | local around s | server around s | "
+          "server / local at equal engine time |")
+    print("|---|---:|---:|---:|---:|")
+    for name, b in rows:
+        e = b["engine"]
+        print(f"| {name} | {b['server_engine']:.3f} | {b['local_around']:.3f} | "
+              f"{b['server_around']:.3f} | {(e + b['server_around']) / (e + b['local_around']):.2f} |")
     print()
     print("Server stages (femsimp_stage_duration_seconds, best of the repetitions, s):")
     print()
