@@ -1,6 +1,7 @@
 #include "engine/prepare.h"
 
 #include <algorithm>
+#include <chrono>
 #include <string>
 #include <utility>
 
@@ -47,6 +48,12 @@ void RenumberSeams(const std::vector<uint32_t>& new_id, std::vector<SeamEdge>& s
 }  // namespace
 
 absl::StatusOr<PreparedMesh> PrepareMesh(RawMesh raw, const RepairOptions& options) {
+  using Clock = std::chrono::steady_clock;
+  const auto seconds_since = [](Clock::time_point t) {
+    return std::chrono::duration<double>(Clock::now() - t).count();
+  };
+  PrepareTimes times;
+  const Clock::time_point repair_start = Clock::now();
   absl::StatusOr<RepairResult> repaired = RepairMesh(raw, options);
   if (!repaired.ok()) return repaired.status();
   if (repaired->report.num_defects_left() > repaired->report.count(RepairKind::kSeamEdge))
@@ -54,7 +61,9 @@ absl::StatusOr<PreparedMesh> PrepareMesh(RawMesh raw, const RepairOptions& optio
 
   // Curve order for the kernel's memory walks (engine/spatial_order.h); the repair's report
   // keeps the input's facet and vertex ids.
+  const Clock::time_point order_start = Clock::now();
   const std::vector<uint32_t> new_id = SortSpatially(raw);
+  times.order_seconds = seconds_since(order_start);
   if (!new_id.empty()) RenumberSeams(new_id, repaired->seams);
 
   // Parts of an assembly that share faces or edges: cut into manifold sheets along the seams,
@@ -65,10 +74,13 @@ absl::StatusOr<PreparedMesh> PrepareMesh(RawMesh raw, const RepairOptions& optio
     if (!split.ok()) return split.status();
     seam_map = *std::move(split);
   }
+  times.repair_seconds = seconds_since(repair_start) - times.order_seconds;
+  const Clock::time_point build_start = Clock::now();
   absl::StatusOr<Mesh> mesh = Mesh::Build(raw);
   if (!mesh.ok()) return mesh.status();
+  times.build_seconds = seconds_since(build_start);
   return PreparedMesh{*std::move(mesh), std::move(repaired->report), std::move(repaired->seams),
-                      std::move(seam_map)};
+                      std::move(seam_map), times};
 }
 
 absl::StatusOr<RawMesh> OutputMesh(const Mesh& mesh, const SeamMap& seams) {

@@ -16,6 +16,14 @@
 
 namespace femsimp {
 
+// Wall seconds of PrepareMesh's steps, for callers that report them (the server's per-stage
+// metrics).
+struct PrepareTimes {
+  double repair_seconds = 0;  // RepairMesh (or the strict check) and SplitSeams
+  double order_seconds = 0;   // SortSpatially
+  double build_seconds = 0;   // Mesh::Build
+};
+
 struct PreparedMesh {
   Mesh mesh;
   // What the repair stage changed (empty in strict mode, where nothing may be changed).
@@ -23,6 +31,7 @@ struct PreparedMesh {
   // The non-manifold edges kept as seams, and how the mesh was split along them.
   std::vector<SeamEdge> seams;
   SeamMap seam_map;
+  PrepareTimes times;
 };
 
 // Repairs `raw` (options.mode kOn) or checks it strictly (kOff), then builds the engine's mesh.

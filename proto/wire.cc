@@ -327,33 +327,42 @@ std::vector<std::string> FieldNames(const RawMesh& mesh) {
   return names;
 }
 
+size_t ChunkCount(const RawMesh& mesh, size_t chunk_vertices, size_t chunk_faces) {
+  const size_t by_vertices = (mesh.num_vertices() + chunk_vertices - 1) / chunk_vertices;
+  const size_t by_faces = (mesh.num_faces() + chunk_faces - 1) / chunk_faces;
+  return std::max(by_vertices, by_faces);
+}
+
+void FillChunk(const RawMesh& mesh, size_t k, v1::MeshChunk* chunk, size_t chunk_vertices,
+               size_t chunk_faces) {
+  const size_t nv = mesh.num_vertices(), nf = mesh.num_faces();
+  const size_t v = k * chunk_vertices, f = k * chunk_faces;
+  if (v < nv) {
+    size_t end = std::min(nv, v + chunk_vertices);
+    chunk->mutable_positions()->Add(mesh.positions.begin() + 3 * v,
+                                    mesh.positions.begin() + 3 * end);
+  }
+  if (f < nf) {
+    size_t end = std::min(nf, f + chunk_faces);
+    chunk->mutable_indices()->Add(mesh.triangles.begin() + 3 * f, mesh.triangles.begin() + 3 * end);
+    if (!mesh.face_groups.empty())
+      chunk->mutable_face_groups()->Add(mesh.face_groups.begin() + f,
+                                        mesh.face_groups.begin() + end);
+    for (const FaceField& field : mesh.face_fields)
+      chunk->add_face_fields()->mutable_values()->Add(field.values.begin() + f,
+                                                      field.values.begin() + end);
+  }
+}
+
 size_t ForEachChunk(const RawMesh& mesh, const std::function<bool(v1::MeshChunk&)>& emit,
                     size_t chunk_vertices, size_t chunk_faces) {
-  const size_t nv = mesh.num_vertices(), nf = mesh.num_faces();
-  const bool groups = !mesh.face_groups.empty();
-  size_t n = 0;
-  for (size_t v = 0, f = 0; v < nv || f < nf; v += chunk_vertices, f += chunk_faces) {
+  const size_t count = ChunkCount(mesh, chunk_vertices, chunk_faces);
+  for (size_t k = 0; k < count; ++k) {
     v1::MeshChunk chunk;
-    if (v < nv) {
-      size_t end = std::min(nv, v + chunk_vertices);
-      chunk.mutable_positions()->Add(mesh.positions.begin() + 3 * v,
-                                     mesh.positions.begin() + 3 * end);
-    }
-    if (f < nf) {
-      size_t end = std::min(nf, f + chunk_faces);
-      chunk.mutable_indices()->Add(mesh.triangles.begin() + 3 * f,
-                                   mesh.triangles.begin() + 3 * end);
-      if (groups)
-        chunk.mutable_face_groups()->Add(mesh.face_groups.begin() + f,
-                                         mesh.face_groups.begin() + end);
-      for (const FaceField& field : mesh.face_fields)
-        chunk.add_face_fields()->mutable_values()->Add(field.values.begin() + f,
-                                                       field.values.begin() + end);
-    }
-    ++n;
-    if (!emit(chunk)) break;
+    FillChunk(mesh, k, &chunk, chunk_vertices, chunk_faces);
+    if (!emit(chunk)) return k + 1;
   }
-  return n;
+  return count;
 }
 
 MeshAssembler::MeshAssembler(uint64_t vertices, uint64_t faces, bool face_groups,

@@ -52,6 +52,13 @@ std::vector<std::string> FieldNames(const RawMesh& mesh);
 
 const char* BackendName(Backend b);
 
+// How many chunks ForEachChunk cuts the mesh into, and chunk k of them (k < ChunkCount), so that
+// a caller may encode one chunk while it sends another.
+size_t ChunkCount(const RawMesh& mesh, size_t chunk_vertices = kChunkVertices,
+                  size_t chunk_faces = kChunkFaces);
+void FillChunk(const RawMesh& mesh, size_t k, v1::MeshChunk* chunk,
+               size_t chunk_vertices = kChunkVertices, size_t chunk_faces = kChunkFaces);
+
 // Calls emit for each chunk of the mesh, in order; stops early when emit returns false.
 // Returns the number of chunks emitted.
 size_t ForEachChunk(const RawMesh& mesh, const std::function<bool(v1::MeshChunk&)>& emit,

@@ -67,6 +67,7 @@ grpc::Status Job::TakeOutput(Output* out) {
   out->fe_check = std::move(fe_check_report_);
   fe_check_report_.reset();
   out->queue_seconds = Seconds(queued_at_, started_at_);
+  out->output_seconds = output_seconds_;
   return grpc::Status::OK;
 }
 
@@ -117,13 +118,14 @@ void Job::AddPass(const PassStats& pass) {
   cv_.notify_all();
 }
 
-void Job::Succeed(const SimplifyResult& result, RawMesh output,
+void Job::Succeed(const SimplifyResult& result, RawMesh output, double output_seconds,
                   std::optional<fecheck::FeCheckReport> fe_check) {
   {
     std::lock_guard<std::mutex> lock(mu_);
     if (!FinishLocked(JobState::kSucceeded, grpc::Status::OK)) return;
     result_ = result;
     output_ = std::move(output);
+    output_seconds_ = output_seconds;
     fe_check_report_ = std::move(fe_check);
   }
   cv_.notify_all();

@@ -77,6 +77,7 @@ class Job {
     SimplifyResult result;
     RawMesh mesh;
     double queue_seconds = 0;
+    double output_seconds = 0;  // the runner's OutputMesh (part of the encode stage)
     std::optional<fecheck::FeCheckReport> fe_check;  // when the job asked for it
   };
   // The final status of an ended job; when it is OK, *out receives the result and the output.
@@ -92,7 +93,8 @@ class Job {
   std::optional<PreparedMesh> Start();
   void StartRemoval(int pass);          // a pass's removals begin
   void AddPass(const PassStats& pass);  // wakes the handler
-  void Succeed(const SimplifyResult& result, RawMesh output,
+  // output_seconds: how long OutputMesh took to make `output`.
+  void Succeed(const SimplifyResult& result, RawMesh output, double output_seconds,
                std::optional<fecheck::FeCheckReport> fe_check = std::nullopt);
   // Ends the job; false (and nothing changes) when it had ended already. The input goes.
   bool Finish(JobState final_state, grpc::Status status);
@@ -132,6 +134,7 @@ class Job {
   uint32_t passes_started_ = 0;  // passes whose removals began
   std::optional<SimplifyResult> result_;
   RawMesh output_;
+  double output_seconds_ = 0;
   std::optional<fecheck::FeCheckReport> fe_check_report_;
   grpc::Status status_;  // final once done()
   grpc::StatusCode cancel_code_ = grpc::StatusCode::OK;

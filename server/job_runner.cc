@@ -8,6 +8,7 @@
 #include "proto/wire.h"
 #include "server/log.h"
 #include "server/status_util.h"
+#include "server/stopwatch.h"
 
 namespace femsimp::server {
 
@@ -112,11 +113,13 @@ void JobRunner::Run(const std::shared_ptr<Job>& job) {
     if (copy.ok()) fe_input = *std::move(copy);
   }
   absl::StatusOr<SimplifyResult> result;
+  Stopwatch engine_time;
   try {
     result = Simplify(*mesh, o, control);
   } catch (const std::bad_alloc&) {
     result = out_of_memory("to simplify the mesh");
   }
+  if (result.ok()) metrics_.StageFinished(Stage::kEngine, o.backend, engine_time.seconds());
 
   grpc::Status status;
   if (!result.ok()) {
@@ -126,6 +129,8 @@ void JobRunner::Run(const std::shared_ptr<Job>& job) {
     status = job->cancel_status();
   }
   RawMesh output;
+  Stopwatch output_time;
+  double output_seconds = 0;
   if (result.ok() && status.ok()) {
     absl::StatusOr<RawMesh> out;
     try {
@@ -133,6 +138,7 @@ void JobRunner::Run(const std::shared_ptr<Job>& job) {
     } catch (const std::bad_alloc&) {
       out = out_of_memory("to write the simplified mesh");
     }
+    output_seconds = output_time.seconds();
     if (out.ok()) {
       output = *std::move(out);
     } else {
@@ -162,7 +168,7 @@ void JobRunner::Run(const std::shared_ptr<Job>& job) {
   else if (!status.ok())
     job->FinishCancelled();
   else
-    job->Succeed(*result, std::move(output), std::move(fe_report));
+    job->Succeed(*result, std::move(output), output_seconds, std::move(fe_report));
   registry_.MarkFinished(job);
 
   const double run_seconds = job->run_seconds();

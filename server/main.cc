@@ -1,4 +1,5 @@
 // femsimp-server: the gRPC simplification service.
+#include <malloc.h>
 #include <pthread.h>
 
 #include <csignal>
@@ -22,6 +23,12 @@ Exit codes: 0 stopped by a signal, 2 bad flags, 3 cannot listen.
 )";
 
 int main(int argc, char** argv) {
+  // glibc raises its mmap threshold to the largest block freed (up to 32 MiB); from then on the
+  // mesh-sized arrays come from the threads' heaps, which keep what is freed. A
+  // fixed threshold keeps every block of 1 MiB or more mmapped and gives it back when freed:
+  // peak RSS for the 1 M-face blade with the defaults 213 -> 155 MiB, the local CLI's 160 MiB
+  // (docs/BENCHMARKS.md, "The service at engine speed").
+  mallopt(M_MMAP_THRESHOLD, 1 << 20);
   femsimp::server::ServerConfig config;
   femsimp::flags::FlagSet flags("femsimp-server");
   femsimp::server::AddServerFlags(flags, &config);

@@ -15,9 +15,31 @@ using prometheus::Histogram;
 const Histogram::BucketBoundaries kJobBuckets = {0.01, 0.03, 0.1, 0.3, 1, 3, 10, 30, 100, 300};
 const Histogram::BucketBoundaries kPassBuckets = {0.0003, 0.001, 0.003, 0.01, 0.03,
                                                   0.1,    0.3,   1,     3,    10};
+const Histogram::BucketBoundaries kStageBuckets = {0.001, 0.003, 0.01, 0.03, 0.1, 0.3,
+                                                   1,     3,     10,   30,   100, 300};
 const Histogram::BucketBoundaries kSpeedupBuckets = {0.5, 1, 1.5, 2, 3, 4, 6, 8, 12, 16, 32, 64};
 
+const char* BackendLabel(Backend backend) { return backend == Backend::kCell ? "cell" : "native"; }
+
 }  // namespace
+
+const char* StageName(Stage stage) {
+  switch (stage) {
+    case Stage::kUpload:
+      return "upload";
+    case Stage::kRepair:
+      return "repair";
+    case Stage::kBuild:
+      return "build";
+    case Stage::kEngine:
+      return "engine";
+    case Stage::kEncode:
+      return "encode";
+    case Stage::kDownload:
+      return "download";
+  }
+  return "unknown";
+}
 
 std::optional<double> ModeledSpeedup(const SimplifyResult& r) {
   double sequential = 0, parallel = 0;
@@ -74,6 +96,11 @@ Metrics::Metrics()
                         .Name("femsimp_pass_duration_seconds")
                         .Help("Wall time of one simplification pass")
                         .Register(*registry_)),
+      stage_seconds_(prometheus::BuildHistogram()
+                         .Name("femsimp_stage_duration_seconds")
+                         .Help("Wall time of each stage of a job on the server (upload, repair, "
+                               "build, engine, encode, download)")
+                         .Register(*registry_)),
       passes_(prometheus::BuildCounter()
                   .Name("femsimp_passes_total")
                   .Help("Simplification passes run")
@@ -187,7 +214,7 @@ void Metrics::SetMemoryAdmitted(uint64_t bytes) {
 void Metrics::SetMemoryBudget(uint64_t bytes) { memory_budget_.Set(static_cast<double>(bytes)); }
 
 void Metrics::PassFinished(Backend backend, const PassStats& p) {
-  const std::string b = backend == Backend::kCell ? "cell" : "native";
+  const std::string b = BackendLabel(backend);
   pass_seconds_.Add({{"backend", b}}, kPassBuckets).Observe(p.seconds);
   passes_.Add({{"backend", b}}).Increment();
   vertices_removed_.Increment(static_cast<double>(p.removed));
@@ -212,7 +239,7 @@ void Metrics::Repaired(const RepairReport& report) {
 
 void Metrics::JobCompleted(Backend backend, int contexts, double job_seconds, double queue_seconds,
                            const SimplifyResult& r) {
-  const std::string b = backend == Backend::kCell ? "cell" : "native";
+  const std::string b = BackendLabel(backend);
   const prometheus::Labels labels = {{"backend", b}, {"contexts", std::to_string(contexts)}};
   job_seconds_.Add({{"backend", b}}, kJobBuckets).Observe(job_seconds);
   queue_seconds_.Add({}, kJobBuckets).Observe(queue_seconds);
@@ -231,6 +258,12 @@ void Metrics::JobCompleted(Backend backend, int contexts, double job_seconds, do
       last_modeled_speedup_.Add(labels).Set(*m);
     }
   }
+}
+
+void Metrics::StageFinished(Stage stage, Backend backend, double seconds) {
+  stage_seconds_
+      .Add({{"stage", StageName(stage)}, {"backend", BackendLabel(backend)}}, kStageBuckets)
+      .Observe(seconds);
 }
 
 }  // namespace femsimp::server

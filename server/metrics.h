@@ -25,6 +25,13 @@ namespace femsimp::server {
 // once SimplifyResult carries one. nullopt on native or without cell counters.
 std::optional<double> ModeledSpeedup(const SimplifyResult& r);
 
+// The stages of a job on the server, each observed once per job that gets through it
+// (femsimp_stage_duration_seconds{stage, backend}): upload (the spec's Accepted to the last
+// chunk, decoded into the soup), repair and build (PrepareMesh's two steps), engine (Simplify),
+// encode (the output compacted and cut into chunks), download (the result stream's writes).
+enum class Stage { kUpload, kRepair, kBuild, kEngine, kEncode, kDownload };
+const char* StageName(Stage stage);
+
 class Metrics {
  public:
   Metrics();
@@ -45,6 +52,7 @@ class Metrics {
   void Repaired(const RepairReport& report);
   void JobCompleted(Backend backend, int contexts, double job_seconds, double queue_seconds,
                     const SimplifyResult& r);
+  void StageFinished(Stage stage, Backend backend, double seconds);
 
  private:
   std::shared_ptr<prometheus::Registry> registry_;
@@ -58,6 +66,7 @@ class Metrics {
   prometheus::Family<prometheus::Histogram>& job_seconds_;
   prometheus::Family<prometheus::Histogram>& queue_seconds_;
   prometheus::Family<prometheus::Histogram>& pass_seconds_;
+  prometheus::Family<prometheus::Histogram>& stage_seconds_;
   prometheus::Family<prometheus::Counter>& passes_;
   prometheus::Counter& vertices_in_;
   prometheus::Counter& vertices_out_;

@@ -16,7 +16,9 @@
 #include "proto/wire.h"
 #include "server/log.h"
 #include "server/request_reader.h"
+#include "server/result_stream.h"
 #include "server/status_util.h"
+#include "server/stopwatch.h"
 
 namespace femsimp::server {
 namespace {
@@ -230,6 +232,7 @@ grpc::Status SimplifierService::RunJob(grpc::ServerContext* ctx, Stream* stream,
     return grpc::Status(grpc::StatusCode::CANCELLED, "client went away");
   }
 
+  Stopwatch upload_time;
   absl::StatusOr<RawMesh> raw = reader.ReadMesh(spec);
   upload.Done();
   if (std::string why = upload.expired(); !why.empty()) return WatchExpired(job->id(), why);
@@ -242,12 +245,17 @@ grpc::Status SimplifierService::RunJob(grpc::ServerContext* ctx, Stream* stream,
   if (!raw.ok()) {
     return ToGrpc(raw.status());
   }
+  const Backend backend = job->options().backend;
+  metrics_.StageFinished(Stage::kUpload, backend, upload_time.seconds());
   absl::StatusOr<PreparedMesh> prepared = PrepareMesh(*std::move(raw), ServerRepairOptions(*job));
   *raw = RawMesh();
   if (!prepared.ok()) {
     return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
                         Bounded(absl::StrCat("invalid mesh: ", prepared.status().message())));
   }
+  metrics_.StageFinished(Stage::kRepair, backend, prepared->times.repair_seconds);
+  metrics_.StageFinished(Stage::kBuild, backend,
+                         prepared->times.order_seconds + prepared->times.build_seconds);
   // An FE check needs a closed input: refused before the job queues, not after it ran.
   if (job->fe_check()) {
     absl::StatusOr<RawMesh> repaired = OutputMesh(prepared->mesh, prepared->seam_map);
@@ -344,19 +352,21 @@ grpc::Status SimplifierService::Follow(grpc::ServerContext* ctx, Stream* stream,
                                {.idle_seconds = config_.result_idle_seconds,
                                 .what = "result",
                                 .idle_flag = "--result_idle_seconds"});
-  bool ok = stream->Write(resp);
-  download.Touch();
-  if (ok)
-    wire::ForEachChunk(output.mesh, [&](v1::MeshChunk& chunk) {
-      v1::SimplifyResponse c;
-      c.mutable_chunk()->Swap(&chunk);
-      ok = stream->Write(c);
-      download.Touch();
-      return ok;
-    });
+  const auto write = [&](const v1::SimplifyResponse& r) {
+    const bool written = stream->Write(r);
+    download.Touch();
+    return written;
+  };
+  ChunkStreamTimes times{.encode_seconds = output.output_seconds};
+  Stopwatch result_write;
+  bool ok = write(resp);
+  times.write_seconds += result_write.seconds();
+  if (ok) ok = StreamMeshChunks(output.mesh, write, &times);
   download.Done();
   if (std::string why = download.expired(); !why.empty()) return WatchExpired(job->id(), why);
   if (!ok) return grpc::Status(grpc::StatusCode::CANCELLED, "client went away during the result");
+  metrics_.StageFinished(Stage::kEncode, job->options().backend, times.encode_seconds);
+  metrics_.StageFinished(Stage::kDownload, job->options().backend, times.write_seconds);
   return grpc::Status::OK;
 }
 

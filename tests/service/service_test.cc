@@ -627,6 +627,37 @@ TEST(Service, IdleConnectionsDoNotBlockMetrics) {
   EXPECT_LT(waited, 10.0);
 }
 
+// Each stage of a job on the server has its histogram, labelled by stage and back end: one job,
+// one observation of each; the stages the call runs one after the other fit in the call's time.
+TEST(Service, StageHistogramsCountEachStageOfAJobOnce) {
+  InProcessServer s;
+  RawMesh in = testing::LoadTestMesh("fandisk.off");
+  const auto start = std::chrono::steady_clock::now();
+  grpc::ClientContext ctx;
+  ASSERT_TRUE(cli::RemoteSimplify(s.stub(), ctx, RatioSpec(0.5), in).status.ok());
+  const double call =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const auto metrics =
+      testing::ParseMetrics(testing::HttpGet(s.server().metrics_port(), "/metrics"));
+  const auto find = [&](const std::string& series, const std::string& stage) {
+    for (const auto& [k, v] : metrics)
+      if (k.rfind(series + "{", 0) == 0 && k.find("backend=\"native\"") != std::string::npos &&
+          k.find("stage=\"" + stage + "\"") != std::string::npos)
+        return v;
+    ADD_FAILURE() << "no " << series << " for stage " << stage;
+    return -1.0;
+  };
+  double sequential = 0;
+  for (const char* stage : {"upload", "repair", "build", "engine", "encode", "download"}) {
+    EXPECT_EQ(find("femsimp_stage_duration_seconds_count", stage), 1) << stage;
+    const double seconds = find("femsimp_stage_duration_seconds_sum", stage);
+    EXPECT_GE(seconds, 0) << stage;
+    if (std::string(stage) != "encode" && std::string(stage) != "download") sequential += seconds;
+  }
+  EXPECT_GT(find("femsimp_stage_duration_seconds_sum", "engine"), 0);
+  EXPECT_LE(sequential, call);
+}
+
 TEST(Service, MetricsMove) {
   InProcessServer s;
   ASSERT_GT(s.server().metrics_port(), 0);

@@ -15,6 +15,7 @@
 #include "server/log.h"
 #include "server/memory_budget.h"
 #include "server/request_reader.h"
+#include "server/result_stream.h"
 #include "tests/service/test_util.h"
 
 namespace femsimp {
@@ -398,6 +399,48 @@ TEST(Wire, ChunkingCarriesFaceFields) {
     EXPECT_EQ(back->face_fields[k].name, mesh.face_fields[k].name);
     EXPECT_EQ(back->face_fields[k].values, mesh.face_fields[k].values);
   }
+}
+
+// The result stream sends what ForEachChunk cuts, in order (encoded a chunk ahead on a helper
+// thread), and stops at the first write that fails.
+TEST(ResultStream, SendsEveryChunkInOrderAndStopsAtAFailedWrite) {
+  RawMesh mesh = testing::MakeTorus(300, 300);  // 90k vertices, 180k faces: three chunks
+  mesh.face_groups.assign(mesh.num_faces(), 3);
+  mesh.face_fields = {{"pressure", std::vector<float>(mesh.num_faces(), 2.5f)}};
+  ASSERT_EQ(wire::ChunkCount(mesh), 3u);
+  wire::MeshAssembler assembler(mesh.num_vertices(), mesh.num_faces(), true,
+                                wire::FieldNames(mesh));
+  server::ChunkStreamTimes times;
+  size_t written = 0;
+  EXPECT_TRUE(server::StreamMeshChunks(
+      mesh,
+      [&](const v1::SimplifyResponse& r) {
+        ++written;
+        EXPECT_TRUE(r.has_chunk());
+        EXPECT_TRUE(assembler.Add(r.chunk()).ok());
+        return true;
+      },
+      &times));
+  EXPECT_EQ(written, 3u);
+  EXPECT_GT(times.encode_seconds, 0);
+  auto back = assembler.Finish();
+  ASSERT_TRUE(back.ok()) << back.status();
+  EXPECT_EQ(back->positions, mesh.positions);
+  EXPECT_EQ(back->triangles, mesh.triangles);
+  EXPECT_EQ(back->face_groups, mesh.face_groups);
+  EXPECT_EQ(back->face_fields[0].values, mesh.face_fields[0].values);
+
+  written = 0;
+  EXPECT_FALSE(server::StreamMeshChunks(
+      mesh,
+      [&](const v1::SimplifyResponse&) {
+        ++written;
+        return written < 2;
+      },
+      &times));
+  EXPECT_EQ(written, 2u);
+  EXPECT_TRUE(server::StreamMeshChunks(
+      RawMesh{}, [](const v1::SimplifyResponse&) { return false; }, &times));
 }
 
 TEST(Wire, AssemblerFaceFieldProblems) {
