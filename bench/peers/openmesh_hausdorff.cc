@@ -1,8 +1,6 @@
 #include "bench/peers/openmesh_hausdorff.h"
 
-#include <vector>
-
-#include "engine/io/openmesh.h"
+#include "bench/peers/openmesh_soup.h"
 
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
@@ -14,20 +12,9 @@
 
 namespace femsimp::bench {
 
-using TriMesh = OpenMesh::TriMesh_ArrayKernelT<>;
-
 PeerRun RunOpenMeshHausdorff(const RawMesh& input, double tolerance) {
   TriMesh mesh;
-  std::vector<TriMesh::VertexHandle> vh;
-  vh.reserve(input.num_vertices());
-  for (size_t v = 0; v < input.num_vertices(); ++v)
-    vh.push_back(mesh.add_vertex(TriMesh::Point(input.positions[3 * v], input.positions[3 * v + 1],
-                                                input.positions[3 * v + 2])));
-  for (size_t f = 0; f < input.num_faces(); ++f)
-    mesh.add_face(vh[input.triangles[3 * f]], vh[input.triangles[3 * f + 1]],
-                  vh[input.triangles[3 * f + 2]]);
-  mesh.request_face_normals();  // ModNormalFlipping needs them
-  mesh.update_face_normals();
+  ToTriMesh(input, mesh);
   PeerRun run;
   RunTimer timer(run);
   {
@@ -44,12 +31,7 @@ PeerRun RunOpenMeshHausdorff(const RawMesh& input, double tolerance) {
     mesh.garbage_collection();  // before the decimater releases its status flags
   }
   timer.Stop();
-  for (auto v : mesh.vertices()) {
-    const auto& p = mesh.point(v);
-    run.output.positions.insert(run.output.positions.end(), {p[0], p[1], p[2]});
-  }
-  for (auto f : mesh.faces())
-    for (auto v : mesh.fv_range(f)) run.output.triangles.push_back(static_cast<uint32_t>(v.idx()));
+  run.output = FromTriMesh(mesh);
   return run;
 }
 
