@@ -196,9 +196,7 @@ absl::StatusOr<MeshRows> RunMesh(const Args& a, const std::string& spec) {
     m.name = m.name.substr(0, m.name.find('.'));
   }
   absl::StatusOr<RawMesh> loaded = femsimp::ReadMeshFile(m.path);
-  if (!loaded.ok())
-    return absl::Status(loaded.status().code(),
-                        m.path + ": " + std::string(loaded.status().message()));
+  if (!loaded.ok()) return loaded.status();  // the reader's message names the file
   const RawMesh& in = *loaded;
   m.vertices = in.num_vertices();
   m.faces = in.num_faces();
@@ -366,7 +364,7 @@ femsimp::flags::FlagSet Flags(Args* a) {
              &a->blade4);
   set.String("--command", "TEXT", "the command printed below the table (default: this one)",
              &a->command);
-  femsimp::AddOptionFlag(set, "ratio", &a->target);
+  femsimp::AddOptionFlag(set, "ratio", &a->target, "0.1");
   return set;
 }
 
@@ -385,7 +383,7 @@ int main(int argc, char** argv) {
     return femsimp::flags::kUsageExit;
   }
   if (a.target.ratio <= 0) {
-    std::fprintf(stderr, "speed_table: --ratio must be above 0 (the table compares at a target)\n");
+    std::fprintf(stderr, "speed_table: --ratio 0 is refused: the table compares at a target\n");
     return femsimp::flags::kUsageExit;
   }
   if (a.command.empty())
