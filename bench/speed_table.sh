@@ -39,7 +39,7 @@ section = [heading, "", table.rstrip("\n"), ""]
 if heading in lines:
     start = lines.index(heading)
     end = next((i for i in range(start + 1, len(lines)) if lines[i].startswith("## ")), len(lines))
-    lines[start:end] = section + ([""] if end < len(lines) else [])
+    lines[start:end] = section
 else:
     while lines and lines[-1] == "":
         lines.pop()
