@@ -1,34 +1,25 @@
 // Engine benchmark: femsimp (paper's geometric criteria, topology only) against OpenMesh's
 // Decimater and meshoptimizer on one loaded mesh, interleaved, best of N; plus output quality.
 //
-// Memory: this binary replaces the global operator new/delete with counting versions, so the
-// figures are live heap bytes (malloc_usable_size) allocated by the engine or peer during the
-// run, peak minus the level before it. The input soup (RawMesh) is loaded before and excluded.
-// All three libraries allocate through operator new (meshoptimizer's default allocator is
-// ::operator new), so nothing is missed, and allocator caching cannot hide or inflate figures.
-#include <malloc.h>
-#include <sys/resource.h>
+// Memory: live heap bytes (bench/heap_counter.h) allocated by the engine or peer during the run,
+// peak minus the level before it. The input soup (RawMesh) is loaded before and excluded.
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
-#include <atomic>
-#include <cfloat>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <new>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include <meshoptimizer.h>
-
-#include "bench/peers/openmesh_mesh.h"
+#include "bench/heap_counter.h"
 #include "bench/peers/peer_run.h"
+#include "bench/speed_peers.h"
 #include "common/flags.h"
 #include "engine/io/mesh_io.h"
 #include "engine/mesh.h"
@@ -37,78 +28,21 @@
 #include "engine/simplify.h"
 #include "tests/judge/judge.h"
 
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-#include <OpenMesh/Tools/Decimater/DecimaterT.hh>
-#include <OpenMesh/Tools/Decimater/ModAspectRatioT.hh>
-#include <OpenMesh/Tools/Decimater/ModNormalFlippingT.hh>
-#include <OpenMesh/Tools/Decimater/ModQuadricT.hh>
-#pragma GCC diagnostic pop
-
-// ---- counting allocator ---------------------------------------------------------------------
-
-namespace {
-std::atomic<int64_t> g_live{0}, g_peak{0};
-
-void Count(void* p) {
-  if (!p) throw std::bad_alloc();
-  const int64_t n = g_live.fetch_add(static_cast<int64_t>(malloc_usable_size(p))) +
-                    static_cast<int64_t>(malloc_usable_size(p));
-  int64_t peak = g_peak.load(std::memory_order_relaxed);
-  while (n > peak && !g_peak.compare_exchange_weak(peak, n, std::memory_order_relaxed)) {
-  }
-}
-void Uncount(void* p) {
-  if (p) g_live.fetch_sub(static_cast<int64_t>(malloc_usable_size(p)));
-}
-void* Aligned(size_t n, std::align_val_t a) {
-  const size_t al = static_cast<size_t>(a);
-  void* p = std::aligned_alloc(al, (n + al - 1) / al * al);
-  Count(p);
-  return p;
-}
-}  // namespace
-
-void* operator new(size_t n) {
-  void* p = std::malloc(n ? n : 1);
-  Count(p);
-  return p;
-}
-void* operator new[](size_t n) { return operator new(n); }
-void* operator new(size_t n, std::align_val_t a) { return Aligned(n, a); }
-void* operator new[](size_t n, std::align_val_t a) { return Aligned(n, a); }
-void operator delete(void* p) noexcept {
-  Uncount(p);
-  std::free(p);
-}
-void operator delete[](void* p) noexcept { operator delete(p); }
-void operator delete(void* p, size_t) noexcept { operator delete(p); }
-void operator delete[](void* p, size_t) noexcept { operator delete(p); }
-void operator delete(void* p, std::align_val_t) noexcept { operator delete(p); }
-void operator delete[](void* p, std::align_val_t) noexcept { operator delete(p); }
-void operator delete(void* p, size_t, std::align_val_t) noexcept { operator delete(p); }
-void operator delete[](void* p, size_t, std::align_val_t) noexcept { operator delete(p); }
-
 namespace {
 
 using femsimp::RawMesh;
 using Clock = std::chrono::steady_clock;
-using femsimp::bench::TriMesh;
 bool g_pass_log = false;
 
 double Seconds(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double>(b - a).count();
 }
-void ResetPeak() { g_peak.store(g_live.load()); }
-
+using femsimp::bench::LiveHeapBytes;
+using femsimp::bench::PeakHeapBytes;
+using femsimp::bench::ResetHeapPeak;
 // Process CPU time over all threads: on a shared machine, comparing it between thread counts
 // separates the engine's own parallel overhead from time lost to other processes.
-double CpuSeconds() {
-  rusage u;
-  getrusage(RUSAGE_SELF, &u);
-  return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
-         1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
-}
+using femsimp::bench::ProcessCpuSeconds;
 
 // ---- quality ---------------------------------------------------------------------------------
 
@@ -224,13 +158,7 @@ struct Config {
   std::string family;                // rows with the same family compare threads
 };
 
-struct Sample {
-  double seconds = 0;        // engine time: only the simplification
-  double build_seconds = 0;  // femsimp: Mesh::Build; OpenMesh: TriMesh construction
-  double cpu_seconds = 0;    // CPU time of the simplification, all threads
-  int64_t total_bytes = 0;   // peak heap beyond the input soup over build + simplification
-  int64_t work_bytes = 0;    // peak heap during the simplification beyond its input structure
-};
+using Sample = femsimp::bench::SpeedSample;
 
 struct Row {
   Config config;
@@ -251,8 +179,8 @@ struct Row {
 };
 
 bool RunFemsimp(const RawMesh& in, Row& row, bool keep) {
-  const int64_t live0 = g_live.load();
-  ResetPeak();
+  const int64_t live0 = LiveHeapBytes();
+  ResetHeapPeak();
   Sample s;
   const auto t0 = Clock::now();
   auto mesh = femsimp::Mesh::Build(in);
@@ -261,16 +189,16 @@ bool RunFemsimp(const RawMesh& in, Row& row, bool keep) {
     std::fprintf(stderr, "Mesh::Build: %s\n", std::string(mesh.status().message()).c_str());
     return false;
   }
-  const int64_t build_peak = g_peak.load(), live1 = g_live.load();
-  ResetPeak();
-  const double cpu0 = CpuSeconds();
+  const int64_t build_peak = PeakHeapBytes(), live1 = LiveHeapBytes();
+  ResetHeapPeak();
+  const double cpu0 = ProcessCpuSeconds();
   auto result = femsimp::Simplify(*mesh, row.config.options);
-  s.cpu_seconds = CpuSeconds() - cpu0;
+  s.cpu_seconds = ProcessCpuSeconds() - cpu0;
   if (!result.ok()) {
     std::fprintf(stderr, "Simplify: %s\n", std::string(result.status().message()).c_str());
     return false;
   }
-  const int64_t simp_peak = g_peak.load();
+  const int64_t simp_peak = PeakHeapBytes();
   s.seconds = result->engine_seconds;
   s.work_bytes = simp_peak - live1;
   s.total_bytes = std::max(build_peak, simp_peak) - live0;
@@ -293,65 +221,14 @@ bool RunFemsimp(const RawMesh& in, Row& row, bool keep) {
 }
 
 bool RunOpenMesh(const RawMesh& in, Row& row, bool keep) {
-  const int64_t live0 = g_live.load();
-  ResetPeak();
-  Sample s;
-  auto t0 = Clock::now();
-  TriMesh mesh = femsimp::bench::ToOpenMesh(in);
-  mesh.request_face_normals();  // ModNormalFlipping needs them
-  mesh.update_face_normals();
-  const int64_t live1 = g_live.load();
-  s.build_seconds = Seconds(t0, Clock::now());
-  t0 = Clock::now();
-  const double cpu0 = CpuSeconds();
-  {
-    OpenMesh::Decimater::DecimaterT<TriMesh> dec(mesh);
-    OpenMesh::Decimater::ModQuadricT<TriMesh>::Handle quadric;
-    OpenMesh::Decimater::ModNormalFlippingT<TriMesh>::Handle flipping;
-    OpenMesh::Decimater::ModAspectRatioT<TriMesh>::Handle aspect;
-    dec.add(quadric);
-    dec.add(flipping);
-    dec.add(aspect);
-    dec.initialize();
-    dec.decimate_to(row.config.target_vertices);
-    mesh.garbage_collection();  // before the decimater releases its status flags
-  }
-  s.seconds = Seconds(t0, Clock::now());
-  s.cpu_seconds = CpuSeconds() - cpu0;
-  s.total_bytes = g_peak.load() - live0;
-  s.work_bytes = g_peak.load() - live1;
-  row.samples.push_back(s);
-  if (keep) {
-    RawMesh& out = row.output;
-    out = {};
-    for (auto v : mesh.vertices()) {
-      const auto& p = mesh.point(v);
-      out.positions.insert(out.positions.end(), {p[0], p[1], p[2]});
-    }
-    for (auto f : mesh.faces())
-      for (auto v : mesh.fv_range(f)) out.triangles.push_back(static_cast<uint32_t>(v.idx()));
-  }
+  row.samples.push_back(femsimp::bench::RunOpenMeshDecimater(in, row.config.target_vertices,
+                                                             keep ? &row.output : nullptr));
   return true;
 }
 
 bool RunMeshopt(const RawMesh& in, Row& row, bool keep) {
-  const int64_t live0 = g_live.load();
-  ResetPeak();
-  Sample s;
-  std::vector<uint32_t> dst(in.triangles.size());
-  float error = 0;
-  const auto t0 = Clock::now();
-  const double cpu0 = CpuSeconds();
-  // FLT_MAX: no error bound, stop at the count. LockBorder keeps the open boundary like the
-  // other two do.
-  const size_t n = meshopt_simplify(
-      dst.data(), in.triangles.data(), in.triangles.size(), in.positions.data(), in.num_vertices(),
-      3 * sizeof(float), 3 * row.config.target_faces, FLT_MAX, meshopt_SimplifyLockBorder, &error);
-  s.seconds = Seconds(t0, Clock::now());
-  s.cpu_seconds = CpuSeconds() - cpu0;
-  s.total_bytes = s.work_bytes = g_peak.load() - live0;
-  row.samples.push_back(s);
-  if (keep) row.output = femsimp::bench::CompactSoup(in.positions, dst.data(), n / 3);
+  row.samples.push_back(femsimp::bench::RunMeshoptSimplify(in, row.config.target_faces,
+                                                           keep ? &row.output : nullptr));
   return true;
 }
 

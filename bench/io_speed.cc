@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "bench/peers/openmesh_mesh.h"
+#include "bench/peers/openmesh_soup.h"
 #include "common/flags.h"
 #include "engine/io/mesh_io.h"
 #include "engine/mesh.h"
@@ -23,7 +23,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using femsimp::RawMesh;
-using femsimp::bench::ToOpenMesh;
+using femsimp::bench::ToTriMesh;
 using femsimp::bench::TriMesh;
 using Clock = std::chrono::steady_clock;
 
@@ -113,7 +113,8 @@ std::string Rate(const Timing& t, size_t faces) {
 bool Formats(const std::string& path, const Args& args) {
   absl::StatusOr<RawMesh> raw = femsimp::ReadMeshFile(path);
   if (!raw.ok()) return Fail(std::string(raw.status().message()));
-  const TriMesh om_mesh = ToOpenMesh(*raw);
+  TriMesh om_mesh;
+  ToTriMesh(*raw, om_mesh);
   const size_t faces = raw->num_faces();
   const std::string stem = fs::path(path).stem().string();
   struct Row {

@@ -1,8 +1,6 @@
 #include "bench/peers/openmesh_hausdorff.h"
 
-#include <vector>
-
-#include "bench/peers/openmesh_mesh.h"
+#include "bench/peers/openmesh_soup.h"
 
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
@@ -15,9 +13,8 @@
 namespace femsimp::bench {
 
 PeerRun RunOpenMeshHausdorff(const RawMesh& input, double tolerance) {
-  TriMesh mesh = ToOpenMesh(input);
-  mesh.request_face_normals();  // ModNormalFlipping needs them
-  mesh.update_face_normals();
+  TriMesh mesh;
+  ToTriMesh(input, mesh);
   PeerRun run;
   RunTimer timer(run);
   {
@@ -34,12 +31,7 @@ PeerRun RunOpenMeshHausdorff(const RawMesh& input, double tolerance) {
     mesh.garbage_collection();  // before the decimater releases its status flags
   }
   timer.Stop();
-  for (auto v : mesh.vertices()) {
-    const auto& p = mesh.point(v);
-    run.output.positions.insert(run.output.positions.end(), {p[0], p[1], p[2]});
-  }
-  for (auto f : mesh.faces())
-    for (auto v : mesh.fv_range(f)) run.output.triangles.push_back(static_cast<uint32_t>(v.idx()));
+  run.output = FromTriMesh(mesh);
   return run;
 }
 
