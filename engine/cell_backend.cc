@@ -111,7 +111,7 @@ class CellBackend final : public RemovalBackend {
             CellPort port(ctx, mesh_);
             port.set_reread_on_stale(options_.reread_on_stale);
             RemovalKernel<CellPort> kernel(port, *kernel_.rules, kernel_.quadric, *phase.budget,
-                                           kstats, kernel_.placement);
+                                           kstats, kernel_.placement, kernel_.requeue_changed);
             RunCandidates(kernel, phase, [&ctx]() -> std::optional<uint32_t> {
               const std::optional<uint64_t> v = ctx.NextWorkItem();
               if (!v) return std::nullopt;

@@ -76,13 +76,15 @@ class RemovalKernel final : private NeighbourhoodReader {
  public:
   // quadric: the quadric cost is on (directions ranked by it, Vd absorbs V's quadric).
   // placement: try a full-edge collapse first where V and Vd are both free to move
-  // (engine/star.h), when every rule of the run judges them.
+  // (engine/star.h), when every rule of the run judges them. requeue_changed: a commit makes
+  // the refused vertices among the ones it locked (their fans changed) removable again.
   RemovalKernel(Port& port, const RuleSet& rules, bool quadric, RemovalBudget& budget,
-                KernelStats& stats, bool placement = false)
+                KernelStats& stats, bool placement = false, bool requeue_changed = false)
       : port_(port),
         rules_(rules),
         quadric_(quadric),
         placement_(placement && rules.judges_placement()),
+        requeue_changed_(requeue_changed),
         budget_(budget),
         stats_(stats) {
     if (placement_) placing_ = std::make_unique<Placing>();
@@ -127,7 +129,7 @@ class RemovalKernel final : private NeighbourhoodReader {
       if (v_free)
         if (std::optional<Outcome> placed = TryPlaced(v, i)) return *placed;
     }
-    return MarkNotRemovable(v, refusal_.reason);
+    return MarkNotRemovable(v, refusal_.reason, refusal_.beyond_fan);
   }
 
   // Compound collapses (engine/seam_collapse.h), run by one context alone: checks V -> vd with
@@ -219,7 +221,7 @@ class RemovalKernel final : private NeighbourhoodReader {
     nlocked_ = 0;
     for (int attempt = 0;; ++attempt) {
       const RingResult r = GatherRing(port_, v, ring_);
-      if (r == RingResult::kTooWide) return MarkNotRemovable(v, Reject::kValence);
+      if (r == RingResult::kTooWide) return MarkNotRemovable(v, Reject::kValence, false);
       LockResult locked = LockResult::kStale;
       if (r == RingResult::kOk) locked = LockNeighbours();
       if (locked == LockResult::kHeld) break;
@@ -300,6 +302,7 @@ class RemovalKernel final : private NeighbourhoodReader {
   // of a few points that passes every rule; nullopt when none does (or Vd may not move), with
   // the extra locks released again.
   std::optional<Outcome> TryPlaced(uint32_t v, int i) {
+    refusal_.beyond_fan = true;  // judged on Vd's one-ring too
     if ((locked_state_[i] & kStateMask) == kFixed || other_.boundary) return std::nullopt;
     const Directions vd_directions = AllowedDirections(other_);
     if (vd_directions.fixed || vd_directions.on_line()) return std::nullopt;
@@ -370,17 +373,21 @@ class RemovalKernel final : private NeighbourhoodReader {
   struct Refusal {
     int rank = -1;
     Reject reason = Reject::kLink;
+    bool beyond_fan = false;  // some refusal came from outside V's fan (CollapseRule::fan_local)
   };
   void Note(RuleStage stage, Reject reason) {
     const int rank =
         static_cast<int>(stage) * static_cast<int>(Reject::kCount) + static_cast<int>(reason);
-    if (rank >= refusal_.rank) refusal_ = {rank, reason};
+    if (rank >= refusal_.rank) refusal_.rank = rank, refusal_.reason = reason;
+    if (!rules_.fan_local(reason)) refusal_.beyond_fan = true;
   }
 
-  Outcome MarkNotRemovable(uint32_t v, Reject why) {
+  // beyond_fan: what refused V read more than V's fan, so only reconsideration retries it.
+  Outcome MarkNotRemovable(uint32_t v, Reject why, bool beyond_fan) {
     ++stats_.rejections[static_cast<int>(why)];
     UnlockNeighbours();
-    port_.StoreStatus(v, kNotRemovable);
+    port_.StoreStatus(v,
+                      requeue_changed_ && beyond_fan ? kNotRemovable | kRetryBit : kNotRemovable);
     return Outcome::kRejected;
   }
 
@@ -524,6 +531,11 @@ class RemovalKernel final : private NeighbourhoodReader {
     rules_.Commit(proposal_);
     budget_.Removed();
     port_.StoreStatus(v, kRemoved);
+    // Every locked vertex's fan changed: one refused before may pass now, so it is a
+    // candidate again next pass (the local rules refuse an unchanged fan again).
+    if (requeue_changed_)
+      for (int k = 0; k < nlocked_; ++k)
+        if ((locked_state_[k] & kStateMask) == kNotRemovable) locked_state_[k] = kRemovable;
     UnlockNeighbours();
     proposal_.star = nullptr;
     ++stats_.removed;
@@ -664,6 +676,7 @@ class RemovalKernel final : private NeighbourhoodReader {
   const RuleSet& rules_;
   const bool quadric_;
   const bool placement_;
+  const bool requeue_changed_;
   RemovalBudget& budget_;
   KernelStats& stats_;
   Ring ring_, other_;

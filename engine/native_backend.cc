@@ -35,7 +35,7 @@ class NativeBackend final : public RemovalBackend {
       const auto start = std::chrono::steady_clock::now();
       NativePort port(mesh_);
       RemovalKernel<NativePort> kernel(port, *kernel_.rules, kernel_.quadric, *phase.budget,
-                                       per_context[c], kernel_.placement);
+                                       per_context[c], kernel_.placement, kernel_.requeue_changed);
       const size_t step = phase.blocks ? 1 : n;
       size_t next = phase.blocks ? phase.count * c / n : c;
       const size_t end = phase.blocks ? phase.count * (c + 1) / n : phase.count;

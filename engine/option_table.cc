@@ -56,6 +56,13 @@ std::vector<OptionSpec> MakeTable() {
        .section = "engine", .type = T::kInt, .range = Range::Closed(1, 1000000),
        .help = "retry vertices that failed a criterion every Nth pass",
        .field = &S::reconsider_every},
+      {.name = "periodic_retry", .flag = "--periodic-retry", .section = "engine",
+       .type = T::kBool,
+       .help = "a vertex that failed a criterion waits for the next --reconsider-every pass even "
+               "when a collapse has changed its fan (the paper's form); by default it is a "
+               "candidate again the next pass, and only criteria that look beyond its fan "
+               "(topology, budgets, intersections) are retried every Nth pass",
+       .field = &S::periodic_retry},
       {.name = "schedule", .flag = "--schedule", .section = "engine", .type = T::kEnum,
        .help = "deterministic: collapses run in rounds of non-interacting neighbourhoods, so the "
                "output is the same for any thread or SPE count; free: the paper's lock races "

@@ -51,6 +51,7 @@ SimplifyOptions PresetOptions(Preset preset) {
     o.tolerance_relative = 0.0;
     o.max_volume_change = 0.0;
     o.strict_min_angle = true;
+    o.periodic_retry = true;
     o.allow_self_intersections = true;
     o.schedule = Schedule::kFree;
     o.cost = CostKind::kGaussianCurvature;

@@ -60,5 +60,8 @@ enum VertexState : uint32_t {
 };
 inline constexpr uint32_t kLockedBit = 0x80000000u;
 inline constexpr uint32_t kStateMask = 0x3u;
+// On a kNotRemovable vertex: a rule that reads beyond V's fan refused it, so the next
+// reconsideration retries it (one refused by fan-local rules alone waits for its fan to change).
+inline constexpr uint32_t kRetryBit = 0x4u;
 
 }  // namespace femsimp

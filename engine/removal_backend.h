@@ -24,8 +24,9 @@ namespace femsimp {
 // What every context's kernel runs with.
 struct KernelConfig {
   const RuleSet* rules = nullptr;
-  bool quadric = false;    // quadric cost: rank directions by it, Vd absorbs V's quadric
-  bool placement = false;  // full-edge collapses where both ends may move (engine/star.h)
+  bool quadric = false;         // quadric cost: rank directions by it, Vd absorbs V's quadric
+  bool placement = false;       // full-edge collapses where both ends may move (engine/star.h)
+  bool requeue_changed = true;  // a refused vertex whose fan a collapse changes is removable again
 };
 
 // Every context polls the caller's cancellation every this many candidates (a few

@@ -193,6 +193,12 @@ class CollapseRule {
   // Whether the rule judges full-edge collapses (CollapseProposal::star); a run with a rule
   // that does not collapses half-edges only.
   virtual bool judges_placement() const { return true; }
+  // Whether a half-edge collapse's verdict depends on V's fan alone (its one-ring's positions,
+  // topology and face data): a vertex it refused is refused again until a collapse changes
+  // that fan, which locks V and makes it a candidate again (RemovalKernel::Commit), so
+  // reconsideration need not retry it. Rules that read further (Vd's ring, the ledger, the
+  // face index) are not.
+  virtual bool fan_local() const { return false; }
 
   bool in(RuleStage s) const { return (stages() & static_cast<uint32_t>(s)) != 0; }
 };
@@ -209,6 +215,8 @@ class RuleSet {
   bool reads_face_attrs() const { return reads_face_attrs_; }
   bool tracks_mass() const { return tracks_mass_; }
   bool judges_placement() const { return judges_placement_; }
+  // Whether the rule refusing with `reason` is fan-local (CollapseRule::fan_local).
+  bool fan_local(Reject reason) const { return (fan_local_ >> static_cast<int>(reason)) & 1; }
   uint32_t shape_cycles_per_face() const { return shape_cycles_; }
 
   // Runs the stage's checks in order; on a refusal sets *refused to the rule's reason.
@@ -247,6 +255,7 @@ class RuleSet {
   bool reads_face_attrs_ = false;
   bool tracks_mass_ = false;
   bool judges_placement_ = true;
+  uint32_t fan_local_ = 0;  // bit per Reject
   uint32_t shape_cycles_ = 0;
   std::unique_ptr<MechanicsLedger> ledger_;
 };

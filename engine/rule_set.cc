@@ -21,6 +21,8 @@ constexpr RuleStage kStages[] = {RuleStage::kDirections, RuleStage::kShape, Rule
 
 int RuleSet::StageIndex(RuleStage s) { return std::countr_zero(static_cast<uint32_t>(s)); }
 
+static_assert(static_cast<int>(Reject::kCount) <= 32, "RuleSet::fan_local_ has a bit per reason");
+
 RuleSet RuleSet::Build(const SimplifyOptions& options, const RuleSetup& setup) {
   RuleSet set;
 #define FEMSIMP_RULE(reason, name, type)                                                \
@@ -35,6 +37,7 @@ RuleSet RuleSet::Build(const SimplifyOptions& options, const RuleSetup& setup) {
     set.reads_face_attrs_ |= rule->reads_face_attrs();
     set.tracks_mass_ |= rule->tracks_mass();
     set.judges_placement_ &= rule->judges_placement();
+    if (rule->fan_local()) set.fan_local_ |= uint32_t{1} << static_cast<int>(rule->reason());
     if (rule->keeps_state()) set.stateful_.push_back(rule.get());
   }
   if (!set.stage(RuleStage::kBudget).empty())

@@ -7,10 +7,12 @@
 
 namespace femsimp {
 
-SeamCollapser::SeamCollapser(Mesh& mesh, const RuleSet& rules, bool quadric, FaceGrid* grid)
+SeamCollapser::SeamCollapser(Mesh& mesh, const RuleSet& rules, bool quadric, FaceGrid* grid,
+                             bool requeue_changed)
     : mesh_(mesh),
       rules_(rules),
       quadric_(quadric),
+      requeue_changed_(requeue_changed),
       grid_(grid),
       point_ids_(mesh.point_ids()),
       port_(mesh) {
@@ -116,8 +118,8 @@ SeamCollapser::Tried SeamCollapser::TryCompound(size_t point, uint32_t onto, uin
 
   while (kernels_.size() < copies) {
     ports_.push_back(std::make_unique<NativePort>(mesh_));
-    kernels_.push_back(std::make_unique<RemovalKernel<NativePort>>(*ports_.back(), rules_, quadric_,
-                                                                   no_budget_, scratch_stats_));
+    kernels_.push_back(std::make_unique<RemovalKernel<NativePort>>(
+        *ports_.back(), rules_, quadric_, no_budget_, scratch_stats_, false, requeue_changed_));
   }
   // The index is read only while the copies are checked: they overlap each other's cells by
   // design (the copies share their points), and their moves are applied together after.

@@ -34,7 +34,9 @@ namespace femsimp {
 class SeamCollapser {
  public:
   // grid: the self-intersection rule's face index, or nullptr when that rule is off.
-  SeamCollapser(Mesh& mesh, const RuleSet& rules, bool quadric, FaceGrid* grid);
+  // requeue_changed: as the kernel's (RemovalKernel).
+  SeamCollapser(Mesh& mesh, const RuleSet& rules, bool quadric, FaceGrid* grid,
+                bool requeue_changed = false);
   ~SeamCollapser();
 
   // Whether the mesh has seam points (copies of one point, locked) at all.
@@ -62,6 +64,7 @@ class SeamCollapser {
   Mesh& mesh_;
   const RuleSet& rules_;
   const bool quadric_;
+  const bool requeue_changed_;
   FaceGrid* grid_;
   const uint32_t* point_ids_;
   NativePort port_;

@@ -59,13 +59,14 @@ uint32_t UnpackVertex(uint64_t key, bool scatter) {
 }
 
 // Computes the cost of every removable vertex (resetting not-removable ones first on
-// reconsideration passes) and sorts them: each context sorts its slice, then slices are merged
-// pairwise in parallel. Returns the vertex ids in cost order, or a partial order once
-// `cancelled` (polled every kPollVertices vertices) says true.
+// reconsideration passes: all of them with `retry_all`, else those marked kRetryBit) and sorts
+// them: each context sorts its slice, then slices are merged pairwise in parallel. Returns the
+// vertex ids in cost order, or a partial order once `cancelled` (polled every kPollVertices
+// vertices) says true.
 constexpr uint32_t kPollVertices = 1 << 14;
 constexpr uint32_t kPrefetchAhead = 4;  // fans read ahead of the one being costed
 std::vector<uint32_t> SortedCandidates(Mesh& mesh, WorkerPool& pool, const VertexCost& cost,
-                                       bool reconsider, bool scatter,
+                                       bool reconsider, bool retry_all, bool scatter,
                                        const std::function<bool()>& cancelled,
                                        double* busy_seconds) {
   const int n = pool.size();
@@ -84,7 +85,7 @@ std::vector<uint32_t> SortedCandidates(Mesh& mesh, WorkerPool& pool, const Verte
       if ((v - begin) % kPollVertices == 0 && cancelled()) return;
       if (v + kPrefetchAhead < end) port.PrefetchFan(v + kPrefetchAhead);
       uint32_t s = status[v].load(std::memory_order_relaxed);
-      if (reconsider && s == kNotRemovable) {
+      if (reconsider && (s & kStateMask) == kNotRemovable && (retry_all || (s & kRetryBit))) {
         status[v].store(kRemovable, std::memory_order_relaxed);
         s = kRemovable;
       }
@@ -184,10 +185,12 @@ class ProgressWatch {
       // Only vertices once rejected could still go, and only if they have not just been
       // reconsidered: then reconsider them at once rather than waiting for the cycle.
       const bool only_rejections = stats.lock_conflicts == 0 && stats.inconsistent == 0;
-      // Vertices beyond the candidate fraction were not tried yet: they go next pass.
+      // Vertices beyond the candidate fraction were not tried yet: they go next pass, in a
+      // plain pass of their own. Reconsidering would sort the rejected ones back in front of
+      // them and try the same candidates in the same neighbourhoods again.
       const bool all_tried = stats.candidates == sorted;
       if (only_rejections && all_tried && (reconsidered || pass == 1)) return true;
-      reconsider_next_ = only_rejections;
+      reconsider_next_ = only_rejections && all_tried;
     }
     return false;
   }
@@ -270,7 +273,8 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
     cost = std::make_unique<DeviationCost>(mesh.face_attrs(), setup.tolerance);
   else
     cost = std::make_unique<GaussianCurvatureCost>();
-  const KernelConfig kernel{&rules, quadric, options.placement == Placement::kOptimal};
+  const KernelConfig kernel{&rules, quadric, options.placement == Placement::kOptimal,
+                            !options.periodic_retry};
   std::unique_ptr<RemovalBackend> backend;
   if (options.backend == Backend::kCell) {
     absl::StatusOr<std::unique_ptr<RemovalBackend>> cell =
@@ -284,7 +288,7 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
   // Assemblies: seam points slide along their seams between passes (every copy at once).
   std::optional<SeamCollapser> seams;
   if (mesh.point_ids() != nullptr) {
-    seams.emplace(mesh, rules, quadric, face_grid ? &*face_grid : nullptr);
+    seams.emplace(mesh, rules, quadric, face_grid ? &*face_grid : nullptr, kernel.requeue_changed);
     if (seams->empty()) seams.reset();
   }
   bool seams_moved = false;  // the host changed the mesh since the back end's last phase
@@ -307,13 +311,26 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
     const auto pass_start = Clock::now();
     PassStats stats;
     stats.pass = pass;
-    const bool reconsider = watch.Reconsider(pass);
+    bool reconsider = watch.Reconsider(pass);
     if (face_grid && pass > 1) face_grid->Refresh(mesh, cancelled);
     // Select and order: every removable vertex with its cost, in cost order.
-    const std::vector<uint32_t> sorted = SortedCandidates(
-        mesh, pool, *cost, reconsider, rounds.has_value(), cancelled, &stats.busy_seconds);
+    const auto select = [&] {
+      return SortedCandidates(mesh, pool, *cost, reconsider, options.periodic_retry,
+                              rounds.has_value(), cancelled, &stats.busy_seconds);
+    };
+    std::vector<uint32_t> sorted = select();
+    // No vertex is left to try: the refused ones get their retry now, and when none is due
+    // either (every one was refused in the fan it still has) the run is over.
+    if (sorted.empty() && !reconsider && !cancelled()) {
+      reconsider = true;
+      sorted = select();
+    }
     if (cancelled()) {  // the index or the order may be half made: the pass does not start
       result.stop_reason = StopReason::kCancelled;
+      break;
+    }
+    if (sorted.empty()) {
+      result.stop_reason = StopReason::kNoProgress;
       break;
     }
     if (control.on_removal_start) control.on_removal_start(pass);

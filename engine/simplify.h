@@ -71,6 +71,10 @@ struct SimplifyOptions {
   double candidate_fraction = 0.9;
   int max_passes = 100;
   int reconsider_every = 3;  // not-removable vertices become candidates again every Nth pass
+  // A refused vertex waits for the next reconsideration even when a collapse changes its fan
+  // (the paper's form). By default it is a candidate again the next pass, and reconsideration
+  // retries only the vertices a rule looking beyond V's fan refused (CollapseRule::fan_local).
+  bool periodic_retry = false;
   Schedule schedule = Schedule::kDeterministic;
   bool topology_only = false;
   CostKind cost = CostKind::kDeviation;

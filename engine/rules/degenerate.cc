@@ -12,6 +12,7 @@ class DegenerateRule final : public CollapseRule {
   Reject reason() const override { return Reject::kDegenerate; }
   uint32_t stages() const override { return Stages(RuleStage::kShape); }
   uint32_t cycles_per_face() const override { return 20; }
+  bool fan_local() const override { return true; }
   Verdict Check(RuleStage, CollapseProposal& p) const override {
     const CollapseGeometry& g = p.geometry;
     for (int i = 0; i < g.faces; ++i) {

@@ -12,6 +12,7 @@ class DeviationBoundRule final : public CollapseRule {
   Reject reason() const override { return Reject::kTolerance; }
   uint32_t stages() const override { return Stages(RuleStage::kFidelity); }
   bool reads_face_attrs() const override { return true; }
+  bool fan_local() const override { return true; }
 
   Verdict Check(RuleStage, CollapseProposal& p) const override {
     if (p.star != nullptr) return CheckStar(p);

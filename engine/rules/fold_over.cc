@@ -9,6 +9,7 @@ class FoldOverRule final : public CollapseRule {
   Reject reason() const override { return Reject::kFoldOver; }
   uint32_t stages() const override { return Stages(RuleStage::kShape); }
   uint32_t cycles_per_face() const override { return 8; }
+  bool fan_local() const override { return true; }
   Verdict Check(RuleStage, CollapseProposal& p) const override {
     const CollapseGeometry& g = p.geometry;
     for (int i = 0; i < g.faces; ++i)

@@ -32,6 +32,7 @@ class MinAngleRule final : public CollapseRule {
   Reject reason() const override { return Reject::kMinAngle; }
   uint32_t stages() const override { return Stages(RuleStage::kShape); }
   uint32_t cycles_per_face() const override { return strict_ ? 60 : 110; }
+  bool fan_local() const override { return true; }
   Verdict Check(RuleStage, CollapseProposal& p) const override {
     return (strict_ ? MeetsThreshold(p.geometry) : MeetsThresholdOrImproves(p)) ? Verdict::kPass
                                                                                 : Verdict::kReject;

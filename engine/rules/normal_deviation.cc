@@ -12,6 +12,7 @@ class NormalDeviationRule final : public CollapseRule {
   Reject reason() const override { return Reject::kNormalDeviation; }
   uint32_t stages() const override { return Stages(RuleStage::kShape); }
   uint32_t cycles_per_face() const override { return 50; }
+  bool fan_local() const override { return true; }
   Verdict Check(RuleStage, CollapseProposal& p) const override {
     return p.geometry.MinNormalCosine() >= cos_min_ ? Verdict::kPass : Verdict::kReject;
   }

@@ -24,10 +24,12 @@ struct Harness {
     setup.cos_feature = std::cos(options.feature_angle_deg * std::numbers::pi / 180.0);
     return RuleSet::Build(options, setup);
   }
-  Outcome Remove(uint32_t v) {
-    RemovalKernel<NativePort> kernel(port, rules, /*quadric=*/false, budget, stats);
+  Outcome Remove(uint32_t v, bool requeue_changed = false) {
+    RemovalKernel<NativePort> kernel(port, rules, /*quadric=*/false, budget, stats,
+                                     /*placement=*/false, requeue_changed);
     return kernel.TryRemove(v);
   }
+  uint32_t Status(uint32_t v) const { return mesh.status()[v].load(); }
   Mesh mesh;
   NativePort port;
   RuleSet rules;
@@ -211,6 +213,47 @@ TEST(Kernel, EachCollapseOnFandiskMeetsTheCriteria) {
   EXPECT_GT(h.stats.rejections[static_cast<int>(Reject::kNormalDeviation)], 0u);
   EXPECT_GT(h.stats.rejections[static_cast<int>(Reject::kMinAngle)], 0u);
   ExpectSameTopology(raw, h.mesh);
+}
+
+// A commit changes the fans of the vertices it locked: with requeue_changed, those refused
+// before are candidates again; others keep their state; without it (the paper's form) nothing
+// changes until the next reconsideration.
+TEST(Kernel, ACollapseMakesTheRefusedVerticesOfItsFanCandidatesAgain) {
+  for (const bool requeue : {false, true}) {
+    const RawMesh raw = testing::FlatGrid(6);
+    Harness h(raw);
+    const uint32_t center = 3 * 7 + 3, neighbour = 3 * 7 + 4, far = 6 * 7 + 6;
+    h.mesh.status()[neighbour].store(kNotRemovable | kRetryBit);
+    h.mesh.status()[far].store(kNotRemovable);
+    ASSERT_EQ(h.Remove(center, requeue), Outcome::kRemoved);
+    EXPECT_EQ(h.Status(neighbour), requeue ? kRemovable : (kNotRemovable | kRetryBit));
+    EXPECT_EQ(h.Status(far), kNotRemovable);
+  }
+}
+
+// A refusal that depends on V's fan alone (here the minimum angle) marks V plainly: it waits
+// for its fan to change. One that read beyond it (a tetrahedron's valence: the opposite
+// vertices' fans) also marks kRetryBit, so that reconsideration retries it; the paper's form
+// never marks it.
+TEST(Kernel, RefusalsBeyondTheFanAreMarkedForReconsideration) {
+  SimplifyOptions sharp;
+  sharp.min_angle_deg = 59;  // no collapse of a grid keeps every angle at 59 degrees
+  sharp.strict_min_angle = true;
+  sharp.feature_angle_deg = 180;
+  Harness grid(testing::FlatGrid(4), sharp);
+  const uint32_t center = 2 * 5 + 2;
+  ASSERT_EQ(grid.Remove(center, /*requeue_changed=*/true), Outcome::kRejected);
+  EXPECT_EQ(grid.Status(center), kNotRemovable);
+  EXPECT_GT(grid.stats.rejections[static_cast<int>(Reject::kMinAngle)], 0u);
+
+  SimplifyOptions topology;
+  topology.topology_only = true;
+  topology.feature_angle_deg = 180;
+  for (const bool requeue : {false, true}) {
+    Harness tet(testing::Tetrahedron(), topology);
+    ASSERT_EQ(tet.Remove(0, requeue), Outcome::kRejected);
+    EXPECT_EQ(tet.Status(0), requeue ? (kNotRemovable | kRetryBit) : kNotRemovable);
+  }
 }
 
 }  // namespace

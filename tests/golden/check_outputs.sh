@@ -9,7 +9,10 @@
 # changed with the deterministic schedule (rounds, bucketed costs with scattered ties), and again
 # when the deviation cost became the default order of tolerance runs, and every set changed when
 # the inputs came to be renumbered in curve order before the build (engine/spatial_order.h: new
-# ids, so new tie-breaks in the cost order and a new output numbering).
+# ids, so new tie-breaks in the cost order and a new output numbering). The fe sets changed again
+# when a collapse came to make the refused vertices of its fan candidates again (option
+# periodic_retry off), and fidelity_budgets' blade when a pass that removed nothing left its
+# untried vertices to a plain pass instead of reconsidering the same candidates again.
 set -euo pipefail
 femsimp=$1 data=$2 hashes=$3 mode=${4:-check}
 declare -A option_sets=(
