@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Runs the fuzz targets of a FEMSIMP_FUZZ=ON build (fuzz/CMakeLists.txt), each for SECONDS or
-# until it has run RUNS inputs, from its seeds (fuzz/seeds/<target>) and its own corpus
+# until it has run RUNS inputs, from its seeds (fuzz/seeds/<target>), the kept corpus
+# (fuzz/corpus.tar.xz, unpacked by CMake into BUILD/fuzz/corpus/<target>) and its own corpus
 # (BUILD/corpus/<target>, kept between runs: what one run found, the next starts from), and
 # prints per target: executions, seconds, executions per second, coverage (edges) and features,
 # corpus size, peak RSS. A crash, a sanitizer report, a leak, a timeout (10 s for one input) or
@@ -27,7 +28,8 @@ run_one() {
   mkdir -p "$build/corpus/$t"
   "$build/fuzz/${t}_fuzzer" -max_total_time="$seconds" -runs="$((runs > 0 ? runs : -1))" \
     -max_len=8192 -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
-    -artifact_prefix="$build/" "$build/corpus/$t" "fuzz/seeds/$t" >"$log" 2>&1 || rc=$?
+    -artifact_prefix="$build/" "$build/corpus/$t" "fuzz/seeds/$t" "$build/fuzz/corpus/$t" \
+    >"$log" 2>&1 || rc=$?
   local execs secs cov ft corp rss
   execs=$(awk '/stat::number_of_executed_units/ { print $2 }' "$log")
   secs=$(grep -o 'in [0-9]* second(s)' "$log" | tail -1 | awk '{ print $2 }')
