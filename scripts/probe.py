@@ -65,9 +65,11 @@ MAX_MESSAGE = 1024  # a status message longer than this is a finding
 TERMINAL = (pb2.JOB_STATE_SUCCEEDED, pb2.JOB_STATE_FAILED, pb2.JOB_STATE_CANCELLED)
 CALL_TIMEOUT = 30  # every call's client deadline, unless a case sets its own
 # How a refusal says where in the file: a line or byte, a face or vertex number of a binary
-# file, or the header whose counts disagree with the file's size.
+# file, or, for what is wrong with the file as a whole, its size against what its header
+# announces or needs ("header announces 644 triangles (32284 bytes) but the file has 20629
+# bytes", "too short for a binary STL (1 bytes, ...)").
 WHERE = (r"line \d+|byte \d+|offset \d+|\.\w+:\d+|(face|vertex|triangle|element|facet) \d+|"
-         r"first line|header")
+         r"first line|header announces|\d+ bytes")
 CHANNEL_OPTIONS = [("grpc.initial_reconnect_backoff_ms", 100),
                    ("grpc.min_reconnect_backoff_ms", 100), ("grpc.max_reconnect_backoff_ms", 500)]
 FAMILIES = ["malformed", "garbage", "resources", "job-ends", "security", "signals", "cli", "leaks"]
@@ -1364,6 +1366,18 @@ class Probe:
                 self.case(f"random bytes ({size} B) as {ext}",
                           lambda n, path=path, codes=codes: run_cli(n, path, codes,
                                                                     want_where=size > 0))
+        # Refusals that once lost their line: a NUL byte quoted from the file cut the message
+        # (printf's %s), and two truncations named no line.
+        for fname, content in (
+                ("nul-section.msh", b"$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Entit\x00\x1b[31mies\n"
+                                    b"0 0 0 0\n$EndEntities\n"),
+                ("nul-token.off", b"OFF\n3 1 0\n0 0 0\n1 0 0\x00\x1b[2J\n0 1 0\n3 0 1 2\n"),
+                ("no-endsolid.stl", b"solid x\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n"
+                                    b"   vertex 1 0 0\n   vertex 0 1 0\n  endloop\n endfacet\n"),
+                ("no-end-header.ply", b"ply\nformat ascii 1.0\nelement vertex 3\n")):
+            path = os.path.join(d, fname)
+            open(path, "wb").write(content)
+            self.case(f"{fname}: refused with its line", lambda n, path=path: run_cli(n, path, {3}))
         # A file name carrying control characters, with bad content.
         evil = os.path.join(d, "evil\x1b[2J\x07name\x1b]0;t\x07.off")
         open(evil, "wb").write(b"OFF\n3 1 0\n0 0 0\n1 0 \x1b[31mx\n0 1 0\n3 0 1 2\n")
