@@ -387,6 +387,8 @@ class Probe:
 
     def check_status(self, name, code, details, want, words=(), seconds=None):
         """The exact code, a non-empty bounded message naming the problem (any of `words`)."""
+        if self.verbose:
+            print(f"           {name}: {code.name if code else code} '{details[:160]}'", flush=True)
         if code != want:
             what = "no answer within the client deadline (a hang)" \
                 if code == SC.DEADLINE_EXCEEDED and want != SC.DEADLINE_EXCEEDED else ""
