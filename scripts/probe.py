@@ -1497,6 +1497,8 @@ def main():
         st = p.stats[f]
         print(f"{f:<10} {st['cases']:>6} {st['findings']:>9} {st['seconds']:>8}")
     total_cases = sum(st["cases"] for st in p.stats.values())
+    rest = round(p.total_seconds - sum(st["seconds"] for st in p.stats.values()), 1)
+    print(f"{'(servers started, warmed up and stopped)':<37} {rest:>8}")
     print(f"{'total':<10} {total_cases:>6} {len(p.findings):>9} {p.total_seconds:>8}")
     print()
     print("femsimp simplify exit codes over the cli cases: " +
