@@ -41,7 +41,7 @@ std::optional<RawMesh> ReadSolid(const std::string& path, int* exit_code) {
   absl::StatusOr<RawMesh> raw = ReadMeshFile(path);
   if (!raw.ok()) {
     PrintError("femsimp: cannot read %s: %s\n", path.c_str(),
-               std::string(raw.status().message()).c_str());
+               EscapeControlCharacters(std::string(raw.status().message())).c_str());
     *exit_code = kExitInputUnreadable;
     return std::nullopt;
   }

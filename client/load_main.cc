@@ -208,7 +208,7 @@ int main(int argc, char** argv) {
     absl::StatusOr<RawMesh> m = ReadMeshFile(path);
     if (!m.ok()) {
       PrintError("femsimp-load: cannot read %s: %s\n", path.c_str(),
-                 std::string(m.status().message()).c_str());
+                 EscapeControlCharacters(std::string(m.status().message())).c_str());
       return kExitInputUnreadable;
     }
     topologies.push_back(TopologyOf(*m));

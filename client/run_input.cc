@@ -28,8 +28,10 @@ std::optional<RawMesh> ReadInput(const SimplifyArgs& args, RunReport& report,
                                  GroupNames* group_names) {
   absl::StatusOr<RawMesh> raw = ReadMeshFile(args.input, group_names, &report.input_warnings);
   if (!raw.ok()) {
+    // Escaped before the %s: a NUL byte the reader quotes from the file would cut the message
+    // there, losing the line it names.
     PrintError("femsimp: cannot read %s: %s\n", args.input.c_str(),
-               std::string(raw.status().message()).c_str());
+               EscapeControlCharacters(std::string(raw.status().message())).c_str());
     return std::nullopt;
   }
   report.input_vertices = raw->num_vertices();

@@ -133,8 +133,9 @@ absl::StatusOr<SimplifyOptions> FromProto(const v1::EngineOptions& in, int defau
     if (!v.ok()) return v.status();
     if (*v) SetOption(spec, **v, &o);
   }
-  o.threads = std::min(o.threads, max_threads);
+  // The documented range first (threads 1025 is out of it on any server), then the server's cap.
   if (absl::Status s = ValidateOptions(o); !s.ok()) return s;
+  o.threads = std::min(o.threads, max_threads);
   return o;
 }
 

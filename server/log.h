@@ -11,6 +11,11 @@ namespace femsimp::server {
 // terminal as an escape sequence.
 void LogLine(std::string_view line);
 
+// Routes libprotobuf's own log messages (e.g. "String field ... contains invalid UTF-8", which any
+// client can provoke with an undecodable request) through LogLine, so that every line of the
+// log has a timestamp and escaped text. Call once, before serving.
+void RouteProtobufLogs();
+
 // What LogLine writes for `line` (after its timestamp).
 std::string EscapedForLog(std::string_view line);
 

@@ -51,6 +51,7 @@ int main(int argc, char** argv) {
   sigaddset(&signals, SIGINT);
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
+  femsimp::server::RouteProtobufLogs();
   femsimp::server::FemsimpServer server(config);
   if (absl::Status s = server.Start(); !s.ok()) {
     std::fprintf(stderr, "femsimp-server: %s\n", std::string(s.message()).c_str());

@@ -122,8 +122,14 @@ void FemsimpServer::Shutdown() {
                          "server shut down: grace period over, job cancelled");
   }
   runner_->Join();
-  // Handlers are only streaming results now; give them a moment, then cut the calls.
-  server_->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(5));
+  // Handlers are only streaming results now; give them a moment, then cut the calls. Waited for
+  // here rather than by Shutdown's deadline alone: gRPC holds that deadline for any idle client
+  // connection too, so every SIGTERM took 5 s longer than its jobs (the hostile probe). The
+  // short deadline left lets the last handlers' statuses reach the wire.
+  const auto cut = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  while (service_->active_simplify_calls() > 0 && std::chrono::steady_clock::now() < cut)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  server_->Shutdown(std::chrono::system_clock::now() + std::chrono::milliseconds(250));
   server_->Wait();
   LogLine("stopped");
 }

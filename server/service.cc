@@ -120,6 +120,11 @@ grpc::Status SimplifierService::Pushback(grpc::ServerContext* ctx, const std::st
 }
 
 grpc::Status SimplifierService::Simplify(grpc::ServerContext* ctx, Stream* stream) {
+  ++active_simplify_calls_;
+  struct Active {
+    std::atomic<int>& n;
+    ~Active() { --n; }
+  } active{active_simplify_calls_};
   std::string tenant;  // the job counter's label; none for a call that is not authenticated
   grpc::Status status = [&]() -> grpc::Status {
     if (shutting_down_.load())

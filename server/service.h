@@ -38,6 +38,8 @@ class SimplifierService final : public v1::Simplifier::Service {
 
   // New Simplify calls get UNAVAILABLE from now on.
   void BeginShutdown() { shutting_down_.store(true); }
+  // Simplify handlers not yet returned (uploading, following a job, streaming its result).
+  int active_simplify_calls() const { return active_simplify_calls_.load(); }
 
  private:
   // Everything after admission; the caller records the final status.
@@ -67,6 +69,7 @@ class SimplifierService final : public v1::Simplifier::Service {
   MemoryBudget memory_;
   CallWatchdog watchdog_;
   std::atomic<bool> shutting_down_{false};
+  std::atomic<int> active_simplify_calls_{0};
   const TokenAuthenticator auth_;
 };
 

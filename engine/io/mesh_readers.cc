@@ -408,7 +408,7 @@ absl::Status ParseStlAscii(absl::string_view data, Reading* out) {
   }
   if (!ended)
     return Bad("truncated: ASCII STL without 'endsolid' (", out->face_lines.size(),
-               " facets read)");
+               " facets read; the file ends at line ", lines.number(), ")");
   return absl::OkStatus();
 }
 
@@ -665,7 +665,9 @@ absl::Status ParsePly(absl::string_view data, Reading* out) {
       return Bad(where, ": cannot parse '", line, "'");
     }
   }
-  if (!header_done) return Bad("truncated: PLY header without 'end_header'");
+  if (!header_done)
+    return Bad("truncated: PLY header without 'end_header' (the file ends at line ", lines.number(),
+               ")");
   const bool ascii = format == "ascii";
   if (!ascii && format != "binary_little_endian" && format != "binary_big_endian")
     return Bad("unknown PLY format '", format, "'");

@@ -83,6 +83,23 @@ TEST(ProtoOptions, EveryOptionRoundTrips) {
   }
 }
 
+// A value out of the documented range is refused before the server caps it: threads 1025 is
+// INVALID_ARGUMENT, not quietly capped to the server's --threads_per_job (the hostile probe).
+TEST(ProtoOptions, OutOfRangeThreadsAreRefusedBeforeTheCap) {
+  for (int threads : {-1, 1025, 1 << 30}) {
+    v1::EngineOptions m;
+    m.set_threads(threads);
+    absl::StatusOr<SimplifyOptions> o = wire::FromProto(m, 1, 2);
+    EXPECT_EQ(o.status().code(), absl::StatusCode::kInvalidArgument) << threads;
+    EXPECT_NE(o.status().message().find("threads"), std::string::npos) << o.status();
+  }
+  v1::EngineOptions m;
+  m.set_threads(1024);
+  absl::StatusOr<SimplifyOptions> o = wire::FromProto(m, 1, 2);
+  ASSERT_TRUE(o.ok()) << o.status();
+  EXPECT_EQ(o->threads, 2);  // in range: capped at the server's limit
+}
+
 // The comment of a field in femsimp.proto: its trailing comment with continuation lines, or
 // else the comment lines right above it.
 std::string CommentOf(const std::vector<std::string>& lines, const std::string& message,
