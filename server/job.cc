@@ -75,6 +75,10 @@ void Job::Close(const grpc::Status& status) {
   {
     std::lock_guard<std::mutex> lock(mu_);
     const grpc::StatusCode code = status.error_code();
+    // A job that succeeded but whose result did not reach the client (not read in time, the
+    // client gone): its record says so with the call's status, the one the metrics count.
+    if (state_ == JobState::kSucceeded && status_.ok() && code != grpc::StatusCode::OK)
+      status_ = grpc::Status(code, "result not delivered: " + status.error_message());
     if (code == grpc::StatusCode::OK)  // the handler returns OK only for an ended job
       FinishLocked(JobState::kFailed, grpc::Status(grpc::StatusCode::INTERNAL,
                                                    "the call ended OK before job " + id_ + " did"));

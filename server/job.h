@@ -84,7 +84,8 @@ class Job {
   grpc::Status TakeOutput(Output* out);
   // The call is over with `status`: ends the job with it when nothing has (CANCELLED and
   // DEADLINE_EXCEEDED as cancelled, any other code as failed; OK cannot end a job) and frees the
-  // input and any output left.
+  // input and any output left. A succeeded job whose call ends otherwise than OK keeps its state
+  // and takes the call's status ("result not delivered: ...").
   void Close(const grpc::Status& status);
 
   // --- The runner ---

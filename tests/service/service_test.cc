@@ -184,7 +184,8 @@ TEST(Service, StalledUploadsAreCancelledAndTheirSlotsFreed) {
 
 // A client that stops reading its result does not hold the output mesh: after
 // --result_idle_seconds without a write going through, the call is cancelled, counted as
-// DEADLINE_EXCEEDED, and the server is whole.
+// DEADLINE_EXCEEDED, the job's record says the result was not delivered, and the server is
+// whole.
 TEST(Service, UnreadResultIsDropped) {
   server::ServerConfig config = testing::OneWorkerConfig();
   config.result_idle_seconds = 0.5;
@@ -220,6 +221,16 @@ TEST(Service, UnreadResultIsDropped) {
   while (stream->Read(&resp)) {
   }
   EXPECT_FALSE(stream->Finish().ok());
+  grpc::ClientContext list_ctx;
+  v1::ListJobsRequest list;
+  list.set_include_finished(true);
+  v1::ListJobsResponse jobs;
+  ASSERT_TRUE(s.stub().ListJobs(&list_ctx, list, &jobs).ok());
+  ASSERT_EQ(jobs.jobs_size(), 1);
+  EXPECT_EQ(jobs.jobs(0).state(), v1::JOB_STATE_SUCCEEDED);
+  EXPECT_EQ(jobs.jobs(0).status_code(), "DEADLINE_EXCEEDED");
+  EXPECT_NE(jobs.jobs(0).status_message().find("result not delivered"), std::string::npos)
+      << jobs.jobs(0).status_message();
   ExpectWorkerFree(s);
 }
 
