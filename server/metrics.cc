@@ -176,27 +176,17 @@ Metrics::Metrics()
 
 absl::Status Metrics::StartExposer(const std::string& address) {
   std::lock_guard<std::mutex> lock(mu_);
-  try {
-    // Idle connections must not hold /metrics: civetweb gives each connection a thread until
-    // its request arrives (30 s by default, with 2 threads two idle clients blocked every
-    // scrape), so more threads, a short request timeout and no keep-alive.
-    exposer_ = std::make_unique<prometheus::Exposer>(
-        std::vector<std::string>{"listening_ports", address, "num_threads", "8",
-                                 "request_timeout_ms", "2000", "enable_keep_alive", "no"});
-  } catch (const std::exception& e) {
-    return absl::UnavailableError(
-        absl::StrCat("metrics exposer cannot listen on ", address, ": ", e.what()));
-  }
-  exposer_->RegisterCollectable(registry_);
+  absl::StatusOr<std::unique_ptr<MetricsHttpServer>> http =
+      MetricsHttpServer::Start(address, registry_);
+  if (!http.ok()) return http.status();
+  http_ = std::move(*http);
   return absl::OkStatus();
 }
 
 int Metrics::port() const {
   auto* self = const_cast<Metrics*>(this);
   std::lock_guard<std::mutex> lock(self->mu_);
-  if (!exposer_) return 0;
-  std::vector<int> ports = exposer_->GetListeningPorts();
-  return ports.empty() ? 0 : ports[0];
+  return http_ ? http_->port() : 0;
 }
 
 void Metrics::JobFinished(grpc::StatusCode code, const std::string& tenant) {

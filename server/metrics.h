@@ -11,11 +11,11 @@
 #include "engine/simplify.h"
 #include "grpcpp/support/status.h"
 #include "prometheus/counter.h"
-#include "prometheus/exposer.h"
 #include "prometheus/family.h"
 #include "prometheus/gauge.h"
 #include "prometheus/histogram.h"
 #include "prometheus/registry.h"
+#include "server/metrics_http.h"
 
 namespace femsimp::server {
 
@@ -35,9 +35,9 @@ const char* StageName(Stage stage);
 class Metrics {
  public:
   Metrics();
-  // Starts the pull exposer on HOST:PORT (port 0 picks a free one).
+  // Serves /metrics on HOST:PORT (port 0 picks a free one; server/metrics_http.h).
   absl::Status StartExposer(const std::string& address);
-  int port() const;  // the exposer's port, 0 when not started
+  int port() const;  // the /metrics port, 0 when not started
 
   // femsimp_jobs_total{status[, tenant]}: the tenant label only on a server with tenants.
   void JobFinished(grpc::StatusCode code, const std::string& tenant = "");
@@ -56,8 +56,8 @@ class Metrics {
 
  private:
   std::shared_ptr<prometheus::Registry> registry_;
-  std::unique_ptr<prometheus::Exposer> exposer_;
-  std::mutex mu_;  // Family::Add is thread-safe; mu_ only guards exposer_
+  std::unique_ptr<MetricsHttpServer> http_;
+  std::mutex mu_;  // Family::Add is thread-safe; mu_ only guards http_
   prometheus::Family<prometheus::Counter>& jobs_;
   prometheus::Gauge& queue_depth_;
   prometheus::Gauge& running_;
