@@ -18,34 +18,6 @@
 namespace femsimp::server {
 namespace {
 
-int Connect(int port) {
-  const int fd = socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in addr{};
-  addr.sin_family = AF_INET;
-  addr.sin_port = htons(static_cast<uint16_t>(port));
-  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  if (connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) {
-    close(fd);
-    return -1;
-  }
-  return fd;
-}
-
-// Sends `request` and returns the whole answer (status line, headers and body).
-std::string Exchange(int port, const std::string& request) {
-  const int fd = Connect(port);
-  if (fd < 0) return "";
-  if (write(fd, request.data(), request.size()) != static_cast<ssize_t>(request.size())) {
-    close(fd);
-    return "";
-  }
-  std::string answer;
-  char buf[65536];
-  for (ssize_t n; (n = read(fd, buf, sizeof buf)) > 0;) answer.append(buf, static_cast<size_t>(n));
-  close(fd);
-  return answer;
-}
-
 struct Served {
   Served() : registry(std::make_shared<prometheus::Registry>()) {
     prometheus::BuildCounter()
@@ -67,14 +39,17 @@ struct Served {
 TEST(MetricsHttp, AnswersTheRegistryAndRefusesTheRest) {
   Served s;
   ASSERT_NE(s.server, nullptr);
-  const std::string ok = Exchange(s.port(), "GET /metrics HTTP/1.1\r\nHost: x\r\n\r\n");
+  const std::string ok =
+      testing::HttpExchange(s.port(), "GET /metrics HTTP/1.1\r\nHost: x\r\n\r\n");
   EXPECT_EQ(ok.rfind("HTTP/1.1 200 OK\r\n", 0), 0u) << ok;
   EXPECT_NE(ok.find("Content-Type: text/plain; version=0.0.4"), std::string::npos);
   EXPECT_EQ(testing::ParseMetrics(ok.substr(ok.find("\r\n\r\n") + 4))["probe_total"], 3);
   EXPECT_NE(testing::HttpGet(s.port(), "/metrics?x=1").find("probe_total 3"), std::string::npos);
-  EXPECT_EQ(Exchange(s.port(), "GET / HTTP/1.0\r\n\r\n").rfind("HTTP/1.1 404", 0), 0u);
-  EXPECT_EQ(Exchange(s.port(), "POST /metrics HTTP/1.0\r\n\r\n").rfind("HTTP/1.1 405", 0), 0u);
-  EXPECT_EQ(Exchange(s.port(), "GET /metrics HTTP/1.0\r\n" + std::string(9000, 'x'))
+  EXPECT_EQ(testing::HttpExchange(s.port(), "GET / HTTP/1.0\r\n\r\n").rfind("HTTP/1.1 404", 0), 0u);
+  EXPECT_EQ(
+      testing::HttpExchange(s.port(), "POST /metrics HTTP/1.0\r\n\r\n").rfind("HTTP/1.1 405", 0),
+      0u);
+  EXPECT_EQ(testing::HttpExchange(s.port(), "GET /metrics HTTP/1.0\r\n" + std::string(9000, 'x'))
                 .rfind("HTTP/1.1 431", 0),
             0u);
 }
@@ -86,7 +61,7 @@ TEST(MetricsHttp, IdleConnectionsCannotHoldAScrape) {
   ASSERT_NE(s.server, nullptr);
   std::vector<int> idle;
   for (size_t i = 0; i < MetricsHttpServer::kMaxConnections + 44; ++i) {
-    const int fd = Connect(s.port());
+    const int fd = testing::ConnectLoopback(s.port());
     ASSERT_GE(fd, 0);
     if (i % 2 == 1) {
       ASSERT_EQ(write(fd, "GET /met", 8), 8);

@@ -51,6 +51,10 @@ grpc::Status SendRaw(v1::Simplifier::Stub& stub, const std::vector<v1::SimplifyR
 
 // GET http://127.0.0.1:port/path; the body ("" on failure).
 std::string HttpGet(int port, const std::string& path);
+// A TCP connection to 127.0.0.1:port (-1 on failure), and one whole HTTP exchange on a new one
+// (what came back, status line and headers included; empty on failure).
+int ConnectLoopback(int port);
+std::string HttpExchange(int port, const std::string& request);
 // Prometheus text format: "name{labels}" -> value, comments skipped.
 std::map<std::string, double> ParseMetrics(const std::string& text);
 
