@@ -2,9 +2,7 @@
 // however many, cannot hold a scrape.
 #include "server/metrics_http.h"
 
-#include <arpa/inet.h>
 #include <gtest/gtest.h>
-#include <netinet/in.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
