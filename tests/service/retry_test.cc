@@ -262,22 +262,31 @@ TEST(Retry, LimitsAndBadRequestsAreNotRetried) {
   EXPECT_EQ(bad.attempts, 1);
 }
 
+// Attempts at 0, 0.5 and 1 s; then the next wait would end past the deadline (1.25 s), which
+// the retry loop says at once. A loaded machine (the ASan build beside other work) may make the
+// third refusal itself come after the deadline: then the call ends DEADLINE_EXCEEDED, which
+// also keeps the bound this test is about (it once failed so, 2026-11-26).
 TEST(Retry, DeadlineBoundsAllAttempts) {
   server::ServerConfig config = testing::TestConfig();
   config.queue_capacity = 0;
-  config.retry_pushback_ms = 300;
+  config.retry_pushback_ms = 500;
   InProcessServer s(config);
   cli::RetryOptions options;
   options.policy.max_attempts = 100;
-  options.deadline = std::chrono::system_clock::now() + milliseconds(1000);
+  options.deadline = std::chrono::system_clock::now() + milliseconds(1250);
   cli::RetryCounters counters;
   auto t0 = std::chrono::steady_clock::now();
   cli::RemoteOutcome out = cli::SimplifyWithRetry(s.stub(), RatioSpec(0.5),
                                                   testing::MakeTorus(8, 8), options, &counters);
-  EXPECT_EQ(out.status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
-  EXPECT_NE(out.status.error_message().find("no time left"), std::string::npos);
-  EXPECT_LE(counters.attempts, 4);
-  EXPECT_LT(SecondsSince(t0), 1.5);
+  if (out.status.error_code() == grpc::StatusCode::RESOURCE_EXHAUSTED) {
+    EXPECT_NE(out.status.error_message().find("no time left"), std::string::npos)
+        << out.status.error_message();
+  } else {
+    EXPECT_EQ(out.status.error_code(), grpc::StatusCode::DEADLINE_EXCEEDED)
+        << out.status.error_message();
+  }
+  EXPECT_LE(counters.attempts, 3);
+  EXPECT_LT(SecondsSince(t0), 1.25 + 0.5);
 }
 
 TEST(Retry, CancelEndsTheWaitBetweenAttempts) {
