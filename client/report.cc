@@ -222,12 +222,18 @@ std::string Summary(const RunReport& r) {
   auto pct = [](uint64_t out, uint64_t in) {
     return in ? 100.0 * static_cast<double>(out) / static_cast<double>(in) : 0.0;
   };
-  // Why it stopped, in words: no valid collapse left, and which rule refused the most.
+  // Why it stopped, in words, and which rule refused the most. At the pass limit collapses may
+  // still be left: the run was cut, not finished.
+  const std::string refused =
+      r.limiting_rule.empty() ? "" : absl::StrCat("; refused most by ", r.limiting_rule);
   const std::string why =
-      r.limiting_rule.empty()
+      r.stop_reason == "max_passes"
+          ? absl::StrCat(r.stop_reason,
+                         " (the pass limit: more passes, --max-passes, may remove more", refused,
+                         ")")
+      : r.limiting_rule.empty()
           ? r.stop_reason
-          : absl::StrCat(r.stop_reason, " (no valid collapse left; refused most by ",
-                         r.limiting_rule, ")");
+          : absl::StrCat(r.stop_reason, " (no valid collapse left", refused, ")");
   std::string s = absl::StrFormat(
       "vertices: %u -> %u (%.1f%%)\nfaces:    %u -> %u (%.1f%%)\npasses:   %u, stop reason: %s\n",
       r.input_vertices, r.output_vertices, pct(r.output_vertices, r.input_vertices), r.input_faces,
