@@ -378,7 +378,10 @@ class RemovalKernel final : private NeighbourhoodReader {
   void Note(RuleStage stage, Reject reason) {
     const int rank =
         static_cast<int>(stage) * static_cast<int>(Reject::kCount) + static_cast<int>(reason);
-    if (rank >= refusal_.rank) refusal_.rank = rank, refusal_.reason = reason;
+    if (rank >= refusal_.rank) {
+      refusal_.rank = rank;
+      refusal_.reason = reason;
+    }
     if (!rules_.fan_local(reason)) refusal_.beyond_fan = true;
   }
 

@@ -56,6 +56,7 @@ REPO = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)),
 sys.path.insert(0, os.path.join(REPO, "python"))
 import grpc  # noqa: E402
 import numpy as np  # noqa: E402
+from server_figures import proc_figures, scrape_metrics  # noqa: E402
 import femsimp  # noqa: E402
 
 pb2, pb2_grpc = femsimp.stubs()
@@ -91,14 +92,6 @@ def wait_for(pred, timeout, step=0.05):
         time.sleep(step)
 
 
-def proc_figures(pid):
-    status = {}
-    with open(f"/proc/{pid}/status") as f:
-        for line in f:
-            key, _, value = line.partition(":")
-            status[key] = value.strip()
-    return {"threads": int(status["Threads"]), "fds": len(os.listdir(f"/proc/{pid}/fd")),
-            "rss_kib": int(status["VmRSS"].split()[0])}
 
 
 # ---------------------------------------------------------------------------------------------
@@ -247,15 +240,7 @@ class Server:
         return (("authorization", f"Bearer {self.tokens[tenant or 'a']}"),)
 
     def metrics(self):
-        with urllib.request.urlopen(f"http://127.0.0.1:{self.metrics_port}/metrics",
-                                    timeout=10) as r:
-            text = r.read().decode()
-        values = {}
-        for line in text.splitlines():
-            m = re.match(r"^(femsimp_\w+)(\{[^}]*\})? (\S+)$", line)
-            if m:
-                values[m.group(1) + (m.group(2) or "")] = float(m.group(3))
-        return values
+        return scrape_metrics(self.metrics_port)
 
     def unfinished(self, tenants=None):
         out = []

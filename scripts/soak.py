@@ -28,7 +28,6 @@ import argparse
 import json
 import os
 import random
-import re
 import signal
 import socket
 import subprocess
@@ -36,10 +35,10 @@ import sys
 import tempfile
 import threading
 import time
-import urllib.request
 
 REPO = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 sys.path.insert(0, os.path.join(REPO, "python"))
+from server_figures import proc_figures, scrape_metrics  # noqa: E402
 import femsimp  # noqa: E402  (the checkout's Python client, for ListJobs and CancelJob)
 
 
@@ -49,19 +48,6 @@ def free_port():
         return s.getsockname()[1]
 
 
-def proc_figures(pid):
-    """Threads, open file descriptors, resident and peak resident memory (KiB) of a process."""
-    status = {}
-    with open(f"/proc/{pid}/status") as f:
-        for line in f:
-            key, _, value = line.partition(":")
-            status[key] = value.strip()
-    return {
-        "threads": int(status["Threads"]),
-        "fds": len(os.listdir(f"/proc/{pid}/fd")),
-        "rss_kib": int(status["VmRSS"].split()[0]),
-        "hwm_kib": int(status["VmHWM"].split()[0]),
-    }
 
 
 class Server:
@@ -85,15 +71,7 @@ class Server:
         raise RuntimeError(f"femsimp-server did not come up (see {log_path})")
 
     def metrics(self):
-        with urllib.request.urlopen(f"http://127.0.0.1:{self.metrics_port}/metrics",
-                                    timeout=10) as r:
-            text = r.read().decode()
-        values = {}
-        for line in text.splitlines():
-            m = re.match(r"^(femsimp_\w+)(\{[^}]*\})? (\S+)$", line)
-            if m:
-                values[m.group(1) + (m.group(2) or "")] = float(m.group(3))
-        return values
+        return scrape_metrics(self.metrics_port)
 
     def jobs_ended(self):
         return int(sum(v for k, v in self.metrics().items()
