@@ -82,7 +82,10 @@ class CellPort {
 
   // Side quadwords bypass the software cache: they are read only under the locks that guard
   // them, so a DMA get straight from main memory is current.
-  FaceAttrQ ReadFaceAttr(uint32_t f) { return Get(&a_[f], FaceAttrQ{1e30f, {0, 0, 0}}); }
+  FaceAttrQ ReadFaceAttr(uint32_t f) {
+    return Get(&a_[f],
+               FaceAttrQ{1e30f, {0, 0, 0}, {-32768, -32768, -32768}, {32767, 32767, 32767}, 0});
+  }
   void WriteFaceAttr(uint32_t f, const FaceAttrQ& q) { Put(&a_[f], q); }
   QuadricQ ReadQuadric(uint32_t v) { return Get(&q_[v], QuadricQ{}); }
   void WriteQuadric(uint32_t v, const QuadricQ& q) { Put(&q_[v], q); }

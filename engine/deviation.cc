@@ -55,10 +55,70 @@ void Barycentric(P2 p, P2 a, P2 b, P2 c, double area2, double* l) {
   l[2] = 1.0 - l[0] - l[1];
 }
 
+// The steps phi_new(p) - phi_old(p) at the corners of one overlay cell: their box and the
+// longest (the step is affine on the cell, so both hold for every point of it).
+struct StepBox {
+  DVec3 lo{0, 0, 0}, hi{0, 0, 0};
+  double longest = 0.0;
+  bool empty = true;
+  void Add(const DVec3& d) {
+    if (empty) {
+      lo = hi = d;
+      empty = false;
+    } else {
+      lo = {std::min(lo.x, d.x), std::min(lo.y, d.y), std::min(lo.z, d.z)};
+      hi = {std::max(hi.x, d.x), std::max(hi.y, d.y), std::max(hi.z, d.z)};
+    }
+    longest = std::max(longest, Norm(d));
+  }
+};
+
+// A new face's displacement, gathered over the cells it is made of: phi_new(p) - p =
+// (phi_old(p) - p) + step, so the box is the old box plus the cell's steps (a Minkowski sum of
+// boxes) and the length at most the old bound plus the longest step.
+struct NewDisplacement {
+  Displacement d;
+  bool any = false;
+  void AddCell(const Displacement& old, const StepBox& cell) {
+    if (cell.empty) return;  // the triangles only touch: their points lie in other cells too
+    const DVec3 lo = old.lo + cell.lo, hi = old.hi + cell.hi;
+    if (!any) {
+      d.lo = lo;
+      d.hi = hi;
+      d.bound = old.bound + cell.longest;
+      any = true;
+      return;
+    }
+    d.lo = {std::min(d.lo.x, lo.x), std::min(d.lo.y, lo.y), std::min(d.lo.z, lo.z)};
+    d.hi = {std::max(d.hi.x, hi.x), std::max(d.hi.y, hi.y), std::max(d.hi.z, hi.z)};
+    d.bound = std::max(d.bound, old.bound + cell.longest);
+  }
+  // Widened by eps for rounding; the bound is the tighter of the two it knows.
+  Displacement Finish(double eps) const {
+    Displacement out = d;
+    out.lo -= DVec3{eps, eps, eps};
+    out.hi += DVec3{eps, eps, eps};
+    out.bound = std::min(d.bound + eps, out.Reach());
+    // Every displacement is within the bound of 0, so the box can shrink to that cube.
+    out.lo = {std::max(out.lo.x, -out.bound), std::max(out.lo.y, -out.bound),
+              std::max(out.lo.z, -out.bound)};
+    out.hi = {std::min(out.hi.x, out.bound), std::min(out.hi.y, out.bound),
+              std::min(out.hi.z, out.bound)};
+    return out;
+  }
+};
+
 }  // namespace
 
-bool BoundDeviation(const Ring& ring, int target, int line_other, const float* old_error,
-                    float* new_error, int* work) {
+double Displacement::Reach() const {
+  const double x = std::max(std::fabs(lo.x), std::fabs(hi.x));
+  const double y = std::max(std::fabs(lo.y), std::fabs(hi.y));
+  const double z = std::max(std::fabs(lo.z), std::fabs(hi.z));
+  return std::sqrt(x * x + y * y + z * z);
+}
+
+bool BoundDeviation(const Ring& ring, int target, int line_other, const Displacement* old_moved,
+                    Displacement* new_moved, int* work) {
   const int n = ring.neighbours();
   const int nf = ring.faces;
   const DVec3 v = ToD(ring.center_pos);
@@ -117,36 +177,39 @@ bool BoundDeviation(const Ring& ring, int target, int line_other, const float* o
   }
   if (std::fabs(angle_vd_new - angle_vd_old) > 1e-6) return false;
 
-  // Displacement at V', on the new face(s) holding its position.
-  double disp_v[kMaxRing];
+  // The step at V', on the new face(s) holding its position.
+  DVec3 step_v[kMaxRing];
+  bool holds_v[kMaxRing];
   bool placed = false;
   for (int f = 0; f < nf; ++f) {
-    disp_v[f] = -1.0;  // V' not on this face
+    holds_v[f] = false;
     if (!survives[f]) continue;
     const int b = f, c = (f + 1) % n;
     double l[3];
     Barycentric(v2, qd, q[b], q[c], Orient(qd, q[b], q[c]), l);
     if (l[0] < -1e-9 || l[1] < -1e-9 || l[2] < -1e-9) continue;
     const DVec3 at = l[0] * p[target] + l[1] * p[b] + l[2] * p[c];
-    disp_v[f] = Norm(at - v);
+    step_v[f] = at - v;
+    holds_v[f] = true;
     placed = true;
   }
   if (!placed) return false;
 
-  // Displacement where old spoke V' -> k crosses new spoke Vd -> j (negative: no crossing).
-  const auto crossing = [&](int k, int j) {
+  // Where old spoke V' -> k crosses new spoke Vd -> j, the step there (false: no crossing).
+  const auto crossing = [&](int k, int j, DVec3* step) {
     const P2 dk = Sub2(q[k], v2), dj = Sub2(q[j], qd);
     const double denom = Cross2(dk, dj);
-    if (std::fabs(denom) <= 1e-15 * scale * scale) return -1.0;  // parallel: meet at ends only
+    if (std::fabs(denom) <= 1e-15 * scale * scale) return false;  // parallel: meet at ends only
     const P2 r = Sub2(qd, v2);
     const double s = Cross2(r, dj) / denom, t = Cross2(r, dk) / denom;
-    if (s < -1e-9 || s > 1 + 1e-9 || t < -1e-9 || t > 1 + 1e-9) return -1.0;
-    return Norm((v + s * (p[k] - v)) - (p[target] + t * (p[j] - p[target])));
+    if (s < -1e-9 || s > 1 + 1e-9 || t < -1e-9 || t > 1 + 1e-9) return false;
+    *step = (p[target] + t * (p[j] - p[target])) - (v + s * (p[k] - v));
+    return true;
   };
 
-  // On each cell (old face f) x (new face g) of the overlay the displacement is affine, so its
-  // length peaks at a cell corner: V', a link vertex (0) or a spoke crossing; the cell's points
-  // moved at most e_f before. The new bound of g is the worst cell over the f it overlaps.
+  // On each cell (old face f) x (new face g) of the overlay the step is affine, so it is held by
+  // the box of its values at the cell's corners: V' (when g holds it), a link vertex the two
+  // faces share (0: link vertices do not move) and the spoke crossings.
   struct Box {
     double lo_x, lo_y, hi_x, hi_y;
   };
@@ -162,7 +225,7 @@ bool BoundDeviation(const Ring& ring, int target, int line_other, const float* o
     const int g2 = (g + 1) % n;
     const P2 tg[3] = {qd, q[g], q[g2]};
     const Box gb = box(qd, q[g], q[g2]);
-    double bound = 0.0;
+    NewDisplacement moved;
     for (int f = 0; f < nf; ++f) {
       const int f2 = (f + 1) % n;
       const Box& fb = old_box[f];
@@ -172,19 +235,22 @@ bool BoundDeviation(const Ring& ring, int target, int line_other, const float* o
       const P2 tf[3] = {v2, q[f], q[f2]};
       ++tests;
       if (!Overlap(tf, tg, eps_len)) continue;
-      double worst = std::max(0.0, disp_v[g]);
+      StepBox cell;
+      if (holds_v[g]) cell.Add(step_v[g]);
+      for (int k : {f, f2})
+        if (k == target || k == g || k == g2) cell.Add({0, 0, 0});
       for (int k : {f, f2}) {
         if (k == target) continue;
         for (int j : {g, g2}) {
           if (j == target || j == k) continue;
           ++tests;
-          worst = std::max(worst, crossing(k, j));
+          DVec3 step;
+          if (crossing(k, j, &step)) cell.Add(step);
         }
       }
-      bound = std::max(bound, double(old_error[f]) + worst);
+      moved.AddCell(old_moved[f], cell);
     }
-    // Round up: the float must not fall below the double bound.
-    new_error[g] = std::nextafter(static_cast<float>(bound + eps_len), 1e30f);
+    new_moved[g] = moved.Finish(eps_len);
   }
   *work = tests;
   return true;
@@ -209,12 +275,12 @@ struct Lifted {
   }
 };
 
-// The largest displacement over the overlay cell of old triangle f and new triangle g (their
-// projections overlap): at the corners of the cell, which are corners of one inside the other
-// or crossings of their edges.
-double CellDisplacement(const Lifted& f, const Lifted& g, double scale, int* tests) {
-  double worst = 0.0;
-  const auto at = [&](P2 x) { worst = std::max(worst, Norm(f.At(x) - g.At(x))); };
+// The steps over the overlay cell of old triangle f and new triangle g (their projections
+// overlap), at the corners of the cell: corners of one inside the other or crossings of their
+// edges.
+StepBox CellSteps(const Lifted& f, const Lifted& g, double scale, int* tests) {
+  StepBox cell;
+  const auto at = [&](P2 x) { cell.Add(g.At(x) - f.At(x)); };
   for (int k = 0; k < 3; ++k) {
     if (g.Holds(f.q[k])) at(f.q[k]);
     if (f.Holds(g.q[k])) at(g.q[k]);
@@ -232,12 +298,13 @@ double CellDisplacement(const Lifted& f, const Lifted& g, double scale, int* tes
       at({a0.x + s * da.x, a0.y + s * da.y});
     }
   }
-  return worst;
+  return cell;
 }
 
 }  // namespace
 
-bool BoundStarDeviation(const EdgeStar& star, const float* old_error, float* new_error, int* work) {
+bool BoundStarDeviation(const EdgeStar& star, const Displacement* old_moved,
+                        Displacement* new_moved, int* work) {
   DVec3 normal{0, 0, 0};
   for (int k = 0; k < star.count; ++k)
     normal += Cross(star.b[k] - star.a[k], star.c[k] - star.a[k]);
@@ -286,14 +353,13 @@ bool BoundStarDeviation(const EdgeStar& star, const float* old_error, float* new
   int tests = 0;
   for (int g = 0; g < star.count; ++g) {
     if (!star.survives[g]) continue;
-    double bound = 0.0;
+    NewDisplacement moved;
     for (int f = 0; f < star.count; ++f) {
       ++tests;
       if (!Overlap(old_t[f].q, new_t[g].q, eps_len)) continue;
-      bound = std::max(bound,
-                       double(old_error[f]) + CellDisplacement(old_t[f], new_t[g], scale, &tests));
+      moved.AddCell(old_moved[f], CellSteps(old_t[f], new_t[g], scale, &tests));
     }
-    new_error[g] = std::nextafter(static_cast<float>(bound + eps_len), 1e30f);
+    new_moved[g] = moved.Finish(eps_len);
   }
   *work = tests;
   return true;

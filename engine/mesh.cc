@@ -134,7 +134,7 @@ absl::StatusOr<Mesh> Mesh::Build(const RawMesh& raw) {
 }
 
 void Mesh::EnsureFaceAttrs() {
-  if (face_attrs_.empty()) face_attrs_.assign(face_capacity(), FaceAttrQ{0.f, {0.f, 0.f, 0.f}});
+  if (face_attrs_.empty()) face_attrs_.assign(face_capacity(), FaceAttrQ{});
 }
 
 void Mesh::EnsureQuadrics() {

@@ -27,12 +27,16 @@ inline constexpr uint32_t kFaceRemoved = 1u;
 // the feature angle. Set before the passes; a collapse that joins two edges ORs their bits.
 inline constexpr uint32_t kFeatureEdge = 2u;
 
-// Side quadword per face, present when a tolerance or face fields are asked for: the bound on
-// how far the face's points moved from the original surface (docs/FIDELITY.md) and the face's
-// field values. Guarded like the face's half-edges.
+// Side data per face (two quadwords), present when a tolerance or face fields are asked for:
+// how far the face's points moved from the original surface (docs/FIDELITY.md: a bound on the
+// length, and a box holding the displacement vectors in 16-bit steps of the run's tolerance /
+// 2^14) and the face's field values. Guarded like the face's half-edges.
 struct alignas(16) FaceAttrQ {
   float error;
   float field[3];
+  int16_t moved_lo[3];
+  int16_t moved_hi[3];
+  uint32_t reserved;
 };
 
 // Side data per vertex for the quadric cost: the Garland-Heckbert quadric (upper triangle of the
@@ -44,7 +48,7 @@ struct alignas(16) QuadricQ {
 
 static_assert(sizeof(VertexQ) == 16 && alignof(VertexQ) == 16);
 static_assert(sizeof(HalfEdgeQ) == 16 && alignof(HalfEdgeQ) == 16);
-static_assert(sizeof(FaceAttrQ) == 16 && sizeof(QuadricQ) == 48);
+static_assert(sizeof(FaceAttrQ) == 32 && sizeof(QuadricQ) == 48);
 
 inline uint32_t FaceOf(uint32_t h) { return h / 3; }
 inline uint32_t Next(uint32_t h) { return h % 3 == 2 ? h - 2 : h + 1; }

@@ -1,5 +1,9 @@
 // The guaranteed deviation bound (docs/FIDELITY.md, engine/deviation.h): every surviving fan
-// face's bound after the collapse stays within the tolerance. Proposes the new bounds.
+// face's bound after the collapse stays within the tolerance. Proposes the new bounds and
+// displacement boxes.
+#include <algorithm>
+#include <cmath>
+
 #include "engine/deviation.h"
 #include "engine/rule.h"
 
@@ -8,7 +12,8 @@ namespace {
 
 class DeviationBoundRule final : public CollapseRule {
  public:
-  explicit DeviationBoundRule(float tolerance) : tolerance_(tolerance) {}
+  explicit DeviationBoundRule(float tolerance)
+      : tolerance_(tolerance), unit_(double(tolerance) / kBoxSteps) {}
   Reject reason() const override { return Reject::kTolerance; }
   uint32_t stages() const override { return Stages(RuleStage::kFidelity); }
   bool reads_face_attrs() const override { return true; }
@@ -17,42 +22,65 @@ class DeviationBoundRule final : public CollapseRule {
   Verdict Check(RuleStage, CollapseProposal& p) const override {
     if (p.star != nullptr) return CheckStar(p);
     const int nf = p.fan->faces;
-    float old_error[kMaxRing] = {}, new_error[kMaxRing];
-    for (int f = 0; f < nf; ++f) old_error[f] = p.fan_attr[f].error;
+    Displacement old_moved[kMaxRing], new_moved[kMaxRing];
+    for (int f = 0; f < nf; ++f) old_moved[f] = Unpack(p.fan_attr[f]);
     int work = 0;
     const bool bounded =
-        BoundDeviation(*p.fan, p.target, p.line_other, old_error, new_error, &work);
-    p.cycles += static_cast<uint32_t>(24 * work);
+        BoundDeviation(*p.fan, p.target, p.line_other, old_moved, new_moved, &work);
+    p.cycles += static_cast<uint32_t>(28 * work);
     if (!bounded) return Verdict::kReject;
-    for (int f = 0; f < nf; ++f) {
-      if (p.IsDeleted(f)) continue;
-      if (new_error[f] > tolerance_) return Verdict::kReject;
-      p.new_attr[f].error = new_error[f];
-    }
+    for (int f = 0; f < nf; ++f)
+      if (!p.IsDeleted(f) && !Pack(new_moved[f], &p.new_attr[f])) return Verdict::kReject;
     return Verdict::kPass;
   }
 
  private:
+  // The box travels in FaceAttrQ as 16-bit multiples of unit_, rounded outwards; a box within
+  // the tolerance spans at most half their range.
+  static constexpr double kBoxSteps = 16384.0;
+
+  Displacement Unpack(const FaceAttrQ& a) const {
+    Displacement d;
+    d.bound = a.error;
+    d.lo = {a.moved_lo[0] * unit_, a.moved_lo[1] * unit_, a.moved_lo[2] * unit_};
+    d.hi = {a.moved_hi[0] * unit_, a.moved_hi[1] * unit_, a.moved_hi[2] * unit_};
+    return d;
+  }
+
+  // False when the face would be out of tolerance.
+  bool Pack(const Displacement& d, FaceAttrQ* a) const {
+    const float bound = std::nextafter(static_cast<float>(d.bound), 1e30f);  // never below
+    if (!(bound <= tolerance_)) return false;
+    a->error = bound;
+    const double lo[3] = {d.lo.x, d.lo.y, d.lo.z}, hi[3] = {d.hi.x, d.hi.y, d.hi.z};
+    for (int i = 0; i < 3; ++i) {
+      a->moved_lo[i] =
+          static_cast<int16_t>(std::clamp(std::floor(lo[i] / unit_), -32768.0, 32767.0));
+      a->moved_hi[i] =
+          static_cast<int16_t>(std::clamp(std::ceil(hi[i] / unit_), -32768.0, 32767.0));
+    }
+    return true;
+  }
+
   Verdict CheckStar(CollapseProposal& p) const {
     const EdgeStar& star = *p.star;
-    float old_error[kMaxStar], new_error[kMaxStar];
+    Displacement old_moved[kMaxStar], new_moved[kMaxStar];
     for (int k = 0; k < star.count; ++k)
-      old_error[k] =
-          k < star.fan_faces ? p.fan_attr[k].error : p.extra_attr[k - star.fan_faces].error;
+      old_moved[k] = Unpack(k < star.fan_faces ? p.fan_attr[k] : p.extra_attr[k - star.fan_faces]);
     int work = 0;
-    const bool bounded = BoundStarDeviation(star, old_error, new_error, &work);
-    p.cycles += static_cast<uint32_t>(24 * work);
+    const bool bounded = BoundStarDeviation(star, old_moved, new_moved, &work);
+    p.cycles += static_cast<uint32_t>(28 * work);
     if (!bounded) return Verdict::kReject;
     for (int k = 0; k < star.count; ++k) {
       if (!star.survives[k]) continue;
-      if (new_error[k] > tolerance_) return Verdict::kReject;
       FaceAttrQ& attr = k < star.fan_faces ? p.new_attr[k] : p.new_extra_attr[k - star.fan_faces];
-      attr.error = new_error[k];
+      if (!Pack(new_moved[k], &attr)) return Verdict::kReject;
     }
     return Verdict::kPass;
   }
 
   float tolerance_;
+  double unit_;
 };
 
 }  // namespace

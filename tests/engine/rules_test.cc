@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "engine/rule.h"
+#include "tests/support/meshes.h"
 
 namespace femsimp {
 namespace {
@@ -55,22 +56,7 @@ TEST(RuleSet, RulesFollowTheOptions) {
   EXPECT_TRUE(fidelity.tracks_mass());
 }
 
-// A closed fan around vertex 0 with neighbours 1..n on a regular polygon in the z = 0 plane.
-Ring RegularFan(int n) {
-  Ring r;
-  r.center = 0;
-  r.center_pos = {0, 0, 0};
-  r.faces = n;
-  for (int i = 0; i < n; ++i) {
-    const double a = 2 * std::numbers::pi * i / n;
-    r.nbr[i] = static_cast<uint32_t>(i + 1);
-    r.pos[i] = {static_cast<float>(std::cos(a)), static_cast<float>(std::sin(a)), 0.0f};
-    r.feature[i] = false;
-    r.group[i] = 0;
-    r.out[i] = static_cast<uint32_t>(3 * i);
-  }
-  return r;
-}
+using testing::RegularFan;
 
 const CollapseRule& Only(const RuleSet& set, RuleStage stage, Reject reason) {
   for (const CollapseRule* r : set.stage(stage))

@@ -158,13 +158,13 @@ TEST(EdgeStar, DeviationBoundHoldsBothWays) {
       ASSERT_TRUE(star.Build(e.fan, e.target, e.target_fan));
       for (const DVec3 p : {OptimalPosition(star), 0.5 * (star.v + star.vd)}) {
         star.p = Rounded(p);
-        float old_error[kMaxStar] = {}, new_error[kMaxStar] = {};
+        Displacement old_moved[kMaxStar], new_moved[kMaxStar];
         int work = 0;
-        if (!BoundStarDeviation(star, old_error, new_error, &work)) continue;
+        if (!BoundStarDeviation(star, old_moved, new_moved, &work)) continue;
         ++bounded;
         double bound = 0.0;
         for (int k = 0; k < star.count; ++k)
-          if (star.survives[k]) bound = std::max(bound, double(new_error[k]));
+          if (star.survives[k]) bound = std::max(bound, new_moved[k].bound);
         EXPECT_LE(SampledDistance(star, true), bound * (1 + 1e-6)) << "vertex " << v;
         EXPECT_LE(SampledDistance(star, false), bound * (1 + 1e-6)) << "vertex " << v;
         EXPECT_GT(work, 0);
@@ -186,17 +186,23 @@ TEST(EdgeStar, FlatPatchStaysOnItsPlaneWithItsBound) {
   EXPECT_NEAR(star.p.z, 0.0, 1e-12);
   const DVec3 mid = 0.5 * (star.v + star.vd);
   EXPECT_LT(Norm(star.p - mid), 1e-9) << "the pull decides where the quadric does not";
-  float old_error[kMaxStar], new_error[kMaxStar];
-  std::fill(old_error, old_error + kMaxStar, 0.01f);
+  // Points that had moved up to 0.01 straight up: moving within the plane adds nothing.
+  Displacement old_moved[kMaxStar], new_moved[kMaxStar];
+  for (Displacement& d : old_moved) {
+    d.bound = 0.01;
+    d.hi = {0, 0, 0.01};
+  }
   int work = 0;
-  ASSERT_TRUE(BoundStarDeviation(star, old_error, new_error, &work));
+  ASSERT_TRUE(BoundStarDeviation(star, old_moved, new_moved, &work));
   for (int k = 0; k < star.count; ++k)
     if (star.survives[k]) {
-      EXPECT_NEAR(new_error[k], 0.01f, 1e-6f);
+      EXPECT_NEAR(new_moved[k].bound, 0.01, 1e-6);
+      EXPECT_NEAR(new_moved[k].hi.z, 0.01, 1e-6);
+      EXPECT_NEAR(new_moved[k].lo.z, 0.0, 1e-6);
     }
   // A point outside the link polygon cannot tile it.
   star.p = star.v + 10.0 * (star.vd - star.v);
-  EXPECT_FALSE(BoundStarDeviation(star, old_error, new_error, &work));
+  EXPECT_FALSE(BoundStarDeviation(star, old_moved, new_moved, &work));
 }
 
 uint64_t Placed(const SimplifyResult& r) {

@@ -12,7 +12,10 @@
 # ids, so new tie-breaks in the cost order and a new output numbering). The fe sets changed again
 # when a collapse came to make the refused vertices of its fan candidates again (option
 # periodic_retry off), and fidelity_budgets' blade when a pass that removed nothing left its
-# untried vertices to a plain pass instead of reconsidering the same candidates again.
+# untried vertices to a plain pass instead of reconsidering the same candidates again. The sets
+# with a tolerance (every fe set, quadric_tolerance, fidelity_budgets, cell_1spe_fidelity)
+# changed when the deviation bound came to sum displacement boxes instead of lengths (a tighter
+# bound: more collapses pass it).
 set -euo pipefail
 femsimp=$1 data=$2 hashes=$3 mode=${4:-check}
 declare -A option_sets=(

@@ -13,6 +13,22 @@
 
 namespace femsimp::testing {
 
+Ring RegularFan(int n, float apex) {
+  Ring r;
+  r.center = 0;
+  r.center_pos = {0, 0, apex};
+  r.faces = n;
+  for (int i = 0; i < n; ++i) {
+    const double a = 2 * std::numbers::pi * i / n;
+    r.nbr[i] = static_cast<uint32_t>(i + 1);
+    r.pos[i] = {static_cast<float>(std::cos(a)), static_cast<float>(std::sin(a)), 0.0f};
+    r.feature[i] = false;
+    r.group[i] = 0;
+    r.out[i] = static_cast<uint32_t>(3 * i);
+  }
+  return r;
+}
+
 RawMesh FlatGrid(int n) {
   RawMesh m;
   for (int j = 0; j <= n; ++j)

@@ -9,11 +9,15 @@
 
 #include "engine/mesh.h"
 #include "engine/raw_mesh.h"
+#include "engine/ring.h"
 #include "engine/simplify.h"
 #include "engine/vec.h"
 
 namespace femsimp::testing {
 
+// A closed fan around vertex 0 with neighbours 1..n on the unit regular polygon at z = 0, the
+// centre at height apex (fan face i's first half-edge is 3i): for the rules' unit tests.
+Ring RegularFan(int n, float apex = 0.0f);
 RawMesh FlatGrid(int n);  // (n+1)^2 vertices on the unit square, open boundary
 RawMesh Tetrahedron();    // unit corner tetrahedron, closed
 RawMesh Octahedron();

@@ -1,0 +1,135 @@
+// The deviation bound of one collapse (engine/deviation.h) on hand-made fans: what the
+// displacement box keeps from adding up, and what it must still add.
+#include "engine/deviation.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "engine/rule.h"
+#include "tests/support/meshes.h"
+
+namespace femsimp {
+namespace {
+
+// A closed fan of six faces: the neighbours on the unit hexagon at z = 0, the centre at height
+// h (a tent; 0 is flat).
+Ring Tent(float h) { return testing::RegularFan(6, h); }
+
+// The largest new bound over the faces that survive collapsing the tent's centre onto
+// neighbour 0, every old face having moved as `old`.
+Displacement Collapse(const Ring& fan, const Displacement& old) {
+  Displacement old_moved[kMaxRing], new_moved[kMaxRing];
+  for (int f = 0; f < fan.faces; ++f) old_moved[f] = old;
+  int work = 0;
+  EXPECT_TRUE(BoundDeviation(fan, 0, -1, old_moved, new_moved, &work));
+  EXPECT_GT(work, 0);
+  Displacement worst;
+  for (int f = 1; f < fan.faces - 1; ++f)  // faces 0 and 5 hold V - Vd and go
+    if (new_moved[f].bound > worst.bound) worst = new_moved[f];
+  return worst;
+}
+
+constexpr double kEps = 1e-6;
+
+// Flattening a tent of height 0.1 moves the apex 0.1 straight down.
+TEST(Deviation, FlatteningATentMovesItsApexDown) {
+  const Displacement d = Collapse(Tent(0.1f), Displacement{});
+  EXPECT_NEAR(d.bound, 0.1, kEps);
+  EXPECT_NEAR(d.lo.z, -0.1, kEps);
+  EXPECT_NEAR(d.hi.z, 0.0, kEps);
+  EXPECT_NEAR(d.lo.x, 0.0, kEps);
+  EXPECT_NEAR(d.hi.x, 0.0, kEps);
+}
+
+// Points that had moved up by 0.1 and now move down by 0.1 have moved at most 0.1 in all, not
+// 0.2 as adding lengths would say.
+TEST(Deviation, StepsInAndOutDoNotAddUp) {
+  Displacement up;
+  up.bound = 0.1;
+  up.hi = {0, 0, 0.1};
+  const Displacement d = Collapse(Tent(0.1f), up);
+  EXPECT_NEAR(d.bound, 0.1, kEps);
+  EXPECT_NEAR(d.lo.z, -0.1, kEps);
+  EXPECT_NEAR(d.hi.z, 0.1, kEps);
+}
+
+// Steps the same way still add: the guarantee is kept.
+TEST(Deviation, StepsTheSameWayAddUp) {
+  Displacement down;
+  down.bound = 0.1;
+  down.lo = {0, 0, -0.1};
+  const Displacement d = Collapse(Tent(0.1f), down);
+  EXPECT_NEAR(d.bound, 0.2, kEps);
+  EXPECT_NEAR(d.lo.z, -0.2, kEps);
+}
+
+// Steps across each other add as a right triangle's sides do.
+TEST(Deviation, StepsAcrossEachOtherAddInQuadrature) {
+  Displacement sideways;
+  sideways.bound = 0.1;
+  sideways.hi = {0.1, 0, 0};
+  const Displacement d = Collapse(Tent(0.1f), sideways);
+  EXPECT_NEAR(d.bound, std::sqrt(0.02), kEps);
+}
+
+// A box known only loosely (reaching further than the bound) leaves the bound as the length
+// sum says, and is cut back to the bound's cube.
+TEST(Deviation, TheBoundCapsALooseBox) {
+  Displacement loose;
+  loose.bound = 0.05;
+  loose.lo = {-1, -1, -1};
+  loose.hi = {1, 1, 1};
+  const Displacement d = Collapse(Tent(0.1f), loose);
+  EXPECT_NEAR(d.bound, 0.15, kEps);
+  EXPECT_GE(d.lo.x, -0.15 - kEps);
+  EXPECT_LE(d.hi.z, 0.15 + kEps);
+}
+
+// The rule stores the box in 16-bit steps of the tolerance, rounded outwards, reads it back for
+// the next collapse, and refuses a face beyond the tolerance.
+TEST(Deviation, TheRuleKeepsTheBoxAcrossCollapses) {
+  RuleSetup setup;
+  setup.tolerance = 0.15f;
+  const RuleSet set = RuleSet::Build(SimplifyOptions{}, setup);
+  const CollapseRule* tolerance = nullptr;
+  for (const CollapseRule* r : set.stage(RuleStage::kFidelity))
+    if (r->reason() == Reject::kTolerance) tolerance = r;
+  ASSERT_NE(tolerance, nullptr);
+
+  const Ring tent = Tent(0.1f);
+  FaceAttrQ attrs[kMaxRing] = {};
+  for (int f = 0; f < tent.faces; ++f) attrs[f].moved_hi[2] = 16384 * 2 / 3;  // up by 0.1
+  attrs[0].error = attrs[1].error = attrs[2].error = attrs[3].error = attrs[4].error =
+      attrs[5].error = 0.1f;
+  CollapseProposal p;
+  p.fan = &tent;
+  p.target = 0;
+  p.fan_attr = attrs;
+  for (int f = 0; f < tent.faces; ++f) p.new_attr[f] = attrs[f];
+  ASSERT_EQ(tolerance->Check(RuleStage::kFidelity, p), Verdict::kPass)
+      << "up 0.1 then down 0.1 is within 0.15";
+  const double unit = 0.15 / 16384;
+  double lowest = 0.0;
+  for (int f = 1; f < 5; ++f) {
+    const FaceAttrQ& a = p.new_attr[f];
+    EXPECT_LE(a.error, 0.1f + 1e-5f);
+    EXPECT_GE(a.moved_hi[2], attrs[f].moved_hi[2]) << "the old box is kept";
+    EXPECT_GE(a.moved_lo[0], -1) << "nothing moved sideways but rounding";
+    EXPECT_LE(a.moved_hi[0], 1);
+    lowest = std::min(lowest, a.moved_lo[2] * unit);
+  }
+  EXPECT_LE(lowest, -0.1) << "the apex's step, rounded outwards";
+
+  // The same way twice is 0.2: refused.
+  for (int f = 0; f < tent.faces; ++f) {
+    attrs[f].moved_hi[2] = 0;
+    attrs[f].moved_lo[2] = -16384 * 2 / 3;
+    p.new_attr[f] = attrs[f];
+  }
+  EXPECT_EQ(tolerance->Check(RuleStage::kFidelity, p), Verdict::kReject);
+}
+
+}  // namespace
+}  // namespace femsimp
