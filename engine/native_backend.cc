@@ -1,5 +1,3 @@
-#include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <vector>
 
@@ -33,24 +31,15 @@ class NativeBackend final : public RemovalBackend {
     const int n = pool_.size();
     std::vector<KernelStats> per_context(n);
     std::vector<double> busy(n, 0.0);
-    // A round's winners (blocks) decide the same whatever context runs them, so contexts take
-    // small contiguous chunks as they finish the last: a fixed split left one context waiting
-    // for the other in every round. The free schedule keeps every N-th candidate (cost order).
-    std::atomic<size_t> cursor{0};
-    const size_t chunk = std::clamp<size_t>(phase.count / (8 * size_t(n)), 4, 64);
     pool_.Run([&](int c) {
       const auto start = std::chrono::steady_clock::now();
       NativePort port(mesh_);
       RemovalKernel<NativePort> kernel(port, *kernel_.rules, kernel_.quadric, *phase.budget,
                                        per_context[c], kernel_.placement, kernel_.requeue_changed);
       const size_t step = phase.blocks ? 1 : n;
-      size_t next = phase.blocks ? 0 : c;
-      size_t end = phase.blocks ? 0 : phase.count;
+      size_t next = phase.blocks ? phase.count * c / n : c;
+      const size_t end = phase.blocks ? phase.count * (c + 1) / n : phase.count;
       RunCandidates(kernel, phase, [&]() -> std::optional<uint32_t> {
-        if (phase.blocks && next >= end) {
-          next = cursor.fetch_add(chunk, std::memory_order_relaxed);
-          end = std::min(next + chunk, phase.count);
-        }
         if (next >= end) return std::nullopt;
         if (next + 2 * kPrefetchAhead * step < end)
           port.PrefetchVertex(phase.candidates[next + 2 * kPrefetchAhead * step]);

@@ -1,8 +1,7 @@
 // A back end runs the removal phase of a pass: the sorted candidates, split uniformly over its
 // contexts (candidate i goes to context i mod N, so every context works in cost order; the cell
 // back end gives each SPE a region of the mesh instead, still in cost order; or in contiguous
-// blocks, RemovalPhase::blocks: one per SPE, or natively small ones taken as contexts finish),
-// each
+// blocks, RemovalPhase::blocks), each
 // context running the one candidate loop (RunCandidates) through the back end's memory port.
 // The back end supplies memory access (the port), locking (the port's status words) and
 // scheduling (threads, or SPEs and their software threads); the loop and the kernel are shared.
