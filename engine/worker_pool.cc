@@ -1,6 +1,22 @@
 #include "engine/worker_pool.h"
 
 namespace femsimp {
+namespace {
+
+// True once done() holds, polling it for at most `limit`.
+template <class Done>
+bool SpinUntil(Done done, std::chrono::microseconds limit) {
+  const auto until = std::chrono::steady_clock::now() + limit;
+  for (int i = 1;; ++i) {
+    if (done()) return true;
+    if (i % 64 == 0 && std::chrono::steady_clock::now() >= until) return false;
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_ia32_pause();
+#endif
+  }
+}
+
+}  // namespace
 
 WorkerPool::WorkerPool(int contexts) : contexts_(contexts) {
   for (int c = 1; c < contexts_; ++c) threads_.emplace_back([this, c] { Loop(c); });
@@ -19,8 +35,8 @@ void WorkerPool::Run(const std::function<void(int)>& fn) {
   {
     std::lock_guard<std::mutex> lock(mu_);
     job_ = &fn;
-    pending_ = contexts_ - 1;
-    ++generation_;
+    pending_.store(contexts_ - 1, std::memory_order_relaxed);
+    generation_.fetch_add(1, std::memory_order_release);
   }
   start_cv_.notify_all();
   // The other contexts use fn until they are done: wait for them even if it throws here.
@@ -30,8 +46,9 @@ void WorkerPool::Run(const std::function<void(int)>& fn) {
   } catch (...) {
     failure = std::current_exception();
   }
+  SpinUntil([this] { return pending_.load(std::memory_order_acquire) == 0; }, kSpin);
   std::unique_lock<std::mutex> lock(mu_);
-  done_cv_.wait(lock, [this] { return pending_ == 0; });
+  done_cv_.wait(lock, [this] { return pending_.load(std::memory_order_acquire) == 0; });
   job_ = nullptr;
   if (!failure) failure = failure_;
   failure_ = nullptr;
@@ -43,11 +60,17 @@ void WorkerPool::Loop(int context) {
   uint64_t seen = 0;
   for (;;) {
     const std::function<void(int)>* job;
-    {
+    const auto started = [&] { return generation_.load(std::memory_order_acquire) != seen; };
+    if (SpinUntil(started, kSpin)) {
+      std::lock_guard<std::mutex> lock(mu_);  // job_ is only read under the lock or after
+      if (quit_) return;                      // the generation it belongs to is seen
+      seen = generation_.load(std::memory_order_acquire);
+      job = job_;
+    } else {
       std::unique_lock<std::mutex> lock(mu_);
-      start_cv_.wait(lock, [&] { return quit_ || generation_ != seen; });
+      start_cv_.wait(lock, [&] { return quit_ || started(); });
       if (quit_) return;
-      seen = generation_;
+      seen = generation_.load(std::memory_order_acquire);
       job = job_;
     }
     std::exception_ptr failure;
@@ -56,10 +79,14 @@ void WorkerPool::Loop(int context) {
     } catch (...) {
       failure = std::current_exception();
     }
-    {
+    if (failure) {
       std::lock_guard<std::mutex> lock(mu_);
-      if (failure && !failure_) failure_ = failure;
-      if (--pending_ == 0) done_cv_.notify_one();
+      if (!failure_) failure_ = failure;
+    }
+    if (pending_.fetch_sub(1, std::memory_order_acq_rel) == 1) {
+      std::lock_guard<std::mutex> lock(
+          mu_);  // the caller checks pending_ under it: no lost wake-up
+      done_cv_.notify_one();
     }
   }
 }
