@@ -22,7 +22,10 @@ class DeviationBoundRule final : public CollapseRule {
   Verdict Check(RuleStage, CollapseProposal& p) const override {
     if (p.star != nullptr) return CheckStar(p);
     const int nf = p.fan->faces;
-    Displacement old_moved[kMaxRing], new_moved[kMaxRing];
+    // Off the stack: an SPE software thread's is small (56 KiB, engine/cell_backend.cc), and
+    // 2 x 64 of these are 7 KiB. Per OS thread: the software threads of an SPE switch only
+    // at DMA waits, never inside this check.
+    thread_local Displacement old_moved[kMaxRing], new_moved[kMaxRing];
     for (int f = 0; f < nf; ++f) old_moved[f] = Unpack(p.fan_attr[f]);
     int work = 0;
     const bool bounded =
@@ -64,7 +67,7 @@ class DeviationBoundRule final : public CollapseRule {
 
   Verdict CheckStar(CollapseProposal& p) const {
     const EdgeStar& star = *p.star;
-    Displacement old_moved[kMaxStar], new_moved[kMaxStar];
+    thread_local Displacement old_moved[kMaxStar], new_moved[kMaxStar];  // as in Check
     for (int k = 0; k < star.count; ++k)
       old_moved[k] = Unpack(k < star.fan_faces ? p.fan_attr[k] : p.extra_attr[k - star.fan_faces]);
     int work = 0;

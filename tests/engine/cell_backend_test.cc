@@ -154,7 +154,7 @@ TEST(CellBackend, CacheAndStacksThatDoNotFitAreRejected) {
 TEST(CellBackend, LocalStoreWithoutRoomForTheSortIsRejected) {
   SimplifyOptions options;
   options.backend = Backend::kCell;
-  options.cell.local_store_kib = 128;  // the 64 KiB cache and one 48 KiB stack fit, the sort not
+  options.cell.local_store_kib = 136;  // the 64 KiB cache and one 56 KiB stack fit, the sort not
   ExpectLocalStoreRefused(options, "sort");
 }
 
