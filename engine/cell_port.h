@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <cstring>
+#include <limits>
 
 #include "cellsim/cellsim.h"
 #include "engine/mesh.h"
@@ -83,8 +84,10 @@ class CellPort {
   // Side quadwords bypass the software cache: they are read only under the locks that guard
   // them, so a DMA get straight from main memory is current.
   FaceAttrQ ReadFaceAttr(uint32_t f) {
-    return Get(&a_[f],
-               FaceAttrQ{1e30f, {0, 0, 0}, {-32768, -32768, -32768}, {32767, 32767, 32767}, 0});
+    // A failed read gives an infinite bound and the widest box: the collapse is refused.
+    constexpr int16_t lo = std::numeric_limits<int16_t>::min();
+    constexpr int16_t hi = std::numeric_limits<int16_t>::max();
+    return Get(&a_[f], FaceAttrQ{1e30f, {0, 0, 0}, {lo, lo, lo}, {hi, hi, hi}, 0});
   }
   void WriteFaceAttr(uint32_t f, const FaceAttrQ& q) { Put(&a_[f], q); }
   QuadricQ ReadQuadric(uint32_t v) { return Get(&q_[v], QuadricQ{}); }

@@ -61,12 +61,8 @@ void WorkerPool::Loop(int context) {
   for (;;) {
     const std::function<void(int)>* job;
     const auto started = [&] { return generation_.load(std::memory_order_acquire) != seen; };
-    if (SpinUntil(started, kSpin)) {
-      std::lock_guard<std::mutex> lock(mu_);  // job_ is only read under the lock or after
-      if (quit_) return;                      // the generation it belongs to is seen
-      seen = generation_.load(std::memory_order_acquire);
-      job = job_;
-    } else {
+    SpinUntil(started, kSpin);  // then the wait below returns at once, or sleeps
+    {
       std::unique_lock<std::mutex> lock(mu_);
       start_cv_.wait(lock, [&] { return quit_ || started(); });
       if (quit_) return;
@@ -84,8 +80,8 @@ void WorkerPool::Loop(int context) {
       if (!failure_) failure_ = failure;
     }
     if (pending_.fetch_sub(1, std::memory_order_acq_rel) == 1) {
-      std::lock_guard<std::mutex> lock(
-          mu_);  // the caller checks pending_ under it: no lost wake-up
+      // The caller checks pending_ under the lock: taking it here loses no wake-up.
+      std::lock_guard<std::mutex> lock(mu_);
       done_cv_.notify_one();
     }
   }

@@ -40,8 +40,8 @@ class WorkerPool {
   std::vector<std::thread> threads_;
   std::mutex mu_;
   std::condition_variable start_cv_, done_cv_;
-  // job_ is written before generation_ is raised (release) and read after it is seen (acquire).
-  const std::function<void(int)>* job_ = nullptr;
+  const std::function<void(int)>* job_ = nullptr;  // guarded by mu_
+  // Also read without the lock, by the spinning contexts and caller.
   std::atomic<uint64_t> generation_{0};
   std::atomic<int> pending_{0};
   std::exception_ptr failure_;  // the first exception of a context other than the caller
