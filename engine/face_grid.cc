@@ -11,6 +11,9 @@ namespace {
 constexpr int64_t kAxisBits = 21;
 constexpr int64_t kAxisLimit = (int64_t{1} << kAxisBits) - 1;
 
+// EndRound shares its moves among the pool's contexts from this many (fewer: on the caller).
+constexpr size_t kParallelMoves = 64;
+
 uint64_t Mix(uint64_t k) {
   k ^= k >> 33;
   k *= 0xff51afd7ed558ccdULL;
@@ -193,15 +196,25 @@ void FaceGrid::BeginRound(const Mesh& mesh, uint64_t new_cells) {
   deferred_ = true;
 }
 
-void FaceGrid::EndRound(const Mesh& mesh) {
+void FaceGrid::EndRound(const Mesh& mesh, WorkerPool* pool) {
   deferred_ = false;
   std::sort(pending_.begin(), pending_.end(),
             [](const PendingMove& a, const PendingMove& b) { return a.face < b.face; });
-  bool listed = true;
-  for (const PendingMove& m : pending_)
-    listed = listed && Move(m.face, m.before, m.removed ? nullptr : &m.after);
+  const int n = pool == nullptr || pending_.size() < kParallelMoves ? 1 : pool->size();
+  std::vector<uint8_t> listed(n, 1);
+  const auto apply = [&](int c) {
+    // The hash's high bits: its low ones pick the slot, so cells near each other in the table
+    // go to different contexts.
+    const auto owned = [c, n](uint64_t key) { return int((Mix(key) >> 40) % unsigned(n)) == c; };
+    for (const PendingMove& m : pending_)
+      if (!MoveIn(m.face, m.before, m.removed ? nullptr : &m.after, owned)) listed[c] = 0;
+  };
+  if (n == 1)
+    apply(0);
+  else
+    pool->Run(apply);
   pending_.clear();
-  if (!listed) Fill(LiveFaces(mesh), 2 * (mask_ + 1), {});
+  if (std::count(listed.begin(), listed.end(), 0) > 0) Fill(LiveFaces(mesh), 2 * (mask_ + 1), {});
 }
 
 Triangle FaceGrid::FaceTriangle(uint32_t f) const {
@@ -334,6 +347,11 @@ bool FaceGrid::Move(uint32_t f, const Box& before, const Box* after) {
     pending_.push_back({f, after == nullptr, before, after == nullptr ? before : *after});
     return true;
   }
+  return MoveIn(f, before, after, [](uint64_t) { return true; });
+}
+
+template <class Owned>
+bool FaceGrid::MoveIn(uint32_t f, const Box& before, const Box* after, Owned&& owned) {
   // A face keeps most of its cells when a corner moves: it leaves some, enters some, and its
   // listing is rewritten in the rest (list order does not matter).
   const Range from = RangeOf(before);
@@ -351,7 +369,9 @@ bool FaceGrid::Move(uint32_t f, const Box& before, const Box* after) {
   // After the build the cells exist: they are held.
   bool listed = true;
   const auto enter = [&](int64_t x, int64_t y, int64_t z) {
-    const int64_t slot = Slot(Key(x, y, z));
+    const uint64_t key = Key(x, y, z);
+    if (!owned(key)) return;
+    const int64_t slot = Slot(key);
     if (slot >= 0) {
       Append(cells_[slot], ListingIn(f, span, x, y, z));
     } else {
@@ -361,8 +381,10 @@ bool FaceGrid::Move(uint32_t f, const Box& before, const Box* after) {
   for (int64_t x = from.lo[0]; x <= from.hi[0]; ++x)
     for (int64_t y = from.lo[1]; y <= from.hi[1]; ++y)
       for (int64_t z = from.lo[2]; z <= from.hi[2]; ++z) {
+        const uint64_t key = Key(x, y, z);
+        if (!owned(key)) continue;
         const bool stays = in(to, x, y, z);
-        const int64_t slot = Find(Key(x, y, z));
+        const int64_t slot = Find(key);
         Cell* cell = slot >= 0 ? &cells_[slot] : nullptr;
         Listing* it = cell == nullptr ? nullptr
                                       : std::find_if(cell->data, cell->data + cell->size,

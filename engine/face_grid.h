@@ -23,6 +23,7 @@
 #include "engine/mesh.h"
 #include "engine/triangle_intersection.h"
 #include "engine/vec.h"
+#include "engine/worker_pool.h"
 
 namespace femsimp {
 
@@ -60,9 +61,11 @@ class FaceGrid {
   // and Move is recorded. A round never finds the table full (that would make refusals depend
   // on timing): BeginRound first grows it if the round's boxes, `new_cells` cells at most
   // (CellsOf summed over them), might fill it. EndRound applies the moves in face order (a face
-  // moves at most once a round), and indexes the mesh anew if a moved face found no room.
+  // moves at most once a round), and indexes the mesh anew if a moved face found no room. With
+  // a pool, each context applies them to the cells whose key hashes to it: every list still
+  // changes in face order, so the index is the same for any number of contexts.
   void BeginRound(const Mesh& mesh, uint64_t new_cells);
-  void EndRound(const Mesh& mesh);
+  void EndRound(const Mesh& mesh, WorkerPool* pool = nullptr);
   // The cells Acquire(box) would claim at most.
   uint64_t CellsOf(const Box& box) const {
     return static_cast<uint64_t>(std::min<int64_t>(RangeOf(box).count(), kMaxCellsPerBox));
@@ -174,6 +177,9 @@ class FaceGrid {
     }
   };
   static constexpr uint32_t kPollFaces = 1 << 16;
+  // Move's changes to the cells for which owned(key) holds.
+  template <class Owned>
+  bool MoveIn(uint32_t f, const Box& before, const Box* after, Owned&& owned);
   void Rebuild(const Mesh& mesh, const std::function<bool()>& cancelled);
   static void Append(Cell& cell, const Listing& listing);
   // A box in listing units from the origin (its corners' coordinates in cells, as RangeOf has

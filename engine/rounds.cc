@@ -220,7 +220,7 @@ absl::Status RoundScheduler::RunPass(RemovalBackend& backend, const RemovalPhase
     if (grid_ != nullptr && phase.Stopped())
       grid_->AbandonRound();
     else if (grid_ != nullptr)
-      grid_->EndRound(mesh_);
+      grid_->EndRound(mesh_, &pool_);
     rules_.EndRound();
     if (!s.ok()) return s;
     ++stats.rounds;
