@@ -26,27 +26,27 @@ namespace {
 std::atomic<bool> g_interrupted{false};
 void OnSigint(int) { g_interrupted.store(true); }
 
-// One line redrawn in place: a bar toward the target, then the figures of the last pass.
+// One line redrawn in place: a bar toward the target, then the figures of the last pass. A run
+// without a target ends when its passes stop removing, which nothing tells in advance: no bar.
 std::string ProgressBar(const PassStats& p, uint64_t input_vertices, const SimplifyOptions& o) {
   uint64_t target = o.target_vertices
                         ? o.target_vertices
                         : static_cast<uint64_t>(o.ratio * static_cast<double>(input_vertices));
-  double fraction;
+  std::string bar;
   if (target > 0 && target < input_vertices) {
-    fraction = static_cast<double>(input_vertices - std::min(input_vertices, p.vertices_left)) /
-               static_cast<double>(input_vertices - target);
-  } else {
-    fraction = static_cast<double>(p.pass) / o.max_passes;
+    const double fraction =
+        std::clamp(static_cast<double>(input_vertices - std::min(input_vertices, p.vertices_left)) /
+                       static_cast<double>(input_vertices - target),
+                   0.0, 1.0);
+    constexpr int kWidth = 30;
+    const int filled = static_cast<int>(fraction * kWidth + 0.5);
+    bar = absl::StrFormat("[%s%s] %3.0f%% ", std::string(filled, '#'),
+                          std::string(kWidth - filled, '.'), 100 * fraction);
   }
-  fraction = std::clamp(fraction, 0.0, 1.0);
-  constexpr int kWidth = 30;
-  int filled = static_cast<int>(fraction * kWidth + 0.5);
   uint64_t rejected = 0;
   for (uint64_t r : p.rejections) rejected += r;
   std::string s = absl::StrFormat(
-      "\r[%s%s] %3.0f%% pass %d: %u vertices, -%u, tried %u, "
-      "locks %u, rejected %u, %.3f s",
-      std::string(filled, '#'), std::string(kWidth - filled, '.'), 100 * fraction, p.pass,
+      "\r%spass %d: %u vertices, -%u, tried %u, locks %u, rejected %u, %.3f s", bar, p.pass,
       p.vertices_left, p.removed, p.tried, p.lock_conflicts, rejected, p.seconds);
   if (p.cell) absl::StrAppend(&s, absl::StrFormat(", cache %.1f%%", 100 * p.cell->hit_ratio()));
   return s + "\x1b[K";  // clear what a longer previous line left

@@ -227,7 +227,7 @@ class Client:
         show = self.progress_bar if self.progress_bar is not None else sys.stderr.isatty()
         if show:
             bar = ProgressBar(surface.num_points, checked.get("ratio", 0.0),
-                              checked.get("target_vertices", 0), checked.get("max_passes", 100))
+                              checked.get("target_vertices", 0))
         deadline = self.deadline if deadline is None else deadline
         deadline_at = time.monotonic() + deadline if deadline else None
         with self._lock:

@@ -3,29 +3,27 @@ import sys
 
 
 class ProgressBar:
-    """One line redrawn in place: a bar toward the target (or the pass limit), then the figures
-    of the last pass."""
+    """One line redrawn in place: a bar toward the target, then the figures of the last pass. A
+    run without a target ends when its passes stop removing, which nothing tells in advance:
+    no bar."""
 
     WIDTH = 30
 
-    def __init__(self, input_vertices, ratio=0.0, target_vertices=0, max_passes=100,
-                 stream=None):
+    def __init__(self, input_vertices, ratio=0.0, target_vertices=0, stream=None):
         self.input = input_vertices
         self.target = int(target_vertices or ratio * input_vertices)
-        self.max_passes = max_passes
         self.stream = stream or sys.stderr
         self.drawn = False
 
     def text(self, p):
         """The line for Pass p."""
+        bar = ""
         if 0 < self.target < self.input:
             fraction = (self.input - min(self.input, p.vertices_left)) / (self.input - self.target)
-        else:
-            fraction = p.number / self.max_passes
-        fraction = min(1.0, max(0.0, fraction))
-        filled = int(fraction * self.WIDTH + 0.5)
-        return (f"[{'#' * filled}{'.' * (self.WIDTH - filled)}] {100 * fraction:3.0f}% "
-                f"pass {p.number}: {p.vertices_left} vertices, -{p.removed}, tried {p.tried}, "
+            fraction = min(1.0, max(0.0, fraction))
+            filled = int(fraction * self.WIDTH + 0.5)
+            bar = f"[{'#' * filled}{'.' * (self.WIDTH - filled)}] {100 * fraction:3.0f}% "
+        return (f"{bar}pass {p.number}: {p.vertices_left} vertices, -{p.removed}, tried {p.tried}, "
                 f"rejected {sum(p.rejections.values())}, {p.seconds:.3f} s")
 
     def update(self, p):
