@@ -201,20 +201,36 @@ void FaceGrid::EndRound(const Mesh& mesh, WorkerPool* pool) {
   std::sort(pending_.begin(), pending_.end(),
             [](const PendingMove& a, const PendingMove& b) { return a.face < b.face; });
   const int n = pool == nullptr || pending_.size() < kParallelMoves ? 1 : pool->size();
-  std::vector<uint8_t> listed(n, 1);
-  const auto apply = [&](int c) {
-    // The hash's high bits: its low ones pick the slot, so cells near each other in the table
-    // go to different contexts.
-    const auto owned = [c, n](uint64_t key) { return int((Mix(key) >> 40) % unsigned(n)) == c; };
+  bool listed = true;
+  if (n == 1) {
     for (const PendingMove& m : pending_)
-      if (!MoveIn(m.face, m.before, m.removed ? nullptr : &m.after, owned)) listed[c] = 0;
-  };
-  if (n == 1)
-    apply(0);
-  else
-    pool->Run(apply);
+      ForEachCellOp(m.face, m.before, m.removed ? nullptr : &m.after,
+                    [&](const CellOp& op) { listed = Apply(op) && listed; });
+  } else {
+    // Context c turns its slice of the moves into cell changes, sorted by the context that owns
+    // the cell (the hash's high bits: its low ones pick the slot); then each context applies
+    // the changes to its cells, slice by slice: in face order.
+    ops_.resize(size_t(n) * n);
+    pool->Run([&](int c) {
+      for (int o = 0; o < n; ++o) ops_[size_t(c) * n + o].clear();
+      const size_t end = pending_.size() * (c + 1) / n;
+      for (size_t i = pending_.size() * c / n; i < end; ++i) {
+        const PendingMove& m = pending_[i];
+        ForEachCellOp(m.face, m.before, m.removed ? nullptr : &m.after, [&](const CellOp& op) {
+          ops_[size_t(c) * n + (Mix(op.key) >> 40) % unsigned(n)].push_back(op);
+        });
+      }
+    });
+    std::vector<uint8_t> all_listed(n, 1);
+    pool->Run([&](int o) {
+      for (int c = 0; c < n; ++c)
+        for (const CellOp& op : ops_[size_t(c) * n + o])
+          if (!Apply(op)) all_listed[o] = 0;
+    });
+    listed = std::count(all_listed.begin(), all_listed.end(), 0) == 0;
+  }
   pending_.clear();
-  if (std::count(listed.begin(), listed.end(), 0) > 0) Fill(LiveFaces(mesh), 2 * (mask_ + 1), {});
+  if (!listed) Fill(LiveFaces(mesh), 2 * (mask_ + 1), {});
 }
 
 Triangle FaceGrid::FaceTriangle(uint32_t f) const {
@@ -347,11 +363,13 @@ bool FaceGrid::Move(uint32_t f, const Box& before, const Box* after) {
     pending_.push_back({f, after == nullptr, before, after == nullptr ? before : *after});
     return true;
   }
-  return MoveIn(f, before, after, [](uint64_t) { return true; });
+  bool listed = true;
+  ForEachCellOp(f, before, after, [&](const CellOp& op) { listed = Apply(op) && listed; });
+  return listed;
 }
 
-template <class Owned>
-bool FaceGrid::MoveIn(uint32_t f, const Box& before, const Box* after, Owned&& owned) {
+template <class Emit>
+void FaceGrid::ForEachCellOp(uint32_t f, const Box& before, const Box* after, Emit&& emit) const {
   // A face keeps most of its cells when a corner moves: it leaves some, enters some, and its
   // listing is rewritten in the rest (list order does not matter).
   const Range from = RangeOf(before);
@@ -366,43 +384,44 @@ bool FaceGrid::MoveIn(uint32_t f, const Box& before, const Box* after, Owned&& o
     return r.lo[0] <= x && x <= r.hi[0] && r.lo[1] <= y && y <= r.hi[1] && r.lo[2] <= z &&
            z <= r.hi[2];
   };
-  // After the build the cells exist: they are held.
-  bool listed = true;
-  const auto enter = [&](int64_t x, int64_t y, int64_t z) {
-    const uint64_t key = Key(x, y, z);
-    if (!owned(key)) return;
-    const int64_t slot = Slot(key);
-    if (slot >= 0) {
-      Append(cells_[slot], ListingIn(f, span, x, y, z));
-    } else {
-      listed = false;
-    }
-  };
   for (int64_t x = from.lo[0]; x <= from.hi[0]; ++x)
     for (int64_t y = from.lo[1]; y <= from.hi[1]; ++y)
       for (int64_t z = from.lo[2]; z <= from.hi[2]; ++z) {
-        const uint64_t key = Key(x, y, z);
-        if (!owned(key)) continue;
-        const bool stays = in(to, x, y, z);
-        const int64_t slot = Find(key);
-        Cell* cell = slot >= 0 ? &cells_[slot] : nullptr;
-        Listing* it = cell == nullptr ? nullptr
-                                      : std::find_if(cell->data, cell->data + cell->size,
-                                                     [f](const Listing& l) { return l.face == f; });
-        if (cell == nullptr || it == cell->data + cell->size) {
-          if (stays) enter(x, y, z);
-        } else if (stays) {
-          *it = ListingIn(f, span, x, y, z);
-        } else {
-          *it = cell->data[--cell->size];
-        }
+        if (in(to, x, y, z))
+          emit(CellOp{Key(x, y, z), ListingIn(f, span, x, y, z), CellOp::kRelist});
+        else
+          emit(CellOp{Key(x, y, z), Listing{f, {}, {}}, CellOp::kDrop});
       }
-  if (after == nullptr) return true;
   for (int64_t x = to.lo[0]; x <= to.hi[0]; ++x)
     for (int64_t y = to.lo[1]; y <= to.hi[1]; ++y)
       for (int64_t z = to.lo[2]; z <= to.hi[2]; ++z)
-        if (!in(from, x, y, z)) enter(x, y, z);
-  return listed;
+        if (!in(from, x, y, z))
+          emit(CellOp{Key(x, y, z), ListingIn(f, span, x, y, z), CellOp::kAdd});
+}
+
+bool FaceGrid::Apply(const CellOp& op) {
+  if (op.kind != CellOp::kAdd) {
+    const int64_t slot = Find(op.key);
+    if (slot >= 0) {
+      Cell& cell = cells_[slot];
+      const uint32_t f = op.listing.face;
+      Listing* it = std::find_if(cell.data, cell.data + cell.size,
+                                 [f](const Listing& l) { return l.face == f; });
+      if (it != cell.data + cell.size) {
+        if (op.kind == CellOp::kRelist)
+          *it = op.listing;
+        else
+          *it = cell.data[--cell.size];
+        return true;
+      }
+    }
+    if (op.kind == CellOp::kDrop) return true;
+  }
+  // After the build the cells exist: they are held.
+  const int64_t slot = Slot(op.key);
+  if (slot < 0) return false;
+  Append(cells_[slot], op.listing);
+  return true;
 }
 
 }  // namespace femsimp

@@ -177,9 +177,18 @@ class FaceGrid {
     }
   };
   static constexpr uint32_t kPollFaces = 1 << 16;
-  // Move's changes to the cells for which owned(key) holds.
-  template <class Owned>
-  bool MoveIn(uint32_t f, const Box& before, const Box* after, Owned&& owned);
+  // What a move does to one cell: its listing dropped, rewritten (or added, when the cell
+  // lacks it), or added.
+  struct CellOp {
+    uint64_t key;
+    Listing listing;
+    enum Kind : uint8_t { kDrop, kRelist, kAdd } kind;
+  };
+  // Calls emit(op) for every cell a move of face f changes.
+  template <class Emit>
+  void ForEachCellOp(uint32_t f, const Box& before, const Box* after, Emit&& emit) const;
+  // False when an added listing found no room in the table.
+  bool Apply(const CellOp& op);
   void Rebuild(const Mesh& mesh, const std::function<bool()>& cancelled);
   static void Append(Cell& cell, const Listing& listing);
   // A box in listing units from the origin (its corners' coordinates in cells, as RangeOf has
@@ -241,6 +250,7 @@ class FaceGrid {
   bool deferred_ = false;
   std::mutex pending_mu_;
   std::vector<PendingMove> pending_;         // guarded by pending_mu_
+  std::vector<std::vector<CellOp>> ops_;     // EndRound on a pool: [producer * n + owner]
   std::atomic<double> tracked_length_{0.0};  // see Track
   std::atomic<int64_t> tracked_faces_{0};
 };
