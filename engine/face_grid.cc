@@ -204,8 +204,7 @@ void FaceGrid::EndRound(const Mesh& mesh, WorkerPool* pool) {
   bool listed = true;
   if (n == 1) {
     for (const PendingMove& m : pending_)
-      ForEachCellOp(m.face, m.before, m.removed ? nullptr : &m.after,
-                    [&](const CellOp& op) { listed = Apply(op) && listed; });
+      listed = Move(m.face, m.before, m.removed ? nullptr : &m.after) && listed;
   } else {
     // Context c turns its slice of the moves into cell changes, sorted by the context that owns
     // the cell (the hash's high bits: its low ones pick the slot); then each context applies
