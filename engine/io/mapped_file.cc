@@ -1,6 +1,8 @@
 #include "engine/io/mapped_file.h"
 
 #include <fcntl.h>
+#include <setjmp.h>
+#include <signal.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -8,6 +10,7 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
+#include <mutex>
 #include <utility>
 
 #include "absl/status/status.h"
@@ -38,7 +41,63 @@ absl::Status ReadError(const std::string& path, size_t done, int err) {
       absl::StrCat(path, ": read error after ", done, " bytes: ", std::strerror(err)));
 }
 
+// MappedFile::Read on this thread: the mapping it reads and where to return to on SIGBUS.
+thread_local sigjmp_buf* t_return = nullptr;
+thread_local const char* t_begin = nullptr;
+thread_local const char* t_end = nullptr;
+struct sigaction g_previous_sigbus;
+
+// A SIGBUS in a mapping a Read is reading goes back to that Read; any other goes to the handler
+// there was before (or ends the process as it would have).
+void OnSigbus(int signal, siginfo_t* info, void* context) {
+  const char* at = static_cast<const char*>(info->si_addr);
+  if (t_return != nullptr && at >= t_begin && at < t_end) siglongjmp(*t_return, 1);
+  if (g_previous_sigbus.sa_flags & SA_SIGINFO) {
+    g_previous_sigbus.sa_sigaction(signal, info, context);
+  } else if (g_previous_sigbus.sa_handler != SIG_DFL && g_previous_sigbus.sa_handler != SIG_IGN) {
+    g_previous_sigbus.sa_handler(signal);
+  } else {
+    ::signal(SIGBUS, SIG_DFL);
+    ::raise(SIGBUS);
+  }
+}
+
+void InstallSigbusHandler() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    struct sigaction action {};
+    action.sa_sigaction = OnSigbus;
+    action.sa_flags = SA_SIGINFO;
+    sigemptyset(&action.sa_mask);
+    ::sigaction(SIGBUS, &action, &g_previous_sigbus);
+  });
+}
+
 }  // namespace
+
+absl::Status MappedFile::Read(const std::function<void(absl::string_view)>& read) const {
+  if (!mapped_) {
+    read(data());
+    return absl::OkStatus();
+  }
+  InstallSigbusHandler();
+  sigjmp_buf back;
+  t_begin = data_;
+  t_end = data_ + size_;
+  t_return = &back;
+  if (sigsetjmp(back, /*savemask=*/1) == 0) {
+    read(data());
+    t_return = nullptr;
+    return absl::OkStatus();
+  }
+  t_return = nullptr;
+  struct stat now;
+  const std::string size_now =
+      ::stat(path_.c_str(), &now) == 0 ? absl::StrCat(", ", now.st_size, " now") : "";
+  return absl::FailedPreconditionError(
+      absl::StrCat(path_, ": the file shrank while it was read (", size_, " bytes when opened",
+                   size_now, "): another program wrote it; read it again once it is complete"));
+}
 
 absl::StatusOr<MappedFile> MappedFile::Open(const std::string& path) {
   std::error_code ec;
@@ -56,6 +115,7 @@ absl::StatusOr<MappedFile> MappedFile::Open(const std::string& path) {
     return err == EACCES ? absl::PermissionDeniedError(why) : absl::FailedPreconditionError(why);
   }
   MappedFile file;
+  file.path_ = path;
   struct stat info;
   if (::fstat(fd.get(), &info) == 0 && S_ISREG(info.st_mode) && info.st_size > 0) {
     // MAP_POPULATE faults the whole file in with one call instead of a fault per page.
@@ -90,6 +150,7 @@ MappedFile::MappedFile(MappedFile&& other) noexcept { *this = std::move(other); 
 MappedFile& MappedFile::operator=(MappedFile&& other) noexcept {
   if (this == &other) return *this;
   Release();
+  path_ = std::move(other.path_);
   mapped_ = std::exchange(other.mapped_, false);
   size_ = std::exchange(other.size_, 0);
   copy_ = std::move(other.copy_);

@@ -4,8 +4,10 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <string>
 
+#include "absl/status/status.h"
 #include "absl/status/statusor.h"
 #include "absl/strings/string_view.h"
 
@@ -24,11 +26,17 @@ class MappedFile {
   ~MappedFile();
 
   absl::string_view data() const { return {data_, size_}; }
+  // Runs read(data()) on this thread. A mapped file that another process truncates meanwhile
+  // loses the pages past its new end, and reading them raises SIGBUS: read is then abandoned
+  // where it was (what it allocated is not freed) and the result is FailedPrecondition, naming
+  // the path, instead of the end of the process.
+  absl::Status Read(const std::function<void(absl::string_view)>& read) const;
 
  private:
   MappedFile() = default;
   void Release();
 
+  std::string path_;
   const char* data_ = nullptr;
   size_t size_ = 0;
   bool mapped_ = false;  // data_ is an mmap of size_ bytes, else it points into copy_

@@ -107,7 +107,11 @@ absl::StatusOr<RawMesh> ReadMeshFile(const std::string& path, GroupNames* group_
   if (!file.ok()) return file.status();
   if (file->data().empty())
     return absl::InvalidArgumentError(absl::StrCat(path, ": file is empty"));
-  absl::StatusOr<ParsedMeshFile> parsed = ParseMeshFile(ext, file->data());
+  absl::StatusOr<ParsedMeshFile> parsed = absl::InternalError("not parsed");
+  if (absl::Status read =
+          file->Read([&](absl::string_view bytes) { parsed = ParseMeshFile(ext, bytes); });
+      !read.ok())
+    return read;
   if (!parsed.ok()) return Prefixed(path, parsed.status());
   if (group_names) *group_names = std::move(parsed->group_names);
   if (warnings) *warnings = std::move(parsed->warnings);
