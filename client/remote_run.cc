@@ -26,32 +26,6 @@ namespace {
 std::atomic<bool> g_interrupted{false};
 void OnSigint(int) { g_interrupted.store(true); }
 
-// One line redrawn in place: a bar toward the target, then the figures of the last pass. A run
-// without a target ends when its passes stop removing, which nothing tells in advance: no bar.
-std::string ProgressBar(const PassStats& p, uint64_t input_vertices, const SimplifyOptions& o) {
-  uint64_t target = o.target_vertices
-                        ? o.target_vertices
-                        : static_cast<uint64_t>(o.ratio * static_cast<double>(input_vertices));
-  std::string bar;
-  if (target > 0 && target < input_vertices) {
-    const double fraction =
-        std::clamp(static_cast<double>(input_vertices - std::min(input_vertices, p.vertices_left)) /
-                       static_cast<double>(input_vertices - target),
-                   0.0, 1.0);
-    constexpr int kWidth = 30;
-    const int filled = static_cast<int>(fraction * kWidth + 0.5);
-    bar = absl::StrFormat("[%s%s] %3.0f%% ", std::string(filled, '#'),
-                          std::string(kWidth - filled, '.'), 100 * fraction);
-  }
-  uint64_t rejected = 0;
-  for (uint64_t r : p.rejections) rejected += r;
-  std::string s = absl::StrFormat(
-      "\r%spass %d: %u vertices, -%u, tried %u, locks %u, rejected %u, %.3f s", bar, p.pass,
-      p.vertices_left, p.removed, p.tried, p.lock_conflicts, rejected, p.seconds);
-  if (p.cell) absl::StrAppend(&s, absl::StrFormat(", cache %.1f%%", 100 * p.cell->hit_ratio()));
-  return s + "\x1b[K";  // clear what a longer previous line left
-}
-
 }  // namespace
 
 int RunRemote(const SimplifyArgs& args) {
@@ -130,7 +104,7 @@ int RunRemote(const SimplifyArgs& args) {
     PassStats p = wire::FromProto(m);
     if (!args.quiet) {
       if (tty) {
-        std::printf("%s", ProgressBar(p, report.input_vertices, args.options).c_str());
+        std::printf("%s", ProgressLine(p, report.input_vertices, args.options).c_str());
         bar_drawn = true;
       } else {
         std::printf("%s\n", PassTableRow(p, args.options.backend).c_str());

@@ -1,5 +1,6 @@
 #include "client/report.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -202,6 +203,30 @@ std::string PassTableHeader(Backend backend) {
                                   "tried", "lock_confl", "rejected", "seconds");
   if (backend == Backend::kCell) absl::StrAppend(&h, absl::StrFormat(" %9s", "cache_hit"));
   return h;
+}
+
+std::string ProgressLine(const PassStats& p, uint64_t input_vertices, const SimplifyOptions& o) {
+  uint64_t target = o.target_vertices
+                        ? o.target_vertices
+                        : static_cast<uint64_t>(o.ratio * static_cast<double>(input_vertices));
+  std::string bar;
+  if (target > 0 && target < input_vertices) {
+    const double fraction =
+        std::clamp(static_cast<double>(input_vertices - std::min(input_vertices, p.vertices_left)) /
+                       static_cast<double>(input_vertices - target),
+                   0.0, 1.0);
+    constexpr int kWidth = 30;
+    const int filled = static_cast<int>(fraction * kWidth + 0.5);
+    bar = absl::StrFormat("[%s%s] %3.0f%% ", std::string(filled, '#'),
+                          std::string(kWidth - filled, '.'), 100 * fraction);
+  }
+  uint64_t rejected = 0;
+  for (uint64_t r : p.rejections) rejected += r;
+  std::string s = absl::StrFormat(
+      "\r%spass %d: %u vertices, -%u, tried %u, locks %u, rejected %u, %.3f s", bar, p.pass,
+      p.vertices_left, p.removed, p.tried, p.lock_conflicts, rejected, p.seconds);
+  if (p.cell) absl::StrAppend(&s, absl::StrFormat(", cache %.1f%%", 100 * p.cell->hit_ratio()));
+  return s + "\x1b[K";  // clear what a longer previous line left
 }
 
 std::string PassTableRow(const PassStats& p, Backend backend) {

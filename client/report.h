@@ -64,6 +64,10 @@ inline constexpr size_t kReportRepairRecordsPerKind = 10000;
 // Column header and one row per pass of the progress table (cache column for the cell back end).
 std::string PassTableHeader(Backend backend);
 std::string PassTableRow(const PassStats& p, Backend backend);
+// The remote client's progress: one line redrawn in place ("\r" ... clear to the end), a bar
+// toward the target, then the figures of the last pass. A run without a target ends when its
+// passes stop removing, which nothing tells in advance: no bar.
+std::string ProgressLine(const PassStats& p, uint64_t input_vertices, const SimplifyOptions& o);
 // Vertices/faces in and out, timings, stop reason; several lines.
 std::string Summary(const RunReport& r);
 // The repair lines of the summary: the changes with the weld tolerance, one line per kind with

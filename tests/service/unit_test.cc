@@ -334,6 +334,28 @@ TEST(Report, SummaryCountsSeamPoints) {
       << cli::Summary(r);
 }
 
+// The remote client's progress line: a bar toward the target, none without one (a tolerance
+// run ends when its passes stop removing, which nothing tells in advance).
+TEST(Report, ProgressLineHasABarOnlyTowardATarget) {
+  PassStats p;
+  p.pass = 250;
+  p.vertices_left = 550;
+  p.removed = 10;
+  p.tried = 20;
+  p.rejections[static_cast<int>(Reject::kMinAngle)] = 4;
+  p.seconds = 0.5;
+  SimplifyOptions o;
+  o.ratio = 0.1;  // 450 of the 900 to remove
+  EXPECT_EQ(cli::ProgressLine(p, 1000, o),
+            "\r[" + std::string(15, '#') + std::string(15, '.') +
+                "]  50% pass 250: 550 vertices, -10, tried 20, locks 0, rejected 4, 0.500 s\x1b[K");
+  o.ratio = 0;
+  EXPECT_EQ(cli::ProgressLine(p, 1000, o),
+            "\rpass 250: 550 vertices, -10, tried 20, locks 0, rejected 4, 0.500 s\x1b[K");
+  o.target_vertices = 1000;  // nothing to remove: no bar either
+  EXPECT_EQ(cli::ProgressLine(p, 1000, o).find('%'), std::string::npos);
+}
+
 TEST(Wire, ProgressRoundTrip) {
   PassStats p;
   p.pass = 3;
