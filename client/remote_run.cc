@@ -9,7 +9,6 @@
 #include <cstdio>
 #include <thread>
 
-#include "absl/strings/str_format.h"
 #include "client/channel_security.h"
 #include "client/exit_codes.h"
 #include "client/remote_call.h"
