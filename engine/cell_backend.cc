@@ -133,7 +133,7 @@ class CellBackend final : public RemovalBackend {
     if (!stats.cell) stats.cell.emplace();
     stats.cell_per_spe.resize(n);
     for (int i = 0; i < n; ++i) {
-      AddKernelStats(per_spe[i], stats);
+      AddKernelStats(per_spe[i], phase, stats);
       CellPassCounters p = ToPassCounters(runtime_->spe(i).counters());
       p.stale_reread = per_spe[i].stale_reread;
       p.stale_skipped = per_spe[i].inconsistent;

@@ -38,6 +38,9 @@ struct KernelStats {
   uint64_t placed = 0;  // of the removals: full-edge collapses (option placement)
   uint64_t stale_reread = 0;
   std::array<uint64_t, static_cast<int>(Reject::kCount)> rejections{};
+  // Refused vertices this context made removable again (their fans changed): the next
+  // selection's candidates besides the pass's own (engine/selection.h). Duplicates allowed.
+  std::vector<uint32_t> requeued;
 };
 
 // Shared by all contexts of a pass: the vertex count may not drop below the target.
@@ -538,7 +541,10 @@ class RemovalKernel final : private NeighbourhoodReader {
     // candidate again next pass (the local rules refuse an unchanged fan again).
     if (requeue_changed_)
       for (int k = 0; k < nlocked_; ++k)
-        if ((locked_state_[k] & kStateMask) == kNotRemovable) locked_state_[k] = kRemovable;
+        if ((locked_state_[k] & kStateMask) == kNotRemovable) {
+          locked_state_[k] = kRemovable;
+          stats_.requeued.push_back(locked_[k]);
+        }
     UnlockNeighbours();
     proposal_.star = nullptr;
     ++stats_.removed;

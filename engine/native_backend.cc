@@ -6,7 +6,10 @@
 
 namespace femsimp {
 
-void AddKernelStats(const KernelStats& k, PassStats& stats) {
+void AddKernelStats(KernelStats& k, const RemovalPhase& phase, PassStats& stats) {
+  if (phase.requeued != nullptr)
+    phase.requeued->insert(phase.requeued->end(), k.requeued.begin(), k.requeued.end());
+  k.requeued.clear();
   stats.tried += k.tried;
   stats.removed += k.removed;
   stats.placed += k.placed;
@@ -52,7 +55,7 @@ class NativeBackend final : public RemovalBackend {
       busy[c] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     });
     for (int c = 0; c < n; ++c) {
-      AddKernelStats(per_context[c], stats);
+      AddKernelStats(per_context[c], phase, stats);
       stats.busy_seconds += busy[c];
     }
     return absl::OkStatus();

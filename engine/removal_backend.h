@@ -12,6 +12,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <vector>
 
 #include "engine/kernel.h"
 #include "engine/mesh.h"
@@ -50,6 +51,8 @@ struct RemovalPhase {
   // The pass's removable vertices in the order sorted (`sorted` of them): the cell back end
   // sorts them again on its SPEs, to model that sort's cost from the work it does.
   const uint32_t* order = nullptr;
+  // Where the contexts' KernelStats::requeued go once the phase is over (may be null).
+  std::vector<uint32_t>* requeued = nullptr;
 
   bool Stopped() const {
     return stop->load(std::memory_order_relaxed) || budget->stop.load(std::memory_order_relaxed);
@@ -92,6 +95,7 @@ absl::StatusOr<std::unique_ptr<RemovalBackend>> MakeCellBackend(Mesh& mesh,
                                                                 const CellOptions& options);
 
 // Adds one context's kernel counters into the pass statistics.
-void AddKernelStats(const KernelStats& k, PassStats& stats);
+// Adds a context's counters to the pass's, and moves its requeued vertices to the phase's list.
+void AddKernelStats(KernelStats& k, const RemovalPhase& phase, PassStats& stats);
 
 }  // namespace femsimp

@@ -80,13 +80,15 @@ SeamCollapser::SweepResult SeamCollapser::Sweep(RemovalBudget& budget) {
       if (t == Tried::kRefused) continue;
       if (t == Tried::kBudgetSpent) {
         result.budget_spent = true;
-        return result;
+        break;
       }
       ++result.points;
       result.vertices += copies;
       break;
     }
+    if (result.budget_spent) break;
   }
+  result.requeued.swap(scratch_stats_.requeued);
   return result;
 }
 

@@ -46,6 +46,7 @@ class SeamCollapser {
     uint64_t points = 0;    // seam points removed
     uint64_t vertices = 0;  // mesh vertices removed (every copy of each point)
     bool budget_spent = false;
+    std::vector<uint32_t> requeued;  // as KernelStats::requeued, for the next selection
   };
   // Tries every seam point once (nothing else may run on the mesh meanwhile).
   SweepResult Sweep(RemovalBudget& budget);

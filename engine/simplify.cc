@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstring>
 #include <numbers>
 #include <optional>
 #include <vector>
@@ -14,12 +13,12 @@
 #include "engine/face_grid.h"
 #include "engine/features.h"
 #include "engine/mechanics.h"
-#include "engine/port.h"
 #include "engine/quadric.h"
 #include "engine/removal_backend.h"
 #include "engine/rounds.h"
 #include "engine/rule.h"
 #include "engine/seam_collapse.h"
+#include "engine/selection.h"
 #include "engine/worker_pool.h"
 
 namespace femsimp {
@@ -31,89 +30,6 @@ using Clock = std::chrono::steady_clock;
 constexpr double kTrickleFraction = 1e-4;
 double Since(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
-}
-
-// Costs are >= 0, so their float bits order like the values; the vertex id breaks ties, which
-// makes the order (and a one-context run) deterministic. With `scatter` (deterministic rounds)
-// costs are bucketed to 1/16 of an octave and ties broken by a bijective scramble of the id:
-// a smooth cost field orders vertices along its level lines (a torus ring by ring, a plane
-// by id), and a round's window of such neighbours would mostly overlap itself.
-constexpr uint32_t kScatter = 0x9E3779B1u;  // odd, so multiplying by it is a bijection mod 2^32
-constexpr int kBucketDroppedBits = 19;      // of the float's 23 mantissa bits
-constexpr uint32_t InverseMod32(uint32_t a) {
-  uint32_t x = a;  // Newton's iteration doubles the correct low bits each step
-  for (int i = 0; i < 5; ++i) x *= 2u - a * x;
-  return x;
-}
-static_assert(kScatter * InverseMod32(kScatter) == 1u);
-
-uint64_t PackKey(float cost, uint32_t v, bool scatter) {
-  uint32_t bits;
-  std::memcpy(&bits, &cost, sizeof bits);
-  if (scatter) bits &= ~((uint32_t{1} << kBucketDroppedBits) - 1);
-  return (uint64_t{bits} << 32) | (scatter ? v * kScatter : v);
-}
-uint32_t UnpackVertex(uint64_t key, bool scatter) {
-  const uint32_t low = static_cast<uint32_t>(key);
-  return scatter ? low * InverseMod32(kScatter) : low;
-}
-
-// Computes the cost of every removable vertex (resetting not-removable ones first on
-// reconsideration passes: all of them with `retry_all`, else those marked kRetryBit) and sorts
-// them: each context sorts its slice, then slices are merged pairwise in parallel. Returns the
-// vertex ids in cost order, or a partial order once `cancelled` (polled every kPollVertices
-// vertices) says true.
-constexpr uint32_t kPollVertices = 1 << 14;
-constexpr uint32_t kPrefetchAhead = 4;  // fans read ahead of the one being costed
-std::vector<uint32_t> SortedCandidates(Mesh& mesh, WorkerPool& pool, const VertexCost& cost,
-                                       bool reconsider, bool retry_all, bool scatter,
-                                       const std::function<bool()>& cancelled,
-                                       double* busy_seconds) {
-  const int n = pool.size();
-  const uint32_t nv = mesh.vertex_capacity();
-  std::vector<std::vector<uint64_t>> slices(n);
-  std::vector<double> busy(n, 0.0);
-  pool.Run([&](int c) {
-    const auto start = Clock::now();
-    NativePort port(mesh);
-    Ring ring;
-    std::vector<uint64_t>& keys = slices[c];
-    const uint32_t begin = uint32_t(uint64_t{nv} * c / n),
-                   end = uint32_t(uint64_t{nv} * (c + 1) / n);
-    std::atomic<uint32_t>* status = mesh.status();
-    for (uint32_t v = begin; v < end; ++v) {
-      if ((v - begin) % kPollVertices == 0 && cancelled()) return;
-      if (v + kPrefetchAhead < end) port.PrefetchFan(v + kPrefetchAhead);
-      uint32_t s = status[v].load(std::memory_order_relaxed);
-      if (reconsider && (s & kStateMask) == kNotRemovable && (retry_all || (s & kRetryBit))) {
-        status[v].store(kRemovable, std::memory_order_relaxed);
-        s = kRemovable;
-      }
-      if (s != kRemovable) continue;
-      const float c_v = GatherRing(port, v, ring) == RingResult::kOk
-                            ? cost.Cost(ring)
-                            : std::numeric_limits<float>::max();
-      keys.push_back(PackKey(c_v, v, scatter));
-    }
-    std::sort(keys.begin(), keys.end());
-    busy[c] = Since(start);
-  });
-  for (int width = 1; width < n; width *= 2) {
-    pool.Run([&](int c) {
-      if (c % (2 * width) != 0 || c + width >= n) return;
-      const auto start = Clock::now();
-      std::vector<uint64_t> merged(slices[c].size() + slices[c + width].size());
-      std::merge(slices[c].begin(), slices[c].end(), slices[c + width].begin(),
-                 slices[c + width].end(), merged.begin());
-      slices[c].swap(merged);
-      std::vector<uint64_t>().swap(slices[c + width]);
-      busy[c] += Since(start);
-    });
-  }
-  for (double b : busy) *busy_seconds += b;
-  std::vector<uint32_t> ids(slices[0].size());
-  for (size_t i = 0; i < ids.size(); ++i) ids[i] = UnpackVertex(slices[0][i], scatter);
-  return ids;
 }
 
 struct Bounds {
@@ -297,6 +213,7 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
   if (options.schedule == Schedule::kDeterministic)
     rounds.emplace(mesh, pool, face_grid ? &*face_grid : nullptr, rules, kernel.placement);
 
+  CandidateSelection selection(mesh, pool, *cost, rounds.has_value(), options.periodic_retry);
   result.stop_reason = StopReason::kMaxPasses;
   ProgressWatch watch(options.reconsider_every);
   for (int pass = 1; pass <= options.max_passes; ++pass) {
@@ -315,8 +232,7 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
     if (face_grid && pass > 1) face_grid->Refresh(mesh, cancelled);
     // Select and order: every removable vertex with its cost, in cost order.
     const auto select = [&] {
-      return SortedCandidates(mesh, pool, *cost, reconsider, options.periodic_retry,
-                              rounds.has_value(), cancelled, &stats.busy_seconds);
+      return selection.Select(reconsider, cancelled, &stats.busy_seconds);
     };
     std::vector<uint32_t> sorted = select();
     // No vertex is left to try: the refused ones get their retry now, and when none is due
@@ -343,6 +259,7 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
     RemovalPhase phase{sorted.data(), stats.candidates,
                        sorted.size(), &budget,
                        &stop,         control.cancelled ? &control.cancelled : &no_cancel};
+    phase.requeued = selection.requeued();
     phase.fresh_caches = seams_moved;
     phase.order = sorted.data();
     // Remove: each context runs the kernel on its candidates.
@@ -354,6 +271,8 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
     if (seams && !stop.load() && !budget.stop.load() && !cancelled()) {
       const SeamCollapser::SweepResult swept = seams->Sweep(budget);
       stats.seam_points_removed = swept.points;
+      selection.requeued()->insert(selection.requeued()->end(), swept.requeued.begin(),
+                                   swept.requeued.end());
       stats.removed += swept.vertices;
       seams_moved = swept.points > 0;
     }
