@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <thread>
 
 namespace femsimp {
 namespace {
@@ -198,6 +199,12 @@ void FaceGrid::BeginRound(const Mesh& mesh, uint64_t new_cells) {
 
 void FaceGrid::EndRound(const Mesh& mesh, WorkerPool* pool) {
   deferred_ = false;
+  // A face moves at most once a round, so face order is one order whatever the threads did.
+  pending_.clear();
+  for (PendingShard& shard : shards_) {
+    pending_.insert(pending_.end(), shard.moves.begin(), shard.moves.end());
+    shard.moves.clear();
+  }
   std::sort(pending_.begin(), pending_.end(),
             [](const PendingMove& a, const PendingMove& b) { return a.face < b.face; });
   const int n = pool == nullptr || pending_.size() < kParallelMoves ? 1 : pool->size();
@@ -358,8 +365,10 @@ FaceGrid::Listing FaceGrid::ListingIn(uint32_t f, const Span& s, int64_t x, int6
 
 bool FaceGrid::Move(uint32_t f, const Box& before, const Box* after) {
   if (deferred_) {
-    std::lock_guard<std::mutex> lock(pending_mu_);
-    pending_.push_back({f, after == nullptr, before, after == nullptr ? before : *after});
+    PendingShard& shard =
+        shards_[std::hash<std::thread::id>{}(std::this_thread::get_id()) % kPendingShards];
+    std::lock_guard<std::mutex> lock(shard.mu);
+    shard.moves.push_back({f, after == nullptr, before, after == nullptr ? before : *after});
     return true;
   }
   bool listed = true;

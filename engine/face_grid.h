@@ -12,6 +12,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <functional>
@@ -74,7 +75,7 @@ class FaceGrid {
   // them would only delay the end), and the index no longer matches the mesh.
   void AbandonRound() {
     deferred_ = false;
-    pending_.clear();
+    for (PendingShard& shard : shards_) shard.moves.clear();
   }
 
   // Calls visit(face) for every face listed in the held cells that overlap `box` (a face may
@@ -248,8 +249,15 @@ class FaceGrid {
     Box before, after;
   };
   bool deferred_ = false;
-  std::mutex pending_mu_;
-  std::vector<PendingMove> pending_;         // guarded by pending_mu_
+  // A round's commits record their moves in the shard of their thread (one lock each, on its
+  // own cache line, so that contexts do not queue on one); EndRound gathers and sorts them.
+  static constexpr size_t kPendingShards = 16;
+  struct alignas(64) PendingShard {
+    std::mutex mu;
+    std::vector<PendingMove> moves;  // guarded by mu
+  };
+  std::array<PendingShard, kPendingShards> shards_;
+  std::vector<PendingMove> pending_;         // the round's moves, gathered by EndRound
   std::vector<std::vector<CellOp>> ops_;     // EndRound on a pool: [producer * n + owner]
   std::atomic<double> tracked_length_{0.0};  // see Track
   std::atomic<int64_t> tracked_faces_{0};
