@@ -1,6 +1,7 @@
 #include "engine/face_grid.h"
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <cmath>
 #include <thread>
@@ -44,31 +45,73 @@ FaceGrid::Box FaceGrid::BoxOf(const DVec3* p, int n) {
   return b;
 }
 
-FaceGrid::FaceGrid(const Mesh& mesh, const std::function<bool()>& cancelled)
-    : vertices_(mesh.vertices()), halfedges_(mesh.halfedges()), point_ids_(mesh.point_ids()) {
+FaceGrid::FaceGrid(const Mesh& mesh, const std::function<bool()>& cancelled, WorkerPool* pool)
+    : vertices_(mesh.vertices()),
+      halfedges_(mesh.halfedges()),
+      point_ids_(mesh.point_ids()),
+      pool_(pool) {
   Rebuild(mesh, cancelled);
 }
 
-double FaceGrid::MeanEdge(const Mesh& mesh, std::vector<uint32_t>* live, DVec3* lo) {
-  double edge_sum = 0.0, magnitude = 0.0;
-  uint64_t edges = 0;
-  *lo = {1e300, 1e300, 1e300};
-  for (uint32_t f = 0; f < mesh.face_capacity(); ++f) {
-    if (mesh.IsFaceRemoved(f)) continue;
-    if (live != nullptr) live->push_back(f);
-    const Triangle t = FaceTriangle(f);
-    for (int k = 0; k < 3; ++k) {
-      edge_sum += Norm(t.p[(k + 1) % 3] - t.p[k]);
-      *lo = {std::min(lo->x, t.p[k].x), std::min(lo->y, t.p[k].y), std::min(lo->z, t.p[k].z)};
-      magnitude =
-          std::max({magnitude, std::fabs(t.p[k].x), std::fabs(t.p[k].y), std::fabs(t.p[k].z)});
+template <class Body>
+bool FaceGrid::ForEachChunk(size_t count, const std::function<bool()>& cancelled,
+                            Body&& body) const {
+  const size_t chunks = (count + kPollFaces - 1) / kPollFaces;
+  const int n = pool_ == nullptr || chunks < 2 ? 1 : pool_->size();
+  std::atomic<bool> stopped{false};
+  const auto run = [&](int c) {
+    for (size_t k = size_t(c); k < chunks && !stopped.load(std::memory_order_relaxed); k += n) {
+      if (cancelled && cancelled()) {
+        stopped.store(true, std::memory_order_relaxed);
+        return;
+      }
+      body(k, k * kPollFaces, std::min<size_t>(count, (k + 1) * kPollFaces));
     }
-    edges += 3;
+  };
+  if (n == 1)
+    run(0);
+  else
+    pool_->Run(run);
+  return !stopped.load();
+}
+
+double FaceGrid::MeanEdge(const Mesh& mesh, std::vector<uint32_t>* live, DVec3* lo) {
+  struct Part {
+    double edge_sum = 0.0, magnitude = 0.0;
+    DVec3 lo{1e300, 1e300, 1e300};
+    std::vector<uint32_t> live;
+  };
+  std::vector<Part> parts((mesh.face_capacity() + kPollFaces - 1) / kPollFaces);
+  ForEachChunk(mesh.face_capacity(), {}, [&](size_t k, size_t begin, size_t end) {
+    Part& part = parts[k];
+    for (size_t f = begin; f < end; ++f) {
+      if (mesh.IsFaceRemoved(uint32_t(f))) continue;
+      part.live.push_back(uint32_t(f));
+      const Triangle t = FaceTriangle(uint32_t(f));
+      for (int c = 0; c < 3; ++c) {
+        part.edge_sum += Norm(t.p[(c + 1) % 3] - t.p[c]);
+        part.lo = {std::min(part.lo.x, t.p[c].x), std::min(part.lo.y, t.p[c].y),
+                   std::min(part.lo.z, t.p[c].z)};
+        part.magnitude = std::max(
+            {part.magnitude, std::fabs(t.p[c].x), std::fabs(t.p[c].y), std::fabs(t.p[c].z)});
+      }
+    }
+  });
+  // Summed chunk by chunk in order: the same mean for any number of contexts.
+  double edge_sum = 0.0, magnitude = 0.0;
+  uint64_t faces = 0;
+  *lo = {1e300, 1e300, 1e300};
+  for (Part& part : parts) {
+    edge_sum += part.edge_sum;
+    magnitude = std::max(magnitude, part.magnitude);
+    *lo = {std::min(lo->x, part.lo.x), std::min(lo->y, part.lo.y), std::min(lo->z, part.lo.z)};
+    faces += part.live.size();
+    if (live != nullptr) live->insert(live->end(), part.live.begin(), part.live.end());
   }
   magnitude_ = magnitude;
   tracked_length_.store(edge_sum, std::memory_order_relaxed);
-  tracked_faces_.store(static_cast<int64_t>(edges / 3), std::memory_order_relaxed);
-  return edges > 0 && edge_sum > 0 ? edge_sum / double(edges) : 0.5;
+  tracked_faces_.store(static_cast<int64_t>(faces), std::memory_order_relaxed);
+  return faces > 0 && edge_sum > 0 ? edge_sum / double(3 * faces) : 0.5;
 }
 
 void FaceGrid::Track(double length_change, int64_t face_change) {
@@ -98,12 +141,17 @@ void FaceGrid::Rebuild(const Mesh& mesh, const std::function<bool()>& cancelled)
   // each cover many cells: coarser cells until the faces cover at most 8 cells each on average.
   uint64_t covered = 0;
   for (;;) {
-    covered = 0;
-    for (size_t i = 0; i < live.size(); ++i) {
-      if (i % kPollFaces == 0 && cancelled && cancelled()) return;
-      const Triangle t = FaceTriangle(live[i]);
-      covered += static_cast<uint64_t>(std::min<int64_t>(RangeOf(BoxOf(t.p, 3)).count(), 1 << 20));
-    }
+    std::atomic<uint64_t> sum{0};
+    const bool done = ForEachChunk(live.size(), cancelled, [&](size_t, size_t begin, size_t end) {
+      uint64_t part = 0;
+      for (size_t i = begin; i < end; ++i) {
+        const Triangle t = FaceTriangle(live[i]);
+        part += static_cast<uint64_t>(std::min<int64_t>(RangeOf(BoxOf(t.p, 3)).count(), 1 << 20));
+      }
+      sum.fetch_add(part, std::memory_order_relaxed);
+    });
+    if (!done) return;
+    covered = sum.load();
     if (covered <= 8 * live.size() + 64) break;
     cell_ *= 1.5;
   }
@@ -113,29 +161,35 @@ void FaceGrid::Rebuild(const Mesh& mesh, const std::function<bool()>& cancelled)
 
 void FaceGrid::Fill(const std::vector<uint32_t>& live, uint64_t min_capacity,
                     const std::function<bool()>& cancelled) {
-  const auto poll = [&](size_t i) { return i % kPollFaces == 0 && cancelled && cancelled(); };
-  std::vector<uint32_t> slots;  // every face's cells in turn, as passes 1 and 3 visit them
+  // Every chunk's faces' cells in turn, as passes 1 and 3 visit them.
+  std::vector<std::vector<uint32_t>> slots((live.size() + kPollFaces - 1) / kPollFaces);
   for (uint64_t capacity = std::bit_ceil(std::max<uint64_t>(1024, min_capacity));;) {
     mask_ = capacity - 1;
     cells_ = std::make_unique<Cell[]>(capacity);
     used_.store(0, std::memory_order_relaxed);
-    slots.clear();
-    // Pass 1: claim the cells and count their listings.
-    bool fits = true;
-    for (size_t i = 0; i < live.size() && fits; ++i) {
-      if (poll(i)) return;
-      const Triangle t = FaceTriangle(live[i]);
-      ForEachCell(RangeOf(BoxOf(t.p, 3)), [&](uint64_t key) {
-        const int64_t slot = fits ? Slot(key) : -1;
-        fits = slot >= 0;
-        if (!fits) return;
-        ++cells_[slot].size;
-        slots.push_back(static_cast<uint32_t>(slot));
-      });
-    }
+    // Pass 1: claim the cells and count their listings (cells are claimed by compare-and-swap,
+    // so contexts may claim them together; where each lands does not matter).
+    std::atomic<bool> fits{true};
+    const bool done = ForEachChunk(live.size(), cancelled, [&](size_t k, size_t begin, size_t end) {
+      std::vector<uint32_t>& mine = slots[k];
+      mine.clear();
+      for (size_t i = begin; i < end && fits.load(std::memory_order_relaxed); ++i) {
+        const Triangle t = FaceTriangle(live[i]);
+        ForEachCell(RangeOf(BoxOf(t.p, 3)), [&](uint64_t key) {
+          const int64_t slot = Slot(key);
+          if (slot < 0) {
+            fits.store(false, std::memory_order_relaxed);
+            return;
+          }
+          std::atomic_ref<uint32_t>(cells_[slot].size).fetch_add(1, std::memory_order_relaxed);
+          mine.push_back(static_cast<uint32_t>(slot));
+        });
+      }
+    });
+    if (!done) return;
     // Collapses also claim the empty cells of their fans' boxes: at most a quarter full now.
     const uint64_t used = used_.load(std::memory_order_relaxed);
-    if (!fits || 4 * used > capacity) {
+    if (!fits.load() || 4 * used > capacity) {
       capacity = std::max(2 * capacity, std::bit_ceil(4 * used));
       continue;
     }
@@ -153,20 +207,25 @@ void FaceGrid::Fill(const std::vector<uint32_t>& live, uint64_t min_capacity,
       next += cell.capacity;
       cell.size = 0;
     }
-    // Pass 3: list the faces.
-    const uint32_t* slot = slots.data();
-    for (size_t i = 0; i < live.size(); ++i) {
-      if (poll(i)) return;
-      const Triangle t = FaceTriangle(live[i]);
-      const Span span = SpanOf(BoxOf(t.p, 3));
-      const Range& r = span.range;
-      for (int64_t x = r.lo[0]; x <= r.hi[0]; ++x)
-        for (int64_t y = r.lo[1]; y <= r.hi[1]; ++y)
-          for (int64_t z = r.lo[2]; z <= r.hi[2]; ++z) {
-            Cell& cell = cells_[*slot++];
-            cell.data[cell.size++] = ListingIn(live[i], span, x, y, z);
-          }
-    }
+    // Pass 3: list the faces. A cell's listings come in whatever order the contexts reach it:
+    // no reader depends on that order (a face comes from the first held cell its listing's
+    // corner says, and the intersection check keeps the smallest face id it meets).
+    ForEachChunk(live.size(), cancelled, [&](size_t k, size_t begin, size_t end) {
+      const uint32_t* slot = slots[k].data();
+      for (size_t i = begin; i < end; ++i) {
+        const Triangle t = FaceTriangle(live[i]);
+        const Span span = SpanOf(BoxOf(t.p, 3));
+        const Range& r = span.range;
+        for (int64_t x = r.lo[0]; x <= r.hi[0]; ++x)
+          for (int64_t y = r.lo[1]; y <= r.hi[1]; ++y)
+            for (int64_t z = r.lo[2]; z <= r.hi[2]; ++z) {
+              Cell& cell = cells_[*slot++];
+              const uint32_t at =
+                  std::atomic_ref<uint32_t>(cell.size).fetch_add(1, std::memory_order_relaxed);
+              cell.data[at] = ListingIn(live[i], span, x, y, z);
+            }
+      }
+    });
     return;
   }
 }

@@ -34,7 +34,10 @@ class FaceGrid {
   // takes a while: `cancelled` (thread-safe, may be empty) is polled every kPollFaces faces,
   // and once it says true the grid stops half built and must not be used (a cancel stays
   // true: the caller sees it and ends the run).
-  explicit FaceGrid(const Mesh& mesh, const std::function<bool()>& cancelled = {});
+  // With a pool, indexing runs on its contexts (then, and on every re-index later: the caller
+  // must not be running the pool meanwhile); the index is the same for any number of them.
+  explicit FaceGrid(const Mesh& mesh, const std::function<bool()>& cancelled = {},
+                    WorkerPool* pool = nullptr);
   // Between passes (nothing held): indexes the mesh anew when its faces have grown well past
   // the cells (as the mesh coarsens), so that a fan still covers a few cells. It measures the
   // mesh only when the edge lengths its users report (Track) say it may have to. Polls
@@ -217,6 +220,12 @@ class FaceGrid {
   void Fill(const std::vector<uint32_t>& live, uint64_t min_capacity,
             const std::function<bool()>& cancelled);
   static std::vector<uint32_t> LiveFaces(const Mesh& mesh);
+  // Runs body(chunk, begin, end) over [0, count) in chunks of kPollFaces, on the pool when
+  // there is one, polling `cancelled` (may be empty) before each chunk; false once it said
+  // true. Chunks, not contexts, split the work: what is summed per chunk adds up the same for
+  // any number of contexts.
+  template <class Body>
+  bool ForEachChunk(size_t count, const std::function<bool()>& cancelled, Body&& body) const;
   // Mean edge length of the live faces (and the live faces, and their lower corner).
   // Records the sum and the faces as the tracked ones.
   double MeanEdge(const Mesh& mesh, std::vector<uint32_t>* live, DVec3* lo);
@@ -235,6 +244,7 @@ class FaceGrid {
   const VertexQ* vertices_;
   const HalfEdgeQ* halfedges_;
   const uint32_t* point_ids_;
+  WorkerPool* pool_;
   DVec3 origin_{};
   double cell_ = 1.0;
   double magnitude_ = 0.0;

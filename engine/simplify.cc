@@ -176,12 +176,13 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
   setup.mass = &mass_before;
   setup.resultants = &fields_before;
   if (cancelled_in_setup()) return result;
+  WorkerPool pool(options.threads);
   std::optional<FaceGrid> face_grid;
-  if (!options.allow_self_intersections) setup.face_grid = &face_grid.emplace(mesh, cancelled);
+  if (!options.allow_self_intersections)
+    setup.face_grid = &face_grid.emplace(mesh, cancelled, &pool);
   if (cancelled_in_setup()) return result;
   const RuleSet rules = RuleSet::Build(options, setup);
 
-  WorkerPool pool(options.threads);
   std::unique_ptr<VertexCost> cost;
   if (quadric)
     cost = std::make_unique<QuadricCost>(mesh.quadrics());

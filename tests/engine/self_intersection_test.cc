@@ -2,6 +2,7 @@
 // rule on a whole run.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <set>
 #include <vector>
 
@@ -150,6 +151,37 @@ TEST(FaceGrid, RoundMovesApplyTheSameOnAPool) {
   }
   EXPECT_GT(std::set<uint32_t>(in_serial.begin(), in_serial.end()).size(), raw.num_faces() / 2);
   EXPECT_EQ(in_serial, in_pooled);
+}
+
+TEST(FaceGrid, IndexedOnAPoolTheSameAsAlone) {
+  // 131,072 faces: three chunks of the build, on two contexts.
+  const RawMesh raw = testing::FlatGrid(256);
+  absl::StatusOr<Mesh> mesh = Mesh::Build(raw);
+  ASSERT_TRUE(mesh.ok());
+  WorkerPool pool(2);
+  FaceGrid alone(*mesh), pooled(*mesh, {}, &pool);
+  EXPECT_EQ(alone.cell_size(), pooled.cell_size());
+  EXPECT_EQ(alone.magnitude(), pooled.magnitude());
+  float extent = 0;
+  for (float x : raw.positions) extent = std::max(extent, x);
+  const double c = alone.cell_size();
+  size_t listings = 0;
+  for (double x = -c; x < extent + c; x += 4 * c)
+    for (double y = -c; y < extent + c; y += 4 * c) {
+      const FaceGrid::Box tile{{x, y, -c}, {x + 3.9 * c, y + 3.9 * c, c}};
+      std::vector<uint32_t> listed[2];
+      for (int g = 0; g < 2; ++g) {
+        FaceGrid& grid = g == 0 ? alone : pooled;
+        std::vector<uint32_t> held;
+        ASSERT_EQ(grid.Acquire(tile, &held), FaceGrid::Hold::kHeld);
+        grid.ForEachFace(tile, held, [&](uint32_t f) { return listed[g].push_back(f), true; });
+        grid.Release(&held);
+        std::sort(listed[g].begin(), listed[g].end());  // a cell's order is the contexts'
+      }
+      EXPECT_EQ(listed[0], listed[1]) << "tile at " << x << ", " << y;
+      listings += listed[0].size();
+    }
+  EXPECT_GE(listings, raw.num_faces());
 }
 
 // Pairs of faces of a soup that intersect, by brute force.
