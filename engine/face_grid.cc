@@ -4,10 +4,17 @@
 #include <atomic>
 #include <bit>
 #include <cmath>
-#include <thread>
 
 namespace femsimp {
 namespace {
+
+// Each thread's shard of a round's moves: threads numbered as they first record one, so that a
+// pool's few threads land in different shards.
+size_t ThreadShard() {
+  static std::atomic<size_t> next{0};
+  thread_local const size_t shard = next.fetch_add(1, std::memory_order_relaxed);
+  return shard;
+}
 
 // 21 bits per axis: cell coordinates are offset so that they are non-negative.
 constexpr int64_t kAxisBits = 21;
@@ -424,8 +431,7 @@ FaceGrid::Listing FaceGrid::ListingIn(uint32_t f, const Span& s, int64_t x, int6
 
 bool FaceGrid::Move(uint32_t f, const Box& before, const Box* after) {
   if (deferred_) {
-    PendingShard& shard =
-        shards_[std::hash<std::thread::id>{}(std::this_thread::get_id()) % kPendingShards];
+    PendingShard& shard = shards_[ThreadShard() % kPendingShards];
     std::lock_guard<std::mutex> lock(shard.mu);
     shard.moves.push_back({f, after == nullptr, before, after == nullptr ? before : *after});
     return true;
