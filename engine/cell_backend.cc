@@ -19,6 +19,9 @@ namespace {
 // (SortPass); the PPE sorts only in the rounds' choice of winners.
 constexpr uint64_t kCostCyclesPerVertex = 400;
 constexpr uint64_t kSortCyclesPerElementLevel = 8;
+// From the second pass on, the vertices to cost come from lists (the last selection, the
+// requeued vertices): the PPE drops the duplicates with a mark per vertex, set and cleared.
+constexpr uint64_t kListMergeCyclesPerVertex = 24;
 // Deterministic rounds (engine/rounds.h): each candidate's fan box (its one-ring walk, as for
 // the cost) is one more SPE run, parallel over the SPEs; choosing the winners (a sort of the
 // boxes and a sweep, greedy in cost order) is PPE work.
@@ -78,8 +81,10 @@ class CellBackend final : public RemovalBackend {
     runtime_->ResetCounters();
     uint64_t sort_cycles = 0, cost_cycles = 0, claim_cycles = 0, spe_sort_cycles = 0;
     if (phase.pass_start) {
-      // SPEs: the cost of every vertex, split evenly; then they sort the removable vertices.
-      cost_cycles = kCostCyclesPerVertex * mesh_.vertex_capacity() / n;
+      // SPEs: the cost of every vertex the selection looked at, split evenly; then they sort
+      // the removable vertices. The PPE first merges the lists of those to look at.
+      cost_cycles = kCostCyclesPerVertex * phase.looked / n;
+      sort_cycles += kListMergeCyclesPerVertex * phase.merged;
       absl::StatusOr<uint64_t> sorted = SortPass(phase);
       if (!sorted.ok()) return sorted.status();
       spe_sort_cycles = *sorted;

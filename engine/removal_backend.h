@@ -51,6 +51,10 @@ struct RemovalPhase {
   // The pass's removable vertices in the order sorted (`sorted` of them): the cell back end
   // sorts them again on its SPEs, to model that sort's cost from the work it does.
   const uint32_t* order = nullptr;
+  // What the pass's selection did (the cell back end's model charges it): the vertices it
+  // looked at, costing the removable ones, and of those the ones it merged from lists (on the
+  // PPE) rather than scanned in vertex order.
+  size_t looked = 0, merged = 0;
   // Where the contexts' KernelStats::requeued go once the phase is over (may be null).
   std::vector<uint32_t>* requeued = nullptr;
 

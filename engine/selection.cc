@@ -73,6 +73,8 @@ std::vector<uint32_t> CandidateSelection::Select(bool reconsider,
   const bool scan_all = scan_all_ || retry_all_;
   const std::vector<uint32_t> list = scan_all ? std::vector<uint32_t>{} : Watched();
   const size_t count = scan_all ? mesh_.vertex_capacity() : list.size();
+  looked_ = count;
+  merged_ = !scan_all;
   const auto vertex = [&](size_t i) { return scan_all ? static_cast<uint32_t>(i) : list[i]; };
   std::atomic<uint32_t>* status = mesh_.status();
   // Only fans that will be read are fetched: most vertices of a late pass are not removable.

@@ -35,6 +35,11 @@ class CandidateSelection {
   std::vector<uint32_t> Select(bool reconsider, const std::function<bool()>& cancelled,
                                double* busy_seconds);
 
+  // The vertices the last Select looked at (every vertex slot, on a scan), and whether it
+  // merged a list of them rather than scanning every slot (the cell back end's cost model).
+  size_t looked() const { return looked_; }
+  bool merged() const { return merged_; }
+
   // Where the pass's contexts leave the vertices they made removable again (the back ends and
   // the seam sweep append their kernels' KernelStats::requeued).
   std::vector<uint32_t>* requeued() { return &requeued_; }
@@ -48,6 +53,8 @@ class CandidateSelection {
   const VertexCost& cost_;
   const bool scatter_;
   const bool retry_all_;
+  size_t looked_ = 0;
+  bool merged_ = false;
   bool scan_all_ = true;            // until the first selection, and always with retry_all
   std::vector<uint32_t> watched_;   // the last selection and the refused ones awaiting a retry
   std::vector<uint32_t> requeued_;  // since the last selection, duplicates allowed

@@ -232,8 +232,12 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
     bool reconsider = watch.Reconsider(pass);
     if (face_grid && pass > 1) face_grid->Refresh(mesh, cancelled);
     // Select and order: every removable vertex with its cost, in cost order.
+    size_t looked = 0, merged = 0;
     const auto select = [&] {
-      return selection.Select(reconsider, cancelled, &stats.busy_seconds);
+      std::vector<uint32_t> ids = selection.Select(reconsider, cancelled, &stats.busy_seconds);
+      looked += selection.looked();
+      if (selection.merged()) merged += selection.looked();
+      return ids;
     };
     std::vector<uint32_t> sorted = select();
     // No vertex is left to try: the refused ones get their retry now, and when none is due
@@ -261,6 +265,8 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
                        sorted.size(), &budget,
                        &stop,         control.cancelled ? &control.cancelled : &no_cancel};
     phase.requeued = selection.requeued();
+    phase.looked = looked;
+    phase.merged = merged;
     phase.fresh_caches = seams_moved;
     phase.order = sorted.data();
     // Remove: each context runs the kernel on its candidates.
