@@ -102,6 +102,13 @@ std::vector<OptionSpec> MakeTable() {
        .help = "the same as a fraction of the bounding-box diagonal; with --tolerance the "
                "smaller one applies",
        .field = &S::tolerance_relative},
+      {.name = "deviation_check", .flag = "--deviation-check", .section = "fidelity",
+       .type = T::kEnum,
+       .help = "how the tolerance is kept: mapped, a bound carried face by face along the run "
+               "(fast; sums up, so it stops early); measured, every collapse judged against the "
+               "input itself, both ways (keeps fewer vertices; native back end only)",
+       .choices = {{"mapped", "mapped"}, {"measured", "measured"}},
+       .field = &S::deviation_check},
       {.name = "feature_angle_deg", .flag = "--feature-angle", .metavar = "D",
        .section = "fidelity", .range = Range::OpenClosed(0, 180), .unit = "degrees",
        .help = "dihedral angle above which an edge is a feature edge (180: boundaries and group "

@@ -36,8 +36,9 @@ using OptionField =
     std::variant<double SimplifyOptions::*, int SimplifyOptions::*, uint64_t SimplifyOptions::*,
                  bool SimplifyOptions::*, CostKind SimplifyOptions::*, Backend SimplifyOptions::*,
                  Preset SimplifyOptions::*, Schedule SimplifyOptions::*,
-                 Placement SimplifyOptions::*, int CellOptions::*, bool CellOptions::*,
-                 RepairMode RepairOptions::*, double RepairOptions::*>;
+                 Placement SimplifyOptions::*, DeviationCheck SimplifyOptions::*,
+                 int CellOptions::*, bool CellOptions::*, RepairMode RepairOptions::*,
+                 double RepairOptions::*>;
 
 struct OptionSpec {
   const char* name = "";       // snake_case; the proto field name (inside message `group` when set)

@@ -70,6 +70,10 @@ absl::Status ValidateOptions(const SimplifyOptions& o) {
   if (o.ratio > 0.0 && o.target_vertices > 0)
     return absl::InvalidArgumentError("give either ratio or target_vertices, not both");
   if (o.backend == Backend::kCell) {
+    if (o.deviation_check == DeviationCheck::kMeasured)
+      return absl::InvalidArgumentError(
+          "deviation_check = measured runs on the native back end only: the cell back end has "
+          "no model of the input's pieces in its memory (use deviation_check = mapped)");
     const CellOptions& c = o.cell;
     if (c.ls_cache_kib >= c.local_store_kib)
       return absl::InvalidArgumentError(absl::StrCat("ls_cache_kib = ", c.ls_cache_kib,

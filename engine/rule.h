@@ -20,6 +20,7 @@
 #include <span>
 #include <vector>
 
+#include "engine/coverage.h"
 #include "engine/mechanics.h"
 #include "engine/quadword.h"
 #include "engine/ring.h"
@@ -120,6 +121,9 @@ struct CollapseProposal {
   const FaceAttrQ* extra_attr = nullptr;
   FaceAttrQ* new_extra_attr = nullptr;
 
+  // The measured deviation check (engine/coverage.h): which new face takes which piece.
+  CoveragePlan coverage;
+
   uint32_t vd() const { return fan->nbr[target]; }
   // Fan face f is one of the two that contain V - Vd (and disappear).
   bool IsDeleted(int f) const {
@@ -160,6 +164,8 @@ struct RuleSetup {
   const FieldResultants* resultants = nullptr;
   // The face index of the self-intersection rule, when it is on.
   class FaceGrid* face_grid = nullptr;
+  // The input's pieces (engine/coverage.h), when the tolerance is measured.
+  Coverage* coverage = nullptr;
 };
 
 class CollapseRule {

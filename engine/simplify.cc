@@ -10,6 +10,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "engine/cost.h"
+#include "engine/coverage.h"
 #include "engine/face_grid.h"
 #include "engine/features.h"
 #include "engine/mechanics.h"
@@ -181,6 +182,9 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
   if (!options.allow_self_intersections)
     setup.face_grid = &face_grid.emplace(mesh, cancelled, &pool);
   if (cancelled_in_setup()) return result;
+  std::optional<Coverage> coverage;
+  if (options.deviation_check == DeviationCheck::kMeasured && setup.tolerance > 0.0f)
+    setup.coverage = &coverage.emplace(mesh, setup.tolerance);
   const RuleSet rules = RuleSet::Build(options, setup);
 
   std::unique_ptr<VertexCost> cost;

@@ -39,6 +39,11 @@ enum class CostKind { kGaussianCurvature, kQuadric, kDeviation };
 // keeps the volume (else at the edge's midpoint) when it passes every rule, and the half-edge
 // collapse otherwise (engine/star.h).
 enum class Placement { kEndpoint, kOptimal };
+
+// How the tolerance is kept (docs/FIDELITY.md § 1): kMapped, a bound on a map from the input
+// carried face by face along the run (engine/deviation.h); kMeasured, every collapse judged
+// against the input itself, both ways (engine/coverage.h; native back end).
+enum class DeviationCheck { kMapped, kMeasured };
 const char* CostKindName(CostKind c);  // "gaussian_curvature", "quadric", "deviation"
 
 // Why a candidate was given up (each counted per pass): the rule that refused it
@@ -82,6 +87,7 @@ struct SimplifyOptions {
   bool topology_only = false;
   CostKind cost = CostKind::kDeviation;
   Placement placement = Placement::kEndpoint;
+  DeviationCheck deviation_check = DeviationCheck::kMapped;
 
   // Fidelity (docs/FIDELITY.md). 0 turns a bound off.
   // Guaranteed two-sided (Hausdorff) deviation from the input surface, absolute and/or as a

@@ -88,8 +88,12 @@ class DeviationBoundRule final : public CollapseRule {
 
 }  // namespace
 
-std::unique_ptr<CollapseRule> MakeDeviationBoundRule(const SimplifyOptions&, const RuleSetup& s) {
+// engine/rules/measured_deviation.cc: the same criterion checked against the input itself.
+std::unique_ptr<CollapseRule> MakeMeasuredDeviationRule(const RuleSetup& s);
+
+std::unique_ptr<CollapseRule> MakeDeviationBoundRule(const SimplifyOptions& o, const RuleSetup& s) {
   if (!(s.tolerance > 0.0f)) return nullptr;
+  if (o.deviation_check == DeviationCheck::kMeasured) return MakeMeasuredDeviationRule(s);
   return std::make_unique<DeviationBoundRule>(s.tolerance);
 }
 

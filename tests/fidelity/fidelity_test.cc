@@ -36,6 +36,7 @@ struct Case {
   double max_centroid_shift = 0.0;
   double max_inertia_change = 0.0;
   Placement placement = Placement::kEndpoint;
+  DeviationCheck deviation_check = DeviationCheck::kMapped;
 };
 
 std::string CaseName(const Case& c) {
@@ -52,6 +53,7 @@ std::string CaseName(const Case& c) {
   if (c.max_centroid_shift > 0) name += "_centroid";
   if (c.max_inertia_change > 0) name += "_inertia";
   if (c.placement == Placement::kOptimal) name += "_placed";
+  if (c.deviation_check == DeviationCheck::kMeasured) name += "_measured";
   return name;
 }
 std::string ParamName(const ::testing::TestParamInfo<Case>& info) { return CaseName(info.param); }
@@ -142,6 +144,7 @@ Outcome Simplified(const Case& c) {
   o.options.max_inertia_change = c.max_inertia_change;
   o.options.max_field_change = 0.01;
   o.options.placement = c.placement;
+  o.options.deviation_check = c.deviation_check;
   // Every blade triangle has an angle below 10 degrees, so the default minimum angle would
   // forbid every collapse there and leave the tolerance untested.
   if (c.mesh == "blade.off") o.options.min_angle_deg = 1.0;
@@ -489,6 +492,36 @@ std::vector<Case> PlacementBudgetCases() {
   return cases;
 }
 INSTANTIATE_TEST_SUITE_P(Placement, Budgets, ::testing::ValuesIn(PlacementBudgetCases()),
+                         ParamName);
+
+// ---- the tolerance measured against the input (option deviation_check = measured) -----------
+
+// Two-sided within the tolerance by the judge, with the engine's reported bound honest, at both
+// tolerances, in the deviation order and the quadric one; fandisk's feature lines stay.
+std::vector<Case> MeasuredCases() {
+  std::vector<Case> cases;
+  for (const char* mesh : {"fandisk.off", "femur.off", "rotor_small.off"})
+    for (double tol : {0.001, 0.01})
+      cases.push_back({.mesh = mesh,
+                       .tolerance_relative = tol,
+                       .cost = CostKind::kDeviation,
+                       .deviation_check = DeviationCheck::kMeasured});
+  cases.push_back({.mesh = "rotor_small.off",
+                   .tolerance_relative = 0.01,
+                   .cost = CostKind::kQuadric,
+                   .deviation_check = DeviationCheck::kMeasured});
+  return cases;
+}
+INSTANTIATE_TEST_SUITE_P(Measured, SurfaceFidelity, ::testing::ValuesIn(MeasuredCases()),
+                         ParamName);
+
+std::vector<Case> MeasuredFeatureCases() {
+  return {{.mesh = "fandisk.off",
+           .tolerance_relative = 0.01,
+           .cost = CostKind::kDeviation,
+           .deviation_check = DeviationCheck::kMeasured}};
+}
+INSTANTIATE_TEST_SUITE_P(Measured, FeatureLines, ::testing::ValuesIn(MeasuredFeatureCases()),
                          ParamName);
 
 }  // namespace

@@ -1,0 +1,492 @@
+#include "engine/coverage.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace femsimp {
+namespace {
+
+DVec3 Mid(const DVec3& a, const DVec3& b) { return 0.5 * (a + b); }
+
+// The four children of the triangle t in Piece::Child's numbering.
+void Split(const DVec3 t[3], DVec3 child[4][3]) {
+  const DVec3 ab = Mid(t[0], t[1]), bc = Mid(t[1], t[2]), ca = Mid(t[2], t[0]);
+  const DVec3 c[4][3] = {{t[0], ab, ca}, {ab, t[1], bc}, {ca, bc, t[2]}, {bc, ca, ab}};
+  for (int k = 0; k < 4; ++k)
+    for (int i = 0; i < 3; ++i) child[k][i] = c[k][i];
+}
+
+double SquaredDistanceToSegment(const DVec3& q, const DVec3& a, const DVec3& b) {
+  const DVec3 ab = b - a;
+  const double len2 = Dot(ab, ab);
+  const double t = len2 > 0 ? std::clamp(Dot(q - a, ab) / len2, 0.0, 1.0) : 0.0;
+  const DVec3 d = q - (a + t * ab);
+  return Dot(d, d);
+}
+
+// The largest squared distance of the three corners to the triangle t, or more than `limit`
+// as soon as one is farther than that.
+double CornersToTriangle(const DVec3 corners[3], const DVec3 t[3], double limit) {
+  double worst = 0;
+  for (int i = 0; i < 3; ++i) {
+    worst = std::max(worst, SquaredDistanceToTriangle(corners[i], t[0], t[1], t[2]));
+    if (worst > limit) break;
+  }
+  return worst;
+}
+
+// The squared distance from q to the tetrahedron (a, b, c, d): 0 inside, else the nearest of its
+// faces (also when it is flat: its faces then cover it).
+double SquaredDistanceToTetrahedron(const DVec3& q, const DVec3& a, const DVec3& b, const DVec3& c,
+                                    const DVec3& d) {
+  const DVec3 ab = b - a, ac = c - a, ad = d - a, aq = q - a;
+  const double volume = Dot(ab, Cross(ac, ad));
+  if (volume != 0) {
+    const double ld = Dot(ab, Cross(ac, aq)) / volume, lc = Dot(ab, Cross(aq, ad)) / volume,
+                 lb = Dot(aq, Cross(ac, ad)) / volume;
+    if (ld >= 0 && lc >= 0 && lb >= 0 && ld + lc + lb <= 1) return 0;
+  }
+  return std::min({SquaredDistanceToTriangle(q, a, b, c), SquaredDistanceToTriangle(q, a, b, d),
+                   SquaredDistanceToTriangle(q, a, c, d), SquaredDistanceToTriangle(q, b, c, d)});
+}
+
+// The squared distance between the segments pq and rs (Ericson, 5.1.9), degenerate ones
+// included.
+double SquaredSegmentDistance(const DVec3& p, const DVec3& q, const DVec3& r, const DVec3& s) {
+  const DVec3 d1 = q - p, d2 = s - r, w = p - r;
+  const double a = Dot(d1, d1), e = Dot(d2, d2), f = Dot(d2, w);
+  double t1 = 0, t2 = 0;
+  if (a <= 0 && e <= 0) {
+    // both points
+  } else if (a <= 0) {
+    t2 = std::clamp(f / e, 0.0, 1.0);
+  } else {
+    const double c = Dot(d1, w);
+    if (e <= 0) {
+      t1 = std::clamp(-c / a, 0.0, 1.0);
+    } else {
+      const double b = Dot(d1, d2), denominator = a * e - b * b;
+      t1 = denominator > 0 ? std::clamp((b * f - c * e) / denominator, 0.0, 1.0) : 0.0;
+      t2 = (b * t1 + f) / e;
+      if (t2 < 0) {
+        t2 = 0;
+        t1 = std::clamp(-c / a, 0.0, 1.0);
+      } else if (t2 > 1) {
+        t2 = 1;
+        t1 = std::clamp((b - c) / a, 0.0, 1.0);
+      }
+    }
+  }
+  const DVec3 gap = (p + t1 * d1) - (r + t2 * d2);
+  return Dot(gap, gap);
+}
+
+}  // namespace
+
+double SquaredDistanceToTriangle(const DVec3& q, const DVec3& a, const DVec3& b, const DVec3& c) {
+  // The closest point by Voronoi regions (Ericson, Real-Time Collision Detection, 5.1.5); every
+  // branch returns the distance to a point of the triangle, so rounding never makes it smaller
+  // than the exact distance by more than a few ulps.
+  const DVec3 ab = b - a, ac = c - a, ap = q - a;
+  const double d1 = Dot(ab, ap), d2 = Dot(ac, ap);
+  if (d1 <= 0 && d2 <= 0) return Dot(ap, ap);
+  const DVec3 bp = q - b;
+  const double d3 = Dot(ab, bp), d4 = Dot(ac, bp);
+  if (d3 >= 0 && d4 <= d3) return Dot(bp, bp);
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return SquaredDistanceToSegment(q, a, b);
+  const DVec3 cp = q - c;
+  const double d5 = Dot(ab, cp), d6 = Dot(ac, cp);
+  if (d6 >= 0 && d5 <= d6) return Dot(cp, cp);
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return SquaredDistanceToSegment(q, a, c);
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0) return SquaredDistanceToSegment(q, b, c);
+  const double sum = va + vb + vc;
+  if (!(sum > 0)) {  // degenerate: the nearest of its edges
+    return std::min({SquaredDistanceToSegment(q, a, b), SquaredDistanceToSegment(q, b, c),
+                     SquaredDistanceToSegment(q, c, a)});
+  }
+  const double v = vb / sum, w = vc / sum;
+  const DVec3 d = q - (a + v * ab + w * ac);
+  return Dot(d, d);
+}
+
+Coverage::Coverage(const Mesh& mesh, double tolerance)
+    : input_(3 * size_t{mesh.face_capacity()}),
+      across_(3 * size_t{mesh.face_capacity()}, kNone),
+      held_(mesh.face_capacity()),
+      whole_(mesh.face_capacity(), 0),
+      // Below the tolerance by far more than the rounding of the distances: never above it.
+      tolerance_(tolerance * (1 - 1e-9)),
+      tolerance2_(tolerance_ * tolerance_) {
+  const HalfEdgeQ* h = mesh.halfedges();
+  const VertexQ* v = mesh.vertices();
+  for (uint32_t f = 0; f < mesh.face_capacity(); ++f) {
+    if (h[3 * f].flags & kFaceRemoved) continue;
+    for (int k = 0; k < 3; ++k) {
+      const VertexQ& q = v[h[3 * f + k].target];
+      input_[3 * f + k] = {q.x, q.y, q.z};
+    }
+    whole_[f] = 1;
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t twin = h[3 * f + k].twin;
+      across_[3 * f + k] = twin == kNone ? kNone : FaceOf(twin);
+    }
+  }
+  IndexInput();
+}
+
+void Coverage::IndexInput() {
+  DVec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+  double edges = 0;
+  size_t faces = 0;
+  for (uint32_t f = 0; f < whole_.size(); ++f) {
+    if (!whole_[f]) continue;
+    const Vec3* t = &input_[3 * size_t{f}];
+    for (int k = 0; k < 3; ++k) {
+      lo = {std::min<double>(lo.x, t[k].x), std::min<double>(lo.y, t[k].y),
+            std::min<double>(lo.z, t[k].z)};
+      hi = {std::max<double>(hi.x, t[k].x), std::max<double>(hi.y, t[k].y),
+            std::max<double>(hi.z, t[k].z)};
+      edges += Norm(ToD(t[k]) - ToD(t[(k + 1) % 3]));
+    }
+    ++faces;
+  }
+  if (faces == 0) {
+    cell_start_.assign(2, 0);
+    return;
+  }
+  // Cells of two mean edges, fewer where that would make more cells than faces (a thin part).
+  cell_ = std::max(2 * edges / (3 * faces), 1e-30);
+  const DVec3 extent = hi - lo;
+  for (;;) {
+    for (int a = 0; a < 3; ++a) {
+      const double e = a == 0 ? extent.x : a == 1 ? extent.y : extent.z;
+      dims_[a] = static_cast<int64_t>(e / cell_) + 1;
+    }
+    if (dims_[0] * dims_[1] * dims_[2] <= int64_t(4 * faces) + 64) break;
+    cell_ *= 1.5;
+  }
+  origin_ = lo;
+  const auto range = [&](uint32_t f, int64_t r[6]) {
+    const Vec3* t = &input_[3 * size_t{f}];
+    const double l[3] = {std::min({t[0].x, t[1].x, t[2].x}), std::min({t[0].y, t[1].y, t[2].y}),
+                         std::min({t[0].z, t[1].z, t[2].z})};
+    const double h[3] = {std::max({t[0].x, t[1].x, t[2].x}), std::max({t[0].y, t[1].y, t[2].y}),
+                         std::max({t[0].z, t[1].z, t[2].z})};
+    const double o[3] = {origin_.x, origin_.y, origin_.z};
+    for (int a = 0; a < 3; ++a) {
+      r[a] = std::clamp<int64_t>(static_cast<int64_t>((l[a] - o[a]) / cell_), 0, dims_[a] - 1);
+      r[3 + a] = std::clamp<int64_t>(static_cast<int64_t>((h[a] - o[a]) / cell_), 0, dims_[a] - 1);
+    }
+  };
+  const auto each_cell = [&](const int64_t r[6], auto&& visit) {
+    for (int64_t x = r[0]; x <= r[3]; ++x)
+      for (int64_t y = r[1]; y <= r[4]; ++y)
+        for (int64_t z = r[2]; z <= r[5]; ++z) visit((x * dims_[1] + y) * dims_[2] + z);
+  };
+  cell_start_.assign(dims_[0] * dims_[1] * dims_[2] + 1, 0);
+  for (uint32_t f = 0; f < whole_.size(); ++f) {
+    if (!whole_[f]) continue;
+    int64_t r[6];
+    range(f, r);
+    each_cell(r, [&](int64_t c) { ++cell_start_[c + 1]; });
+  }
+  for (size_t c = 1; c < cell_start_.size(); ++c) cell_start_[c] += cell_start_[c - 1];
+  cell_faces_.resize(cell_start_.back());
+  std::vector<uint32_t> fill(cell_start_.begin(), cell_start_.end() - 1);
+  for (uint32_t f = 0; f < whole_.size(); ++f) {
+    if (!whole_[f]) continue;
+    int64_t r[6];
+    range(f, r);
+    each_cell(r, [&](int64_t c) { cell_faces_[fill[c]++] = f; });
+  }
+}
+
+void Coverage::Witnesses(const DVec3& lo, const DVec3& hi, CoveragePlan* plan) const {
+  plan->found.clear();
+  const double l[3] = {lo.x - tolerance_, lo.y - tolerance_, lo.z - tolerance_};
+  const double h[3] = {hi.x + tolerance_, hi.y + tolerance_, hi.z + tolerance_};
+  const double o[3] = {origin_.x, origin_.y, origin_.z};
+  int64_t r[6];
+  for (int a = 0; a < 3; ++a) {
+    r[a] = std::clamp<int64_t>(static_cast<int64_t>(std::floor((l[a] - o[a]) / cell_)), 0,
+                               dims_[a] - 1);
+    r[3 + a] = std::clamp<int64_t>(static_cast<int64_t>(std::floor((h[a] - o[a]) / cell_)), 0,
+                                   dims_[a] - 1);
+  }
+  for (int64_t x = r[0]; x <= r[3]; ++x)
+    for (int64_t y = r[1]; y <= r[4]; ++y)
+      for (int64_t z = r[2]; z <= r[5]; ++z) {
+        const int64_t c = (x * dims_[1] + y) * dims_[2] + z;
+        plan->found.insert(plan->found.end(), cell_faces_.begin() + cell_start_[c],
+                           cell_faces_.begin() + cell_start_[c + 1]);
+      }
+  std::sort(plan->found.begin(), plan->found.end());
+  plan->found.erase(std::unique(plan->found.begin(), plan->found.end()), plan->found.end());
+  plan->witnesses.clear();
+  for (uint32_t f : plan->found) {
+    const Vec3* t = &input_[3 * size_t{f}];
+    CoveragePlan::Witness w;
+    w.triangle = f;
+    w.lo = {std::min({t[0].x, t[1].x, t[2].x}) - tolerance_,
+            std::min({t[0].y, t[1].y, t[2].y}) - tolerance_,
+            std::min({t[0].z, t[1].z, t[2].z}) - tolerance_};
+    w.hi = {std::max({t[0].x, t[1].x, t[2].x}) + tolerance_,
+            std::max({t[0].y, t[1].y, t[2].y}) + tolerance_,
+            std::max({t[0].z, t[1].z, t[2].z}) + tolerance_};
+    if (w.hi.x < lo.x || w.lo.x > hi.x || w.hi.y < lo.y || w.lo.y > hi.y || w.hi.z < lo.z ||
+        w.lo.z > hi.z)
+      continue;
+    for (int k = 0; k < 3; ++k) w.p[k] = ToD(t[k]);
+    plan->witnesses.push_back(w);
+  }
+}
+
+void Coverage::Corners(Piece piece, DVec3 out[3]) const {
+  for (int k = 0; k < 3; ++k) out[k] = ToD(input_[3 * size_t{piece.triangle} + k]);
+  for (int l = 0; l < piece.level(); ++l) {
+    DVec3 child[4][3];
+    Split(out, child);
+    const uint32_t c = (piece.path >> (4 + 2 * l)) & 3u;
+    for (int k = 0; k < 3; ++k) out[k] = child[c][k];
+  }
+}
+
+void Coverage::Coarsen(std::vector<Piece>* pieces) {
+  if (std::none_of(pieces->begin(), pieces->end(), [](const Piece& p) { return p.level() > 0; }))
+    return;
+  // Siblings sort next to each other: by triangle, level, then the path above the last step.
+  const auto key = [](const Piece& p) {
+    const uint32_t above = p.level() == 0 ? p.path : p.Parent().path;
+    return (uint64_t{p.triangle} << 32 | above) ^ 0;
+  };
+  for (bool merged = true; merged;) {
+    merged = false;
+    std::sort(pieces->begin(), pieces->end(), [&](const Piece& a, const Piece& b) {
+      const uint64_t ka = key(a), kb = key(b);
+      return ka != kb ? ka < kb : a.path < b.path;
+    });
+    size_t out = 0;
+    for (size_t i = 0; i < pieces->size();) {
+      const Piece& p = (*pieces)[i];
+      if (p.level() > 0 && i + 3 < pieces->size() && key((*pieces)[i + 3]) == key(p) &&
+          (*pieces)[i + 3].level() == p.level()) {
+        (*pieces)[out++] = p.Parent();
+        i += 4;
+        merged = true;
+      } else {
+        (*pieces)[out++] = p;
+        ++i;
+      }
+    }
+    pieces->resize(out);
+  }
+}
+
+std::vector<Piece> Coverage::Held(uint32_t f) const {
+  std::vector<Piece> out;
+  ForEachHeld(f, [&](const Piece& p) { out.push_back(p); });
+  return out;
+}
+
+bool Coverage::Judge(std::span<const DVec3> fresh_corners, CoveragePlan* plan,
+                     uint64_t* work) const {
+  const int fresh = static_cast<int>(fresh_corners.size() / 3);
+  plan->given.clear();
+  plan->pieces.clear();
+  plan->witnesses.clear();
+  std::fill(plan->reach, plan->reach + fresh, 0.0);
+  for (uint32_t f : plan->old_faces)
+    ForEachHeld(f, [&](const Piece& p) { plan->pieces.push_back(p); });
+  // Four children of one piece, held by the fan's faces, are judged as that piece: the lists
+  // do not grow with every collapse that cut them.
+  Coarsen(&plan->pieces);
+  // (a) Every piece to one new face within the tolerance of its corners (the one that took the
+  // last piece first: neighbouring pieces mostly go to the same face).
+  uint64_t looked = 0;
+  int last = 0;
+  while (!plan->pieces.empty()) {
+    if (++looked > kMaxWork) return false;
+    const Piece piece = plan->pieces.back();
+    plan->pieces.pop_back();
+    DVec3 corners[3];
+    Corners(piece, corners);
+    int taker = -1;
+    double worst = 0;
+    for (int n = 0; n < fresh && taker < 0; ++n) {
+      const int k = (last + n) % fresh;
+      worst = CornersToTriangle(corners, &fresh_corners[3 * k], tolerance2_);
+      if (worst <= tolerance2_) taker = k;
+    }
+    if (taker >= 0) {
+      plan->given.push_back({static_cast<uint32_t>(taker), piece});
+      plan->reach[taker] = std::max(plan->reach[taker], std::sqrt(worst));
+      last = taker;
+      continue;
+    }
+    // A corner or the centre beyond the tolerance of every new face: no part of the piece
+    // around it will find one either.
+    const DVec3 points[4] = {corners[0], corners[1], corners[2],
+                             (1.0 / 3.0) * (corners[0] + corners[1] + corners[2])};
+    for (const DVec3& q : points) {
+      bool near = false;
+      for (int k = 0; k < fresh && !near; ++k) {
+        const DVec3* t = &fresh_corners[3 * k];
+        near = SquaredDistanceToTriangle(q, t[0], t[1], t[2]) <= tolerance2_;
+      }
+      if (!near) return false;
+    }
+    if (piece.level() == kMaxPieceLevel) return false;
+    for (uint32_t c = 0; c < 4; ++c) plan->pieces.push_back(piece.Child(c));
+  }
+
+  // (b) Against the input triangles near each new face.
+  for (int k = 0; k < fresh; ++k) {
+    const DVec3* c = &fresh_corners[3 * k];
+    Witnesses({std::min({c[0].x, c[1].x, c[2].x}), std::min({c[0].y, c[1].y, c[2].y}),
+               std::min({c[0].z, c[1].z, c[2].z})},
+              {std::max({c[0].x, c[1].x, c[2].x}), std::max({c[0].y, c[1].y, c[2].y}),
+               std::max({c[0].z, c[1].z, c[2].z})},
+              plan);
+
+    const double reach = Within(c, plan, &looked);
+    if (reach < 0) return false;
+    plan->reach[k] = std::max(plan->reach[k], reach);
+  }
+  *work += looked;
+
+  return true;
+}
+
+double Coverage::WithinPair(const DVec3* c, uint32_t face) const {
+  // Input faces t1 = (a, b, c1) and t2 = (b, a, c2) across the edge ab. Every point of their
+  // hull H is on a segment from ab to c1c2; where that segment passes nearest ab, it is within
+  // delta = dist(ab, c1c2) of t1 on the one side and of t2 on the other, and the distance to
+  // each is convex: so H lies within delta of t1 and t2 (0 for a flat convex quad). The
+  // distance to H is convex too: a part is within when its corners are within the tolerance
+  // less delta of H. This takes the parts that straddle an input edge whole.
+  const Vec3* t1 = &input_[3 * size_t{face}];
+  for (int e = 0; e < 3; ++e) {
+    const uint32_t other = across_[3 * size_t{face} + e];
+    if (other == kNone) continue;
+    // Half-edge 3f + e runs from corner e + 2 to corner e (mod 3): corner e + 1 is the far one.
+    const DVec3 a = ToD(t1[(e + 2) % 3]), b = ToD(t1[e]), c1 = ToD(t1[(e + 1) % 3]);
+    const Vec3* t2 = &input_[3 * size_t{other}];
+    int far = -1;
+    for (int k = 0; k < 3; ++k) {
+      const DVec3 q = ToD(t2[k]);
+      if (Dot(q - a, q - a) != 0 && Dot(q - b, q - b) != 0) far = k;
+    }
+    if (far < 0) continue;
+    const DVec3 c2 = ToD(t2[far]);
+    const double delta = std::sqrt(SquaredSegmentDistance(a, b, c1, c2));
+    if (delta >= tolerance_) continue;
+    const double limit = (tolerance_ - delta) * (tolerance_ - delta);
+    double worst = 0;
+    for (int k = 0; k < 3 && worst <= limit; ++k)
+      worst = std::max(worst, SquaredDistanceToTetrahedron(c[k], a, b, c1, c2));
+    if (worst <= limit) return std::sqrt(worst) + delta;
+  }
+  return -1;
+}
+
+double Coverage::Within(const DVec3* p, CoveragePlan* plan, uint64_t* work) const {
+  std::vector<uint32_t>& all = plan->near[0];
+  all.resize(plan->witnesses.size());
+  for (uint32_t i = 0; i < all.size(); ++i) all[i] = i;
+  plan->last_witness = UINT32_MAX;
+  return WithinPart(p, 0, plan, work);
+}
+
+double Coverage::WithinPart(const DVec3* c, int level, CoveragePlan* plan, uint64_t* work) const {
+  if (++*work > kMaxWork) return -1;
+  const DVec3 lo{std::min({c[0].x, c[1].x, c[2].x}), std::min({c[0].y, c[1].y, c[2].y}),
+                 std::min({c[0].z, c[1].z, c[2].z})};
+  const DVec3 hi{std::max({c[0].x, c[1].x, c[2].x}), std::max({c[0].y, c[1].y, c[2].y}),
+                 std::max({c[0].z, c[1].z, c[2].z})};
+  const DVec3 centre = (1.0 / 3.0) * (c[0] + c[1] + c[2]);
+  const double radius =
+      std::sqrt(std::max({Dot(c[0] - centre, c[0] - centre), Dot(c[1] - centre, c[1] - centre),
+                          Dot(c[2] - centre, c[2] - centre)}));
+  const double centre_limit =
+      radius < tolerance_ ? (tolerance_ - radius) * (tolerance_ - radius) : -1.0;
+  // The witnesses near this part: its children need look at no others.
+  const std::vector<uint32_t>& parent = plan->near[level];
+  std::vector<uint32_t>& mine = plan->near[level + 1];
+  mine.clear();
+  double nearest_centre = 1e300;  // squared, over the witnesses looked at
+  uint32_t nearest = UINT32_MAX;  // the input face nearest the centre
+  // The witness that took the last part first: neighbouring parts mostly have the same.
+  const uint32_t preferred = plan->last_witness;
+  for (size_t n = 0; n <= parent.size(); ++n) {
+    uint32_t i;
+    if (n == 0) {
+      if (preferred >= plan->witnesses.size()) continue;
+      i = preferred;
+    } else {
+      i = parent[n - 1];
+      if (i == preferred) {
+        mine.push_back(i);
+        continue;
+      }
+    }
+    const CoveragePlan::Witness& w = plan->witnesses[i];
+    if (hi.x < w.lo.x || lo.x > w.hi.x || hi.y < w.lo.y || lo.y > w.hi.y || hi.z < w.lo.z ||
+        lo.z > w.hi.z)
+      continue;  // every point of the part is farther than the tolerance from it
+    if (n != 0) mine.push_back(i);
+    const DVec3* t = w.p;
+    // A point outside the witness's widened box is farther than the tolerance from it: the
+    // distances are worth computing only for what lies inside.
+    const auto inside = [&w](const DVec3& q) {
+      return q.x >= w.lo.x && q.x <= w.hi.x && q.y >= w.lo.y && q.y <= w.hi.y && q.z >= w.lo.z &&
+             q.z <= w.hi.z;
+    };
+    if (inside(lo) && inside(hi)) {
+      const double worst = CornersToTriangle(c, t, tolerance2_);
+      if (worst <= tolerance2_) {
+        plan->last_witness = i;
+        return std::sqrt(worst);
+      }
+    }
+    if (!inside(centre)) continue;
+    const double d2 = SquaredDistanceToTriangle(centre, t[0], t[1], t[2]);
+    if (d2 < nearest_centre) {
+      nearest_centre = d2;
+      nearest = w.triangle;
+    }
+    if (d2 <= centre_limit) {
+      plan->last_witness = i;
+      return std::sqrt(d2) + radius;
+    }
+  }
+  // No witness near the centre (every input triangle within reach was looked at): a point of
+  // the new face is beyond the tolerance.
+  if (nearest_centre > tolerance2_) return -1;
+  if (nearest != UINT32_MAX) {
+    const double reach = WithinPair(c, nearest);
+    if (reach >= 0) return reach;
+  }
+  if (level == kMaxPartLevel) return -1;
+  DVec3 child[4][3];
+  Split(c, child);
+  double reach = 0;
+  for (int k = 0; k < 4; ++k) {
+    const double r = WithinPart(child[k], level + 1, plan, work);
+    if (r < 0) return -1;
+    reach = std::max(reach, r);
+  }
+  return reach;
+}
+
+void Coverage::Apply(const CoveragePlan& plan) {
+  for (uint32_t f : plan.old_faces) {
+    held_[f].clear();
+    whole_[f] = 0;
+  }
+  for (const CoveragePlan::Given& g : plan.given) held_[plan.fresh_ids[g.fresh]].push_back(g.piece);
+}
+
+}  // namespace femsimp

@@ -1,0 +1,144 @@
+// The measured deviation check (option deviation_check = measured; docs/FIDELITY.md § 1): every
+// collapse is judged against the input itself, so nothing adds up along the run. Two-sided:
+//
+// (a) Every point of the input stays within the tolerance of the surface. The input's triangles
+//     are cut into pieces (a triangle, or one of the four triangles of a piece's midpoint
+//     subdivision), and every piece is held by one live face that is within the tolerance of
+//     all of it. The distance to a triangle is convex, so a face is within the tolerance of a
+//     piece when it is of the piece's three corners. A collapse rewrites only the faces of its
+//     fan (or star): the pieces those held go to the new faces, cut further where no one new
+//     face takes a whole piece; a piece no new face takes at the deepest level refuses it.
+// (b) Every point of a new face lies within the tolerance of the input. The new face is cut the
+//     same way; a part is within when its corners all are within the tolerance of one input
+//     triangle (convexity), or its centre within the tolerance less the part's radius of one
+//     (the distance is 1-Lipschitz). The input triangles tried are those of the pieces the old
+//     faces held.
+//
+// The pieces of a face change only when a collapse holding that face's corners' locks commits,
+// so the kernel's locks (and the rounds' disjoint fans) keep every face's list to one writer.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "engine/mesh.h"
+#include "engine/star.h"
+#include "engine/vec.h"
+
+namespace femsimp {
+
+// A part of an input triangle: the triangle (level 0) or a child of a part's midpoint
+// subdivision, named by the path of child numbers taken from the triangle.
+struct Piece {
+  uint32_t triangle;
+  uint32_t path;  // bits 0-3: the level; bits 4 + 2k and 5 + 2k: the child taken at level k + 1
+
+  int level() const { return static_cast<int>(path & 15u); }
+  Piece Parent() const {  // level() > 0
+    const uint32_t at = 4 + 2 * (static_cast<uint32_t>(level()) - 1);
+    return {triangle, (path & ~(3u << at) & ~15u) | ((path & 15u) - 1u)};
+  }
+  Piece Child(uint32_t c) const {
+    const uint32_t at = 4 + 2 * static_cast<uint32_t>(level());
+    return {triangle, (path & ~15u) | c << at | ((path & 15u) + 1u)};
+  }
+};
+
+// What the check of one proposed collapse found, kept for its commit; also its scratch.
+struct CoveragePlan {
+  struct Given {
+    uint32_t fresh;  // index of the new face
+    Piece piece;
+  };
+  std::vector<Given> given;
+  // The faces the collapse rewrites or deletes, and the ids of its new faces.
+  std::vector<uint32_t> old_faces, fresh_ids;
+  // Per new face: the largest distance its certificates leave (both ways), at most the
+  // tolerance: the face's measured deviation.
+  double reach[kMaxStar];
+
+  // Scratch, kept with the plan so that its capacity stays.
+  std::vector<Piece> pieces;
+  struct Witness {
+    uint32_t triangle;
+    DVec3 lo, hi;  // its box, widened by the tolerance
+    DVec3 p[3];
+  };
+  std::vector<Witness> witnesses;
+  // Per level of a new face's subdivision: the witnesses near the part being judged there.
+  std::vector<uint32_t> near[9];
+  uint32_t last_witness = 0;
+  std::vector<uint32_t> found;
+};
+
+class Coverage {
+ public:
+  // The mesh's live faces as they are now are the input; each holds itself, whole.
+  Coverage(const Mesh& mesh, double tolerance);
+
+  // The deepest subdivision of a piece, and of a new face (2^-level of its edges).
+  static constexpr int kMaxPieceLevel = 12;
+  static constexpr int kMaxPartLevel = 7;  // CoveragePlan::near has a list per level
+  // The most pieces and parts one check may look at before it refuses (it cannot prove the
+  // collapse within the tolerance cheaply enough).
+  static constexpr uint64_t kMaxWork = 1u << 14;
+
+  // True when (a) and (b) hold for the collapse that replaces plan->old_faces by new faces with
+  // these corners; then `plan` says which new face takes which piece.
+  // fresh_corners holds 3 corners per new face; plan->old_faces names the old faces.
+  bool Judge(std::span<const DVec3> fresh_corners, CoveragePlan* plan, uint64_t* work) const;
+  // The commit: the old faces drop their pieces, new face k (id plan.fresh_ids[k]) takes those
+  // the plan gave it.
+  void Apply(const CoveragePlan& plan);
+
+  // The pieces face f holds (tests, statistics).
+  std::vector<Piece> Held(uint32_t f) const;
+  // The corners of a piece.
+  void Corners(Piece piece, DVec3 out[3]) const;
+  double tolerance() const { return tolerance_; }
+
+ private:
+  template <class Visit>
+  void ForEachHeld(uint32_t f, Visit&& visit) const {
+    if (whole_[f]) {
+      visit(Piece{f, 0});
+      return;
+    }
+    for (const Piece& p : held_[f]) visit(p);
+  }
+  // (b) for the new face with corners p[0..2], against plan->witnesses: its certified reach,
+  // or a negative number when some part is not within the tolerance.
+  double Within(const DVec3* p, CoveragePlan* plan, uint64_t* work) const;
+  // The part with corners c within the tolerance of input face `face` and one across an edge
+  // of it, together: its reach, or negative.
+  double WithinPair(const DVec3* c, uint32_t face) const;
+  double WithinPart(const DVec3* c, int level, CoveragePlan* plan, uint64_t* work) const;
+
+  // The input triangles whose boxes, widened by the tolerance, meet the box [lo, hi], into
+  // plan->witnesses (each once, with its widened box).
+  void Witnesses(const DVec3& lo, const DVec3& hi, CoveragePlan* plan) const;
+  void IndexInput();
+  // Replaces every four children of one piece by that piece, as long as there are such.
+  static void Coarsen(std::vector<Piece>* pieces);
+
+  std::vector<Vec3> input_;       // 3 corners per face id (the input's faces)
+  std::vector<uint32_t> across_;  // 3 per face: the input face across each edge (kNone: none)
+  // A uniform grid over the input triangles (they never change: read without locks): cell
+  // (x, y, z) lists cell_faces_[cell_start_[c] .. cell_start_[c + 1]).
+  DVec3 origin_{0, 0, 0};
+  double cell_ = 1.0;
+  int64_t dims_[3] = {1, 1, 1};
+  std::vector<uint32_t> cell_start_, cell_faces_;
+  std::vector<std::vector<Piece>> held_;
+  // 1: the face still holds exactly its own input triangle (no list yet). Bytes, not bits:
+  // contexts write different faces' flags at once.
+  std::vector<uint8_t> whole_;
+  double tolerance_;
+  double tolerance2_;
+};
+
+// The squared distance from q to the triangle (a, b, c); degenerate triangles included.
+double SquaredDistanceToTriangle(const DVec3& q, const DVec3& a, const DVec3& b, const DVec3& c);
+
+}  // namespace femsimp

@@ -1,0 +1,88 @@
+// The measured deviation check (option deviation_check = measured; engine/coverage.h): every
+// collapse is judged against the input itself, both ways, instead of a bound carried along the
+// run. Proposes each new face's measured deviation as its side quadword's error (the deviation
+// cost orders candidates by it).
+#include <cmath>
+
+#include "engine/coverage.h"
+#include "engine/rule.h"
+
+namespace femsimp {
+namespace {
+
+class MeasuredDeviationRule final : public CollapseRule {
+ public:
+  explicit MeasuredDeviationRule(Coverage* coverage) : coverage_(coverage) {}
+  Reject reason() const override { return Reject::kTolerance; }
+  uint32_t stages() const override { return Stages(RuleStage::kFidelity); }
+  bool reads_face_attrs() const override { return true; }
+  // What it reads of the mesh is V's fan (or the star) and the pieces its faces hold, which
+  // only a collapse that changes that fan changes.
+  bool fan_local() const override { return true; }
+  bool keeps_state() const override { return true; }
+
+  Verdict Check(RuleStage, CollapseProposal& p) const override {
+    CoveragePlan& plan = p.coverage;
+    plan.old_faces.clear();
+    plan.fresh_ids.clear();
+    DVec3 corners[3 * kMaxStar];
+    int fresh = 0;
+    if (p.star != nullptr) {
+      const EdgeStar& star = *p.star;
+      for (int k = 0; k < star.count; ++k) {
+        plan.old_faces.push_back(star.face[k]);
+        if (!star.survives[k]) continue;
+        plan.fresh_ids.push_back(star.face[k]);
+        corners[3 * fresh] = star.p;
+        corners[3 * fresh + 1] = star.b[k];
+        corners[3 * fresh + 2] = star.c[k];
+        ++fresh;
+      }
+    } else {
+      const Ring& fan = *p.fan;
+      const DVec3 vd = ToD(fan.pos[p.target]);
+      for (int f = 0; f < fan.faces; ++f) {
+        plan.old_faces.push_back(FaceOf(fan.out[f]));
+        if (p.IsDeleted(f)) continue;
+        plan.fresh_ids.push_back(FaceOf(fan.out[f]));
+        corners[3 * fresh] = vd;
+        corners[3 * fresh + 1] = ToD(fan.pos[f]);
+        corners[3 * fresh + 2] = ToD(fan.pos[(f + 1) % fan.neighbours()]);
+        ++fresh;
+      }
+    }
+    uint64_t work = 0;
+    const bool within = coverage_->Judge({corners, size_t(3 * fresh)}, &plan, &work);
+    p.cycles += static_cast<uint32_t>(std::min<uint64_t>(40 * work, 1u << 30));
+    if (!within) return Verdict::kReject;
+    // The measured deviation of each new face, rounded up, as its error.
+    int k = 0;
+    if (p.star != nullptr) {
+      const EdgeStar& star = *p.star;
+      for (int s = 0; s < star.count; ++s) {
+        if (!star.survives[s]) continue;
+        FaceAttrQ& attr = s < star.fan_faces ? p.new_attr[s] : p.new_extra_attr[s - star.fan_faces];
+        attr.error = std::nextafter(static_cast<float>(plan.reach[k++]), 1e30f);
+      }
+    } else {
+      for (int f = 0; f < p.fan->faces; ++f)
+        if (!p.IsDeleted(f))
+          p.new_attr[f].error = std::nextafter(static_cast<float>(plan.reach[k++]), 1e30f);
+    }
+    return Verdict::kPass;
+  }
+
+  void Commit(CollapseProposal& p) const override { coverage_->Apply(p.coverage); }
+
+ private:
+  Coverage* coverage_;
+};
+
+}  // namespace
+
+std::unique_ptr<CollapseRule> MakeMeasuredDeviationRule(const RuleSetup& s) {
+  if (s.coverage == nullptr) return nullptr;
+  return std::make_unique<MeasuredDeviationRule>(s.coverage);
+}
+
+}  // namespace femsimp

@@ -1,0 +1,186 @@
+// The measured deviation check (engine/coverage.h): pieces and their paths, the distance it
+// trusts, one collapse judged by hand, and whole runs against the mapped bound.
+#include "engine/coverage.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "tests/support/meshes.h"
+
+namespace femsimp {
+namespace {
+
+TEST(Piece, ChildAndParentAreInverse) {
+  Piece p{7, 0};
+  for (uint32_t step : {2u, 0u, 3u, 1u, 3u}) {
+    const Piece child = p.Child(step);
+    EXPECT_EQ(child.level(), p.level() + 1);
+    EXPECT_EQ(child.triangle, 7u);
+    EXPECT_EQ(child.Parent().path, p.path);
+    p = child;
+  }
+  EXPECT_EQ(p.level(), 5);
+}
+
+double Area(const DVec3 t[3]) { return 0.5 * Norm(Cross(t[1] - t[0], t[2] - t[0])); }
+
+// The four children of a piece tile it: their areas add up, and their corners lie in it.
+TEST(Piece, ChildrenTileTheirParent) {
+  const RawMesh raw = testing::SingleTriangle();
+  absl::StatusOr<Mesh> mesh = Mesh::Build(raw);
+  ASSERT_TRUE(mesh.ok()) << mesh.status();
+  const Coverage coverage(*mesh, 0.1);
+  const Piece parent = Piece{0, 0}.Child(1).Child(3);
+  DVec3 p[3];
+  coverage.Corners(parent, p);
+  double sum = 0;
+  for (uint32_t c = 0; c < 4; ++c) {
+    DVec3 q[3];
+    coverage.Corners(parent.Child(c), q);
+    sum += Area(q);
+    for (const DVec3& corner : q)
+      EXPECT_LT(SquaredDistanceToTriangle(corner, p[0], p[1], p[2]), 1e-20);
+  }
+  EXPECT_NEAR(sum, Area(p), 1e-12);
+}
+
+// The distance the check trusts, against a dense sampling of the triangle: never below the
+// true distance (the sampled minimum is above it by at most the sample spacing).
+TEST(Coverage, DistanceToTriangleMatchesSampling) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int trial = 0; trial < 200; ++trial) {
+    DVec3 t[3] = {{u(rng), u(rng), u(rng)}, {u(rng), u(rng), u(rng)}, {u(rng), u(rng), u(rng)}};
+    if (trial % 10 == 0) t[2] = t[0] + 0.5 * (t[1] - t[0]);  // degenerate: a segment
+    if (trial % 10 == 1) t[1] = t[2] = t[0];                 // degenerate: a point
+    const DVec3 q{2 * u(rng), 2 * u(rng), 2 * u(rng)};
+    const double exact = std::sqrt(SquaredDistanceToTriangle(q, t[0], t[1], t[2]));
+    constexpr int kSteps = 200;
+    double sampled = 1e300, spacing = 0;
+    for (int i = 0; i <= kSteps; ++i)
+      for (int j = 0; i + j <= kSteps; ++j) {
+        const double a = double(i) / kSteps, b = double(j) / kSteps;
+        const DVec3 s = t[0] + a * (t[1] - t[0]) + b * (t[2] - t[0]);
+        sampled = std::min(sampled, Norm(q - s));
+      }
+    spacing = std::max({Norm(t[1] - t[0]), Norm(t[2] - t[0]), Norm(t[2] - t[1])}) / kSteps;
+    EXPECT_LE(exact, sampled + 1e-12) << "trial " << trial;
+    EXPECT_GE(exact, sampled - spacing) << "trial " << trial;
+  }
+}
+
+// A hexagonal tent: the centre (vertex 0) at height h over six neighbours on the unit circle.
+RawMesh Tent(float h) {
+  RawMesh m;
+  m.positions = {0, 0, h};
+  for (int i = 0; i < 6; ++i)
+    m.positions.insert(m.positions.end(),
+                       {float(std::cos(i * M_PI / 3)), float(std::sin(i * M_PI / 3)), 0.0f});
+  for (uint32_t i = 0; i < 6; ++i)
+    m.triangles.insert(m.triangles.end(), {0, 1 + i, 1 + (i + 1) % 6});
+  return m;
+}
+
+// Flattening the tent by collapsing its apex onto neighbour 1: the corners of the four new
+// faces, and the old faces' ids (the mesh's faces are the tent's, in order).
+struct Flattening {
+  std::vector<DVec3> corners;
+  CoveragePlan plan;
+};
+Flattening Flatten(const RawMesh& tent) {
+  Flattening f;
+  auto at = [&](uint32_t v) {
+    return DVec3{tent.positions[3 * v], tent.positions[3 * v + 1], tent.positions[3 * v + 2]};
+  };
+  for (uint32_t face = 0; face < 6; ++face) f.plan.old_faces.push_back(face);
+  for (uint32_t face = 1; face < 5; ++face) {  // faces 0 and 5 hold the edge apex - 1
+    f.plan.fresh_ids.push_back(face);
+    for (uint32_t v : {1u, tent.triangles[3 * face + 1], tent.triangles[3 * face + 2]})
+      f.corners.push_back(at(v));
+  }
+  return f;
+}
+
+TEST(Coverage, FlatteningATentIsWithinItsHeightOnly) {
+  const RawMesh tent = Tent(0.1f);
+  absl::StatusOr<Mesh> mesh = Mesh::Build(tent);
+  ASSERT_TRUE(mesh.ok()) << mesh.status();
+  {
+    Coverage tight(*mesh, 0.09);  // the apex is 0.1 from the flat hexagon
+    Flattening f = Flatten(tent);
+    uint64_t work = 0;
+    EXPECT_FALSE(tight.Judge(f.corners, &f.plan, &work));
+  }
+  Coverage loose(*mesh, 0.11);
+  Flattening f = Flatten(tent);
+  uint64_t work = 0;
+  ASSERT_TRUE(loose.Judge(f.corners, &f.plan, &work));
+  EXPECT_GT(work, 0u);
+  double reach = 0;
+  for (int k = 0; k < 4; ++k) reach = std::max(reach, f.plan.reach[k]);
+  EXPECT_GE(reach, 0.1 - 1e-6);  // the apex's distance, certified
+  EXPECT_LE(reach, 0.11);
+  // The commit: the six input triangles, cut where needed, all held by the four new faces.
+  loose.Apply(f.plan);
+  double held = 0;
+  for (uint32_t face = 0; face < 6; ++face) {
+    for (const Piece& p : loose.Held(face)) {
+      EXPECT_TRUE(face >= 1 && face <= 4) << "a deleted face holds a piece";
+      DVec3 c[3];
+      loose.Corners(p, c);
+      held += Area(c);
+    }
+  }
+  double input = 0;
+  for (uint32_t face = 0; face < 6; ++face) {
+    DVec3 c[3];
+    loose.Corners(Piece{face, 0}, c);
+    input += Area(c);
+  }
+  EXPECT_NEAR(held, input, 1e-9);
+}
+
+// Whole runs on a torus: the measured check keeps fewer vertices than the mapped bound at the
+// same tolerance, stays within it by its own account, and gives the same output for any number
+// of threads (the deterministic schedule).
+TEST(Coverage, RunsKeepFewerVerticesThanTheMappedBound) {
+  const RawMesh torus = testing::MakeTorus(48, 24);
+  auto run = [&](DeviationCheck check, int threads, RawMesh* out) {
+    absl::StatusOr<Mesh> mesh = Mesh::Build(torus);
+    EXPECT_TRUE(mesh.ok()) << mesh.status();
+    SimplifyOptions o;
+    o.threads = threads;
+    o.tolerance_relative = 0.01;
+    o.max_volume_change = 0;
+    o.min_angle_deg = 0;
+    o.max_normal_deviation_deg = 180;
+    o.deviation_check = check;
+    absl::StatusOr<SimplifyResult> r = Simplify(*mesh, o);
+    EXPECT_TRUE(r.ok()) << r.status();
+    if (out != nullptr) *out = mesh->ToRaw();
+    return *r;
+  };
+  RawMesh one, two;
+  const SimplifyResult mapped = run(DeviationCheck::kMapped, 1, nullptr);
+  const SimplifyResult measured = run(DeviationCheck::kMeasured, 1, &one);
+  run(DeviationCheck::kMeasured, 2, &two);
+  EXPECT_LT(measured.output_vertices, mapped.output_vertices);
+  EXPECT_LE(measured.deviation_bound, measured.tolerance_abs);
+  EXPECT_GT(measured.deviation_bound, 0.5 * measured.tolerance_abs);  // it uses the tolerance
+  EXPECT_EQ(one.positions, two.positions);
+  EXPECT_EQ(one.triangles, two.triangles);
+}
+
+TEST(Coverage, CellBackEndRefusesTheMeasuredCheck) {
+  SimplifyOptions o;
+  o.backend = Backend::kCell;
+  o.deviation_check = DeviationCheck::kMeasured;
+  const absl::Status s = ValidateOptions(o);
+  EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_NE(s.message().find("native back end only"), std::string::npos) << s.message();
+}
+
+}  // namespace
+}  // namespace femsimp
