@@ -204,7 +204,7 @@ void Coverage::IndexInput() {
   }
 }
 
-void Coverage::Witnesses(const DVec3& lo, const DVec3& hi, CoveragePlan* plan) const {
+void Coverage::GridWitnesses(const DVec3& lo, const DVec3& hi, CoveragePlan* plan) const {
   plan->found.clear();
   const double l[3] = {lo.x - tolerance_, lo.y - tolerance_, lo.z - tolerance_};
   const double h[3] = {hi.x + tolerance_, hi.y + tolerance_, hi.z + tolerance_};
@@ -223,6 +223,10 @@ void Coverage::Witnesses(const DVec3& lo, const DVec3& hi, CoveragePlan* plan) c
         plan->found.insert(plan->found.end(), cell_faces_.begin() + cell_start_[c],
                            cell_faces_.begin() + cell_start_[c + 1]);
       }
+  Witnesses(lo, hi, plan);
+}
+
+void Coverage::Witnesses(const DVec3& lo, const DVec3& hi, CoveragePlan* plan) const {
   std::sort(plan->found.begin(), plan->found.end());
   plan->found.erase(std::unique(plan->found.begin(), plan->found.end()), plan->found.end());
   plan->witnesses.clear();
@@ -342,16 +346,23 @@ bool Coverage::Judge(std::span<const DVec3> fresh_corners, CoveragePlan* plan,
     for (uint32_t c = 0; c < 4; ++c) plan->pieces.push_back(piece.Child(c));
   }
 
-  // (b) Against the input triangles near each new face.
+  // (b) Against the input triangles under the fan first (the pieces' own: on a fine input
+  // with a wide tolerance, those near a face are thousands), then, where they do not do, all
+  // that are near it.
   for (int k = 0; k < fresh; ++k) {
     const DVec3* c = &fresh_corners[3 * k];
-    Witnesses({std::min({c[0].x, c[1].x, c[2].x}), std::min({c[0].y, c[1].y, c[2].y}),
-               std::min({c[0].z, c[1].z, c[2].z})},
-              {std::max({c[0].x, c[1].x, c[2].x}), std::max({c[0].y, c[1].y, c[2].y}),
-               std::max({c[0].z, c[1].z, c[2].z})},
-              plan);
-
-    const double reach = Within(c, plan, &looked);
+    const DVec3 lo{std::min({c[0].x, c[1].x, c[2].x}), std::min({c[0].y, c[1].y, c[2].y}),
+                   std::min({c[0].z, c[1].z, c[2].z})};
+    const DVec3 hi{std::max({c[0].x, c[1].x, c[2].x}), std::max({c[0].y, c[1].y, c[2].y}),
+                   std::max({c[0].z, c[1].z, c[2].z})};
+    plan->found.clear();
+    for (const CoveragePlan::Given& g : plan->given) plan->found.push_back(g.piece.triangle);
+    Witnesses(lo, hi, plan);
+    double reach = Within(c, plan, &looked);
+    if (reach < 0 && looked <= kMaxWork) {
+      GridWitnesses(lo, hi, plan);
+      reach = Within(c, plan, &looked);
+    }
     if (reach < 0) return false;
     plan->reach[k] = std::max(plan->reach[k], reach);
   }

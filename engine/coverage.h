@@ -115,9 +115,11 @@ class Coverage {
   double WithinPair(const DVec3* c, uint32_t face) const;
   double WithinPart(const DVec3* c, int level, CoveragePlan* plan, uint64_t* work) const;
 
-  // The input triangles whose boxes, widened by the tolerance, meet the box [lo, hi], into
-  // plan->witnesses (each once, with its widened box).
+  // The input triangles listed in plan->found whose boxes, widened by the tolerance, meet the
+  // box [lo, hi], into plan->witnesses (each once, with its widened box).
   void Witnesses(const DVec3& lo, const DVec3& hi, CoveragePlan* plan) const;
+  // The same for every input triangle (from the grid).
+  void GridWitnesses(const DVec3& lo, const DVec3& hi, CoveragePlan* plan) const;
   void IndexInput();
   // Replaces every four children of one piece by that piece, as long as there are such.
   static void Coarsen(std::vector<Piece>* pieces);

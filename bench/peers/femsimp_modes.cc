@@ -53,10 +53,17 @@ std::vector<std::string> DefaultFemsimpModes() {
   // output that intersects itself cannot be tet-meshed). With the feature lines (sliding along
   // them keeps fewer vertices on CAD parts: fandisk 179 against 195 at 1 %) and without
   // (--feature-angle 180: boundaries only; the organic femur has thousands of 30-degree edges).
+  // The `measured` modes keep the tolerance by judging every collapse against the input
+  // (--deviation-check measured) instead of carrying a bound along the run.
   const std::string bound = "--max-volume-change 0 --min-angle 0 --max-normal-deviation 180";
-  return {"fe=", "fe_quadric=--cost quadric", "bound=" + bound,
+  const std::string measured = " --deviation-check measured";
+  return {"fe=",
+          "fe_quadric=--cost quadric",
+          "bound=" + bound,
           "bound_quadric=" + bound + " --cost quadric",
-          "bound_nofeatures=" + bound + " --feature-angle 180"};
+          "bound_nofeatures=" + bound + " --feature-angle 180",
+          "fe_measured=" + measured,
+          "bound_measured=" + bound + measured};
 }
 
 PeerRun RunFemsimp(const RawMesh& input, SimplifyOptions options) {
