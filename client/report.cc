@@ -286,8 +286,11 @@ std::string Summary(const RunReport& r) {
   for (const PassStats& p : r.passes) placed += p.placed;
   if (r.options.placement == Placement::kOptimal)
     absl::StrAppend(&s, "placement: ", placed,
-                    " full-edge collapses (vertices merged where a mass budget refused the "
-                    "half-edge collapse)\n");
+                    r.options.deviation_check == DeviationCheck::kMeasured
+                        ? " full-edge collapses (vertices merged where a mass budget or the "
+                          "tolerance refused the half-edge collapse)\n"
+                        : " full-edge collapses (vertices merged where a mass budget refused the "
+                          "half-edge collapse)\n");
   if (r.face_groups > 0 || !r.face_fields.empty()) {
     absl::StrAppend(&s, "face data: ", r.face_groups, " groups");
     if (!r.face_fields.empty())

@@ -117,7 +117,11 @@ class RemovalKernel final : private NeighbourhoodReader {
       if (topology == Verdict::kReject) continue;
       const Verdict fidelity = CheckFidelity();
       if (fidelity == Verdict::kConflict) return GiveUp(v, Outcome::kConflict);
-      if (fidelity != Verdict::kPass) continue;
+      if (fidelity != Verdict::kPass) {
+        if (v_free && fidelity == Verdict::kReject && rules_.placement_may_pass(fidelity_refused_))
+          if (std::optional<Outcome> placed = TryPlaced(v, i)) return *placed;
+        continue;
+      }
       if (!budget_.Reserve()) return GiveUp(v, Outcome::kBudgetSpent);
       Reject refused = Reject::kCount;
       if (rules_.SpendBudgets(ring_.center, proposal_.delta, &refused)) {
@@ -127,8 +131,9 @@ class RemovalKernel final : private NeighbourhoodReader {
       budget_.Unreserve();
       Note(RuleStage::kBudget, refused);
       // A mass budget refuses the half-edge collapse: V and Vd merged where the volume stays
-      // may pass. Only then: off the input surface a vertex spends more of the deviation bound
-      // than a half-edge collapse, which keeps it on (docs/FIDELITY.md § 11).
+      // may pass. Only then, or where the refusing fidelity rule says a placed vertex may pass
+      // it (above): off the input surface a vertex spends more of a deviation bound that adds
+      // up than a half-edge collapse, which keeps it on (docs/FIDELITY.md § 11).
       if (v_free)
         if (std::optional<Outcome> placed = TryPlaced(v, i)) return *placed;
     }
@@ -517,6 +522,7 @@ class RemovalKernel final : private NeighbourhoodReader {
     Reject refused = Reject::kCount;
     const Verdict v = rules_.Check(RuleStage::kFidelity, proposal_, &refused);
     port_.ChargeCompute(proposal_.cycles);
+    fidelity_refused_ = refused;
     if (v == Verdict::kReject) Note(RuleStage::kFidelity, refused);
     return v;
   }
@@ -691,7 +697,8 @@ class RemovalKernel final : private NeighbourhoodReader {
   Ring ring_, other_;
   CollapseProposal proposal_;
   Refusal refusal_;
-  int order_[kMaxRing + 1];  // ranked directions
+  Reject fidelity_refused_ = Reject::kCount;  // the rule that refused the last fidelity check
+  int order_[kMaxRing + 1];                   // ranked directions
   QuadricQ own_quadric_{};
   bool attrs_loaded_ = false;
   FaceAttrQ fan_attr_[kMaxRing];  // the fan faces' side quadwords, read once per candidate

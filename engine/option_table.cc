@@ -88,9 +88,10 @@ std::vector<OptionSpec> MakeTable() {
        .field = &S::cost},
       {.name = "placement", .flag = "--placement", .section = "fidelity", .type = T::kEnum,
        .help = "endpoint: the paper's half-edge collapse (a vertex moves onto a neighbour); "
-               "optimal: where both ends of an edge are free to move (no feature line, boundary "
-               "or seam), merge them at the point nearest the old faces that keeps the volume, "
-               "or else at the edge's midpoint, if that passes every bound",
+               "optimal: where a mass budget (or the measured tolerance) refuses it and both "
+               "ends of the edge are free to move (no feature line, boundary or seam), merge "
+               "them at the point nearest the old faces that keeps the volume, or else nearer "
+               "the kept end or at the edge's midpoint, if that passes every bound",
        .choices = {{"endpoint", "endpoint"}, {"optimal", "optimal"}},
        .field = &S::placement},
       {.name = "tolerance", .flag = "--tolerance", .metavar = "D", .section = "fidelity",

@@ -199,6 +199,11 @@ class CollapseRule {
   // Whether the rule judges full-edge collapses (CollapseProposal::star); a run with a rule
   // that does not collapses half-edges only.
   virtual bool judges_placement() const { return true; }
+  // Whether a full-edge collapse may pass where this rule (of the fidelity stage) refused the
+  // half-edge one, so that the kernel tries placement after its refusal too (a budget refusal
+  // always gets that try). A bound that adds up along the run does not: off the input surface
+  // a vertex spends bound that later collapses no longer have (docs/FIDELITY.md § 11).
+  virtual bool placement_may_pass() const { return false; }
   // Whether a half-edge collapse's verdict depends on V's fan alone (its one-ring's positions,
   // topology and face data): a vertex it refused is refused again until a collapse changes
   // that fan, which locks V and makes it a candidate again (RemovalKernel::Commit), so
@@ -221,6 +226,9 @@ class RuleSet {
   bool reads_face_attrs() const { return reads_face_attrs_; }
   bool tracks_mass() const { return tracks_mass_; }
   bool judges_placement() const { return judges_placement_; }
+  bool placement_may_pass(Reject reason) const {
+    return (placement_may_pass_ >> static_cast<int>(reason)) & 1;
+  }
   // Whether the rule refusing with `reason` is fan-local (CollapseRule::fan_local).
   bool fan_local(Reject reason) const { return (fan_local_ >> static_cast<int>(reason)) & 1; }
   uint32_t shape_cycles_per_face() const { return shape_cycles_; }
@@ -261,7 +269,8 @@ class RuleSet {
   bool reads_face_attrs_ = false;
   bool tracks_mass_ = false;
   bool judges_placement_ = true;
-  uint32_t fan_local_ = 0;  // bit per Reject
+  uint32_t placement_may_pass_ = 0;  // a bit per Reject reason
+  uint32_t fan_local_ = 0;           // bit per Reject
   uint32_t shape_cycles_ = 0;
   std::unique_ptr<MechanicsLedger> ledger_;
 };

@@ -38,6 +38,8 @@ RuleSet RuleSet::Build(const SimplifyOptions& options, const RuleSetup& setup) {
     set.tracks_mass_ |= rule->tracks_mass();
     set.judges_placement_ &= rule->judges_placement();
     if (rule->fan_local()) set.fan_local_ |= uint32_t{1} << static_cast<int>(rule->reason());
+    if (rule->placement_may_pass())
+      set.placement_may_pass_ |= uint32_t{1} << static_cast<int>(rule->reason());
     if (rule->keeps_state()) set.stateful_.push_back(rule.get());
   }
   if (!set.stage(RuleStage::kBudget).empty())

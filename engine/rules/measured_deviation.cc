@@ -20,6 +20,8 @@ class MeasuredDeviationRule final : public CollapseRule {
   // only a collapse that changes that fan changes.
   bool fan_local() const override { return true; }
   bool keeps_state() const override { return true; }
+  // Judged against the input, a vertex off the surface spends nothing later collapses need.
+  bool placement_may_pass() const override { return true; }
 
   Verdict Check(RuleStage, CollapseProposal& p) const override {
     CoveragePlan& plan = p.coverage;

@@ -252,8 +252,9 @@ ROWS = [{'path': 'preset',
   'zero_means': '',
   'default_text': 'endpoint',
   'help': "endpoint: the paper's half-edge collapse (a vertex moves onto a neighbour); optimal: "
-          'where both ends of an edge are free to move (no feature line, boundary or seam), merge '
-          "them at the point nearest the old faces that keeps the volume, or else at the edge's "
+          'where a mass budget (or the measured tolerance) refuses it and both ends of the edge '
+          'are free to move (no feature line, boundary or seam), merge them at the point nearest '
+          "the old faces that keeps the volume, or else nearer the kept end or at the edge's "
           'midpoint, if that passes every bound',
   'kind': 'enum',
   'default': 'endpoint',

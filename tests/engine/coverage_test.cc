@@ -173,6 +173,38 @@ TEST(Coverage, RunsKeepFewerVerticesThanTheMappedBound) {
   EXPECT_EQ(one.triangles, two.triangles);
 }
 
+// With the tolerance measured, placement is tried where the tolerance refuses a half-edge
+// collapse too (no mass budget here), and keeps fewer vertices; the mapped bound never gets it.
+TEST(Coverage, PlacementWhereTheMeasuredToleranceRefuses) {
+  const RawMesh torus = testing::MakeTorus(48, 24);
+  auto run = [&](DeviationCheck check, Placement placement) {
+    absl::StatusOr<Mesh> mesh = Mesh::Build(torus);
+    EXPECT_TRUE(mesh.ok()) << mesh.status();
+    SimplifyOptions o;
+    o.threads = 2;
+    o.tolerance_relative = 0.005;
+    o.max_volume_change = 0;
+    o.min_angle_deg = 0;
+    o.max_normal_deviation_deg = 180;
+    o.deviation_check = check;
+    o.placement = placement;
+    absl::StatusOr<SimplifyResult> r = Simplify(*mesh, o);
+    EXPECT_TRUE(r.ok()) << r.status();
+    uint64_t placed = 0;
+    for (const PassStats& p : r->passes) placed += p.placed;
+    EXPECT_LE(r->deviation_bound, r->tolerance_abs);
+    return std::pair{r->output_vertices, placed};
+  };
+  const auto [endpoint_vertices, none] = run(DeviationCheck::kMeasured, Placement::kEndpoint);
+  const auto [placed_vertices, placed] = run(DeviationCheck::kMeasured, Placement::kOptimal);
+  const auto [mapped_vertices, mapped_placed] = run(DeviationCheck::kMapped, Placement::kOptimal);
+  EXPECT_EQ(none, 0u);
+  EXPECT_GT(placed, 0u);
+  EXPECT_LT(placed_vertices, endpoint_vertices);
+  EXPECT_EQ(mapped_placed, 0u);
+  (void)mapped_vertices;
+}
+
 TEST(Coverage, CellBackEndRefusesTheMeasuredCheck) {
   SimplifyOptions o;
   o.backend = Backend::kCell;
