@@ -121,8 +121,10 @@ struct CollapseProposal {
   const FaceAttrQ* extra_attr = nullptr;
   FaceAttrQ* new_extra_attr = nullptr;
 
-  // The measured deviation check (engine/coverage.h): which new face takes which piece.
-  CoveragePlan coverage;
+  // The measured deviation check (engine/coverage.h): which new face takes which piece. On the
+  // heap, made by that rule's first check: the kernel's state on the cell back end lives in an
+  // SPE software thread's small stack, and that back end never runs the check.
+  std::unique_ptr<CoveragePlan> coverage;
 
   uint32_t vd() const { return fan->nbr[target]; }
   // Fan face f is one of the two that contain V - Vd (and disappear).

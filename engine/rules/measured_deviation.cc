@@ -24,7 +24,8 @@ class MeasuredDeviationRule final : public CollapseRule {
   bool placement_may_pass() const override { return true; }
 
   Verdict Check(RuleStage, CollapseProposal& p) const override {
-    CoveragePlan& plan = p.coverage;
+    if (p.coverage == nullptr) p.coverage = std::make_unique<CoveragePlan>();
+    CoveragePlan& plan = *p.coverage;
     plan.old_faces.clear();
     plan.fresh_ids.clear();
     DVec3 corners[3 * kMaxStar];
@@ -74,7 +75,7 @@ class MeasuredDeviationRule final : public CollapseRule {
     return Verdict::kPass;
   }
 
-  void Commit(CollapseProposal& p) const override { coverage_->Apply(p.coverage); }
+  void Commit(CollapseProposal& p) const override { coverage_->Apply(*p.coverage); }
 
  private:
   Coverage* coverage_;
