@@ -261,10 +261,12 @@ void Coverage::Corners(Piece piece, DVec3 out[3]) const {
 void Coverage::Coarsen(std::vector<Piece>* pieces) {
   if (std::none_of(pieces->begin(), pieces->end(), [](const Piece& p) { return p.level() > 0; }))
     return;
-  // Siblings sort next to each other: by triangle, level, then the path above the last step.
+  // Siblings sort next to each other: by triangle, then their parent's path (with its level).
+  // A whole triangle shares its key with its children, but the pieces of a triangle never
+  // overlap, so they are never listed together.
   const auto key = [](const Piece& p) {
     const uint32_t above = p.level() == 0 ? p.path : p.Parent().path;
-    return (uint64_t{p.triangle} << 32 | above) ^ 0;
+    return uint64_t{p.triangle} << 32 | above;
   };
   for (bool merged = true; merged;) {
     merged = false;

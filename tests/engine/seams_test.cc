@@ -500,6 +500,20 @@ TEST(Seams, WithToleranceAndTwoThreads) {
   ExpectSeamsConform(RunWithSeams(RibbedBracket(12), options));
 }
 
+// The tolerance measured against the input: the compound seam collapses hand their fans'
+// pieces on like any other (each copy's collapse commits its own).
+TEST(Seams, WithTheToleranceMeasured) {
+  SimplifyOptions options;
+  options.tolerance_relative = 0.005;
+  options.threads = 2;
+  options.deviation_check = DeviationCheck::kMeasured;
+  for (const RawMesh& mesh : {TwoBoxesSharingAFace(12), RibbedBracket(12)}) {
+    const SeamRun run = RunWithSeams(mesh, options);
+    ExpectSeamsConform(run);
+    EXPECT_LE(run.result.deviation_bound, run.result.tolerance_abs);
+  }
+}
+
 // The CAD-like assembly of scripts/make_cad_meshes.py (four boxes and a pin glued by gmsh's
 // fragment), when it has been generated into the build tree.
 TEST(Seams, CadAssembly) {
