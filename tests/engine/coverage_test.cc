@@ -142,6 +142,18 @@ TEST(Coverage, FlatteningATentIsWithinItsHeightOnly) {
   EXPECT_NEAR(held, input, 1e-9);
 }
 
+// The tolerance alone decides: no volume bound, no minimum angle, normals free.
+SimplifyOptions BoundOnly(DeviationCheck check, int threads, double tolerance_relative) {
+  SimplifyOptions o;
+  o.threads = threads;
+  o.tolerance_relative = tolerance_relative;
+  o.max_volume_change = 0;
+  o.min_angle_deg = 0;
+  o.max_normal_deviation_deg = 180;
+  o.deviation_check = check;
+  return o;
+}
+
 // Whole runs on a torus: the measured check keeps fewer vertices than the mapped bound at the
 // same tolerance, stays within it by its own account, and gives the same output for any number
 // of threads (the deterministic schedule).
@@ -150,14 +162,7 @@ TEST(Coverage, RunsKeepFewerVerticesThanTheMappedBound) {
   auto run = [&](DeviationCheck check, int threads, RawMesh* out) {
     absl::StatusOr<Mesh> mesh = Mesh::Build(torus);
     EXPECT_TRUE(mesh.ok()) << mesh.status();
-    SimplifyOptions o;
-    o.threads = threads;
-    o.tolerance_relative = 0.01;
-    o.max_volume_change = 0;
-    o.min_angle_deg = 0;
-    o.max_normal_deviation_deg = 180;
-    o.deviation_check = check;
-    absl::StatusOr<SimplifyResult> r = Simplify(*mesh, o);
+    absl::StatusOr<SimplifyResult> r = Simplify(*mesh, BoundOnly(check, threads, 0.01));
     EXPECT_TRUE(r.ok()) << r.status();
     if (out != nullptr) *out = mesh->ToRaw();
     return *r;
@@ -180,13 +185,7 @@ TEST(Coverage, PlacementWhereTheMeasuredToleranceRefuses) {
   auto run = [&](DeviationCheck check, Placement placement) {
     absl::StatusOr<Mesh> mesh = Mesh::Build(torus);
     EXPECT_TRUE(mesh.ok()) << mesh.status();
-    SimplifyOptions o;
-    o.threads = 2;
-    o.tolerance_relative = 0.005;
-    o.max_volume_change = 0;
-    o.min_angle_deg = 0;
-    o.max_normal_deviation_deg = 180;
-    o.deviation_check = check;
+    SimplifyOptions o = BoundOnly(check, 2, 0.005);
     o.placement = placement;
     absl::StatusOr<SimplifyResult> r = Simplify(*mesh, o);
     EXPECT_TRUE(r.ok()) << r.status();
