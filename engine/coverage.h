@@ -96,7 +96,6 @@ class Coverage {
   std::vector<Piece> Held(uint32_t f) const;
   // The corners of a piece.
   void Corners(Piece piece, DVec3 out[3]) const;
-  double tolerance() const { return tolerance_; }
 
  private:
   template <class Visit>
