@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace femsimp {
 namespace {
@@ -135,6 +136,36 @@ Coverage::Coverage(const Mesh& mesh, double tolerance)
     }
   }
   IndexInput();
+  MeasurePairs();
+}
+
+void Coverage::MeasurePairs() {
+  pair_delta_.assign(across_.size(), std::numeric_limits<float>::infinity());
+  pair_far_.assign(across_.size(), 0);
+  for (uint32_t f = 0; f < whole_.size(); ++f) {
+    if (!whole_[f]) continue;
+    const Vec3* t1 = &input_[3 * size_t{f}];
+    for (int e = 0; e < 3; ++e) {
+      const uint32_t other = across_[3 * size_t{f} + e];
+      if (other == kNone) continue;
+      // Half-edge 3f + e runs from corner e + 2 to corner e (mod 3): corner e + 1 is the far one.
+      const DVec3 a = ToD(t1[(e + 2) % 3]), b = ToD(t1[e]), c1 = ToD(t1[(e + 1) % 3]);
+      const Vec3* t2 = &input_[3 * size_t{other}];
+      int far = -1;
+      for (int k = 0; k < 3; ++k) {
+        const DVec3 q = ToD(t2[k]);
+        if (Dot(q - a, q - a) != 0 && Dot(q - b, q - b) != 0) far = k;
+      }
+      if (far < 0) continue;
+      const double delta = std::sqrt(SquaredSegmentDistance(a, b, c1, ToD(t2[far])));
+      if (delta >= tolerance_) continue;
+      // Stored as the float at or above it: WithinPair then leaves the tolerance less room.
+      float stored = static_cast<float>(delta);
+      if (stored < delta) stored = std::nextafter(stored, std::numeric_limits<float>::infinity());
+      pair_delta_[3 * size_t{f} + e] = stored;
+      pair_far_[3 * size_t{f} + e] = static_cast<uint8_t>(far);
+    }
+  }
 }
 
 void Coverage::IndexInput() {
@@ -301,14 +332,18 @@ bool Coverage::Judge(std::span<const DVec3> fresh_corners, CoveragePlan* plan,
                      uint64_t* work) const {
   const int fresh = static_cast<int>(fresh_corners.size() / 3);
   plan->given.clear();
-  plan->pieces.clear();
   plan->witnesses.clear();
   std::fill(plan->reach, plan->reach + fresh, 0.0);
-  for (uint32_t f : plan->old_faces)
-    ForEachHeld(f, [&](const Piece& p) { plan->pieces.push_back(p); });
-  // Four children of one piece, held by the fan's faces, are judged as that piece: the lists
-  // do not grow with every collapse that cut them.
-  Coarsen(&plan->pieces);
+  if (plan->gathered_from.empty() || plan->gathered_from != plan->old_faces) {
+    plan->gathered.clear();
+    for (uint32_t f : plan->old_faces)
+      ForEachHeld(f, [&](const Piece& p) { plan->gathered.push_back(p); });
+    // Four children of one piece, held by the fan's faces, are judged as that piece: the lists
+    // do not grow with every collapse that cut them.
+    Coarsen(&plan->gathered);
+    plan->gathered_from = plan->old_faces;
+  }
+  plan->pieces = plan->gathered;
   // (a) Every piece to one new face within the tolerance of its corners (the one that took the
   // last piece first: neighbouring pieces mostly go to the same face).
   uint64_t looked = 0;
@@ -381,25 +416,25 @@ double Coverage::WithinPair(const DVec3* c, uint32_t face) const {
   // distance to H is convex too: a part is within when its corners are within the tolerance
   // less delta of H. This takes the parts that straddle an input edge whole.
   const Vec3* t1 = &input_[3 * size_t{face}];
+  const DVec3 p1[3] = {ToD(t1[0]), ToD(t1[1]), ToD(t1[2])};
+  double to_t1[3] = {-1, -1, -1};  // the corners' squared distances to t1, once computed
   for (int e = 0; e < 3; ++e) {
+    const double delta = pair_delta_[3 * size_t{face} + e];
+    if (!(delta < tolerance_)) continue;
     const uint32_t other = across_[3 * size_t{face} + e];
-    if (other == kNone) continue;
-    // Half-edge 3f + e runs from corner e + 2 to corner e (mod 3): corner e + 1 is the far one.
-    const DVec3 a = ToD(t1[(e + 2) % 3]), b = ToD(t1[e]), c1 = ToD(t1[(e + 1) % 3]);
-    const Vec3* t2 = &input_[3 * size_t{other}];
-    int far = -1;
-    for (int k = 0; k < 3; ++k) {
-      const DVec3 q = ToD(t2[k]);
-      if (Dot(q - a, q - a) != 0 && Dot(q - b, q - b) != 0) far = k;
-    }
-    if (far < 0) continue;
-    const DVec3 c2 = ToD(t2[far]);
-    const double delta = std::sqrt(SquaredSegmentDistance(a, b, c1, c2));
-    if (delta >= tolerance_) continue;
+    const DVec3 &a = p1[(e + 2) % 3], &b = p1[e], &c1 = p1[(e + 1) % 3];
+    const DVec3 c2 = ToD(input_[3 * size_t{other} + pair_far_[3 * size_t{face} + e]]);
     const double limit = (tolerance_ - delta) * (tolerance_ - delta);
+    // The distance to H is the tetrahedron's: t1 and t2 are two of its faces, so either
+    // within the limit is enough (the usual case); the other two faces and the inside follow.
     double worst = 0;
-    for (int k = 0; k < 3 && worst <= limit; ++k)
-      worst = std::max(worst, SquaredDistanceToTetrahedron(c[k], a, b, c1, c2));
+    for (int k = 0; k < 3 && worst <= limit; ++k) {
+      if (to_t1[k] < 0) to_t1[k] = SquaredDistanceToTriangle(c[k], a, b, c1);
+      double d = to_t1[k];
+      if (d > limit) d = std::min(d, SquaredDistanceToTriangle(c[k], b, a, c2));
+      if (d > limit) d = SquaredDistanceToTetrahedron(c[k], a, b, c1, c2);
+      worst = std::max(worst, d);
+    }
     if (worst <= limit) return std::sqrt(worst) + delta;
   }
   return -1;

@@ -58,6 +58,16 @@ struct CoveragePlan {
   // tolerance: the face's measured deviation.
   double reach[kMaxStar];
 
+  // The pieces old_faces held, coarsened: every direction of one candidate (and each position
+  // of one full-edge collapse) replaces the same faces, which change only under its locks.
+  // Forget() when the candidate ends.
+  // gathered_star: the Vd of the full-edge collapse they were gathered for (its one-ring's
+  // locks are let go between directions), else kNone.
+  std::vector<uint32_t> gathered_from;
+  std::vector<Piece> gathered;
+  uint32_t gathered_star = kNone;
+  void Forget() { gathered_from.clear(); }
+
   // Scratch, kept with the plan so that its capacity stays.
   std::vector<Piece> pieces;
   struct Witness {
@@ -120,11 +130,16 @@ class Coverage {
   // The same for every input triangle (from the grid).
   void GridWitnesses(const DVec3& lo, const DVec3& hi, CoveragePlan* plan) const;
   void IndexInput();
+  void MeasurePairs();
   // Replaces every four children of one piece by that piece, as long as there are such.
   static void Coarsen(std::vector<Piece>* pieces);
 
   std::vector<Vec3> input_;       // 3 corners per face id (the input's faces)
   std::vector<uint32_t> across_;  // 3 per face: the input face across each edge (kNone: none)
+  // Per face edge with a face across: WithinPair's delta, rounded up (infinite where the pair
+  // cannot help), and the corner of the face across that is not on the edge.
+  std::vector<float> pair_delta_;
+  std::vector<uint8_t> pair_far_;
   // A uniform grid over the input triangles (they never change: read without locks): cell
   // (x, y, z) lists cell_faces_[cell_start_[c] .. cell_start_[c + 1]).
   DVec3 origin_{0, 0, 0};

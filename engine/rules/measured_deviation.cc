@@ -26,6 +26,9 @@ class MeasuredDeviationRule final : public CollapseRule {
   Verdict Check(RuleStage, CollapseProposal& p) const override {
     if (p.coverage == nullptr) p.coverage = std::make_unique<CoveragePlan>();
     CoveragePlan& plan = *p.coverage;
+    const uint32_t star_vd = p.star != nullptr ? p.star->vd_id : kNone;
+    if (plan.gathered_star != star_vd) plan.Forget();
+    plan.gathered_star = star_vd;
     plan.old_faces.clear();
     plan.fresh_ids.clear();
     DVec3 corners[3 * kMaxStar];
@@ -76,6 +79,10 @@ class MeasuredDeviationRule final : public CollapseRule {
   }
 
   void Commit(CollapseProposal& p) const override { coverage_->Apply(*p.coverage); }
+  // The next candidate's faces may be these ids rewritten since.
+  void Release(CollapseProposal& p) const override {
+    if (p.coverage != nullptr) p.coverage->Forget();
+  }
 
  private:
   Coverage* coverage_;
