@@ -40,6 +40,19 @@ struct CostModel {
   // SPE: contexts start in parallel). The paper blames this for the poor fandisk speedup.
   uint64_t spe_run_overhead_cycles = 30000;
 
+  // A resident SPE program (Runtime::Run with RunStart::kResident) is not started again: it
+  // waits for the PPE's word. The PPE writes SPE 0's inbound mailbox, the SPEs pass the word on
+  // along a binary tree of signal-notification writes (one DMA per level), and their reports
+  // come back up the same tree to SPE 0, whose outbound mailbox the PPE reads.
+  uint64_t mailbox_cycles = 500;  // one PPE <-> SPE mailbox message over MMIO, either way
+
+  // What a resident run's start and end cost on n SPEs.
+  uint64_t ResidentSyncCycles(int n) const {
+    uint64_t levels = 0;
+    while ((int64_t{1} << levels) < n) ++levels;
+    return 2 * mailbox_cycles + 2 * levels * (dma_latency_cycles + dma_issue_cycles);
+  }
+
   // Modeled duration of moving `bytes` over one channel (without latency).
   uint64_t ByteCycles(size_t bytes) const {
     const uint64_t bpc = dma_bytes_per_cycle == 0 ? 1 : dma_bytes_per_cycle;

@@ -58,7 +58,13 @@ void Runtime::Worker(int index) {
   }
 }
 
-absl::Status Runtime::Run(const Kernel& kernel, const WorkPlan& plan) {
+uint64_t Runtime::StartCycles(RunStart start) const {
+  const CostModel& cost = config_.spe.cost;
+  return start == RunStart::kLaunch ? cost.spe_run_overhead_cycles
+                                    : cost.ResidentSyncCycles(num_spes());
+}
+
+absl::Status Runtime::Run(const Kernel& kernel, const WorkPlan& plan, RunStart start_kind) {
   std::vector<uint64_t> start(spes_.size());
   shared_next_.store(0, std::memory_order_relaxed);
   for (size_t i = 0; i < spes_.size(); ++i) {
@@ -84,7 +90,7 @@ absl::Status Runtime::Run(const Kernel& kernel, const WorkPlan& plan) {
       first_error = absl::Status(e.code(), absl::StrFormat("SPE %d: %s", i, e.message()));
     }
   }
-  last_run_cycles_ = config_.spe.cost.spe_run_overhead_cycles + slowest;
+  last_run_cycles_ = StartCycles(start_kind) + slowest;
   spe_run_cycles_ += last_run_cycles_;
   ++runs_;
   return first_error;

@@ -20,6 +20,12 @@
 
 namespace femsimp::cellsim {
 
+// How a run begins: kLaunch starts the SPE contexts and joins them at its end
+// (spe_run_overhead_cycles); kResident wakes a program a launch left running, which reports
+// back when done (CostModel::ResidentSyncCycles). The caller keeps the program resident: the
+// runtime cannot tell one program from another.
+enum class RunStart { kLaunch, kResident };
+
 struct RuntimeConfig {
   int num_spes = 8;
   SpeConfig spe;
@@ -29,8 +35,8 @@ struct RuntimeConfig {
 // on a condition variable between runs, so a run costs a wake-up and a join, not thread
 // creation). Run() starts the kernel on every SPE and returns when all have finished.
 //
-// Modeled time: the SPEs run in parallel, so a run lasts spe_run_overhead_cycles plus the
-// largest number of cycles any SPE's clock advanced during it; sequential PPE work (sorting,
+// Modeled time: the SPEs run in parallel, so a run lasts its start's cost (StartCycles) plus
+// the largest number of cycles any SPE's clock advanced during it; sequential PPE work (sorting,
 // bookkeeping between passes) is added with AddPpeCycles. ElapsedCycles() is the sum.
 //
 // Not thread-safe: one PPE thread drives it. Kernels must not call Run.
@@ -50,7 +56,10 @@ class Runtime {
 
   // Runs `kernel` on every SPE with work from `plan`; returns the first error an SPE reported
   // (SpeContext::ReportError), prefixed with its index.
-  absl::Status Run(const Kernel& kernel, const WorkPlan& plan = WorkPlan::None());
+  absl::Status Run(const Kernel& kernel, const WorkPlan& plan = WorkPlan::None(),
+                   RunStart start = RunStart::kLaunch);
+  // What a run's start and end cost, without its work.
+  uint64_t StartCycles(RunStart start) const;
 
   int num_spes() const { return static_cast<int>(spes_.size()); }
   SpeContext& spe(int i) { return *spes_[i]; }
@@ -58,7 +67,7 @@ class Runtime {
 
   void AddPpeCycles(uint64_t n) { ppe_cycles_ += n; }
   uint64_t ppe_cycles() const { return ppe_cycles_; }
-  uint64_t last_run_cycles() const { return last_run_cycles_; }  // Overhead + slowest SPE.
+  uint64_t last_run_cycles() const { return last_run_cycles_; }  // Start + slowest SPE.
   uint64_t ElapsedCycles() const { return spe_run_cycles_ + ppe_cycles_; }
   uint64_t runs() const { return runs_; }
 

@@ -262,8 +262,11 @@ absl::StatusOr<SpeSortStats> SortOnSpes(Runtime& runtime, uint64_t* keys, uint64
   // The block sort writes where the last level must read from, so the result ends in `keys`.
   uint64_t* from = stats.levels % 2 == 0 ? keys : scratch;
   uint64_t* to = from == keys ? scratch : keys;
+  // One SPE program sorts: launched for the block sort, it stays resident through the merge
+  // levels, each begun by a wake-up once every SPE has reported the last one done.
   const auto run = [&](const Runtime::Kernel& kernel) -> absl::Status {
-    absl::Status s = runtime.Run(kernel);
+    absl::Status s = runtime.Run(kernel, WorkPlan::None(),
+                                 stats.runs == 0 ? RunStart::kLaunch : RunStart::kResident);
     ++stats.runs;
     stats.elapsed_cycles += runtime.last_run_cycles();
     return s;

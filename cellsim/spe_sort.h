@@ -33,9 +33,10 @@ struct SpeSortStats {
 //     path, one DMA get per key probed). Inputs stream in through double-buffered gets, the
 //     output leaves through double-buffered puts.
 // Modeled time: CostModel::sort_merge_cycles per element a merge step outputs (a run without
-// partner is copied at 1 cycle per key), the DMA engine's timing for every transfer, and each
-// run's spe_run_overhead_cycles. Needs n even, both arrays 16-byte aligned and registered as
-// main memory, and kSortLsBytes free in every local store. Between runs only (not inside a
+// partner is copied at 1 cycle per key), the DMA engine's timing for every transfer, the block
+// sort's launch (spe_run_overhead_cycles) and each merge level's wake-up of the resident
+// program (CostModel::ResidentSyncCycles). Needs n even, both arrays 16-byte aligned and registered
+// as main memory, and kSortLsBytes free in every local store. Between runs only (not inside a
 // kernel); uses DMA tags 0..8.
 inline constexpr size_t kMaxBlockKeys = 4096;
 inline constexpr size_t kSortLsBytes = 2 * kMaxBlockKeys * sizeof(uint64_t);

@@ -79,6 +79,7 @@ std::string PassJson(const PassStats& p) {
     for (size_t i = 0; i < p.cell_per_spe.size(); ++i)
       absl::StrAppend(&s, i ? ", " : "", CellJson(p.cell_per_spe[i]));
     absl::StrAppend(&s, "], \"ppe_cycles\": ", p.ppe_cycles,
+                    ", \"spe_start_cycles\": ", p.spe_start_cycles,
                     ", \"modeled_pass_cycles\": ", p.modeled_pass_cycles);
   }
   return s + "}";

@@ -89,10 +89,17 @@ class CellBackend final : public RemovalBackend {
       if (!sorted.ok()) return sorted.status();
       spe_sort_cycles = *sorted;
     }
-    if (phase.claimed > 0) {
+    // Deterministic rounds (phase.claimed > 0): their SPE program is launched for the fan boxes
+    // of the pass's first round and stays resident until the pass ends; every later start is a
+    // wake-up and a report (CostModel::ResidentSyncCycles), not a launch and a join.
+    const bool rounds = phase.claimed > 0;
+    uint64_t start_cycles = 0;
+    if (rounds) {
       const double claimed = static_cast<double>(phase.claimed);
-      claim_cycles = kFanBoxCyclesPerCandidate * phase.claimed / n +
-                     cellsim::CostModel{}.spe_run_overhead_cycles;
+      const uint64_t boxes_start = runtime_->StartCycles(
+          phase.pass_start ? cellsim::RunStart::kLaunch : cellsim::RunStart::kResident);
+      claim_cycles = kFanBoxCyclesPerCandidate * phase.claimed / n + boxes_start;
+      start_cycles += boxes_start;
       sort_cycles += static_cast<uint64_t>(
           claimed * std::max(1.0, std::log2(std::max(2.0, claimed))) * kSortCyclesPerElementLevel);
     }
@@ -129,7 +136,10 @@ class CellBackend final : public RemovalBackend {
           });
           if (!s.ok()) spe.ReportError(s);
         },
-        cellsim::WorkPlan::PerSpe(std::move(spans)));
+        cellsim::WorkPlan::PerSpe(std::move(spans)),
+        rounds ? cellsim::RunStart::kResident : cellsim::RunStart::kLaunch);
+    start_cycles +=
+        runtime_->StartCycles(rounds ? cellsim::RunStart::kResident : cellsim::RunStart::kLaunch);
     const double wall =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (!status.ok()) return status;
@@ -146,6 +156,7 @@ class CellBackend final : public RemovalBackend {
       stats.cell_per_spe[i] += p;
     }
     stats.ppe_cycles += sort_cycles;
+    stats.spe_start_cycles += start_cycles;
     stats.modeled_pass_cycles += cost_cycles + spe_sort_cycles + split_cycles + sort_cycles +
                                  claim_cycles + runtime_->last_run_cycles();
     // Host threads run the SPEs; their summed time is the measured parallel work.

@@ -170,7 +170,10 @@ struct PassStats {
   // Cell back end only.
   std::optional<CellPassCounters> cell;  // totals over SPEs
   std::vector<CellPassCounters> cell_per_spe;
-  uint64_t ppe_cycles = 0;           // modeled sequential share
+  uint64_t ppe_cycles = 0;  // modeled sequential share
+  // Of modeled_pass_cycles: the starts and ends of the removal runs and the rounds' fan-box
+  // runs (launches and joins, or a resident program's wake-ups and reports).
+  uint64_t spe_start_cycles = 0;
   uint64_t modeled_pass_cycles = 0;  // slowest SPE + PPE share
 };
 

@@ -170,6 +170,7 @@ void ToProto(const PassStats& p, v1::Progress* out) {
     m->set_busy_cycles(c.busy_cycles);
     m->set_modeled_cycles(c.modeled_cycles);
     out->set_ppe_cycles(p.ppe_cycles);
+    out->set_spe_start_cycles(p.spe_start_cycles);
     out->set_modeled_pass_cycles(p.modeled_pass_cycles);
   }
 }
@@ -208,6 +209,7 @@ PassStats FromProto(const v1::Progress& in) {
     c.modeled_cycles = m.modeled_cycles();
     p.cell = c;
     p.ppe_cycles = in.ppe_cycles();
+    p.spe_start_cycles = in.spe_start_cycles();
     p.modeled_pass_cycles = in.modeled_pass_cycles();
   }
   return p;

@@ -46,6 +46,27 @@ TEST(RuntimeTest, ReusesContextsAcrossManyRuns) {
   EXPECT_EQ((*rt)->TotalCounters().ModeledCycles(), 0u);
 }
 
+// A resident program is woken and reports back along a tree of the SPEs: its start costs a
+// mailbox message each way and two signal hops per level, far less than a launch.
+TEST(RuntimeTest, ResidentRunsCostATreeOfSignalsNotALaunch) {
+  absl::StatusOr<std::unique_ptr<Runtime>> rt = Runtime::Create(SmallConfig(5));
+  ASSERT_TRUE(rt.ok()) << rt.status();
+  const CostModel& cost = (*rt)->spe(0).config().cost;
+  const uint64_t hop = cost.dma_latency_cycles + cost.dma_issue_cycles;
+  EXPECT_EQ((*rt)->StartCycles(RunStart::kLaunch), cost.spe_run_overhead_cycles);
+  EXPECT_EQ((*rt)->StartCycles(RunStart::kResident), 2 * cost.mailbox_cycles + 2 * 3 * hop);
+  const auto work = [](SpeContext& spe) { spe.AddComputeCycles(1000 * (spe.index() + 1)); };
+  ASSERT_TRUE((*rt)->Run(work, WorkPlan::None(), RunStart::kLaunch).ok());
+  EXPECT_EQ((*rt)->last_run_cycles(), cost.spe_run_overhead_cycles + 5000);
+  ASSERT_TRUE((*rt)->Run(work, WorkPlan::None(), RunStart::kResident).ok());
+  EXPECT_EQ((*rt)->last_run_cycles(), 2 * cost.mailbox_cycles + 6 * hop + 5000);
+  EXPECT_EQ((*rt)->ElapsedCycles(),
+            cost.spe_run_overhead_cycles + 2 * cost.mailbox_cycles + 6 * hop + 10000);
+  EXPECT_EQ(cost.ResidentSyncCycles(1), 2 * cost.mailbox_cycles);
+  EXPECT_EQ(cost.ResidentSyncCycles(128), 2 * cost.mailbox_cycles + 14 * hop);
+  EXPECT_LT(4 * cost.ResidentSyncCycles(128), cost.spe_run_overhead_cycles);
+}
+
 TEST(RuntimeTest, HandsOutWorkPerSpeAndShared) {
   absl::StatusOr<std::unique_ptr<Runtime>> rt = Runtime::Create(SmallConfig(3));
   ASSERT_TRUE(rt.ok()) << rt.status();

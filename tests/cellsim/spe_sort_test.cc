@@ -86,7 +86,11 @@ TEST(SpeSortTest, ChargesTheWorkDone) {
   EXPECT_EQ(c.dma_get_bytes, 3 * n * sizeof(uint64_t));
   EXPECT_EQ(c.dma_put_bytes, 3 * n * sizeof(uint64_t));
   EXPECT_EQ(stats->elapsed_cycles, rt->ElapsedCycles());
-  EXPECT_GE(stats->elapsed_cycles, 3 * cost.spe_run_overhead_cycles + c.compute_cycles);
+  // One launch (the block sort), then the resident program woken for each of 2 merge levels.
+  EXPECT_EQ(stats->runs, 3u);
+  EXPECT_EQ(stats->elapsed_cycles,
+            cost.spe_run_overhead_cycles + 2 * cost.ResidentSyncCycles(1) + rt->spe(0).Now());
+  EXPECT_GE(rt->spe(0).Now(), c.compute_cycles);
 }
 
 // Many SPEs split every level evenly (merge-path probes where a slice starts inside a pair),

@@ -3,6 +3,7 @@
 
 #include <atomic>
 
+#include "cellsim/cost_model.h"
 #include "engine/mesh_checks.h"
 #include "engine/simplify.h"
 #include "tests/support/meshes.h"
@@ -79,6 +80,34 @@ TEST(CellBackend, MoreSpesTakeFewerModeledCycles) {
   const CellRun one = RunCell(raw, 1, 64, 1), eight = RunCell(raw, 8, 64, 1);
   const PassStats &a = one.result.passes[0], &b = eight.result.passes[0];
   EXPECT_LT(b.modeled_pass_cycles * 2, a.modeled_pass_cycles);
+}
+
+// Deterministic rounds keep their SPE program resident through a pass: one launch (the first
+// round's fan boxes), then a wake-up and a report for every other run. The free schedule
+// launches its one removal run per pass.
+TEST(CellBackend, RoundsLaunchOncePerPassAndWakeTheSpesAfter) {
+  const RawMesh raw = testing::LoadTestMesh("fandisk.off");
+  const cellsim::CostModel cost;
+  for (const bool free : {false, true}) {
+    SimplifyOptions options;
+    options.backend = Backend::kCell;
+    options.cell.spes = 8;
+    if (free) options.schedule = Schedule::kFree;
+    const CellRun run = testing::SimplifyChecked(raw, options);
+    ASSERT_FALSE(run.result.passes.empty());
+    for (const PassStats& p : run.result.passes) {
+      if (free) {
+        EXPECT_EQ(p.rounds, 0u);
+        EXPECT_EQ(p.spe_start_cycles, cost.spe_run_overhead_cycles) << p.pass;
+      } else {
+        ASSERT_GT(p.rounds, 0u) << p.pass;
+        EXPECT_EQ(p.spe_start_cycles,
+                  cost.spe_run_overhead_cycles + (2 * p.rounds - 1) * cost.ResidentSyncCycles(8))
+            << p.pass;
+      }
+      EXPECT_LT(p.spe_start_cycles, p.modeled_pass_cycles) << p.pass;
+    }
+  }
 }
 
 // The cell back end runs the same candidate loop as the native one, so it notices a

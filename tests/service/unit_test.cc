@@ -366,6 +366,8 @@ TEST(Wire, ProgressRoundTrip) {
   p.cell = CellPassCounters{};
   p.cell->cache_hits = 9;
   p.cell->cache_misses = 1;
+  p.ppe_cycles = 1234;
+  p.spe_start_cycles = 5678;
   v1::Progress m;
   wire::ToProto(p, &m);
   EXPECT_DOUBLE_EQ(m.cache_hit_ratio(), 0.9);
@@ -377,6 +379,8 @@ TEST(Wire, ProgressRoundTrip) {
   EXPECT_EQ(q.rejections[static_cast<int>(Reject::kMinAngle)], 5u);
   ASSERT_TRUE(q.cell.has_value());
   EXPECT_EQ(q.cell->cache_hits, 9u);
+  EXPECT_EQ(q.ppe_cycles, 1234u);
+  EXPECT_EQ(q.spe_start_cycles, 5678u);
 }
 
 TEST(Wire, ChunkingKeepsMessagesSmallAndReassembles) {
