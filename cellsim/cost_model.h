@@ -17,6 +17,11 @@ struct CostModel {
   uint64_t dma_latency_cycles = 450;
   uint64_t dma_bytes_per_cycle = 8;  // 25.6 GB/s at 3.2 GHz, one EIB port.
   uint64_t dma_issue_cycles = 10;    // SPU channel writes to enqueue one MFC command.
+  // Main memory is shared: each chip of spes_per_chip SPEs has one XDR interface (25.6 GB/s at
+  // 3.2 GHz; a QS21 blade has two chips, 16 SPEs), and a run cannot end before all the bytes
+  // its SPEs moved by DMA have crossed its chips' interfaces (pages interleaved over them).
+  uint64_t memory_bytes_per_cycle = 8;  // per chip
+  int spes_per_chip = 8;
 
   // Software cache bookkeeping on the SPU (tag lookup, LRU update, victim choice).
   uint64_t cache_hit_cycles = 12;
@@ -51,6 +56,14 @@ struct CostModel {
     uint64_t levels = 0;
     while ((int64_t{1} << levels) < n) ++levels;
     return 2 * mailbox_cycles + 2 * levels * (dma_latency_cycles + dma_issue_cycles);
+  }
+
+  // Modeled duration of moving `bytes` through main memory, all n SPEs together.
+  uint64_t MemoryCycles(uint64_t bytes, int n) const {
+    const uint64_t per_chip = spes_per_chip < 1 ? 1 : uint64_t(spes_per_chip);
+    const uint64_t chips = (uint64_t(n < 1 ? 1 : n) + per_chip - 1) / per_chip;
+    const uint64_t bpc = (memory_bytes_per_cycle == 0 ? 1 : memory_bytes_per_cycle) * chips;
+    return (bytes + bpc - 1) / bpc;
   }
 
   // Modeled duration of moving `bytes` over one channel (without latency).

@@ -65,10 +65,11 @@ uint64_t Runtime::StartCycles(RunStart start) const {
 }
 
 absl::Status Runtime::Run(const Kernel& kernel, const WorkPlan& plan, RunStart start_kind) {
-  std::vector<uint64_t> start(spes_.size());
+  std::vector<uint64_t> start(spes_.size()), moved(spes_.size());
   shared_next_.store(0, std::memory_order_relaxed);
   for (size_t i = 0; i < spes_.size(); ++i) {
     start[i] = spes_[i]->Now();
+    moved[i] = spes_[i]->counters().DmaBytes();
     spes_[i]->BeginRun(&plan, &shared_next_);
   }
   {
@@ -80,17 +81,21 @@ absl::Status Runtime::Run(const Kernel& kernel, const WorkPlan& plan, RunStart s
     done_cv_.wait(lock, [&] { return pending_ == 0; });
     kernel_ = nullptr;
   }
-  uint64_t slowest = 0;
+  uint64_t slowest = 0, bytes = 0;
   absl::Status first_error;
   for (size_t i = 0; i < spes_.size(); ++i) {
     spes_[i]->EndRun();
     slowest = std::max(slowest, spes_[i]->Now() - start[i]);
+    bytes += spes_[i]->counters().DmaBytes() - moved[i];
     const absl::Status& e = spes_[i]->error();
     if (first_error.ok() && !e.ok()) {
       first_error = absl::Status(e.code(), absl::StrFormat("SPE %d: %s", i, e.message()));
     }
   }
-  last_run_cycles_ = StartCycles(start_kind) + slowest;
+  // Each SPE's channel times its own transfers; together they share main memory's bandwidth.
+  const uint64_t memory = config_.spe.cost.MemoryCycles(bytes, num_spes());
+  if (memory > slowest) ++memory_bound_runs_;
+  last_run_cycles_ = StartCycles(start_kind) + std::max(slowest, memory);
   spe_run_cycles_ += last_run_cycles_;
   ++runs_;
   return first_error;

@@ -36,8 +36,10 @@ struct RuntimeConfig {
 // creation). Run() starts the kernel on every SPE and returns when all have finished.
 //
 // Modeled time: the SPEs run in parallel, so a run lasts its start's cost (StartCycles) plus
-// the largest number of cycles any SPE's clock advanced during it; sequential PPE work (sorting,
-// bookkeeping between passes) is added with AddPpeCycles. ElapsedCycles() is the sum.
+// the largest number of cycles any SPE's clock advanced during it, or, when longer, the time
+// main memory takes to move every byte their DMA moved (CostModel::memory_bytes_per_cycle);
+// sequential PPE work (sorting, bookkeeping between passes) is added with AddPpeCycles.
+// ElapsedCycles() is the sum.
 //
 // Not thread-safe: one PPE thread drives it. Kernels must not call Run.
 class Runtime {
@@ -70,6 +72,8 @@ class Runtime {
   uint64_t last_run_cycles() const { return last_run_cycles_; }  // Start + slowest SPE.
   uint64_t ElapsedCycles() const { return spe_run_cycles_ + ppe_cycles_; }
   uint64_t runs() const { return runs_; }
+  // Runs that main memory's bandwidth made longer than their slowest SPE.
+  uint64_t memory_bound_runs() const { return memory_bound_runs_; }
 
   // Sum of all SPEs' counters (cycle fields: total SPE work, not elapsed time).
   SpeCounters TotalCounters() const;
@@ -98,6 +102,7 @@ class Runtime {
   uint64_t spe_run_cycles_ = 0;
   uint64_t last_run_cycles_ = 0;
   uint64_t runs_ = 0;
+  uint64_t memory_bound_runs_ = 0;
 };
 
 }  // namespace femsimp::cellsim

@@ -237,6 +237,7 @@ absl::StatusOr<std::unique_ptr<RemovalBackend>> MakeCellBackend(Mesh& mesh,
   config.num_spes = options.spes;
   config.spe.local_store_bytes = size_t(options.local_store_kib) * 1024;
   config.spe.cache.size_bytes = size_t(options.ls_cache_kib) * 1024;
+  config.spe.cache.line_bytes = size_t(options.ls_cache_line_bytes);
   config.spe.thread_stack_bytes = kSoftwareThreadStack;
   absl::StatusOr<std::unique_ptr<cellsim::Runtime>> runtime = cellsim::Runtime::Create(config);
   if (!runtime.ok()) return runtime.status();

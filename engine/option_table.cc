@@ -154,6 +154,11 @@ std::vector<OptionSpec> MakeTable() {
        .section = "backend", .type = T::kInt, .range = Range::Closed(1, 32768), .unit = "KiB",
        .help = "cell: software cache per local store, a power of two below local_store_kib",
        .field = &C::ls_cache_kib},
+      {.name = "ls_cache_line_bytes", .group = "cell", .flag = "--ls-cache-line", .metavar = "B",
+       .section = "backend", .type = T::kInt, .range = Range::Closed(16, 16384), .unit = "bytes",
+       .help = "cell: software cache line, fetched by one DMA get per miss; a power of two, "
+               "4 lines to a set",
+       .field = &C::ls_cache_line_bytes},
       {.name = "spe_threads", .group = "cell", .flag = "--spe-threads", .metavar = "K",
        .section = "backend", .type = T::kInt, .range = Range::Closed(1, 16),
        .help = "cell: software threads per SPE (1: off)", .field = &C::spe_threads},

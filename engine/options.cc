@@ -1,5 +1,6 @@
 #include "absl/status/status.h"
 #include "absl/strings/str_cat.h"
+#include "cellsim/software_cache.h"
 #include "engine/option_table.h"
 #include "engine/simplify.h"
 
@@ -83,6 +84,15 @@ absl::Status ValidateOptions(const SimplifyOptions& o) {
       return absl::InvalidArgumentError(
           absl::StrCat("ls_cache_kib = ", c.ls_cache_kib,
                        " is out of range: must be a power of two (cache sets are)"));
+    if ((c.ls_cache_line_bytes & (c.ls_cache_line_bytes - 1)) != 0)
+      return absl::InvalidArgumentError(
+          absl::StrCat("ls_cache_line_bytes = ", c.ls_cache_line_bytes,
+                       " is out of range: must be a power of two (lines are aligned to it)"));
+    const size_t ways = cellsim::CacheConfig{}.ways;
+    if (size_t(c.ls_cache_line_bytes) * ways > size_t(c.ls_cache_kib) * 1024)
+      return absl::InvalidArgumentError(
+          absl::StrCat("ls_cache_line_bytes = ", c.ls_cache_line_bytes, " is out of range: ", ways,
+                       " lines (one set) must fit in ls_cache_kib = ", c.ls_cache_kib, " KiB"));
   }
   return absl::OkStatus();
 }

@@ -58,8 +58,9 @@ const char* RejectName(Reject r);  // snake_case, stable: used in JSON, proto an
 
 struct CellOptions {
   int spes = 1;
-  int ls_cache_kib = 64;  // software cache size inside each 256 KiB local store
-  int spe_threads = 1;    // software-managed threads per SPE (1 = off)
+  int ls_cache_kib = 64;          // software cache size inside each 256 KiB local store
+  int ls_cache_line_bytes = 128;  // bytes a miss fetches (one DMA get)
+  int spe_threads = 1;            // software-managed threads per SPE (1 = off)
   int local_store_kib = 256;
   bool reread_on_stale = true;  // dirty the lines and re-read (else skip the candidate)
 };

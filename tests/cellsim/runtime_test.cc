@@ -67,6 +67,45 @@ TEST(RuntimeTest, ResidentRunsCostATreeOfSignalsNotALaunch) {
   EXPECT_LT(4 * cost.ResidentSyncCycles(128), cost.spe_run_overhead_cycles);
 }
 
+// Each SPE's channel times its own transfers, but the SPEs of a chip share its memory
+// interface: four SPEs each streaming 64 KiB take as long as 256 KiB through it, not as one
+// SPE's 64 KiB. Sixteen SPEs are two chips, with twice the bandwidth.
+TEST(RuntimeTest, MainMemoryBandwidthBoundsARun) {
+  absl::StatusOr<std::unique_ptr<Runtime>> rt = Runtime::Create(SmallConfig(4));
+  ASSERT_TRUE(rt.ok()) << rt.status();
+  QuadArray data(4096);  // 64 KiB, read by every SPE
+  ASSERT_TRUE((*rt)->RegisterMainMemory(data.data(), data.bytes(), "data").ok());
+  const CostModel& cost = (*rt)->spe(0).config().cost;
+  const auto stream = [&](SpeContext& spe) {
+    const LocalStore::Marker mark = spe.local_store().Mark();
+    absl::StatusOr<std::byte*> buf = spe.local_store().Allocate(16 * 1024, 128, "buffer");
+    if (!buf.ok()) return spe.ReportError(buf.status());
+    for (int k = 0; k < 4; ++k)
+      if (auto s = spe.dma().Get(*buf, Ea(&data[1024 * k]), 16 * 1024, 0); !s.ok())
+        return spe.ReportError(s.status());
+    if (absl::Status s = spe.dma().WaitTagMask(1); !s.ok()) return spe.ReportError(s);
+    spe.local_store().Release(mark);
+  };
+  ASSERT_TRUE((*rt)->Run(stream).ok());
+  uint64_t slowest = 0;
+  for (int i = 0; i < 4; ++i) slowest = std::max(slowest, (*rt)->spe(i).Now());
+  EXPECT_LT(slowest, cost.MemoryCycles(4 * 65536, 4));
+  EXPECT_EQ((*rt)->last_run_cycles(), cost.spe_run_overhead_cycles + 4 * 65536 / 8);
+  EXPECT_EQ((*rt)->memory_bound_runs(), 1u);
+  // One SPE alone is held back by its own channel, not by memory.
+  ASSERT_TRUE((*rt)
+                  ->Run([&](SpeContext& spe) {
+                    if (spe.index() == 0) stream(spe);
+                  })
+                  .ok());
+  EXPECT_EQ((*rt)->memory_bound_runs(), 1u);
+  EXPECT_GT((*rt)->last_run_cycles(), cost.spe_run_overhead_cycles + 65536 / 8);
+  EXPECT_EQ(cost.spes_per_chip, 8);
+  EXPECT_EQ(cost.MemoryCycles(4 * 65536, 8), 4 * 65536 / 8);
+  EXPECT_EQ(cost.MemoryCycles(4 * 65536, 16), 4 * 65536 / 16);
+  EXPECT_EQ(cost.MemoryCycles(4 * 65536, 9), 4 * 65536 / 16);
+}
+
 TEST(RuntimeTest, HandsOutWorkPerSpeAndShared) {
   absl::StatusOr<std::unique_ptr<Runtime>> rt = Runtime::Create(SmallConfig(3));
   ASSERT_TRUE(rt.ok()) << rt.status();

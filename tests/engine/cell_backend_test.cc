@@ -154,6 +154,39 @@ TEST(CellBackend, ManySpesGiveTheNativeOutput) {
   }
 }
 
+// Longer cache lines fetch a fan's neighbours with fewer misses (the mesh is stored in a
+// spatial order); the output does not depend on them.
+TEST(CellBackend, LongerCacheLinesMissLessWithTheSameOutput) {
+  const RawMesh raw = testing::LoadTestMesh("fandisk.off");
+  SimplifyOptions options;
+  options.backend = Backend::kCell;
+  options.cell.spes = 4;
+  const CellRun short_lines = testing::SimplifyChecked(raw, options);
+  options.cell.ls_cache_line_bytes = 1024;
+  const CellRun long_lines = testing::SimplifyChecked(raw, options);
+  EXPECT_EQ(long_lines.output.positions, short_lines.output.positions);
+  EXPECT_EQ(long_lines.output.triangles, short_lines.output.triangles);
+  const auto totals = [](const CellRun& run) {
+    CellPassCounters sum;
+    for (const PassStats& p : run.result.passes) sum += *p.cell;
+    return sum;
+  };
+  const CellPassCounters a = totals(short_lines), b = totals(long_lines);
+  EXPECT_LT(b.cache_misses, a.cache_misses);
+  EXPECT_GT(b.hit_ratio(), a.hit_ratio());
+  EXPECT_GT(b.dma_bytes, a.dma_bytes);  // each miss moves a longer line
+}
+
+TEST(CellBackend, CacheLinesThatDoNotFitAreRejected) {
+  SimplifyOptions options;
+  options.backend = Backend::kCell;
+  options.cell.ls_cache_line_bytes = 96;
+  EXPECT_NE(ValidateOptions(options).message().find("power of two"), std::string::npos);
+  options.cell.ls_cache_line_bytes = 8192;
+  options.cell.ls_cache_kib = 16;  // a set of 4 lines is 32 KiB
+  EXPECT_NE(ValidateOptions(options).message().find("must fit in ls_cache_kib"), std::string::npos);
+}
+
 TEST(CellBackend, CacheThatIsNotAPowerOfTwoIsRejected) {
   SimplifyOptions options;
   options.backend = Backend::kCell;
