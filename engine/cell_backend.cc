@@ -115,6 +115,8 @@ class CellBackend final : public RemovalBackend {
       split_cycles = *split;
     }
     std::vector<std::span<const uint32_t>> spans(lists.begin(), lists.end());
+    const cellsim::RunStart removal_start =
+        rounds ? cellsim::RunStart::kResident : cellsim::RunStart::kLaunch;
     std::vector<KernelStats> per_spe(n);
     const auto start = std::chrono::steady_clock::now();
     absl::Status status = runtime_->Run(
@@ -136,10 +138,8 @@ class CellBackend final : public RemovalBackend {
           });
           if (!s.ok()) spe.ReportError(s);
         },
-        cellsim::WorkPlan::PerSpe(std::move(spans)),
-        rounds ? cellsim::RunStart::kResident : cellsim::RunStart::kLaunch);
-    start_cycles +=
-        runtime_->StartCycles(rounds ? cellsim::RunStart::kResident : cellsim::RunStart::kLaunch);
+        cellsim::WorkPlan::PerSpe(std::move(spans)), removal_start);
+    start_cycles += runtime_->StartCycles(removal_start);
     const double wall =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (!status.ok()) return status;
