@@ -41,8 +41,9 @@ struct CostModel {
   // Saving and restoring the SPU registers of one software-managed thread.
   uint64_t thread_switch_cycles = 50;
 
-  // PPE cost of starting and joining the SPE contexts for one Runtime::Run (per run, not per
-  // SPE: contexts start in parallel). The paper blames this for the poor fandisk speedup.
+  // PPE cost of starting and joining the SPE contexts for one launched Runtime::Run (per run,
+  // not per SPE: contexts start in parallel; a resident run costs ResidentSyncCycles instead).
+  // The paper blames this for the poor fandisk speedup.
   uint64_t spe_run_overhead_cycles = 30000;
 
   // A resident SPE program (Runtime::Run with RunStart::kResident) is not started again: it
