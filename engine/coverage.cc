@@ -36,10 +36,11 @@ double CornersToTriangle(const DVec3 corners[3], const DVec3 t[3], double limit)
   return worst;
 }
 
-// The squared distance from q to the tetrahedron (a, b, c, d): 0 inside, else the nearest of its
-// faces (also when it is flat: its faces then cover it).
-double SquaredDistanceToTetrahedron(const DVec3& q, const DVec3& a, const DVec3& b, const DVec3& c,
-                                    const DVec3& d) {
+// The squared distance from q to the tetrahedron (a, b, c, d) where q is known to be farther than
+// that from its faces abc and abd: 0 inside, else the nearer of the other two faces (also when
+// it is flat: its faces then cover it).
+double SquaredDistanceToTetrahedronPast(const DVec3& q, const DVec3& a, const DVec3& b,
+                                        const DVec3& c, const DVec3& d) {
   const DVec3 ab = b - a, ac = c - a, ad = d - a, aq = q - a;
   const double volume = Dot(ab, Cross(ac, ad));
   if (volume != 0) {
@@ -47,8 +48,7 @@ double SquaredDistanceToTetrahedron(const DVec3& q, const DVec3& a, const DVec3&
                  lb = Dot(aq, Cross(ac, ad)) / volume;
     if (ld >= 0 && lc >= 0 && lb >= 0 && ld + lc + lb <= 1) return 0;
   }
-  return std::min({SquaredDistanceToTriangle(q, a, b, c), SquaredDistanceToTriangle(q, a, b, d),
-                   SquaredDistanceToTriangle(q, a, c, d), SquaredDistanceToTriangle(q, b, c, d)});
+  return std::min(SquaredDistanceToTriangle(q, a, c, d), SquaredDistanceToTriangle(q, b, c, d));
 }
 
 // The squared distance between the segments pq and rs (Ericson, 5.1.9), degenerate ones
@@ -432,7 +432,7 @@ double Coverage::WithinPair(const DVec3* c, uint32_t face) const {
       if (to_t1[k] < 0) to_t1[k] = SquaredDistanceToTriangle(c[k], a, b, c1);
       double d = to_t1[k];
       if (d > limit) d = std::min(d, SquaredDistanceToTriangle(c[k], b, a, c2));
-      if (d > limit) d = SquaredDistanceToTetrahedron(c[k], a, b, c1, c2);
+      if (d > limit) d = std::min(d, SquaredDistanceToTetrahedronPast(c[k], a, b, c1, c2));
       worst = std::max(worst, d);
     }
     if (worst <= limit) return std::sqrt(worst) + delta;
