@@ -116,6 +116,7 @@ double SquaredDistanceToTriangle(const DVec3& q, const DVec3& a, const DVec3& b,
 Coverage::Coverage(const Mesh& mesh, double tolerance)
     : input_(3 * size_t{mesh.face_capacity()}),
       across_(3 * size_t{mesh.face_capacity()}, kNone),
+      corner_vertex_(3 * size_t{mesh.face_capacity()}, kNone),
       held_(mesh.face_capacity()),
       whole_(mesh.face_capacity(), 0),
       // Below the tolerance by far more than the rounding of the distances: never above it.
@@ -128,6 +129,7 @@ Coverage::Coverage(const Mesh& mesh, double tolerance)
     for (int k = 0; k < 3; ++k) {
       const VertexQ& q = v[h[3 * f + k].target];
       input_[3 * f + k] = {q.x, q.y, q.z};
+      corner_vertex_[3 * f + k] = h[3 * f + k].target;
     }
     whole_[f] = 1;
     for (int k = 0; k < 3; ++k) {
@@ -137,6 +139,105 @@ Coverage::Coverage(const Mesh& mesh, double tolerance)
   }
   IndexInput();
   MeasurePairs();
+  MeasureFans(mesh);
+}
+
+void Coverage::MeasureFans(const Mesh& mesh) {
+  const HalfEdgeQ* h = mesh.halfedges();
+  fan_of_.assign(mesh.vertex_capacity(), kNone);
+  std::vector<uint8_t> seen(mesh.vertex_capacity(), 0);
+  std::vector<DVec3> link;
+  std::vector<double> xy;
+  for (uint32_t f = 0; f < whole_.size(); ++f) {
+    if (!whole_[f]) continue;
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t v = corner_vertex_[3 * size_t{f} + k];
+      if (seen[v]) continue;
+      seen[v] = 1;
+      // The link counter-clockwise (fan face i is v, link[i], link[i + 1]); half-edge e leaves v
+      // and ends at corner e % 3 of its face.
+      const uint32_t start = 3 * f + (k + 1) % 3;
+      link.clear();
+      bool closed = false;
+      for (uint32_t e = start; link.size() < size_t{kMaxRing};) {
+        link.push_back(ToD(input_[e]));
+        e = h[Prev(e)].twin;
+        if (e == kNone) break;
+        if (e == start) {
+          closed = true;
+          break;
+        }
+      }
+      const size_t m = link.size();
+      if (!closed || m < 3) continue;
+      Fan fan;
+      fan.centre = ToD(input_[3 * size_t{f} + k]);
+      DVec3 normal{0, 0, 0};
+      for (size_t i = 0; i < m; ++i)
+        normal += Cross(link[i] - fan.centre, link[(i + 1) % m] - fan.centre);
+      const double length = Norm(normal);
+      if (!(length > 0) || !std::isfinite(length)) continue;
+      fan.n = (1.0 / length) * normal;
+      const DVec3 axis = std::fabs(fan.n.x) < 0.6 ? DVec3{1, 0, 0} : DVec3{0, 1, 0};
+      const DVec3 u = Cross(axis, fan.n);
+      fan.u = (1.0 / Norm(u)) * u;
+      fan.w = Cross(fan.n, fan.u);
+      fan.lo = fan.hi = 0;  // along n, from the centre
+      for (const DVec3& q : link) {
+        fan.lo = std::min(fan.lo, Dot(fan.n, q - fan.centre));
+        fan.hi = std::max(fan.hi, Dot(fan.n, q - fan.centre));
+      }
+      if (!(fan.hi - fan.lo < tolerance_)) continue;
+      xy.resize(2 * m);
+      for (size_t i = 0; i < m; ++i) {
+        xy[2 * i] = Dot(fan.u, link[i] - fan.centre);
+        xy[2 * i + 1] = Dot(fan.w, link[i] - fan.centre);
+      }
+      // Seen along n: every face counter-clockwise, the angles at v one turn, and a left turn at
+      // every corner of the link (a convex polygon that the fan covers once).
+      bool ok = true;
+      double turn = 0;
+      for (size_t i = 0; i < m && ok; ++i) {
+        const size_t j = (i + 1) % m, l = (i + m - 1) % m;
+        const double ax = xy[2 * i], ay = xy[2 * i + 1], bx = xy[2 * j], by = xy[2 * j + 1];
+        const double cross = ax * by - ay * bx;
+        ok = cross > 0 && (ax - xy[2 * l]) * (by - ay) - (ay - xy[2 * l + 1]) * (bx - ax) > 0;
+        turn += std::atan2(cross, ax * bx + ay * by);
+      }
+      if (!ok || std::fabs(turn - 2 * M_PI) > 1e-6) continue;
+      fan.first = static_cast<uint32_t>(fan_points_.size() / 2);
+      fan.count = static_cast<uint32_t>(m);
+      fan_points_.insert(fan_points_.end(), xy.begin(), xy.end());
+      fan_of_[v] = static_cast<uint32_t>(fans_.size());
+      fans_.push_back(fan);
+    }
+  }
+}
+
+double Coverage::WithinFan(const DVec3* c, uint32_t v) const {
+  const uint32_t index = fan_of_[v];
+  if (index == kNone) return -1;
+  const Fan& fan = fans_[index];
+  const double* xy = &fan_points_[2 * size_t{fan.first}];
+  double slab = 0, outside = 0;
+  for (int k = 0; k < 3; ++k) {
+    const DVec3 d = c[k] - fan.centre;
+    const double x = Dot(fan.u, d), y = Dot(fan.w, d), along = Dot(fan.n, d);
+    for (uint32_t i = 0; i < fan.count; ++i) {
+      const uint32_t j = i + 1 == fan.count ? 0 : i + 1;
+      const double ex = xy[2 * j] - xy[2 * i], ey = xy[2 * j + 1] - xy[2 * i + 1];
+      const double cross = ex * (y - xy[2 * i + 1]) - ey * (x - xy[2 * i]);
+      // Outside this edge's line by cross / |e|: a corner on the link (where new faces meet
+      // it) may come out a rounding error outside, which the reach then pays for.
+      if (cross < 0) outside = std::max(outside, -cross / std::sqrt(ex * ex + ey * ey));
+    }
+    slab = std::max({slab, fan.lo - along, along - fan.hi});
+  }
+  // The part's shadow lies within `outside` of the polygon (convex): the fan's point over the
+  // nearest shadow in it is within the slab distance plus the slab's width along n, and
+  // `outside` across.
+  const double reach = slab + (fan.hi - fan.lo) + outside;
+  return reach <= tolerance_ ? reach : -1;
 }
 
 void Coverage::MeasurePairs() {
@@ -516,6 +617,10 @@ double Coverage::WithinPart(const DVec3* c, int level, CoveragePlan* plan, uint6
   if (nearest != UINT32_MAX) {
     const double reach = WithinPair(c, nearest);
     if (reach >= 0) return reach;
+    for (int k = 0; k < 3; ++k) {
+      const double fan = WithinFan(c, corner_vertex_[3 * size_t{nearest} + k]);
+      if (fan >= 0) return fan;
+    }
   }
   if (level == kMaxPartLevel) return -1;
   DVec3 child[4][3];

@@ -11,8 +11,8 @@
 // (b) Every point of a new face lies within the tolerance of the input. The new face is cut the
 //     same way; a part is within when its corners all are within the tolerance of one input
 //     triangle (convexity), or its centre within the tolerance less the part's radius of one
-//     (the distance is 1-Lipschitz). The input triangles tried are those of the pieces the old
-//     faces held.
+//     (the distance is 1-Lipschitz), or it lies over a nearly flat, convex fan of an input vertex
+//     (Fan below). The input triangles tried are those of the pieces the old faces held.
 //
 // The pieces of a face change only when a collapse holding that face's corners' locks commits,
 // so the kernel's locks (and the rounds' disjoint fans) keep every face's list to one writer.
@@ -123,6 +123,9 @@ class Coverage {
   // of it, together: its reach, or negative.
   double WithinPair(const DVec3* c, uint32_t face) const;
   double WithinPart(const DVec3* c, int level, CoveragePlan* plan, uint64_t* work) const;
+  // The part with corners c within the tolerance of input vertex v's fan, flat and convex seen
+  // along its normal: its reach, or negative.
+  double WithinFan(const DVec3* c, uint32_t v) const;
 
   // The input triangles listed in plan->found whose boxes, widened by the tolerance, meet the
   // box [lo, hi], into plan->witnesses (each once, with its widened box).
@@ -131,6 +134,7 @@ class Coverage {
   void GridWitnesses(const DVec3& lo, const DVec3& hi, CoveragePlan* plan) const;
   void IndexInput();
   void MeasurePairs();
+  void MeasureFans(const Mesh& mesh);
   // Replaces every four children of one piece by that piece, as long as there are such.
   static void Coarsen(std::vector<Piece>* pieces);
 
@@ -140,6 +144,20 @@ class Coverage {
   // cannot help), and the corner of the face across that is not on the edge.
   std::vector<float> pair_delta_;
   std::vector<uint8_t> pair_far_;
+  // An input vertex's fan that its normal n sees as a convex polygon, each point of it once,
+  // and whose corners lie in the slab lo <= n.(x - centre) <= hi thinner than the tolerance: every
+  // point whose shadow along n falls in the polygon is within its slab distance plus hi - lo of the
+  // fan. The polygon's corners, in the (u, w) plane, counter-clockwise, are
+  // fan_points_[2 * first .. 2 * (first + count)).
+  struct Fan {
+    DVec3 centre, n, u, w;
+    double lo, hi;
+    uint32_t first, count;
+  };
+  std::vector<uint32_t> corner_vertex_;  // 3 per face id: the input vertex at each corner
+  std::vector<uint32_t> fan_of_;         // per input vertex: its index in fans_, or kNone
+  std::vector<Fan> fans_;
+  std::vector<double> fan_points_;
   // A uniform grid over the input triangles (they never change: read without locks): cell
   // (x, y, z) lists cell_faces_[cell_start_[c] .. cell_start_[c + 1]).
   DVec3 origin_{0, 0, 0};

@@ -71,15 +71,16 @@ TEST(Coverage, DistanceToTriangleMatchesSampling) {
   }
 }
 
-// A hexagonal tent: the centre (vertex 0) at height h over six neighbours on the unit circle.
-RawMesh Tent(float h) {
+// A tent: the centre (vertex 0) at height h over `sides` neighbours on the unit circle (a
+// hexagon unless told).
+RawMesh Tent(float h, int sides = 6) {
   RawMesh m;
   m.positions = {0, 0, h};
-  for (int i = 0; i < 6; ++i)
-    m.positions.insert(m.positions.end(),
-                       {float(std::cos(i * M_PI / 3)), float(std::sin(i * M_PI / 3)), 0.0f});
-  for (uint32_t i = 0; i < 6; ++i)
-    m.triangles.insert(m.triangles.end(), {0, 1 + i, 1 + (i + 1) % 6});
+  for (int i = 0; i < sides; ++i)
+    m.positions.insert(m.positions.end(), {float(std::cos(i * 2 * M_PI / sides)),
+                                           float(std::sin(i * 2 * M_PI / sides)), 0.0f});
+  for (uint32_t i = 0; i < uint32_t(sides); ++i)
+    m.triangles.insert(m.triangles.end(), {0, 1 + i, 1 + (i + 1) % sides});
   return m;
 }
 
@@ -94,8 +95,9 @@ Flattening Flatten(const RawMesh& tent) {
   auto at = [&](uint32_t v) {
     return DVec3{tent.positions[3 * v], tent.positions[3 * v + 1], tent.positions[3 * v + 2]};
   };
-  for (uint32_t face = 0; face < 6; ++face) f.plan.old_faces.push_back(face);
-  for (uint32_t face = 1; face < 5; ++face) {  // faces 0 and 5 hold the edge apex - 1
+  const uint32_t faces = static_cast<uint32_t>(tent.num_faces());
+  for (uint32_t face = 0; face < faces; ++face) f.plan.old_faces.push_back(face);
+  for (uint32_t face = 1; face + 1 < faces; ++face) {  // the first and last hold apex - 1
     f.plan.fresh_ids.push_back(face);
     for (uint32_t v : {1u, tent.triangles[3 * face + 1], tent.triangles[3 * face + 2]})
       f.corners.push_back(at(v));
@@ -140,6 +142,35 @@ TEST(Coverage, FlatteningATentIsWithinItsHeightOnly) {
     input += Area(c);
   }
   EXPECT_NEAR(held, input, 1e-9);
+}
+
+// A pentagonal tent lower than the tolerance, flattened: the apex's shadow is inside a new face,
+// where no input triangle or pair across an edge holds a part around it whole, and parts small
+// enough for the centre's test (radius under the tolerance, 0.004) lie below the deepest level.
+// The apex's fan, flat to within its height and convex seen from above, takes them whole:
+// certified within the height, and not below it.
+TEST(Coverage, AFlatFanTakesThePartsAroundItsVertexWhole) {
+  for (const float h : {0.0f, 0.002f}) {
+    const RawMesh tent = Tent(h, 5);
+    absl::StatusOr<Mesh> mesh = Mesh::Build(tent);
+    ASSERT_TRUE(mesh.ok()) << mesh.status();
+    Coverage coverage(*mesh, 0.004);
+    Flattening f = Flatten(tent);
+    uint64_t work = 0;
+    ASSERT_TRUE(coverage.Judge(f.corners, &f.plan, &work)) << "height " << h;
+    double reach = 0;
+    for (int k = 0; k < 3; ++k) reach = std::max(reach, f.plan.reach[k]);
+    EXPECT_GE(reach, h - 1e-6);
+    EXPECT_LE(reach, 0.004);
+  }
+  // Higher than the tolerance, the fan is no certificate.
+  const RawMesh tent = Tent(0.005f, 5);
+  absl::StatusOr<Mesh> mesh = Mesh::Build(tent);
+  ASSERT_TRUE(mesh.ok()) << mesh.status();
+  Coverage coverage(*mesh, 0.004);
+  Flattening f = Flatten(tent);
+  uint64_t work = 0;
+  EXPECT_FALSE(coverage.Judge(f.corners, &f.plan, &work));
 }
 
 // The tolerance alone decides: no volume bound, no minimum angle, normals free.
