@@ -1,6 +1,7 @@
 #include "engine/rounds.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 
@@ -18,6 +19,8 @@ constexpr size_t kLargestWindowShare = 32;  // and short rounds answer a cancel 
 constexpr size_t kMinWindow = 256;
 // Fans read ahead of the one being read (NativePort::PrefetchVertex, PrefetchFan).
 constexpr size_t kPrefetchAhead = 4;
+// ReadFans takes the window in chunks of this many candidates (a cancel is polled per chunk).
+constexpr size_t kFanChunk = 256;
 
 // Boxes are widened by this much relative to their coordinates, so that two winners' new
 // triangles are never closer than the intersection test's own near-touching margin.
@@ -34,11 +37,30 @@ uint64_t CellKey(int64_t x, int64_t y, int64_t z) {
          static_cast<uint64_t>(y) * 0xC2B2AE3D27D4EB4FULL ^ static_cast<uint64_t>(z);
 }
 
+// The next chunk [begin, end) of what is left of a share (front << 32 | back): from its front
+// for its own context, from its back for another. False when nothing is left.
+bool TakeChunk(std::atomic<uint64_t>& share, bool own, size_t* begin, size_t* end) {
+  uint64_t old = share.load(std::memory_order_relaxed);
+  for (;;) {
+    const size_t front = old >> 32, back = old & 0xffffffffu;
+    if (front >= back) return false;
+    *begin = own ? front : back - std::min(back - front, kFanChunk);
+    *end = own ? std::min(back, front + kFanChunk) : back;
+    const uint64_t left = own ? uint64_t{*end} << 32 | back : uint64_t{front} << 32 | *begin;
+    if (share.compare_exchange_weak(old, left, std::memory_order_relaxed)) return true;
+  }
+}
+
 }  // namespace
 
 RoundScheduler::RoundScheduler(Mesh& mesh, WorkerPool& pool, FaceGrid* grid, const RuleSet& rules,
                                bool placement)
-    : mesh_(mesh), pool_(pool), grid_(grid), rules_(rules), placement_(placement) {}
+    : mesh_(mesh),
+      pool_(pool),
+      grid_(grid),
+      rules_(rules),
+      placement_(placement),
+      shares_(pool.size()) {}
 
 void RoundScheduler::ReadFans(const RemovalPhase& phase) {
   const size_t m = window_.size();
@@ -48,47 +70,75 @@ void RoundScheduler::ReadFans(const RemovalPhase& phase) {
   by_vertex_.resize(m);  // (vertex, window entry), sorted as plain keys
   for (uint32_t k = 0; k < m; ++k) by_vertex_[k] = uint64_t{phase.candidates[window_[k]]} << 32 | k;
   std::sort(by_vertex_.begin(), by_vertex_.end());
+  // A candidate's box: V and its one-ring (with full-edge collapses, its two-ring).
+  const auto read = [&](NativePort& port, Ring& ring, Ring& outer, size_t i) {
+    const uint32_t k = static_cast<uint32_t>(by_vertex_[i]);
+    const uint32_t v = static_cast<uint32_t>(by_vertex_[i] >> 32);
+    if (port.LoadStatus(v) != kRemovable) return;
+    live_[k] = 1;
+    // A fan that cannot be read is V alone: the kernel refuses it without a neighbour.
+    const VertexQ q = port.ReadVertex(v);
+    const DVec3 at{q.x, q.y, q.z};
+    FaceGrid::Box b{at, at};
+    const auto grow = [&b](const Vec3& p) {
+      b.lo = {std::min(b.lo.x, double(p.x)), std::min(b.lo.y, double(p.y)),
+              std::min(b.lo.z, double(p.z))};
+      b.hi = {std::max(b.hi.x, double(p.x)), std::max(b.hi.y, double(p.y)),
+              std::max(b.hi.z, double(p.z))};
+    };
+    if (GatherRing(port, v, ring) == RingResult::kOk) {
+      for (int i = 0; i < ring.neighbours(); ++i) {
+        grow(ring.pos[i]);
+        // A full-edge collapse onto this neighbour reaches its one-ring (and places the vertex
+        // inside their box). A ring that cannot be read is refused by the kernel.
+        if (placement_ && GatherRing(port, ring.nbr[i], outer) == RingResult::kOk)
+          for (int j = 0; j < outer.neighbours(); ++j) grow(outer.pos[j]);
+      }
+    }
+    const double scale =
+        std::max({std::fabs(b.lo.x), std::fabs(b.lo.y), std::fabs(b.lo.z), std::fabs(b.hi.x),
+                  std::fabs(b.hi.y), std::fabs(b.hi.z), Norm(b.hi - b.lo)});
+    const DVec3 margin{kBoxMargin * scale, kBoxMargin * scale, kBoxMargin * scale};
+    box_[k] = {b.lo - margin, b.hi + margin};
+  };
+  // Context c reads the c-th share of the window (in vertex order: the winners among them are
+  // its share of the removal run too, so their fans are still in its cache), in chunks from the
+  // front; a context done with its share takes chunks from the back of the others'. Context 0
+  // first applies the last round's face index updates, so the others take some of its share.
   const int n = pool_.size();
+  for (int c = 0; c < n; ++c)
+    shares_[c].store(uint64_t{m * c / n} << 32 | (m * (c + 1) / n), std::memory_order_relaxed);
   pool_.Run([&](int c) {
+    if (c == 0) FinishIndexUpdates(phase);
     NativePort port(mesh_);
     Ring ring, outer;
-    const size_t end = m * (c + 1) / n;
-    for (size_t i = m * c / n; i < end; ++i) {
-      if (i % kCancelPollInterval == 0 && (phase.Stopped() || phase.PollCancelled())) return;
-      if (i + 2 * kPrefetchAhead < end)
-        port.PrefetchVertex(static_cast<uint32_t>(by_vertex_[i + 2 * kPrefetchAhead] >> 32));
-      if (i + kPrefetchAhead < end)
-        port.PrefetchFan(static_cast<uint32_t>(by_vertex_[i + kPrefetchAhead] >> 32));
-      const uint32_t k = static_cast<uint32_t>(by_vertex_[i]);
-      const uint32_t v = static_cast<uint32_t>(by_vertex_[i] >> 32);
-      if (port.LoadStatus(v) != kRemovable) continue;
-      live_[k] = 1;
-      // A fan that cannot be read is V alone: the kernel refuses it without a neighbour.
-      const VertexQ q = port.ReadVertex(v);
-      const DVec3 at{q.x, q.y, q.z};
-      FaceGrid::Box b{at, at};
-      const auto grow = [&b](const Vec3& p) {
-        b.lo = {std::min(b.lo.x, double(p.x)), std::min(b.lo.y, double(p.y)),
-                std::min(b.lo.z, double(p.z))};
-        b.hi = {std::max(b.hi.x, double(p.x)), std::max(b.hi.y, double(p.y)),
-                std::max(b.hi.z, double(p.z))};
-      };
-      if (GatherRing(port, v, ring) == RingResult::kOk) {
-        for (int i = 0; i < ring.neighbours(); ++i) {
-          grow(ring.pos[i]);
-          // A full-edge collapse onto this neighbour reaches its one-ring (and places the
-          // vertex inside their box). A ring that cannot be read is refused by the kernel.
-          if (placement_ && GatherRing(port, ring.nbr[i], outer) == RingResult::kOk)
-            for (int j = 0; j < outer.neighbours(); ++j) grow(outer.pos[j]);
-        }
+    for (int from = c;;) {
+      size_t begin, end;
+      if (!TakeChunk(shares_[from], from == c, &begin, &end)) {
+        if (++from == n) from = 0;
+        if (from == c) return;  // every share is done
+        continue;
       }
-      const double scale =
-          std::max({std::fabs(b.lo.x), std::fabs(b.lo.y), std::fabs(b.lo.z), std::fabs(b.hi.x),
-                    std::fabs(b.hi.y), std::fabs(b.hi.z), Norm(b.hi - b.lo)});
-      const DVec3 margin{kBoxMargin * scale, kBoxMargin * scale, kBoxMargin * scale};
-      box_[k] = {b.lo - margin, b.hi + margin};
+      if (phase.Stopped() || phase.PollCancelled()) return;
+      for (size_t i = begin; i < end; ++i) {
+        if (i + 2 * kPrefetchAhead < end)
+          port.PrefetchVertex(static_cast<uint32_t>(by_vertex_[i + 2 * kPrefetchAhead] >> 32));
+        if (i + kPrefetchAhead < end)
+          port.PrefetchFan(static_cast<uint32_t>(by_vertex_[i + kPrefetchAhead] >> 32));
+        read(port, ring, outer, i);
+      }
     }
   });
+}
+
+void RoundScheduler::FinishIndexUpdates(const RemovalPhase& phase) {
+  if (!index_updates_pending_) return;
+  index_updates_pending_ = false;
+  // A cancelled run stops in the middle of a round, and the face index is not used again.
+  if (phase.Stopped())
+    grid_->AbandonRound();
+  else
+    grid_->EndRound(mesh_);
 }
 
 size_t RoundScheduler::PickWinners(const RemovalPhase& phase, int64_t room) {
@@ -216,15 +266,15 @@ absl::Status RoundScheduler::RunPass(RemovalBackend& backend, const RemovalPhase
       grid_->BeginRound(mesh_, new_cells);
     }
     absl::Status s = backend.RunRemoval(round, stats);
-    // A cancelled run stops here, and the face index is not used again.
-    if (grid_ != nullptr && phase.Stopped())
-      grid_->AbandonRound();
-    else if (grid_ != nullptr)
-      grid_->EndRound(mesh_, &pool_);
+    index_updates_pending_ = grid_ != nullptr;
     rules_.EndRound();
-    if (!s.ok()) return s;
+    if (!s.ok()) {
+      FinishIndexUpdates(phase);
+      return s;
+    }
     ++stats.rounds;
   }
+  FinishIndexUpdates(phase);
   return absl::OkStatus();
 }
 

@@ -16,13 +16,15 @@
 //      collapse writes only quadwords of faces with two vertices in its locked set), so each
 //      outcome is the one it would have against the mesh at the start of the round. Their new
 //      triangles lie in disjoint boxes, so they cannot meet each other; the face index is read
-//      only, its updates applied after the round in face order (FaceGrid::BeginRound). The
+//      only, its updates applied after the round in face order (FaceGrid::BeginRound), by one
+//      context while the others read the next round's fans (which never look at it). The
 //      budget rules judge each winner against the round's starting totals with its change
 //      scaled by the number of winners (MechanicsLedger::BeginRound): the round's total change
 //      is then the mean of points within the budget, which is within it (the budgets are
 //      convex), and the totals are summed in vertex order after the round.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <vector>
 
@@ -47,8 +49,11 @@ class RoundScheduler {
   absl::Status RunPass(RemovalBackend& backend, const RemovalPhase& phase, PassStats& stats);
 
  private:
-  // Boxes of the window's candidates (in parallel); `live[k]` false: no longer removable.
+  // Boxes of the window's candidates (in parallel); `live[k]` false: no longer removable. The
+  // last round's face index updates, when pending, are applied meanwhile by context 0.
   void ReadFans(const RemovalPhase& phase);
+  // Applies the last round's face index updates, if pending (serially: in face order).
+  void FinishIndexUpdates(const RemovalPhase& phase);
   // Marks the winners in window order; returns how many.
   size_t PickWinners(const RemovalPhase& phase, int64_t room);
 
@@ -62,6 +67,9 @@ class RoundScheduler {
   std::vector<FaceGrid::Box> box_;
   std::vector<uint8_t> live_, won_;
   std::vector<uint64_t> by_vertex_;
+  bool index_updates_pending_ = false;
+  // ReadFans: per context, the front and back of what is left of its share (front << 32 | back).
+  std::vector<std::atomic<uint64_t>> shares_;
   // PickWinners: box extents, the winners so far, and a hashed grid of their boxes.
   std::vector<double> extent_;
   std::vector<uint32_t> order_, big_;
