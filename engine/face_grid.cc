@@ -20,9 +20,6 @@ size_t ThreadShard() {
 constexpr int64_t kAxisBits = 21;
 constexpr int64_t kAxisLimit = (int64_t{1} << kAxisBits) - 1;
 
-// EndRound shares its moves among the pool's contexts from this many (fewer: on the caller).
-constexpr size_t kParallelMoves = 64;
-
 uint64_t Mix(uint64_t k) {
   k ^= k >> 33;
   k *= 0xff51afd7ed558ccdULL;
@@ -263,7 +260,7 @@ void FaceGrid::BeginRound(const Mesh& mesh, uint64_t new_cells) {
   deferred_ = true;
 }
 
-void FaceGrid::EndRound(const Mesh& mesh, WorkerPool* pool) {
+void FaceGrid::EndRound(const Mesh& mesh) {
   deferred_ = false;
   // A face moves at most once a round, so face order is one order whatever the threads did.
   pending_.clear();
@@ -273,34 +270,9 @@ void FaceGrid::EndRound(const Mesh& mesh, WorkerPool* pool) {
   }
   std::sort(pending_.begin(), pending_.end(),
             [](const PendingMove& a, const PendingMove& b) { return a.face < b.face; });
-  const int n = pool == nullptr || pending_.size() < kParallelMoves ? 1 : pool->size();
   bool listed = true;
-  if (n == 1) {
-    for (const PendingMove& m : pending_)
-      listed = Move(m.face, m.before, m.removed ? nullptr : &m.after) && listed;
-  } else {
-    // Context c turns its slice of the moves into cell changes, sorted by the context that owns
-    // the cell (the hash's high bits: its low ones pick the slot); then each context applies
-    // the changes to its cells, slice by slice: in face order.
-    ops_.resize(size_t(n) * n);
-    pool->Run([&](int c) {
-      for (int o = 0; o < n; ++o) ops_[size_t(c) * n + o].clear();
-      const size_t end = pending_.size() * (c + 1) / n;
-      for (size_t i = pending_.size() * c / n; i < end; ++i) {
-        const PendingMove& m = pending_[i];
-        ForEachCellOp(m.face, m.before, m.removed ? nullptr : &m.after, [&](const CellOp& op) {
-          ops_[size_t(c) * n + (Mix(op.key) >> 40) % unsigned(n)].push_back(op);
-        });
-      }
-    });
-    std::vector<uint8_t> all_listed(n, 1);
-    pool->Run([&](int o) {
-      for (int c = 0; c < n; ++c)
-        for (const CellOp& op : ops_[size_t(c) * n + o])
-          if (!Apply(op)) all_listed[o] = 0;
-    });
-    listed = std::count(all_listed.begin(), all_listed.end(), 0) == 0;
-  }
+  for (const PendingMove& m : pending_)
+    listed = Move(m.face, m.before, m.removed ? nullptr : &m.after) && listed;
   pending_.clear();
   if (!listed) Fill(LiveFaces(mesh), 2 * (mask_ + 1), {});
 }

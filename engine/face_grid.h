@@ -65,11 +65,11 @@ class FaceGrid {
   // and Move is recorded. A round never finds the table full (that would make refusals depend
   // on timing): BeginRound first grows it if the round's boxes, `new_cells` cells at most
   // (CellsOf summed over them), might fill it. EndRound applies the moves in face order (a face
-  // moves at most once a round), and indexes the mesh anew if a moved face found no room. With
-  // a pool, each context applies them to the cells whose key hashes to it: every list still
-  // changes in face order, so the index is the same for any number of contexts.
+  // moves at most once a round), and indexes the mesh anew if a moved face found no room: the
+  // index is the same for any number of contexts. The rounds run it on one context while the
+  // others read the next round's fans (engine/rounds.h).
   void BeginRound(const Mesh& mesh, uint64_t new_cells);
-  void EndRound(const Mesh& mesh, WorkerPool* pool = nullptr);
+  void EndRound(const Mesh& mesh);
   // The cells Acquire(box) would claim at most.
   uint64_t CellsOf(const Box& box) const {
     return static_cast<uint64_t>(std::min<int64_t>(RangeOf(box).count(), kMaxCellsPerBox));
@@ -268,7 +268,6 @@ class FaceGrid {
   };
   std::array<PendingShard, kPendingShards> shards_;
   std::vector<PendingMove> pending_;         // the round's moves, gathered by EndRound
-  std::vector<std::vector<CellOp>> ops_;     // EndRound on a pool: [producer * n + owner]
   std::atomic<double> tracked_length_{0.0};  // see Track
   std::atomic<int64_t> tracked_faces_{0};
 };

@@ -99,60 +99,6 @@ TEST(FaceGrid, RoundGrowsTheTableForItsNewCells) {
   grid.Release(&all);
 }
 
-// EndRound shares the round's moves among a pool's contexts by cell: every cell's list must come
-// out as the serial EndRound makes it, in content and order, so runs stay the same at any
-// thread count. Half the faces move (far above the pool's threshold): some are removed, some move
-// by a fraction of a cell, some by several cells.
-TEST(FaceGrid, RoundMovesApplyTheSameOnAPool) {
-  const RawMesh raw = testing::FlatGrid(24);
-  absl::StatusOr<Mesh> mesh = Mesh::Build(raw);
-  ASSERT_TRUE(mesh.ok());
-  FaceGrid serial(*mesh), pooled(*mesh);
-  const double c = serial.cell_size();
-  const auto box_of = [&](size_t f, DVec3 shift) {
-    DVec3 p[3];
-    for (int k = 0; k < 3; ++k) {
-      const uint32_t v = raw.triangles[3 * f + k];
-      p[k] =
-          DVec3{raw.positions[3 * v], raw.positions[3 * v + 1], raw.positions[3 * v + 2]} + shift;
-    }
-    return FaceGrid::BoxOf(p, 3);
-  };
-  WorkerPool pool(3);
-  size_t moves = 0;
-  for (FaceGrid* grid : {&serial, &pooled}) {
-    grid->BeginRound(*mesh, 4096);
-    moves = 0;
-    for (size_t f = 0; f < raw.num_faces(); f += 1 + f % 2, ++moves) {
-      const FaceGrid::Box before = box_of(f, {});
-      if (f % 5 == 0) {
-        grid->Move(static_cast<uint32_t>(f), before, nullptr);
-      } else {
-        const double step = f % 3 == 0 ? 3.5 * c : 0.3 * c;
-        const FaceGrid::Box after = box_of(f, {step, -0.5 * step, 0.2 * step});
-        grid->Move(static_cast<uint32_t>(f), before, &after);
-      }
-    }
-    grid->EndRound(*mesh, grid == &pooled ? &pool : nullptr);
-  }
-  ASSERT_GE(moves, 500u);
-  // Listings in tiles of 4 x 4 cells over the square and where the faces moved to.
-  std::vector<uint32_t> in_serial, in_pooled;
-  for (FaceGrid* grid : {&serial, &pooled}) {
-    std::vector<uint32_t>& listed = grid == &serial ? in_serial : in_pooled;
-    for (double x = -8 * c; x < 24 + 8 * c; x += 4 * c)
-      for (double y = -8 * c; y < 24 + 8 * c; y += 4 * c) {
-        const FaceGrid::Box tile{{x, y, -2 * c}, {x + 3.9 * c, y + 3.9 * c, 2 * c}};
-        std::vector<uint32_t> held;
-        ASSERT_EQ(grid->Acquire(tile, &held), FaceGrid::Hold::kHeld);
-        grid->ForEachFace(tile, held, [&](uint32_t f) { return listed.push_back(f), true; });
-        grid->Release(&held);
-      }
-  }
-  EXPECT_GT(std::set<uint32_t>(in_serial.begin(), in_serial.end()).size(), raw.num_faces() / 2);
-  EXPECT_EQ(in_serial, in_pooled);
-}
-
 TEST(FaceGrid, IndexedOnAPoolTheSameAsAlone) {
   // 131,072 faces: three chunks of the build, on two contexts.
   const RawMesh raw = testing::FlatGrid(256);
