@@ -7,7 +7,8 @@
 # figures are the engine's own (the judge checks them in tests/fidelity).
 #   bench/mass_budget_cost.sh MESH... 
 # Environment: FEMSIMP (default build/client/femsimp), TOL (0.01), VOLUME (0.001),
-# INERTIA (0.005), THREADS (2).
+# INERTIA (0.005), THREADS (2), OPTIONS (more femsimp options for every run, e.g.
+# "--deviation-check measured --feature-angle 180").
 set -euo pipefail
 femsimp=${FEMSIMP:-build/client/femsimp}
 tol=${TOL:-0.01} volume=${VOLUME:-0.001} inertia=${INERTIA:-0.005}
@@ -15,9 +16,10 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 stats() {  # simplify MESH with the options given; its --stats-json in $work/$2.json
   "$femsimp" simplify "$1" "$work/out.ply" --quiet --threads "${THREADS:-2}" \
-    --tolerance-relative "$tol" --stats-json "$work/$2.json" "${@:3}" >/dev/null
+    --tolerance-relative "$tol" --stats-json "$work/$2.json" ${OPTIONS:-} "${@:3}" >/dev/null
 }
-echo "tolerance $tol of the diagonal; budgets: volume $volume, principal moments $inertia"
+echo "tolerance $tol of the diagonal; budgets: volume $volume, principal moments $inertia;" \
+  "options: ${OPTIONS:-none}"
 printf '| mesh | V in | V out, no budget | volume | moments | V out, budgets | volume | moments | V ratio | placement optimal: V out, no budget | V out, budgets | volume | moments | V ratio |\n'
 printf '|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n'
 for mesh in "$@"; do
