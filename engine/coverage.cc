@@ -223,19 +223,30 @@ double Coverage::WithinFan(const DVec3* c, uint32_t v) const {
   for (int k = 0; k < 3; ++k) {
     const DVec3 d = c[k] - fan.centre;
     const double x = Dot(fan.u, d), y = Dot(fan.w, d), along = Dot(fan.n, d);
-    for (uint32_t i = 0; i < fan.count; ++i) {
+    bool inside = true;
+    for (uint32_t i = 0; i < fan.count && inside; ++i) {
       const uint32_t j = i + 1 == fan.count ? 0 : i + 1;
       const double ex = xy[2 * j] - xy[2 * i], ey = xy[2 * j + 1] - xy[2 * i + 1];
-      const double cross = ex * (y - xy[2 * i + 1]) - ey * (x - xy[2 * i]);
-      // Outside this edge's line by cross / |e|: a corner on the link (where new faces meet
-      // it) may come out a rounding error outside, which the reach then pays for.
-      if (cross < 0) outside = std::max(outside, -cross / std::sqrt(ex * ex + ey * ey));
+      inside = ex * (y - xy[2 * i + 1]) - ey * (x - xy[2 * i]) >= 0;
+    }
+    // A corner on the link (where new faces meet it) may come out a rounding error outside:
+    // its distance to the polygon (to the nearest edge) is then paid for in the reach.
+    if (!inside) {
+      double nearest = std::numeric_limits<double>::infinity();
+      for (uint32_t i = 0; i < fan.count; ++i) {
+        const uint32_t j = i + 1 == fan.count ? 0 : i + 1;
+        const double ex = xy[2 * j] - xy[2 * i], ey = xy[2 * j + 1] - xy[2 * i + 1];
+        const double px = x - xy[2 * i], py = y - xy[2 * i + 1], length2 = ex * ex + ey * ey;
+        const double t = length2 > 0 ? std::clamp((px * ex + py * ey) / length2, 0.0, 1.0) : 0.0;
+        nearest = std::min(nearest, std::hypot(px - t * ex, py - t * ey));
+      }
+      outside = std::max(outside, nearest);
     }
     slab = std::max({slab, fan.lo - along, along - fan.hi});
   }
-  // The part's shadow lies within `outside` of the polygon (convex): the fan's point over the
-  // nearest shadow in it is within the slab distance plus the slab's width along n, and
-  // `outside` across.
+  // The part's shadow lies within `outside` of the polygon (the distance to a convex set is
+  // convex): the fan's point over the nearest shadow in it is within the slab distance plus the
+  // slab's width along n, and `outside` across.
   const double reach = slab + (fan.hi - fan.lo) + outside;
   return reach <= tolerance_ ? reach : -1;
 }
