@@ -87,11 +87,11 @@ void RoundScheduler::ReadFans(const RemovalPhase& phase) {
               std::max(b.hi.z, double(p.z))};
     };
     if (GatherRing(port, v, ring) == RingResult::kOk) {
-      for (int i = 0; i < ring.neighbours(); ++i) {
-        grow(ring.pos[i]);
+      for (int r = 0; r < ring.neighbours(); ++r) {
+        grow(ring.pos[r]);
         // A full-edge collapse onto this neighbour reaches its one-ring (and places the vertex
         // inside their box). A ring that cannot be read is refused by the kernel.
-        if (placement_ && GatherRing(port, ring.nbr[i], outer) == RingResult::kOk)
+        if (placement_ && GatherRing(port, ring.nbr[r], outer) == RingResult::kOk)
           for (int j = 0; j < outer.neighbours(); ++j) grow(outer.pos[j]);
       }
     }
