@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 namespace femsimp {
 namespace {
@@ -204,7 +205,7 @@ void Coverage::MeasureFans(const Mesh& mesh) {
         ok = cross > 0 && (ax - xy[2 * l]) * (by - ay) - (ay - xy[2 * l + 1]) * (bx - ax) > 0;
         turn += std::atan2(cross, ax * bx + ay * by);
       }
-      if (!ok || std::fabs(turn - 2 * M_PI) > 1e-6) continue;
+      if (!ok || std::fabs(turn - 2 * std::numbers::pi) > 1e-6) continue;
       fan.first = static_cast<uint32_t>(fan_points_.size() / 2);
       fan.count = static_cast<uint32_t>(m);
       fan_points_.insert(fan_points_.end(), xy.begin(), xy.end());
