@@ -239,9 +239,10 @@ double Coverage::WithinFan(const DVec3* c, uint32_t v) const {
         const double ex = xy[2 * j] - xy[2 * i], ey = xy[2 * j + 1] - xy[2 * i + 1];
         const double px = x - xy[2 * i], py = y - xy[2 * i + 1], length2 = ex * ex + ey * ey;
         const double t = length2 > 0 ? std::clamp((px * ex + py * ey) / length2, 0.0, 1.0) : 0.0;
-        nearest = std::min(nearest, std::hypot(px - t * ex, py - t * ey));
+        const double gx = px - t * ex, gy = py - t * ey;
+        nearest = std::min(nearest, gx * gx + gy * gy);
       }
-      outside = std::max(outside, nearest);
+      outside = std::max(outside, std::sqrt(nearest));
     }
     slab = std::max({slab, fan.lo - along, along - fan.hi});
   }
@@ -367,14 +368,15 @@ void Coverage::GridWitnesses(const DVec3& lo, const DVec3& hi, CoveragePlan* pla
         plan->found.insert(plan->found.end(), cell_faces_.begin() + cell_start_[c],
                            cell_faces_.begin() + cell_start_[c + 1]);
       }
-  Witnesses(lo, hi, plan);
-}
-
-void Coverage::Witnesses(const DVec3& lo, const DVec3& hi, CoveragePlan* plan) const {
   std::sort(plan->found.begin(), plan->found.end());
   plan->found.erase(std::unique(plan->found.begin(), plan->found.end()), plan->found.end());
+  Witnesses(lo, hi, plan->found, plan);
+}
+
+void Coverage::Witnesses(const DVec3& lo, const DVec3& hi, std::span<const uint32_t> triangles,
+                         CoveragePlan* plan) const {
   plan->witnesses.clear();
-  for (uint32_t f : plan->found) {
+  for (uint32_t f : triangles) {
     const Vec3* t = &input_[3 * size_t{f}];
     CoveragePlan::Witness w;
     w.triangle = f;
@@ -402,36 +404,47 @@ void Coverage::Corners(Piece piece, DVec3 out[3]) const {
   }
 }
 
-void Coverage::Coarsen(std::vector<Piece>* pieces) {
+void Coverage::Coarsen(std::vector<Piece>* pieces, std::vector<uint64_t>* keys) {
   if (std::none_of(pieces->begin(), pieces->end(), [](const Piece& p) { return p.level() > 0; }))
     return;
-  // Siblings sort next to each other: by triangle, then their parent's path (with its level).
-  // A whole triangle shares its key with its children, but the pieces of a triangle never
-  // overlap, so they are never listed together.
-  const auto key = [](const Piece& p) {
-    const uint32_t above = p.level() == 0 ? p.path : p.Parent().path;
-    return uint64_t{p.triangle} << 32 | above;
-  };
-  for (bool merged = true; merged;) {
-    merged = false;
-    std::sort(pieces->begin(), pieces->end(), [&](const Piece& a, const Piece& b) {
-      const uint64_t ka = key(a), kb = key(b);
-      return ka != kb ? ka < kb : a.path < b.path;
-    });
-    size_t out = 0;
-    for (size_t i = 0; i < pieces->size();) {
-      const Piece& p = (*pieces)[i];
-      if (p.level() > 0 && i + 3 < pieces->size() && key((*pieces)[i + 3]) == key(p) &&
-          (*pieces)[i + 3].level() == p.level()) {
-        (*pieces)[out++] = p.Parent();
-        i += 4;
-        merged = true;
-      } else {
-        (*pieces)[out++] = p;
-        ++i;
-      }
+  // Depth-first order: by triangle, then the child numbers from the top (a part before its
+  // children), so that four siblings come out of their subtrees next to each other, in order.
+  constexpr int kTop = 4 + 2 * (kMaxPieceLevel - 1);  // where level 1's child number goes
+  static_assert(kTop + 2 <= 32);
+  keys->clear();
+  for (const Piece& p : *pieces) {
+    uint64_t digits = 0;
+    for (int l = 0; l < p.level(); ++l)
+      digits |= uint64_t{(p.path >> (4 + 2 * l)) & 3u} << (kTop - 2 * l);
+    keys->push_back(uint64_t{p.triangle} << 32 | digits | static_cast<uint64_t>(p.level()));
+  }
+  std::sort(keys->begin(), keys->end());
+  // As a stack: the four children of one piece on top become that piece, up as far as it goes.
+  size_t top = 0;
+  for (const uint64_t key : *keys) {
+    (*keys)[top++] = key;
+    while (top >= 4) {
+      const uint64_t last = (*keys)[top - 1];
+      const int level = static_cast<int>(last & 15u);
+      if (level == 0) break;
+      const int at = kTop - 2 * (level - 1);
+      const uint64_t parent = (last & ~(uint64_t{3} << at)) - 1;  // child number 0, level - 1
+      bool siblings = true;
+      for (uint64_t c = 0; c < 4 && siblings; ++c)
+        siblings = (*keys)[top - 4 + c] == ((parent + 1) | c << at);
+      if (!siblings) break;
+      top -= 4;
+      (*keys)[top++] = parent;
     }
-    pieces->resize(out);
+  }
+  pieces->clear();
+  for (size_t i = 0; i < top; ++i) {
+    const uint64_t key = (*keys)[i];
+    const uint32_t level = static_cast<uint32_t>(key & 15u);
+    uint32_t path = level;
+    for (uint32_t l = 0; l < level; ++l)
+      path |= static_cast<uint32_t>((key >> (kTop - 2 * l)) & 3u) << (4 + 2 * l);
+    pieces->push_back({static_cast<uint32_t>(key >> 32), path});
   }
 }
 
@@ -453,20 +466,60 @@ bool Coverage::Judge(std::span<const DVec3> fresh_corners, CoveragePlan* plan,
       ForEachHeld(f, [&](const Piece& p) { plan->gathered.push_back(p); });
     // Four children of one piece, held by the fan's faces, are judged as that piece: the lists
     // do not grow with every collapse that cut them.
-    Coarsen(&plan->gathered);
+    Coarsen(&plan->gathered, &plan->keys);
     plan->gathered_from = plan->old_faces;
+    // The input vertices at the pieces' corners (a piece whose child numbers are all one
+    // corner's), each once.
+    plan->probes.clear();
+    for (const Piece& piece : plan->gathered) {
+      const int level = piece.level();
+      const uint32_t first = level == 0 ? 0 : (piece.path >> 4) & 3u;
+      bool corner = first != 3;
+      for (int l = 1; l < level && corner; ++l)
+        corner = ((piece.path >> (4 + 2 * l)) & 3u) == first;
+      if (!corner) continue;
+      for (uint32_t k = first; k < (level == 0 ? 3u : first + 1); ++k) {
+        const size_t at = 3 * size_t{piece.triangle} + k;
+        plan->probes.push_back({corner_vertex_[at], at});
+      }
+    }
+    std::sort(plan->probes.begin(), plan->probes.end());
+    plan->probes.erase(std::unique(plan->probes.begin(), plan->probes.end(),
+                                   [](const auto& a, const auto& b) { return a.first == b.first; }),
+                       plan->probes.end());
   }
-  plan->pieces = plan->gathered;
-  // (a) Every piece to one new face within the tolerance of its corners (the one that took the
-  // last piece first: neighbouring pieces mostly go to the same face).
+  // A refused collapse is mostly refused at an input vertex under the fan: those go first, each
+  // a point the new faces must be within the tolerance of, before the pieces are cut for it.
   uint64_t looked = 0;
   int last = 0;
+  for (const auto& [vertex, at] : plan->probes) {
+    if (++looked > kMaxWork) return false;
+    const DVec3 q = ToD(input_[at]);
+    bool near = false;
+    for (int n = 0; n < fresh && !near; ++n) {
+      const int k = (last + n) % fresh;
+      const DVec3* t = &fresh_corners[3 * k];
+      if (SquaredDistanceToTriangle(q, t[0], t[1], t[2]) <= tolerance2_) {
+        near = true;
+        last = k;
+      }
+    }
+    if (!near) return false;
+  }
+  plan->pieces.clear();
+  for (const Piece& piece : plan->gathered) {
+    CoveragePlan::Part part{piece, {}};
+    Corners(piece, part.corners);
+    plan->pieces.push_back(part);
+  }
+  // (a) Every piece to one new face within the tolerance of its corners (the one that took the
+  // last piece first: neighbouring pieces mostly go to the same face).
   while (!plan->pieces.empty()) {
     if (++looked > kMaxWork) return false;
-    const Piece piece = plan->pieces.back();
+    const CoveragePlan::Part part = plan->pieces.back();
     plan->pieces.pop_back();
-    DVec3 corners[3];
-    Corners(piece, corners);
+    const Piece piece = part.piece;
+    const DVec3* corners = part.corners;
     int taker = -1;
     double worst = 0;
     for (int n = 0; n < fresh && taker < 0; ++n) {
@@ -493,21 +546,31 @@ bool Coverage::Judge(std::span<const DVec3> fresh_corners, CoveragePlan* plan,
       if (!near) return false;
     }
     if (piece.level() == kMaxPieceLevel) return false;
-    for (uint32_t c = 0; c < 4; ++c) plan->pieces.push_back(piece.Child(c));
+    DVec3 child[4][3];
+    Split(corners, child);
+    for (uint32_t c = 0; c < 4; ++c) {
+      CoveragePlan::Part next{piece.Child(c), {child[c][0], child[c][1], child[c][2]}};
+      plan->pieces.push_back(next);
+    }
   }
 
   // (b) Against the input triangles under the fan first (the pieces' own: on a fine input
   // with a wide tolerance, those near a face are thousands), then, where they do not do, all
   // that are near it.
+  plan->under.clear();
+  // Pieces of one triangle mostly follow each other: fewer to sort.
+  for (const CoveragePlan::Given& g : plan->given)
+    if (plan->under.empty() || plan->under.back() != g.piece.triangle)
+      plan->under.push_back(g.piece.triangle);
+  std::sort(plan->under.begin(), plan->under.end());
+  plan->under.erase(std::unique(plan->under.begin(), plan->under.end()), plan->under.end());
   for (int k = 0; k < fresh; ++k) {
     const DVec3* c = &fresh_corners[3 * k];
     const DVec3 lo{std::min({c[0].x, c[1].x, c[2].x}), std::min({c[0].y, c[1].y, c[2].y}),
                    std::min({c[0].z, c[1].z, c[2].z})};
     const DVec3 hi{std::max({c[0].x, c[1].x, c[2].x}), std::max({c[0].y, c[1].y, c[2].y}),
                    std::max({c[0].z, c[1].z, c[2].z})};
-    plan->found.clear();
-    for (const CoveragePlan::Given& g : plan->given) plan->found.push_back(g.piece.triangle);
-    Witnesses(lo, hi, plan);
+    Witnesses(lo, hi, plan->under, plan);
     double reach = Within(c, plan, &looked);
     if (reach < 0 && looked <= kMaxWork) {
       GridWitnesses(lo, hi, plan);
@@ -634,6 +697,8 @@ double Coverage::WithinPart(const DVec3* c, int level, CoveragePlan* plan, uint6
       if (fan >= 0) return fan;
     }
   }
+  const double shadow = WithinShadow(c, mine, plan, work);
+  if (shadow >= 0) return shadow;
   if (level == kMaxPartLevel) return -1;
   DVec3 child[4][3];
   Split(c, child);

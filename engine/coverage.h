@@ -20,6 +20,7 @@
 
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "engine/mesh.h"
@@ -65,11 +66,19 @@ struct CoveragePlan {
   // locks are let go between directions), else kNone.
   std::vector<uint32_t> gathered_from;
   std::vector<Piece> gathered;
+  // The input vertices at the gathered pieces' corners: (vertex id, its index in the input's
+  // corners), one per vertex.
+  std::vector<std::pair<uint32_t, size_t>> probes;
   uint32_t gathered_star = kNone;
   void Forget() { gathered_from.clear(); }
 
   // Scratch, kept with the plan so that its capacity stays.
-  std::vector<Piece> pieces;
+  struct Part {
+    Piece piece;
+    DVec3 corners[3];
+  };
+  std::vector<Part> pieces;
+  std::vector<uint64_t> keys;
   struct Witness {
     uint32_t triangle;
     DVec3 lo, hi;  // its box, widened by the tolerance
@@ -80,6 +89,20 @@ struct CoveragePlan {
   std::vector<uint32_t> near[9];
   uint32_t last_witness = 0;
   std::vector<uint32_t> found;
+  std::vector<uint32_t> under;  // the input triangles of the pieces given, each once
+  // The input triangles the shadow certificate has looked at; member: in the part's slab,
+  // facing its way, its shadow meeting the part's box.
+  struct Point2 {
+    double x, y;
+  };
+  struct Shade {
+    uint32_t triangle;
+    bool member;
+    double height;  // the largest distance of its corners from the part's plane
+    Point2 xy[3];   // its corners seen along the part's normal
+  };
+  std::vector<Shade> shade;
+  std::vector<uint32_t> shade_slot;  // per input triangle: its index in shade, or kNone
 };
 
 class Coverage {
@@ -126,17 +149,26 @@ class Coverage {
   // The part with corners c within the tolerance of input vertex v's fan, flat and convex seen
   // along its normal: its reach, or negative.
   double WithinFan(const DVec3* c, uint32_t v) const;
+  // The part with corners c within the tolerance of the input triangles straight below or above
+  // it (engine/coverage_shadow.cc), starting from the witnesses `seeds`: its reach, or negative.
+  // Counts one work unit per 16 triangles looked at.
+  double WithinShadow(const DVec3* c, std::span<const uint32_t> seeds, CoveragePlan* plan,
+                      uint64_t* work) const;
+  // The most input triangles one shadow certificate looks at.
+  static constexpr size_t kMaxShade = 4096;
 
-  // The input triangles listed in plan->found whose boxes, widened by the tolerance, meet the
-  // box [lo, hi], into plan->witnesses (each once, with its widened box).
-  void Witnesses(const DVec3& lo, const DVec3& hi, CoveragePlan* plan) const;
+  // The triangles (ids, each once) whose boxes, widened by the tolerance, meet the box
+  // [lo, hi], into plan->witnesses (with their widened boxes).
+  void Witnesses(const DVec3& lo, const DVec3& hi, std::span<const uint32_t> triangles,
+                 CoveragePlan* plan) const;
   // The same for every input triangle (from the grid).
   void GridWitnesses(const DVec3& lo, const DVec3& hi, CoveragePlan* plan) const;
   void IndexInput();
   void MeasurePairs();
   void MeasureFans(const Mesh& mesh);
-  // Replaces every four children of one piece by that piece, as long as there are such.
-  static void Coarsen(std::vector<Piece>* pieces);
+  // Replaces every four children of one piece by that piece, as long as there are such (keys:
+  // scratch).
+  static void Coarsen(std::vector<Piece>* pieces, std::vector<uint64_t>* keys);
 
   std::vector<Vec3> input_;       // 3 corners per face id (the input's faces)
   std::vector<uint32_t> across_;  // 3 per face: the input face across each edge (kNone: none)

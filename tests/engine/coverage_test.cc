@@ -144,6 +144,26 @@ TEST(Coverage, FlatteningATentIsWithinItsHeightOnly) {
   EXPECT_NEAR(held, input, 1e-9);
 }
 
+// Builds the coverage of `input` and judges the replacement `make` gives for it: whether it is
+// within the tolerance, and the largest reach of its new faces.
+struct Judged {
+  bool within;
+  double reach;
+};
+template <class Make>
+Judged JudgeReplacement(const RawMesh& input, double tolerance, Make make) {
+  absl::StatusOr<Mesh> mesh = Mesh::Build(input);
+  EXPECT_TRUE(mesh.ok()) << mesh.status();
+  if (!mesh.ok()) return {false, 0};
+  Coverage coverage(*mesh, tolerance);
+  Flattening f = make(input);
+  uint64_t work = 0;
+  Judged judged{coverage.Judge(f.corners, &f.plan, &work), 0};
+  for (size_t k = 0; k < f.plan.fresh_ids.size(); ++k)
+    judged.reach = std::max(judged.reach, f.plan.reach[k]);
+  return judged;
+}
+
 // A pentagonal tent lower than the tolerance, flattened: the apex's shadow is inside a new face,
 // where no input triangle or pair across an edge holds a part around it whole, and parts small
 // enough for the centre's test (radius under the tolerance, 0.004) lie below the deepest level.
@@ -151,26 +171,59 @@ TEST(Coverage, FlatteningATentIsWithinItsHeightOnly) {
 // certified within the height, and not below it.
 TEST(Coverage, AFlatFanTakesThePartsAroundItsVertexWhole) {
   for (const float h : {0.0f, 0.002f}) {
-    const RawMesh tent = Tent(h, 5);
-    absl::StatusOr<Mesh> mesh = Mesh::Build(tent);
-    ASSERT_TRUE(mesh.ok()) << mesh.status();
-    Coverage coverage(*mesh, 0.004);
-    Flattening f = Flatten(tent);
-    uint64_t work = 0;
-    ASSERT_TRUE(coverage.Judge(f.corners, &f.plan, &work)) << "height " << h;
-    double reach = 0;
-    for (int k = 0; k < 3; ++k) reach = std::max(reach, f.plan.reach[k]);
-    EXPECT_GE(reach, h - 1e-6);
-    EXPECT_LE(reach, 0.004);
+    const Judged judged = JudgeReplacement(Tent(h, 5), 0.004, Flatten);
+    ASSERT_TRUE(judged.within) << "height " << h;
+    EXPECT_GE(judged.reach, h - 1e-6);
+    EXPECT_LE(judged.reach, 0.004);
   }
   // Higher than the tolerance, the fan is no certificate.
-  const RawMesh tent = Tent(0.005f, 5);
-  absl::StatusOr<Mesh> mesh = Mesh::Build(tent);
-  ASSERT_TRUE(mesh.ok()) << mesh.status();
-  Coverage coverage(*mesh, 0.004);
-  Flattening f = Flatten(tent);
-  uint64_t work = 0;
-  EXPECT_FALSE(coverage.Judge(f.corners, &f.plan, &work));
+  EXPECT_FALSE(JudgeReplacement(Tent(0.005f, 5), 0.004, Flatten).within);
+}
+
+// The unit square as an n x n grid, split along its diagonals, its vertices raised by
+// `height` in a checkerboard (so that no fan or pair of input triangles is flat to within the
+// tolerance used below), without the two triangles of cell (hole, hole) when hole >= 0.
+RawMesh Checkerboard(int n, float height, int hole = -1) {
+  RawMesh m;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i)
+      m.positions.insert(m.positions.end(),
+                         {float(i) / n, float(j) / n, (i + j) % 2 == 0 ? height : -height});
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      if (i == hole && j == hole) continue;
+      const uint32_t a = j * (n + 1) + i, b = a + 1, c = a + n + 2, d = a + n + 1;
+      m.triangles.insert(m.triangles.end(), {a, b, c, a, c, d});
+    }
+  return m;
+}
+
+// The grid replaced by the square's two triangles, at height 0, split along the diagonal the
+// grid's cells are not (so that no part of their subdivision lies over one input triangle).
+Flattening Square(const RawMesh& grid) {
+  Flattening f;
+  for (uint32_t face = 0; face < grid.num_faces(); ++face) f.plan.old_faces.push_back(face);
+  f.plan.fresh_ids = {0, 1};
+  f.corners = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  return f;
+}
+
+// Every input point is within 0.0035 of the square and back; no input triangle, pair or fan
+// holds a part of the square whole unless it is smaller than the deepest level's, but the
+// input seen from above covers the square within the slab: the shadow certificate takes it.
+TEST(Coverage, AHeightFieldInTheSlabTakesTheNewFaceWhole) {
+  const Judged judged = JudgeReplacement(Checkerboard(16, 0.0035f), 0.004, Square);
+  ASSERT_TRUE(judged.within);
+  EXPECT_GE(judged.reach, 0.0035 - 1e-6);
+  EXPECT_LE(judged.reach, 0.004);
+  // Above the tolerance, refused.
+  EXPECT_FALSE(JudgeReplacement(Checkerboard(16, 0.0045f), 0.004, Square).within);
+}
+
+// A hole in the input under the square: its middle is 0.03 from any input point, so the square
+// is not within 0.004 of the input; the hole's edges end the shadow inside the square.
+TEST(Coverage, AHoleUnderTheNewFaceIsRefused) {
+  EXPECT_FALSE(JudgeReplacement(Checkerboard(16, 0.0035f, 5), 0.004, Square).within);
 }
 
 // The tolerance alone decides: no volume bound, no minimum angle, normals free.
