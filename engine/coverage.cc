@@ -1,6 +1,7 @@
 #include "engine/coverage.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -16,25 +17,6 @@ void Split(const DVec3 t[3], DVec3 child[4][3]) {
   const DVec3 c[4][3] = {{t[0], ab, ca}, {ab, t[1], bc}, {ca, bc, t[2]}, {bc, ca, ab}};
   for (int k = 0; k < 4; ++k)
     for (int i = 0; i < 3; ++i) child[k][i] = c[k][i];
-}
-
-double SquaredDistanceToSegment(const DVec3& q, const DVec3& a, const DVec3& b) {
-  const DVec3 ab = b - a;
-  const double len2 = Dot(ab, ab);
-  const double t = len2 > 0 ? std::clamp(Dot(q - a, ab) / len2, 0.0, 1.0) : 0.0;
-  const DVec3 d = q - (a + t * ab);
-  return Dot(d, d);
-}
-
-// The largest squared distance of the three corners to the triangle t, or more than `limit`
-// as soon as one is farther than that.
-double CornersToTriangle(const DVec3 corners[3], const DVec3 t[3], double limit) {
-  double worst = 0;
-  for (int i = 0; i < 3; ++i) {
-    worst = std::max(worst, SquaredDistanceToTriangle(corners[i], t[0], t[1], t[2]));
-    if (worst > limit) break;
-  }
-  return worst;
 }
 
 // The squared distance from q to the tetrahedron (a, b, c, d) where q is known to be farther than
@@ -84,35 +66,6 @@ double SquaredSegmentDistance(const DVec3& p, const DVec3& q, const DVec3& r, co
 }
 
 }  // namespace
-
-double SquaredDistanceToTriangle(const DVec3& q, const DVec3& a, const DVec3& b, const DVec3& c) {
-  // The closest point by Voronoi regions (Ericson, Real-Time Collision Detection, 5.1.5); every
-  // branch returns the distance to a point of the triangle, so rounding never makes it smaller
-  // than the exact distance by more than a few ulps.
-  const DVec3 ab = b - a, ac = c - a, ap = q - a;
-  const double d1 = Dot(ab, ap), d2 = Dot(ac, ap);
-  if (d1 <= 0 && d2 <= 0) return Dot(ap, ap);
-  const DVec3 bp = q - b;
-  const double d3 = Dot(ab, bp), d4 = Dot(ac, bp);
-  if (d3 >= 0 && d4 <= d3) return Dot(bp, bp);
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return SquaredDistanceToSegment(q, a, b);
-  const DVec3 cp = q - c;
-  const double d5 = Dot(ab, cp), d6 = Dot(ac, cp);
-  if (d6 >= 0 && d5 <= d6) return Dot(cp, cp);
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return SquaredDistanceToSegment(q, a, c);
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0) return SquaredDistanceToSegment(q, b, c);
-  const double sum = va + vb + vc;
-  if (!(sum > 0)) {  // degenerate: the nearest of its edges
-    return std::min({SquaredDistanceToSegment(q, a, b), SquaredDistanceToSegment(q, b, c),
-                     SquaredDistanceToSegment(q, c, a)});
-  }
-  const double v = vb / sum, w = vc / sum;
-  const DVec3 d = q - (a + v * ab + w * ac);
-  return Dot(d, d);
-}
 
 Coverage::Coverage(const Mesh& mesh, double tolerance)
     : input_(3 * size_t{mesh.face_capacity()}),
@@ -389,7 +342,8 @@ void Coverage::Witnesses(const DVec3& lo, const DVec3& hi, std::span<const uint3
     if (w.hi.x < lo.x || w.lo.x > hi.x || w.hi.y < lo.y || w.lo.y > hi.y || w.hi.z < lo.z ||
         w.lo.z > hi.z)
       continue;
-    for (int k = 0; k < 3; ++k) w.p[k] = ToD(t[k]);
+    const DVec3 corners[3] = {ToD(t[0]), ToD(t[1]), ToD(t[2])};
+    w.distance = TriangleDistance(corners);
     plan->witnesses.push_back(w);
   }
 }
@@ -490,6 +444,8 @@ bool Coverage::Judge(std::span<const DVec3> fresh_corners, CoveragePlan* plan,
   }
   // A refused collapse is mostly refused at an input vertex under the fan: those go first, each
   // a point the new faces must be within the tolerance of, before the pieces are cut for it.
+  TriangleDistance to_fresh[kMaxStar];
+  for (int k = 0; k < fresh; ++k) to_fresh[k] = TriangleDistance(&fresh_corners[3 * k]);
   uint64_t looked = 0;
   int last = 0;
   for (const auto& [vertex, at] : plan->probes) {
@@ -498,8 +454,7 @@ bool Coverage::Judge(std::span<const DVec3> fresh_corners, CoveragePlan* plan,
     bool near = false;
     for (int n = 0; n < fresh && !near; ++n) {
       const int k = (last + n) % fresh;
-      const DVec3* t = &fresh_corners[3 * k];
-      if (SquaredDistanceToTriangle(q, t[0], t[1], t[2]) <= tolerance2_) {
+      if (to_fresh[k](q) <= tolerance2_) {
         near = true;
         last = k;
       }
@@ -524,7 +479,7 @@ bool Coverage::Judge(std::span<const DVec3> fresh_corners, CoveragePlan* plan,
     double worst = 0;
     for (int n = 0; n < fresh && taker < 0; ++n) {
       const int k = (last + n) % fresh;
-      worst = CornersToTriangle(corners, &fresh_corners[3 * k], tolerance2_);
+      worst = to_fresh[k].Corners(corners, tolerance2_);
       if (worst <= tolerance2_) taker = k;
     }
     if (taker >= 0) {
@@ -539,10 +494,7 @@ bool Coverage::Judge(std::span<const DVec3> fresh_corners, CoveragePlan* plan,
                              (1.0 / 3.0) * (corners[0] + corners[1] + corners[2])};
     for (const DVec3& q : points) {
       bool near = false;
-      for (int k = 0; k < fresh && !near; ++k) {
-        const DVec3* t = &fresh_corners[3 * k];
-        near = SquaredDistanceToTriangle(q, t[0], t[1], t[2]) <= tolerance2_;
-      }
+      for (int k = 0; k < fresh && !near; ++k) near = to_fresh[k](q) <= tolerance2_;
       if (!near) return false;
     }
     if (piece.level() == kMaxPieceLevel) return false;
@@ -661,7 +613,6 @@ double Coverage::WithinPart(const DVec3* c, int level, CoveragePlan* plan, uint6
         lo.z > w.hi.z)
       continue;  // every point of the part is farther than the tolerance from it
     if (n != 0) mine.push_back(i);
-    const DVec3* t = w.p;
     // A point outside the witness's widened box is farther than the tolerance from it: the
     // distances are worth computing only for what lies inside.
     const auto inside = [&w](const DVec3& q) {
@@ -669,14 +620,14 @@ double Coverage::WithinPart(const DVec3* c, int level, CoveragePlan* plan, uint6
              q.z <= w.hi.z;
     };
     if (inside(lo) && inside(hi)) {
-      const double worst = CornersToTriangle(c, t, tolerance2_);
+      const double worst = w.distance.Corners(c, tolerance2_);
       if (worst <= tolerance2_) {
         plan->last_witness = i;
         return std::sqrt(worst);
       }
     }
     if (!inside(centre)) continue;
-    const double d2 = SquaredDistanceToTriangle(centre, t[0], t[1], t[2]);
+    const double d2 = w.distance(centre);
     if (d2 < nearest_centre) {
       nearest_centre = d2;
       nearest = w.triangle;

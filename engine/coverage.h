@@ -25,6 +25,7 @@
 
 #include "engine/mesh.h"
 #include "engine/star.h"
+#include "engine/triangle_distance.h"
 #include "engine/vec.h"
 
 namespace femsimp {
@@ -82,7 +83,7 @@ struct CoveragePlan {
   struct Witness {
     uint32_t triangle;
     DVec3 lo, hi;  // its box, widened by the tolerance
-    DVec3 p[3];
+    TriangleDistance distance;
   };
   std::vector<Witness> witnesses;
   // Per level of a new face's subdivision: the witnesses near the part being judged there.
@@ -203,8 +204,5 @@ class Coverage {
   double tolerance_;
   double tolerance2_;
 };
-
-// The squared distance from q to the triangle (a, b, c); degenerate triangles included.
-double SquaredDistanceToTriangle(const DVec3& q, const DVec3& a, const DVec3& b, const DVec3& c);
 
 }  // namespace femsimp

@@ -47,7 +47,8 @@ TEST(Piece, ChildrenTileTheirParent) {
 }
 
 // The distance the check trusts, against a dense sampling of the triangle: never below the
-// true distance (the sampled minimum is above it by at most the sample spacing).
+// true distance (the sampled minimum is above it by at most the sample spacing); and the same
+// from TriangleDistance.
 TEST(Coverage, DistanceToTriangleMatchesSampling) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> u(-1, 1);
@@ -68,6 +69,15 @@ TEST(Coverage, DistanceToTriangleMatchesSampling) {
     spacing = std::max({Norm(t[1] - t[0]), Norm(t[2] - t[0]), Norm(t[2] - t[1])}) / kSteps;
     EXPECT_LE(exact, sampled + 1e-12) << "trial " << trial;
     EXPECT_GE(exact, sampled - spacing) << "trial " << trial;
+    // The height over the inside, where it applies, is the same distance.
+    EXPECT_NEAR(std::sqrt(TriangleDistance(t)(q)), exact, 1e-12) << "trial " << trial;
+    const DVec3 normal = Cross(t[1] - t[0], t[2] - t[0]);
+    if (Norm(normal) > 1e-3) {  // a point over the inside: its height
+      const DVec3 over =
+          t[0] + 0.2 * (t[1] - t[0]) + 0.3 * (t[2] - t[0]) + (0.5 / Norm(normal)) * normal;
+      EXPECT_NEAR(std::sqrt(TriangleDistance(t)(over)), 0.5, 1e-12) << "trial " << trial;
+      EXPECT_NEAR(SquaredDistanceToTriangle(over, t[0], t[1], t[2]), 0.25, 1e-12);
+    }
   }
 }
 

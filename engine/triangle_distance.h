@@ -1,0 +1,65 @@
+// Point-to-triangle distances, the measured check's measure (engine/coverage.h): exact up to
+// rounding, and never below the true distance by more than a few ulps.
+#pragma once
+
+#include <algorithm>
+#include <array>
+
+#include "engine/vec.h"
+
+namespace femsimp {
+
+// The squared distance from q to the triangle (a, b, c); degenerate triangles included.
+double SquaredDistanceToTriangle(const DVec3& q, const DVec3& a, const DVec3& b, const DVec3& c);
+
+// The squared distance from q to the segment ab.
+double SquaredDistanceToSegment(const DVec3& q, const DVec3& a, const DVec3& b);
+
+// Squared distances from many points to one triangle: a point over the triangle's inside is
+// its height over the plane (the usual case for the pieces a new face takes), the others go
+// to SquaredDistanceToTriangle. Thin triangles always do (their inside test would round).
+class TriangleDistance {
+ public:
+  TriangleDistance() = default;
+  explicit TriangleDistance(const DVec3* t)
+      : t_{t[0], t[1], t[2]}, ab_(t[1] - t[0]), ac_(t[2] - t[0]) {
+    const double bb = Dot(ab_, ab_), bc = Dot(ab_, ac_), cc = Dot(ac_, ac_);
+    const double det = bb * cc - bc * bc;
+    const DVec3 normal = Cross(ab_, ac_);
+    const double length = Norm(normal);
+    if (!(det > 1e-6 * bb * cc) || !(length > 0)) return;
+    s_ = {cc / det, -bc / det};
+    u_ = {-bc / det, bb / det};
+    n_ = (1.0 / length) * normal;
+    over_ = true;
+  }
+  double operator()(const DVec3& q) const {
+    if (over_) {
+      const DVec3 d = q - t_[0];
+      const double p = Dot(d, ab_), r = Dot(d, ac_);
+      const double s = s_[0] * p + s_[1] * r, u = u_[0] * p + u_[1] * r;
+      if (s >= 0 && u >= 0 && s + u <= 1) {
+        const double h = Dot(d, n_);
+        return h * h;
+      }
+    }
+    return SquaredDistanceToTriangle(q, t_[0], t_[1], t_[2]);
+  }
+  // The largest of the three corners', or more than `limit` as soon as one is farther.
+  double Corners(const DVec3 corners[3], double limit) const {
+    double worst = 0;
+    for (int i = 0; i < 3; ++i) {
+      worst = std::max(worst, (*this)(corners[i]));
+      if (worst > limit) break;
+    }
+    return worst;
+  }
+
+ private:
+  DVec3 t_[3]{};
+  DVec3 ab_{0, 0, 0}, ac_{0, 0, 0}, n_{0, 0, 0};
+  std::array<double, 2> s_{}, u_{};  // rows of the inverse Gram matrix of ab, ac
+  bool over_ = false;
+};
+
+}  // namespace femsimp
