@@ -1,7 +1,6 @@
 #include "engine/coverage.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
