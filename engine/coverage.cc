@@ -440,6 +440,12 @@ bool Coverage::Judge(std::span<const DVec3> fresh_corners, CoveragePlan* plan,
     plan->probes.erase(std::unique(plan->probes.begin(), plan->probes.end(),
                                    [](const auto& a, const auto& b) { return a.first == b.first; }),
                        plan->probes.end());
+    plan->gathered_parts.clear();
+    for (const Piece& piece : plan->gathered) {
+      CoveragePlan::Part part{piece, {}};
+      Corners(piece, part.corners);
+      plan->gathered_parts.push_back(part);
+    }
   }
   // A refused collapse is mostly refused at an input vertex under the fan: those go first, each
   // a point the new faces must be within the tolerance of, before the pieces are cut for it.
@@ -460,12 +466,7 @@ bool Coverage::Judge(std::span<const DVec3> fresh_corners, CoveragePlan* plan,
     }
     if (!near) return false;
   }
-  plan->pieces.clear();
-  for (const Piece& piece : plan->gathered) {
-    CoveragePlan::Part part{piece, {}};
-    Corners(piece, part.corners);
-    plan->pieces.push_back(part);
-  }
+  plan->pieces = plan->gathered_parts;
   // (a) Every piece to one new face within the tolerance of its corners (the one that took the
   // last piece first: neighbouring pieces mostly go to the same face).
   while (!plan->pieces.empty()) {

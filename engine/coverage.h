@@ -65,8 +65,14 @@ struct CoveragePlan {
   // Forget() when the candidate ends.
   // gathered_star: the Vd of the full-edge collapse they were gathered for (its one-ring's
   // locks are let go between directions), else kNone.
+  // A piece with its corners.
+  struct Part {
+    Piece piece;
+    DVec3 corners[3];
+  };
   std::vector<uint32_t> gathered_from;
-  std::vector<Piece> gathered;
+  std::vector<Piece> gathered;       // (and Coarsen's list)
+  std::vector<Part> gathered_parts;  // the same, with their corners
   // The input vertices at the gathered pieces' corners: (vertex id, its index in the input's
   // corners), one per vertex.
   std::vector<std::pair<uint32_t, size_t>> probes;
@@ -74,10 +80,6 @@ struct CoveragePlan {
   void Forget() { gathered_from.clear(); }
 
   // Scratch, kept with the plan so that its capacity stays.
-  struct Part {
-    Piece piece;
-    DVec3 corners[3];
-  };
   std::vector<Part> pieces;
   std::vector<uint64_t> keys;
   struct Witness {

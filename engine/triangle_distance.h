@@ -12,9 +12,6 @@ namespace femsimp {
 // The squared distance from q to the triangle (a, b, c); degenerate triangles included.
 double SquaredDistanceToTriangle(const DVec3& q, const DVec3& a, const DVec3& b, const DVec3& c);
 
-// The squared distance from q to the segment ab.
-double SquaredDistanceToSegment(const DVec3& q, const DVec3& a, const DVec3& b);
-
 // Squared distances from many points to one triangle: a point over the triangle's inside is
 // its height over the plane (the usual case for the pieces a new face takes), the others go
 // to SquaredDistanceToTriangle. Thin triangles always do (their inside test would round).
