@@ -3,6 +3,7 @@
 
 #include "engine/port.h"
 #include "engine/removal_backend.h"
+#include "engine/work_shares.h"
 
 namespace femsimp {
 
@@ -22,11 +23,13 @@ namespace {
 
 // Candidates between a prefetch stage and its use (NativePort::PrefetchVertex, PrefetchFan).
 constexpr size_t kPrefetchAhead = 4;
+// Blocks are taken in chunks of at most this many candidates (engine/work_shares.h).
+constexpr size_t kBlockChunk = 64;
 
 class NativeBackend final : public RemovalBackend {
  public:
   NativeBackend(Mesh& mesh, const KernelConfig& kernel, WorkerPool& pool)
-      : mesh_(mesh), kernel_(kernel), pool_(pool) {}
+      : mesh_(mesh), kernel_(kernel), pool_(pool), blocks_(pool.size()) {}
 
   int contexts() const override { return pool_.size(); }
 
@@ -34,19 +37,22 @@ class NativeBackend final : public RemovalBackend {
     const int n = pool_.size();
     std::vector<KernelStats> per_context(n);
     std::vector<double> busy(n, 0.0);
+    if (phase.blocks) blocks_.Reset(phase.count);
     pool_.Run([&](int c) {
       const auto start = std::chrono::steady_clock::now();
       NativePort port(mesh_);
       RemovalKernel<NativePort> kernel(port, *kernel_.rules, kernel_.quadric, *phase.budget,
                                        per_context[c], kernel_.placement, kernel_.requeue_changed);
-      const size_t step = phase.blocks ? 1 : n;
-      size_t next = phase.blocks ? phase.count * c / n : c;
-      const size_t end = phase.blocks ? phase.count * (c + 1) / n : phase.count;
+      // Blocks: a winner's outcome does not depend on which context runs it, so a context done
+      // with its block helps with the others' (a round waits for its slowest context).
+      size_t next = c, end = phase.count, step = n;
+      if (phase.blocks) next = end = 0, step = 1;
       RunCandidates(kernel, phase, [&]() -> std::optional<uint32_t> {
-        if (next >= end) return std::nullopt;
-        if (next + 2 * kPrefetchAhead * step < end)
+        if (next >= end && !(phase.blocks && blocks_.Next(c, kBlockChunk, &next, &end)))
+          return std::nullopt;
+        if (next + 2 * kPrefetchAhead * step < phase.count)
           port.PrefetchVertex(phase.candidates[next + 2 * kPrefetchAhead * step]);
-        if (next + kPrefetchAhead * step < end)
+        if (next + kPrefetchAhead * step < phase.count)
           port.PrefetchFan(phase.candidates[next + kPrefetchAhead * step]);
         const uint32_t v = phase.candidates[next];
         next += step;
@@ -65,6 +71,7 @@ class NativeBackend final : public RemovalBackend {
   Mesh& mesh_;
   const KernelConfig kernel_;
   WorkerPool& pool_;
+  WorkShares blocks_;
 };
 
 }  // namespace

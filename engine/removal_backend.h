@@ -1,10 +1,10 @@
 // A back end runs the removal phase of a pass: the sorted candidates, split uniformly over its
 // contexts (candidate i goes to context i mod N, so every context works in cost order; the cell
 // back end gives each SPE a region of the mesh instead, still in cost order; or in contiguous
-// blocks, RemovalPhase::blocks), each
-// context running the one candidate loop (RunCandidates) through the back end's memory port.
-// The back end supplies memory access (the port), locking (the port's status words) and
-// scheduling (threads, or SPEs and their software threads); the loop and the kernel are shared.
+// blocks, RemovalPhase::blocks), each context running the one candidate loop (RunCandidates)
+// through the back end's memory port. The back end supplies memory access (the port), locking (the
+// port's status words) and scheduling (threads, or SPEs and their software threads); the loop and
+// the kernel are shared.
 #pragma once
 
 #include <atomic>
@@ -46,7 +46,8 @@ struct RemovalPhase {
   size_t claimed = 0;         // candidates whose claims the round checked (cell model)
   bool fresh_caches = false;  // nothing cached may predate the last phase's writes
   // Each context takes a contiguous block of the candidates instead of every N-th one: the
-  // rounds hand over their winners by vertex number, so a block is close in memory.
+  // rounds hand over their winners by vertex number, so a block is close in memory. (Natively,
+  // a context done with its block takes chunks from the back of the others': engine/work_shares.h.)
   bool blocks = false;
   // The pass's removable vertices in the order sorted (`sorted` of them): the cell back end
   // sorts them again on its SPEs, to model that sort's cost from the work it does.

@@ -19,7 +19,8 @@ constexpr size_t kLargestWindowShare = 32;  // and short rounds answer a cancel 
 constexpr size_t kMinWindow = 256;
 // Fans read ahead of the one being read (NativePort::PrefetchVertex, PrefetchFan).
 constexpr size_t kPrefetchAhead = 4;
-// ReadFans takes the window in chunks of this many candidates (a cancel is polled per chunk).
+// ReadFans takes the window in chunks of at most this many candidates (a cancel is polled per
+// chunk).
 constexpr size_t kFanChunk = 256;
 
 // Boxes are widened by this much relative to their coordinates, so that two winners' new
@@ -35,20 +36,6 @@ bool Overlap(const FaceGrid::Box& a, const FaceGrid::Box& b) {
 uint64_t CellKey(int64_t x, int64_t y, int64_t z) {
   return static_cast<uint64_t>(x) * 0x9E3779B97F4A7C15ULL ^
          static_cast<uint64_t>(y) * 0xC2B2AE3D27D4EB4FULL ^ static_cast<uint64_t>(z);
-}
-
-// The next chunk [begin, end) of what is left of a share (front << 32 | back): from its front
-// for its own context, from its back for another. False when nothing is left.
-bool TakeChunk(std::atomic<uint64_t>& share, bool own, size_t* begin, size_t* end) {
-  uint64_t old = share.load(std::memory_order_relaxed);
-  for (;;) {
-    const size_t front = old >> 32, back = old & 0xffffffffu;
-    if (front >= back) return false;
-    *begin = own ? front : back - std::min(back - front, kFanChunk);
-    *end = own ? std::min(back, front + kFanChunk) : back;
-    const uint64_t left = own ? uint64_t{*end} << 32 | back : uint64_t{front} << 32 | *begin;
-    if (share.compare_exchange_weak(old, left, std::memory_order_relaxed)) return true;
-  }
 }
 
 }  // namespace
@@ -105,25 +92,18 @@ void RoundScheduler::ReadFans(const RemovalPhase& phase) {
   // its share of the removal run too, so their fans are still in its cache), in chunks from the
   // front; a context done with its share takes chunks from the back of the others'. Context 0
   // first applies the last round's face index updates, so the others take some of its share.
-  const int n = pool_.size();
-  for (int c = 0; c < n; ++c)
-    shares_[c].store(uint64_t{m * c / n} << 32 | (m * (c + 1) / n), std::memory_order_relaxed);
+  shares_.Reset(m);
   pool_.Run([&](int c) {
     if (c == 0) FinishIndexUpdates(phase);
     NativePort port(mesh_);
     Ring ring, outer;
-    for (int from = c;;) {
-      size_t begin, end;
-      if (!TakeChunk(shares_[from], from == c, &begin, &end)) {
-        if (++from == n) from = 0;
-        if (from == c) return;  // every share is done
-        continue;
-      }
+    size_t begin, end;
+    while (shares_.Next(c, kFanChunk, &begin, &end)) {
       if (phase.Stopped() || phase.PollCancelled()) return;
       for (size_t i = begin; i < end; ++i) {
-        if (i + 2 * kPrefetchAhead < end)
+        if (i + 2 * kPrefetchAhead < m)
           port.PrefetchVertex(static_cast<uint32_t>(by_vertex_[i + 2 * kPrefetchAhead] >> 32));
-        if (i + kPrefetchAhead < end)
+        if (i + kPrefetchAhead < m)
           port.PrefetchFan(static_cast<uint32_t>(by_vertex_[i + kPrefetchAhead] >> 32));
         read(port, ring, outer, i);
       }

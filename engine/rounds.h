@@ -34,6 +34,7 @@
 #include "engine/mesh.h"
 #include "engine/removal_backend.h"
 #include "engine/rule.h"
+#include "engine/work_shares.h"
 #include "engine/worker_pool.h"
 
 namespace femsimp {
@@ -68,8 +69,8 @@ class RoundScheduler {
   std::vector<uint8_t> live_, won_;
   std::vector<uint64_t> by_vertex_;
   bool index_updates_pending_ = false;
-  // ReadFans: per context, the front and back of what is left of its share (front << 32 | back).
-  std::vector<std::atomic<uint64_t>> shares_;
+  // ReadFans: each context's share of the window (in vertex order), and what is left of it.
+  WorkShares shares_;
   // PickWinners: box extents, the winners so far, and a hashed grid of their boxes.
   std::vector<double> extent_;
   std::vector<uint32_t> order_, big_;

@@ -37,8 +37,8 @@ uint32_t UnpackVertex(uint64_t key, bool scatter) {
   return scatter ? low * InverseMod32(kScatter) : low;
 }
 
-constexpr size_t kPollVertices = 1 << 14;
-constexpr size_t kPrefetchAhead = 4;  // fans read ahead of the one being costed
+constexpr size_t kChunkVertices = 1 << 12;  // at most, between polls of a cancel
+constexpr size_t kPrefetchAhead = 4;        // fans read ahead of the one being costed
 constexpr uint32_t kAwaitingRetry = kNotRemovable | kRetryBit;
 
 double Since(std::chrono::steady_clock::time_point t) {
@@ -49,7 +49,12 @@ double Since(std::chrono::steady_clock::time_point t) {
 
 CandidateSelection::CandidateSelection(Mesh& mesh, WorkerPool& pool, const VertexCost& cost,
                                        bool scatter, bool retry_all)
-    : mesh_(mesh), pool_(pool), cost_(cost), scatter_(scatter), retry_all_(retry_all) {}
+    : mesh_(mesh),
+      pool_(pool),
+      cost_(cost),
+      scatter_(scatter),
+      retry_all_(retry_all),
+      shares_(pool.size()) {}
 
 std::vector<uint32_t> CandidateSelection::Watched() {
   seen_.resize(mesh_.vertex_capacity(), 0);
@@ -86,30 +91,35 @@ std::vector<uint32_t> CandidateSelection::Select(bool reconsider,
   std::vector<std::vector<uint64_t>> slices(n);
   std::vector<std::vector<uint32_t>> awaiting(n);  // refused, due a retry at a later pass
   std::vector<double> busy(n, 0.0);
+  shares_.Reset(count);
   pool_.Run([&](int c) {
     const auto start = std::chrono::steady_clock::now();
     NativePort port(mesh_);
     Ring ring;
     std::vector<uint64_t>& keys = slices[c];
-    const size_t begin = count * c / n, end = count * (c + 1) / n;
-    for (size_t i = begin; i < end; ++i) {
-      if ((i - begin) % kPollVertices == 0 && cancelled()) return;
-      if (i + kPrefetchAhead < end) {
-        const uint32_t ahead = vertex(i + kPrefetchAhead);
-        if (will_read(status[ahead].load(std::memory_order_relaxed))) port.PrefetchFan(ahead);
+    // Costing time varies along the vertices (only removable ones are costed): contexts share
+    // out the work; the keys are merged into one order whoever made them.
+    size_t begin, end;
+    while (shares_.Next(c, kChunkVertices, &begin, &end)) {
+      if (cancelled()) return;
+      for (size_t i = begin; i < end; ++i) {
+        if (i + kPrefetchAhead < count) {
+          const uint32_t ahead = vertex(i + kPrefetchAhead);
+          if (will_read(status[ahead].load(std::memory_order_relaxed))) port.PrefetchFan(ahead);
+        }
+        const uint32_t v = vertex(i);
+        uint32_t s = status[v].load(std::memory_order_relaxed);
+        if (reconsider && (s & kStateMask) == kNotRemovable && (retry_all_ || (s & kRetryBit))) {
+          status[v].store(kRemovable, std::memory_order_relaxed);
+          s = kRemovable;
+        }
+        if (s == kAwaitingRetry) awaiting[c].push_back(v);
+        if (s != kRemovable) continue;
+        const float c_v = GatherRing(port, v, ring) == RingResult::kOk
+                              ? cost_.Cost(ring)
+                              : std::numeric_limits<float>::max();
+        keys.push_back(PackKey(c_v, v, scatter_));
       }
-      const uint32_t v = vertex(i);
-      uint32_t s = status[v].load(std::memory_order_relaxed);
-      if (reconsider && (s & kStateMask) == kNotRemovable && (retry_all_ || (s & kRetryBit))) {
-        status[v].store(kRemovable, std::memory_order_relaxed);
-        s = kRemovable;
-      }
-      if (s == kAwaitingRetry) awaiting[c].push_back(v);
-      if (s != kRemovable) continue;
-      const float c_v = GatherRing(port, v, ring) == RingResult::kOk
-                            ? cost_.Cost(ring)
-                            : std::numeric_limits<float>::max();
-      keys.push_back(PackKey(c_v, v, scatter_));
     }
     std::sort(keys.begin(), keys.end());
     busy[c] = Since(start);

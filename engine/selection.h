@@ -18,6 +18,7 @@
 
 #include "engine/cost.h"
 #include "engine/mesh.h"
+#include "engine/work_shares.h"
 #include "engine/worker_pool.h"
 
 namespace femsimp {
@@ -59,6 +60,7 @@ class CandidateSelection {
   std::vector<uint32_t> watched_;   // the last selection and the refused ones awaiting a retry
   std::vector<uint32_t> requeued_;  // since the last selection, duplicates allowed
   std::vector<uint8_t> seen_;       // per vertex, while Watched merges (all 0 between calls)
+  WorkShares shares_;               // the vertices to cost, over the pool's contexts
 };
 
 }  // namespace femsimp

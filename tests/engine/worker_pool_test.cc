@@ -1,5 +1,6 @@
 // The thread pool hands an exception thrown in any context (std::bad_alloc, in practice) back to
-// its caller once every context is done, and stays usable.
+// its caller once every context is done, and stays usable; the work shares over its contexts hand
+// out every item once.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -8,6 +9,7 @@
 #include <thread>
 #include <vector>
 
+#include "engine/work_shares.h"
 #include "engine/worker_pool.h"
 
 namespace femsimp {
@@ -53,6 +55,44 @@ TEST(WorkerPool, StopsWhetherItsContextsSpinOrSleep) {
     pool.Run([&](int) { ran.fetch_add(1); });
     std::this_thread::sleep_for(std::chrono::milliseconds(wait_ms));
     EXPECT_EQ(ran.load(), 4);
+  }
+}
+
+// Every item goes to exactly one context, whatever the timing; a context alone takes its own share
+// front to back, then the others' from their backs, and chunks shrink as a share runs out.
+TEST(WorkShares, EveryItemOnceAndOwnShareFirst) {
+  WorkShares alone(3);
+  alone.Reset(30);
+  std::vector<std::pair<size_t, size_t>> chunks;
+  size_t begin, end;
+  while (alone.Next(1, 4, &begin, &end)) chunks.emplace_back(begin, end);
+  ASSERT_FALSE(chunks.empty());
+  EXPECT_EQ(chunks.front(), std::make_pair(size_t{10}, size_t{12}));  // a quarter of 10, from 10
+  std::vector<int> taken(30, 0);
+  for (auto [b, e] : chunks) {
+    EXPECT_LT(b, e);
+    EXPECT_LE(e - b, 4u);
+    for (size_t i = b; i < e; ++i) ++taken[i];
+  }
+  for (size_t i = 0; i < 30; ++i) EXPECT_EQ(taken[i], 1) << i;
+  // Its own share [10, 20) first, front to back, then context 2's and 0's from their backs.
+  size_t k = 0;
+  for (size_t next = 10; next < 20; next = chunks[k++].second) ASSERT_EQ(chunks[k].first, next);
+  EXPECT_EQ(chunks[k].second, 30u);
+  EXPECT_EQ(chunks.back().first, 0u);
+
+  WorkerPool pool(4);
+  WorkShares shares(pool.size());
+  for (size_t count : {0, 1, 3, 1000, 100003}) {
+    std::vector<std::atomic<int>> hits(count);
+    shares.Reset(count);
+    pool.Run([&](int c) {
+      size_t b, e;
+      while (shares.Next(c, 64, &b, &e))
+        for (size_t i = b; i < e; ++i) hits[i].fetch_add(1, std::memory_order_relaxed);
+    });
+    for (size_t i = 0; i < count; ++i)
+      ASSERT_EQ(hits[i].load(), 1) << count << " items, item " << i;
   }
 }
 
