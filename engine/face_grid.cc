@@ -38,6 +38,29 @@ double LoadCoordinate(const float& c) {
   return std::atomic_ref<float>(const_cast<float&>(c)).load(std::memory_order_relaxed);
 }
 
+// Holds a cell's lock (when given one) for one change of its list, spinning meanwhile: changes
+// are short, and only contexts sharing a round's moves meet.
+class SpinHold {
+ public:
+  explicit SpinHold(std::atomic<uint32_t>* lock) : lock_(lock) {
+    if (lock_ == nullptr) return;
+    for (uint32_t free = 0; !lock_->compare_exchange_weak(free, 1, std::memory_order_acquire);
+         free = 0) {
+#if defined(__x86_64__) || defined(__i386__)
+      __builtin_ia32_pause();
+#endif
+    }
+  }
+  ~SpinHold() {
+    if (lock_ != nullptr) lock_->store(0, std::memory_order_release);
+  }
+  SpinHold(const SpinHold&) = delete;
+  SpinHold& operator=(const SpinHold&) = delete;
+
+ private:
+  std::atomic<uint32_t>* lock_;
+};
+
 }  // namespace
 
 FaceGrid::Box FaceGrid::BoxOf(const DVec3* p, int n) {
@@ -261,20 +284,35 @@ void FaceGrid::BeginRound(const Mesh& mesh, uint64_t new_cells) {
 }
 
 void FaceGrid::EndRound(const Mesh& mesh) {
+  ApplyMoves(0, MovesOfRound());
+  FinishRound(mesh);
+}
+
+size_t FaceGrid::MovesOfRound() {
   deferred_ = false;
-  // A face moves at most once a round, so face order is one order whatever the threads did.
-  pending_.clear();
-  for (PendingShard& shard : shards_) {
-    pending_.insert(pending_.end(), shard.moves.begin(), shard.moves.end());
-    shard.moves.clear();
-  }
-  std::sort(pending_.begin(), pending_.end(),
-            [](const PendingMove& a, const PendingMove& b) { return a.face < b.face; });
+  unlisted_.store(false, std::memory_order_relaxed);
+  shard_start_[0] = 0;
+  for (size_t k = 0; k < kPendingShards; ++k)
+    shard_start_[k + 1] = shard_start_[k] + shards_[k].moves.size();
+  return shard_start_[kPendingShards];
+}
+
+void FaceGrid::ApplyMoves(size_t begin, size_t end) {
+  size_t k =
+      std::upper_bound(shard_start_.begin(), shard_start_.end(), begin) - shard_start_.begin() - 1;
   bool listed = true;
-  for (const PendingMove& m : pending_)
-    listed = Move(m.face, m.before, m.removed ? nullptr : &m.after) && listed;
-  pending_.clear();
-  if (!listed) Fill(LiveFaces(mesh), 2 * (mask_ + 1), {});
+  for (size_t i = begin; i < end; ++i) {
+    while (i >= shard_start_[k + 1]) ++k;
+    const PendingMove& m = shards_[k].moves[i - shard_start_[k]];
+    ForEachCellOp(m.face, m.before, m.removed ? nullptr : &m.after,
+                  [&](const CellOp& op) { listed = Apply(op, /*lock=*/true) && listed; });
+  }
+  if (!listed) unlisted_.store(true, std::memory_order_relaxed);
+}
+
+void FaceGrid::FinishRound(const Mesh& mesh) {
+  for (PendingShard& shard : shards_) shard.moves.clear();
+  if (unlisted_.load(std::memory_order_relaxed)) Fill(LiveFaces(mesh), 2 * (mask_ + 1), {});
 }
 
 Triangle FaceGrid::FaceTriangle(uint32_t f) const {
@@ -444,11 +482,12 @@ void FaceGrid::ForEachCellOp(uint32_t f, const Box& before, const Box* after, Em
           emit(CellOp{Key(x, y, z), ListingIn(f, span, x, y, z), CellOp::kAdd});
 }
 
-bool FaceGrid::Apply(const CellOp& op) {
+bool FaceGrid::Apply(const CellOp& op, bool lock) {
   if (op.kind != CellOp::kAdd) {
     const int64_t slot = Find(op.key);
     if (slot >= 0) {
       Cell& cell = cells_[slot];
+      const SpinHold hold(lock ? &cell.locked : nullptr);
       const uint32_t f = op.listing.face;
       Listing* it = std::find_if(cell.data, cell.data + cell.size,
                                  [f](const Listing& l) { return l.face == f; });
@@ -465,6 +504,7 @@ bool FaceGrid::Apply(const CellOp& op) {
   // After the build the cells exist: they are held.
   const int64_t slot = Slot(op.key);
   if (slot < 0) return false;
+  const SpinHold hold(lock ? &cells_[slot].locked : nullptr);
   Append(cells_[slot], op.listing);
   return true;
 }

@@ -64,12 +64,19 @@ class FaceGrid {
   // they run: Acquire finds (or creates) the cells without locking them, Release forgets them,
   // and Move is recorded. A round never finds the table full (that would make refusals depend
   // on timing): BeginRound first grows it if the round's boxes, `new_cells` cells at most
-  // (CellsOf summed over them), might fill it. EndRound applies the moves in face order (a face
-  // moves at most once a round), and indexes the mesh anew if a moved face found no room: the
-  // index is the same for any number of contexts. The rounds run it on one context while the
-  // others read the next round's fans (engine/rounds.h).
+  // (CellsOf summed over them), might fill it. EndRound applies the moves (a face moves at most
+  // once a round, so they commute) and indexes the mesh anew if a moved face found no room: the
+  // set of cells, hence whether there is room, does not depend on the order, nor the index on
+  // the number of contexts (a cell's list order may, and no reader depends on it).
   void BeginRound(const Mesh& mesh, uint64_t new_cells);
   void EndRound(const Mesh& mesh);
+  // EndRound in steps, so that several contexts can share the moves (the rounds do so beside
+  // the next round's fan reads): MovesOfRound (one thread) ends the round and counts its moves;
+  // ApplyMoves (any contexts at once, on disjoint ranges of [0, count)) applies them, each cell
+  // under its lock; FinishRound (one thread, once all are applied) indexes anew if needed.
+  size_t MovesOfRound();
+  void ApplyMoves(size_t begin, size_t end);
+  void FinishRound(const Mesh& mesh);
   // The cells Acquire(box) would claim at most.
   uint64_t CellsOf(const Box& box) const {
     return static_cast<uint64_t>(std::min<int64_t>(RangeOf(box).count(), kMaxCellsPerBox));
@@ -191,8 +198,9 @@ class FaceGrid {
   // Calls emit(op) for every cell a move of face f changes.
   template <class Emit>
   void ForEachCellOp(uint32_t f, const Box& before, const Box* after, Emit&& emit) const;
-  // False when an added listing found no room in the table.
-  bool Apply(const CellOp& op);
+  // False when an added listing found no room in the table. `lock`: the cell is locked for the
+  // change (otherwise the caller holds it).
+  bool Apply(const CellOp& op, bool lock = false);
   void Rebuild(const Mesh& mesh, const std::function<bool()>& cancelled);
   static void Append(Cell& cell, const Listing& listing);
   // A box in listing units from the origin (its corners' coordinates in cells, as RangeOf has
@@ -260,14 +268,16 @@ class FaceGrid {
   };
   bool deferred_ = false;
   // A round's commits record their moves in the shard of their thread (one lock each, on its
-  // own cache line, so that contexts do not queue on one); EndRound gathers and sorts them.
+  // own cache line, so that contexts do not queue on one); ApplyMoves reads them in place, move
+  // i in the shard whose range of shard_start_ holds it.
   static constexpr size_t kPendingShards = 16;
   struct alignas(64) PendingShard {
     std::mutex mu;
     std::vector<PendingMove> moves;  // guarded by mu
   };
   std::array<PendingShard, kPendingShards> shards_;
-  std::vector<PendingMove> pending_;         // the round's moves, gathered by EndRound
+  std::array<size_t, kPendingShards + 1> shard_start_{};
+  std::atomic<bool> unlisted_{false};        // a move of the round found no room
   std::atomic<double> tracked_length_{0.0};  // see Track
   std::atomic<int64_t> tracked_faces_{0};
 };

@@ -22,6 +22,8 @@ constexpr size_t kPrefetchAhead = 4;
 // ReadFans takes the window in chunks of at most this many candidates (a cancel is polled per
 // chunk).
 constexpr size_t kFanChunk = 256;
+// The face index's moves are shared out in chunks of at most this many.
+constexpr size_t kMoveChunk = 256;
 
 // Boxes are widened by this much relative to their coordinates, so that two winners' new
 // triangles are never closer than the intersection test's own near-touching margin.
@@ -47,7 +49,8 @@ RoundScheduler::RoundScheduler(Mesh& mesh, WorkerPool& pool, FaceGrid* grid, con
       grid_(grid),
       rules_(rules),
       placement_(placement),
-      shares_(pool.size()) {}
+      fan_shares_(pool.size()),
+      move_shares_(pool.size()) {}
 
 void RoundScheduler::ReadFans(const RemovalPhase& phase) {
   const size_t m = window_.size();
@@ -90,16 +93,16 @@ void RoundScheduler::ReadFans(const RemovalPhase& phase) {
   };
   // Context c reads the c-th share of the window (in vertex order: the winners among them are
   // its share of the removal run too, so their fans are still in its cache), in chunks from the
-  // front; a context done with its share takes chunks from the back of the others'. Context 0
-  // first applies the last round's face index updates, so the others take some of its share.
-  shares_.Reset(m);
+  // front. The last round's face index moves are shared too: context 0 starts on them, the
+  // others join once their fans are read (the fan reads never look at the index), and then
+  // every context takes what is left of the others' fans.
+  const size_t moves = index_updates_pending_ && !phase.Stopped() ? grid_->MovesOfRound() : 0;
+  move_shares_.Reset(moves);
+  fan_shares_.Reset(m);
   pool_.Run([&](int c) {
-    if (c == 0) FinishIndexUpdates(phase);
     NativePort port(mesh_);
     Ring ring, outer;
-    size_t begin, end;
-    while (shares_.Next(c, kFanChunk, &begin, &end)) {
-      if (phase.Stopped() || phase.PollCancelled()) return;
+    const auto read_fans = [&](size_t begin, size_t end) {
       for (size_t i = begin; i < end; ++i) {
         if (i + 2 * kPrefetchAhead < m)
           port.PrefetchVertex(static_cast<uint32_t>(by_vertex_[i + 2 * kPrefetchAhead] >> 32));
@@ -107,16 +110,33 @@ void RoundScheduler::ReadFans(const RemovalPhase& phase) {
           port.PrefetchFan(static_cast<uint32_t>(by_vertex_[i + kPrefetchAhead] >> 32));
         read(port, ring, outer, i);
       }
+    };
+    size_t begin, end;
+    if (c != 0)
+      while (fan_shares_.TakeOwn(c, kFanChunk, &begin, &end)) {
+        if (phase.Stopped() || phase.PollCancelled()) return;
+        read_fans(begin, end);
+      }
+    while (move_shares_.Next(c, kMoveChunk, &begin, &end)) {
+      if (phase.Stopped() || phase.PollCancelled()) return;
+      grid_->ApplyMoves(begin, end);
+    }
+    while (fan_shares_.Next(c, kFanChunk, &begin, &end)) {
+      if (phase.Stopped() || phase.PollCancelled()) return;
+      read_fans(begin, end);
     }
   });
+  FinishIndexUpdates(phase, /*applied=*/true);
 }
 
-void RoundScheduler::FinishIndexUpdates(const RemovalPhase& phase) {
+void RoundScheduler::FinishIndexUpdates(const RemovalPhase& phase, bool applied) {
   if (!index_updates_pending_) return;
   index_updates_pending_ = false;
   // A cancelled run stops in the middle of a round, and the face index is not used again.
   if (phase.Stopped())
     grid_->AbandonRound();
+  else if (applied)
+    grid_->FinishRound(mesh_);
   else
     grid_->EndRound(mesh_);
 }
@@ -249,12 +269,12 @@ absl::Status RoundScheduler::RunPass(RemovalBackend& backend, const RemovalPhase
     index_updates_pending_ = grid_ != nullptr;
     rules_.EndRound();
     if (!s.ok()) {
-      FinishIndexUpdates(phase);
+      FinishIndexUpdates(phase, /*applied=*/false);
       return s;
     }
     ++stats.rounds;
   }
-  FinishIndexUpdates(phase);
+  FinishIndexUpdates(phase, /*applied=*/false);
   return absl::OkStatus();
 }
 

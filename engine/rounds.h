@@ -51,10 +51,11 @@ class RoundScheduler {
 
  private:
   // Boxes of the window's candidates (in parallel); `live[k]` false: no longer removable. The
-  // last round's face index updates, when pending, are applied meanwhile by context 0.
+  // last round's face index moves, when pending, are applied meanwhile.
   void ReadFans(const RemovalPhase& phase);
-  // Applies the last round's face index updates, if pending (serially: in face order).
-  void FinishIndexUpdates(const RemovalPhase& phase);
+  // Ends the last round's face index updates, if pending; `applied`: ReadFans applied its moves
+  // (otherwise they are applied now, serially).
+  void FinishIndexUpdates(const RemovalPhase& phase, bool applied);
   // Marks the winners in window order; returns how many.
   size_t PickWinners(const RemovalPhase& phase, int64_t room);
 
@@ -69,8 +70,9 @@ class RoundScheduler {
   std::vector<uint8_t> live_, won_;
   std::vector<uint64_t> by_vertex_;
   bool index_updates_pending_ = false;
-  // ReadFans: each context's share of the window (in vertex order), and what is left of it.
-  WorkShares shares_;
+  // ReadFans: each context's share of the window (in vertex order) and of the last round's face
+  // index moves, and what is left of them.
+  WorkShares fan_shares_, move_shares_;
   // PickWinners: box extents, the winners so far, and a hashed grid of their boxes.
   std::vector<double> extent_;
   std::vector<uint32_t> order_, big_;
