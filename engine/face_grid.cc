@@ -284,7 +284,7 @@ void FaceGrid::BeginRound(const Mesh& mesh, uint64_t new_cells) {
 }
 
 void FaceGrid::EndRound(const Mesh& mesh) {
-  ApplyMoves(0, MovesOfRound());
+  ApplyMoves(0, MovesOfRound(), /*shared=*/false);
   FinishRound(mesh);
 }
 
@@ -297,7 +297,7 @@ size_t FaceGrid::MovesOfRound() {
   return shard_start_[kPendingShards];
 }
 
-void FaceGrid::ApplyMoves(size_t begin, size_t end) {
+void FaceGrid::ApplyMoves(size_t begin, size_t end, bool shared) {
   size_t k =
       std::upper_bound(shard_start_.begin(), shard_start_.end(), begin) - shard_start_.begin() - 1;
   bool listed = true;
@@ -305,7 +305,7 @@ void FaceGrid::ApplyMoves(size_t begin, size_t end) {
     while (i >= shard_start_[k + 1]) ++k;
     const PendingMove& m = shards_[k].moves[i - shard_start_[k]];
     ForEachCellOp(m.face, m.before, m.removed ? nullptr : &m.after,
-                  [&](const CellOp& op) { listed = Apply(op, /*lock=*/true) && listed; });
+                  [&](const CellOp& op) { listed = Apply(op, shared) && listed; });
   }
   if (!listed) unlisted_.store(true, std::memory_order_relaxed);
 }

@@ -73,9 +73,10 @@ class FaceGrid {
   // EndRound in steps, so that several contexts can share the moves (the rounds do so beside
   // the next round's fan reads): MovesOfRound (one thread) ends the round and counts its moves;
   // ApplyMoves (any contexts at once, on disjoint ranges of [0, count)) applies them, each cell
-  // under its lock; FinishRound (one thread, once all are applied) indexes anew if needed.
+  // under its lock when `shared`; FinishRound (one thread, once all are applied) indexes anew
+  // if needed.
   size_t MovesOfRound();
-  void ApplyMoves(size_t begin, size_t end);
+  void ApplyMoves(size_t begin, size_t end, bool shared);
   void FinishRound(const Mesh& mesh);
   // The cells Acquire(box) would claim at most.
   uint64_t CellsOf(const Box& box) const {

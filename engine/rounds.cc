@@ -99,6 +99,7 @@ void RoundScheduler::ReadFans(const RemovalPhase& phase) {
   const size_t moves = index_updates_pending_ && !phase.Stopped() ? grid_->MovesOfRound() : 0;
   move_shares_.Reset(moves);
   fan_shares_.Reset(m);
+  const int n = pool_.size();
   pool_.Run([&](int c) {
     NativePort port(mesh_);
     Ring ring, outer;
@@ -119,7 +120,7 @@ void RoundScheduler::ReadFans(const RemovalPhase& phase) {
       }
     while (move_shares_.Next(c, kMoveChunk, &begin, &end)) {
       if (phase.Stopped() || phase.PollCancelled()) return;
-      grid_->ApplyMoves(begin, end);
+      grid_->ApplyMoves(begin, end, /*shared=*/n > 1);
     }
     while (fan_shares_.Next(c, kFanChunk, &begin, &end)) {
       if (phase.Stopped() || phase.PollCancelled()) return;
