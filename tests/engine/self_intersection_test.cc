@@ -10,6 +10,7 @@
 #include "engine/mesh.h"
 #include "engine/simplify.h"
 #include "engine/triangle_intersection.h"
+#include "engine/work_shares.h"
 #include "engine/worker_pool.h"
 #include "tests/support/meshes.h"
 
@@ -128,6 +129,57 @@ TEST(FaceGrid, IndexedOnAPoolTheSameAsAlone) {
       listings += listed[0].size();
     }
   EXPECT_GE(listings, raw.num_faces());
+}
+
+// A round's moves commute (a face moves at most once a round): shared by a pool's contexts, each
+// cell under its lock, they leave every cell listing the same faces as one context applying them.
+TEST(FaceGrid, RoundMovesSharedOnAPoolListTheSameAsAlone) {
+  const RawMesh raw = testing::FlatGrid(96);
+  absl::StatusOr<Mesh> mesh = Mesh::Build(raw);
+  ASSERT_TRUE(mesh.ok());
+  WorkerPool pool(3);
+  FaceGrid alone(*mesh), shared(*mesh);
+  const double c = alone.cell_size();
+  for (FaceGrid* grid : {&alone, &shared}) {
+    grid->BeginRound(*mesh, 0);
+    // Every third face slides over a cell and a half, every third is removed.
+    for (uint32_t f = 0; f < mesh->face_capacity(); ++f) {
+      const Triangle t = grid->FaceTriangle(f);
+      const FaceGrid::Box before = FaceGrid::BoxOf(t.p, 3);
+      const FaceGrid::Box after{before.lo + DVec3{1.5 * c, 0.25 * c, 0},
+                                before.hi + DVec3{1.5 * c, 0.25 * c, 0}};
+      if (f % 3 == 0) grid->Move(f, before, &after);
+      if (f % 3 == 1) grid->Move(f, before, nullptr);
+    }
+  }
+  alone.EndRound(*mesh);
+  const size_t moves = shared.MovesOfRound();
+  EXPECT_EQ(moves, 2 * mesh->face_capacity() / 3);
+  WorkShares shares(pool.size());
+  shares.Reset(moves);
+  pool.Run([&](int k) {
+    size_t begin, end;
+    while (shares.Next(k, 16, &begin, &end)) shared.ApplyMoves(begin, end, /*shared=*/true);
+  });
+  shared.FinishRound(*mesh);
+  size_t listings = 0;
+  for (double x = -2 * c; x < 100; x += 4 * c)
+    for (double y = -2 * c; y < 100; y += 4 * c) {
+      const FaceGrid::Box tile{{x, y, -c}, {x + 3.9 * c, y + 3.9 * c, c}};
+      std::vector<uint32_t> listed[2];
+      for (int g = 0; g < 2; ++g) {
+        FaceGrid& grid = g == 0 ? alone : shared;
+        std::vector<uint32_t> held;
+        ASSERT_EQ(grid.Acquire(tile, &held), FaceGrid::Hold::kHeld);
+        grid.ForEachFace(tile, held, [&](uint32_t f) { return listed[g].push_back(f), true; });
+        grid.Release(&held);
+        std::sort(listed[g].begin(), listed[g].end());  // a cell's order is the contexts'
+      }
+      EXPECT_EQ(listed[0], listed[1]) << "tile at " << x << ", " << y;
+      for (uint32_t f : listed[0]) EXPECT_NE(f % 3, 1u) << "removed face " << f << " listed";
+      listings += listed[0].size();
+    }
+  EXPECT_GE(listings, mesh->face_capacity() / 3 * 2);
 }
 
 // Pairs of faces of a soup that intersect, by brute force.
