@@ -242,15 +242,13 @@ absl::Status RoundScheduler::RunPass(RemovalBackend& backend, const RemovalPhase
       window_size = std::max(kMinWindow, window_size / 2);
     else if (5 * won > 4 * live)
       window_size = std::min(largest, 2 * window_size);
+    for (size_t k = 0; k < window_.size(); ++k)
+      if (live_[k] && !won_[k]) losers.push_back(window_[k]);
+    // Their outcomes do not depend on the order they run in: by vertex number (as ReadFans read
+    // them), for locality.
     winners.clear();
-    for (size_t k = 0; k < window_.size(); ++k) {
-      if (won_[k])
-        winners.push_back(phase.candidates[window_[k]]);
-      else if (live_[k])
-        losers.push_back(window_[k]);
-    }
-    // Their outcomes do not depend on the order they run in: by vertex number, for locality.
-    std::sort(winners.begin(), winners.end());
+    for (uint64_t entry : by_vertex_)
+      if (won_[static_cast<uint32_t>(entry)]) winners.push_back(static_cast<uint32_t>(entry >> 32));
     stats.busy_seconds +=
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     RemovalPhase round = phase;
