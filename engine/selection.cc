@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <chrono>
 #include <cstring>
+#include <utility>
 
 #include "engine/port.h"
 #include "engine/quadword.h"
@@ -57,18 +59,20 @@ CandidateSelection::CandidateSelection(Mesh& mesh, WorkerPool& pool, const Verte
       shares_(pool.size()) {}
 
 std::vector<uint32_t> CandidateSelection::Watched() {
-  seen_.resize(mesh_.vertex_capacity(), 0);
+  // A bit per vertex: set for every listed one, then read off word by word, which yields them
+  // once each and in vertex order (as a scan reads them: neighbours in memory are read together)
+  // without sorting the lists.
+  seen_.resize((mesh_.vertex_capacity() + 63) / 64, 0);
+  size_t listed = 0;
+  for (const std::vector<uint32_t>* from : {&watched_, &requeued_}) {
+    for (uint32_t v : *from) seen_[v / 64] |= uint64_t{1} << (v % 64);
+    listed += from->size();
+  }
   std::vector<uint32_t> list;
-  list.reserve(watched_.size() + requeued_.size());
-  for (const std::vector<uint32_t>* from : {&watched_, &requeued_})
-    for (uint32_t v : *from)
-      if (!seen_[v]) {
-        seen_[v] = 1;
-        list.push_back(v);
-      }
-  for (uint32_t v : list) seen_[v] = 0;
-  // In vertex order, as a scan reads them: neighbours in memory are read together.
-  std::sort(list.begin(), list.end());
+  list.reserve(listed);
+  for (size_t w = 0; w < seen_.size(); ++w)
+    for (uint64_t bits = std::exchange(seen_[w], 0); bits != 0; bits &= bits - 1)
+      list.push_back(static_cast<uint32_t>(64 * w + std::countr_zero(bits)));
   return list;
 }
 

@@ -59,7 +59,7 @@ class CandidateSelection {
   bool scan_all_ = true;            // until the first selection, and always with retry_all
   std::vector<uint32_t> watched_;   // the last selection and the refused ones awaiting a retry
   std::vector<uint32_t> requeued_;  // since the last selection, duplicates allowed
-  std::vector<uint8_t> seen_;       // per vertex, while Watched merges (all 0 between calls)
+  std::vector<uint64_t> seen_;      // a bit per vertex, while Watched merges (0 between calls)
   WorkShares shares_;               // the vertices to cost, over the pool's contexts
 };
 
