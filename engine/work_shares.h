@@ -18,7 +18,8 @@ class WorkShares {
   explicit WorkShares(int contexts)
       : contexts_(contexts), shares_(std::make_unique<Share[]>(contexts)) {}
 
-  // Splits items [0, count) evenly, context c owning the c-th share. Not concurrent with Next.
+  // Splits items [0, count) evenly, context c owning the c-th share (count < 2^32: item ids
+  // are vertex, face or move numbers). Not concurrent with Next.
   void Reset(size_t count) {
     for (int c = 0; c < contexts_; ++c)
       shares_[c].left.store(uint64_t{count * c / contexts_} << 32 | (count * (c + 1) / contexts_),
