@@ -100,6 +100,16 @@ TEST(FaceGrid, RoundGrowsTheTableForItsNewCells) {
   grid.Release(&all);
 }
 
+// The faces listed in the cells of `tile`, sorted (a cell's order is the contexts').
+std::vector<uint32_t> ListedIn(FaceGrid& grid, const FaceGrid::Box& tile) {
+  std::vector<uint32_t> held, listed;
+  EXPECT_EQ(grid.Acquire(tile, &held), FaceGrid::Hold::kHeld);
+  grid.ForEachFace(tile, held, [&](uint32_t f) { return listed.push_back(f), true; });
+  grid.Release(&held);
+  std::sort(listed.begin(), listed.end());
+  return listed;
+}
+
 TEST(FaceGrid, IndexedOnAPoolTheSameAsAlone) {
   // 131,072 faces: three chunks of the build, on two contexts.
   const RawMesh raw = testing::FlatGrid(256);
@@ -116,17 +126,9 @@ TEST(FaceGrid, IndexedOnAPoolTheSameAsAlone) {
   for (double x = -c; x < extent + c; x += 4 * c)
     for (double y = -c; y < extent + c; y += 4 * c) {
       const FaceGrid::Box tile{{x, y, -c}, {x + 3.9 * c, y + 3.9 * c, c}};
-      std::vector<uint32_t> listed[2];
-      for (int g = 0; g < 2; ++g) {
-        FaceGrid& grid = g == 0 ? alone : pooled;
-        std::vector<uint32_t> held;
-        ASSERT_EQ(grid.Acquire(tile, &held), FaceGrid::Hold::kHeld);
-        grid.ForEachFace(tile, held, [&](uint32_t f) { return listed[g].push_back(f), true; });
-        grid.Release(&held);
-        std::sort(listed[g].begin(), listed[g].end());  // a cell's order is the contexts'
-      }
-      EXPECT_EQ(listed[0], listed[1]) << "tile at " << x << ", " << y;
-      listings += listed[0].size();
+      const std::vector<uint32_t> listed = ListedIn(alone, tile);
+      EXPECT_EQ(listed, ListedIn(pooled, tile)) << "tile at " << x << ", " << y;
+      listings += listed.size();
     }
   EXPECT_GE(listings, raw.num_faces());
 }
@@ -166,18 +168,10 @@ TEST(FaceGrid, RoundMovesSharedOnAPoolListTheSameAsAlone) {
   for (double x = -2 * c; x < 100; x += 4 * c)
     for (double y = -2 * c; y < 100; y += 4 * c) {
       const FaceGrid::Box tile{{x, y, -c}, {x + 3.9 * c, y + 3.9 * c, c}};
-      std::vector<uint32_t> listed[2];
-      for (int g = 0; g < 2; ++g) {
-        FaceGrid& grid = g == 0 ? alone : shared;
-        std::vector<uint32_t> held;
-        ASSERT_EQ(grid.Acquire(tile, &held), FaceGrid::Hold::kHeld);
-        grid.ForEachFace(tile, held, [&](uint32_t f) { return listed[g].push_back(f), true; });
-        grid.Release(&held);
-        std::sort(listed[g].begin(), listed[g].end());  // a cell's order is the contexts'
-      }
-      EXPECT_EQ(listed[0], listed[1]) << "tile at " << x << ", " << y;
-      for (uint32_t f : listed[0]) EXPECT_NE(f % 3, 1u) << "removed face " << f << " listed";
-      listings += listed[0].size();
+      const std::vector<uint32_t> listed = ListedIn(alone, tile);
+      EXPECT_EQ(listed, ListedIn(shared, tile)) << "tile at " << x << ", " << y;
+      for (uint32_t f : listed) EXPECT_NE(f % 3, 1u) << "removed face " << f << " listed";
+      listings += listed.size();
     }
   EXPECT_GE(listings, mesh->face_capacity() / 3 * 2);
 }
