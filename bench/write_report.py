@@ -1,4 +1,5 @@
-"""Writes docs/BENCHMARKS.md from femsimp_bench's JSON and Markdown (run by run_bench.sh)."""
+"""Writes the engine benchmark's report from femsimp_bench's JSON and Markdown (run by
+run_bench.sh; its first report opens docs/BENCHMARKS.md)."""
 import json
 import os
 import pathlib
