@@ -60,16 +60,16 @@ struct CoveragePlan {
   // tolerance: the face's measured deviation.
   double reach[kMaxStar];
 
-  // The pieces old_faces held, coarsened: every direction of one candidate (and each position
-  // of one full-edge collapse) replaces the same faces, which change only under its locks.
-  // Forget() when the candidate ends.
-  // gathered_star: the Vd of the full-edge collapse they were gathered for (its one-ring's
-  // locks are let go between directions), else kNone.
   // A piece with its corners.
   struct Part {
     Piece piece;
     DVec3 corners[3];
   };
+  // The pieces old_faces held, coarsened: every direction of one candidate (and each position
+  // of one full-edge collapse) replaces the same faces, which change only under its locks.
+  // Forget() when the candidate ends.
+  // gathered_star: the Vd of the full-edge collapse they were gathered for (its one-ring's
+  // locks are let go between directions), else kNone.
   std::vector<uint32_t> gathered_from;
   std::vector<Piece> gathered;       // (and Coarsen's list)
   std::vector<Part> gathered_parts;  // the same, with their corners
