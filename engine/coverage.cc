@@ -1,9 +1,12 @@
 #include "engine/coverage.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
+
+#include "absl/strings/str_cat.h"
 
 namespace femsimp {
 namespace {
@@ -64,10 +67,75 @@ double SquaredSegmentDistance(const DVec3& p, const DVec3& q, const DVec3& r, co
   return Dot(gap, gap);
 }
 
+double Area(const DVec3 c[3]) { return 0.5 * Norm(Cross(c[1] - c[0], c[2] - c[0])); }
+
+// Two triangles with two corners the same, as a pair whose hull lies within `delta` of them,
+// delta below the tolerance; false when they are not.
+bool MakePair(const DVec3* t, const DVec3* u, double tolerance, CoveragePlan::FreshPair* pair) {
+  const auto same = [](const DVec3& p, const DVec3& q) {
+    return p.x == q.x && p.y == q.y && p.z == q.z;
+  };
+  int shared = 0, at_t[3], at_u[3];
+  for (int i = 0; i < 3; ++i)
+    for (int m = 0; m < 3; ++m)
+      if (same(t[i], u[m]) && shared < 3) {
+        at_t[shared] = i;
+        at_u[shared] = m;
+        ++shared;
+      }
+  if (shared != 2) return false;
+  pair->a = t[at_t[0]];
+  pair->b = t[at_t[1]];
+  pair->c1 = t[3 - at_t[0] - at_t[1]];
+  pair->c2 = u[3 - at_u[0] - at_u[1]];
+  // As Coverage::WithinPair's delta: the hull lies within it of the two triangles.
+  pair->delta = std::sqrt(SquaredSegmentDistance(pair->a, pair->b, pair->c1, pair->c2));
+  if (!(pair->delta < tolerance)) return false;
+  pair->limit = (tolerance - pair->delta) * (tolerance - pair->delta);
+  const double widen = tolerance - pair->delta;
+  const DVec3 c[4] = {pair->a, pair->b, pair->c1, pair->c2};
+  pair->lo = {c[0].x, c[0].y, c[0].z};
+  pair->hi = pair->lo;
+  for (const DVec3& p : c) {
+    pair->lo = {std::min(pair->lo.x, p.x), std::min(pair->lo.y, p.y), std::min(pair->lo.z, p.z)};
+    pair->hi = {std::max(pair->hi.x, p.x), std::max(pair->hi.y, p.y), std::max(pair->hi.z, p.z)};
+  }
+  pair->lo = pair->lo - DVec3{widen, widen, widen};
+  pair->hi = pair->hi + DVec3{widen, widen, widen};
+  return true;
+}
+
+// Whether the three corners lie in the box [lo, hi]: outside it, a corner is farther than the
+// box's widening from what it was widened around.
+bool CornersIn(const DVec3* c, const DVec3& lo, const DVec3& hi) {
+  for (int q = 0; q < 3; ++q)
+    if (c[q].x < lo.x || c[q].x > hi.x || c[q].y < lo.y || c[q].y > hi.y || c[q].z < lo.z ||
+        c[q].z > hi.z)
+      return false;
+  return true;
+}
+
+// The largest squared distance of the corners c to the pair's hull, or more than its limit as
+// soon as one is farther. The hull is the tetrahedron's, and the two triangles are two of its
+// faces: either within the limit is enough.
+double PairWorst(const CoveragePlan::FreshPair& pair, const TriangleDistance& to_k,
+                 const TriangleDistance& to_j, const DVec3* c) {
+  double worst = 0;
+  for (int q = 0; q < 3 && worst <= pair.limit; ++q) {
+    double d = to_k(c[q]);
+    if (d > pair.limit) d = std::min(d, to_j(c[q]));
+    if (d > pair.limit)
+      d = std::min(d, SquaredDistanceToTetrahedronPast(c[q], pair.a, pair.b, pair.c1, pair.c2));
+    worst = std::max(worst, d);
+  }
+  return worst;
+}
+
 }  // namespace
 
-Coverage::Coverage(const Mesh& mesh, double tolerance)
-    : input_(3 * size_t{mesh.face_capacity()}),
+Coverage::Coverage(Mesh& mesh, double tolerance)
+    : mesh_(&mesh),
+      input_(3 * size_t{mesh.face_capacity()}),
       across_(3 * size_t{mesh.face_capacity()}, kNone),
       corner_vertex_(3 * size_t{mesh.face_capacity()}, kNone),
       held_(mesh.face_capacity()),
@@ -401,10 +469,120 @@ void Coverage::Coarsen(std::vector<Piece>* pieces, std::vector<uint64_t>* keys) 
   }
 }
 
-std::vector<Piece> Coverage::Held(uint32_t f) const {
-  std::vector<Piece> out;
-  ForEachHeld(f, [&](const Piece& p) { out.push_back(p); });
+std::vector<HeldPiece> Coverage::Held(uint32_t f) const {
+  std::vector<HeldPiece> out;
+  ForEachHeld(f, [&](const HeldPiece& p) { out.push_back(p); });
   return out;
+}
+
+void Coverage::FindFreshPairs(int fresh, CoveragePlan* plan) const {
+  plan->fresh_pairs.clear();
+  plan->fresh_pairs_found = true;
+  const int holders = static_cast<int>(plan->holder_corners.size() / 3);
+  const DVec3* corners = plan->holder_corners.data();
+  for (int k = 0; k < fresh; ++k)
+    for (int j = k + 1; j < holders; ++j) {
+      CoveragePlan::FreshPair pair;
+      if (!MakePair(&corners[3 * k], &corners[3 * j], tolerance_, &pair)) continue;
+      pair.k = k;
+      pair.j = j;
+      plan->fresh_pairs.push_back(pair);
+    }
+}
+
+int Coverage::TakeByPair(const DVec3* c, const TriangleDistance* to, CoveragePlan* plan,
+                         int* last_pair, double* reach) const {
+  const int pairs = static_cast<int>(plan->fresh_pairs.size());
+  for (int n = 0; n < pairs; ++n) {
+    const int i = (*last_pair + n) % pairs;
+    const CoveragePlan::FreshPair& pair = plan->fresh_pairs[i];
+    if (!CornersIn(c, pair.lo, pair.hi)) continue;
+    const double worst = PairWorst(pair, to[pair.k], to[pair.j], c);
+    if (worst <= pair.limit) {
+      *last_pair = i;
+      *reach = std::sqrt(worst) + pair.delta;
+      return i;
+    }
+  }
+  return -1;
+}
+
+absl::Status Coverage::Audit(const Mesh& mesh) const {
+  const HalfEdgeQ* h = mesh.halfedges();
+  const VertexQ* v = mesh.vertices();
+  const auto face_corners = [&](uint32_t f, DVec3 out[3]) {
+    for (int k = 0; k < 3; ++k) {
+      const VertexQ& q = v[h[3 * f + k].target];
+      out[k] = {q.x, q.y, q.z};
+    }
+  };
+  const auto name = [](const HeldPiece& p) {
+    return absl::StrCat("input triangle ", p.piece.triangle, " (level ", p.piece.level(), ", path ",
+                        p.piece.path, ")");
+  };
+  std::vector<double> area(whole_.size(), 0.0);
+  // (lower face, higher face, triangle, path) of every pair's listing, once per list.
+  std::vector<std::array<uint32_t, 4>> pairs;
+  for (uint32_t f = 0; f < held_.size(); ++f) {
+    if (!whole_[f] && held_[f].empty()) continue;
+    DVec3 t[3];
+    face_corners(f, t);
+    const TriangleDistance to_f(t);
+    absl::Status status;
+    ForEachHeld(f, [&](const HeldPiece& p) {
+      if (!status.ok()) return;
+      if (mesh.IsFaceRemoved(f) || (p.partner != kNone && mesh.IsFaceRemoved(p.partner))) {
+        status =
+            absl::InternalError(absl::StrCat("measured check: removed face ", f, " or its pair ",
+                                             p.partner, " still holds ", name(p)));
+        return;
+      }
+      DVec3 c[3];
+      Corners(p.piece, c);
+      double worst = to_f.Corners(c, tolerance2_), limit = tolerance2_;
+      if (p.partner != kNone) {
+        pairs.push_back(
+            {std::min(f, p.partner), std::max(f, p.partner), p.piece.triangle, p.piece.path});
+        if (f > p.partner) return;  // judged, and its area counted, from the lower face
+        DVec3 u[3];
+        face_corners(p.partner, u);
+        CoveragePlan::FreshPair pair;
+        if (!MakePair(t, u, tolerance_, &pair)) {
+          status =
+              absl::InternalError(absl::StrCat("measured check: faces ", f, " and ", p.partner,
+                                               " hold ", name(p), " together but are no pair"));
+          return;
+        }
+        worst = PairWorst(pair, to_f, TriangleDistance(u), c);
+        limit = pair.limit;
+      }
+      if (worst > limit) {
+        status = absl::InternalError(absl::StrCat("measured check: face ", f, " holds ", name(p),
+                                                  " farther than the tolerance"));
+        return;
+      }
+      area[p.piece.triangle] += Area(c);
+    });
+    if (!status.ok()) return status;
+  }
+  std::sort(pairs.begin(), pairs.end());
+  for (size_t i = 0; i < pairs.size(); i += 2)
+    if (i + 1 == pairs.size() || pairs[i] != pairs[i + 1] ||
+        (i + 2 < pairs.size() && pairs[i + 2] == pairs[i]))
+      return absl::InternalError(absl::StrCat("measured check: faces ", pairs[i][0], " and ",
+                                              pairs[i][1],
+                                              " do not both list their piece of "
+                                              "input triangle ",
+                                              pairs[i][2]));
+  for (uint32_t t = 0; t < area.size(); ++t) {
+    DVec3 c[3];
+    Corners(Piece{t, 0}, c);
+    const double input = Area(c);
+    if (std::abs(area[t] - input) > 1e-6 * input + 1e-300)
+      return absl::InternalError(absl::StrCat("measured check: input triangle ", t, " has ",
+                                              area[t], " of its area ", input, " held"));
+  }
+  return absl::OkStatus();
 }
 
 bool Coverage::Judge(std::span<const DVec3> fresh_corners, CoveragePlan* plan,
@@ -412,15 +590,32 @@ bool Coverage::Judge(std::span<const DVec3> fresh_corners, CoveragePlan* plan,
   const int fresh = static_cast<int>(fresh_corners.size() / 3);
   plan->given.clear();
   plan->witnesses.clear();
+  plan->fresh_pairs_found = false;
   std::fill(plan->reach, plan->reach + fresh, 0.0);
   if (plan->gathered_from.empty() || plan->gathered_from != plan->old_faces) {
     plan->gathered.clear();
+    plan->released.clear();
+    const auto rewritten = [&](uint32_t f) {
+      return std::find(plan->old_faces.begin(), plan->old_faces.end(), f) != plan->old_faces.end();
+    };
     for (uint32_t f : plan->old_faces)
-      ForEachHeld(f, [&](const Piece& p) { plan->gathered.push_back(p); });
+      ForEachHeld(f, [&](const HeldPiece& p) {
+        if (p.partner != kNone) {
+          if (!rewritten(p.partner))
+            plan->released.push_back({p.partner, p.piece});
+          else if (p.partner < f)
+            return;  // gathered from the partner's list
+        }
+        plan->gathered.push_back(p.piece);
+      });
     // Four children of one piece, held by the fan's faces, are judged as that piece: the lists
     // do not grow with every collapse that cut them.
     Coarsen(&plan->gathered, &plan->keys);
     plan->gathered_from = plan->old_faces;
+    plan->kept.clear();
+    for (const auto& [face, piece] : plan->released) plan->kept.push_back(face);
+    std::sort(plan->kept.begin(), plan->kept.end());
+    plan->kept.erase(std::unique(plan->kept.begin(), plan->kept.end()), plan->kept.end());
     // The input vertices at the pieces' corners (a piece whose child numbers are all one
     // corner's), each once.
     plan->probes.clear();
@@ -447,19 +642,45 @@ bool Coverage::Judge(std::span<const DVec3> fresh_corners, CoveragePlan* plan,
       plan->gathered_parts.push_back(part);
     }
   }
+  // The holders: the new faces, then the faces kept whose pairs with rewritten ones this
+  // collapse breaks (a kept face and the new face on the same edge may hold a piece again).
+  const int holders = fresh + static_cast<int>(plan->kept.size());
+  plan->holder_corners.assign(fresh_corners.begin(), fresh_corners.end());
+  for (uint32_t f : plan->kept)
+    for (int k = 0; k < 3; ++k) {
+      const VertexQ& q = mesh_->vertices()[mesh_->halfedges()[3 * f + k].target];
+      plan->holder_corners.push_back({q.x, q.y, q.z});
+    }
+  plan->kept_reach.assign(plan->kept.size(), 0.0);
+  plan->to_holder.resize(holders);
+  plan->holder_box.resize(2 * holders);
+  for (int k = 0; k < holders; ++k) {
+    const DVec3* c = &plan->holder_corners[3 * k];
+    plan->to_holder[k] = TriangleDistance(c);
+    plan->holder_box[2 * k] = {std::min({c[0].x, c[1].x, c[2].x}) - tolerance_,
+                               std::min({c[0].y, c[1].y, c[2].y}) - tolerance_,
+                               std::min({c[0].z, c[1].z, c[2].z}) - tolerance_};
+    plan->holder_box[2 * k + 1] = {std::max({c[0].x, c[1].x, c[2].x}) + tolerance_,
+                                   std::max({c[0].y, c[1].y, c[2].y}) + tolerance_,
+                                   std::max({c[0].z, c[1].z, c[2].z}) + tolerance_};
+  }
+  const DVec3* box = plan->holder_box.data();
+  const TriangleDistance* to = plan->to_holder.data();
+  const auto spend = [&](int k, double reach) {
+    double& r = k < fresh ? plan->reach[k] : plan->kept_reach[k - fresh];
+    r = std::max(r, reach);
+  };
   // A refused collapse is mostly refused at an input vertex under the fan: those go first, each
   // a point the new faces must be within the tolerance of, before the pieces are cut for it.
-  TriangleDistance to_fresh[kMaxStar];
-  for (int k = 0; k < fresh; ++k) to_fresh[k] = TriangleDistance(&fresh_corners[3 * k]);
   uint64_t looked = 0;
-  int last = 0;
+  int last = 0, last_pair = 0;
   for (const auto& [vertex, at] : plan->probes) {
     if (++looked > kMaxWork) return false;
     const DVec3 q = ToD(input_[at]);
     bool near = false;
-    for (int n = 0; n < fresh && !near; ++n) {
-      const int k = (last + n) % fresh;
-      if (to_fresh[k](q) <= tolerance2_) {
+    for (int n = 0; n < holders && !near; ++n) {
+      const int k = (last + n) % holders;
+      if (to[k](q) <= tolerance2_) {
         near = true;
         last = k;
       }
@@ -467,7 +688,7 @@ bool Coverage::Judge(std::span<const DVec3> fresh_corners, CoveragePlan* plan,
     if (!near) return false;
   }
   plan->pieces = plan->gathered_parts;
-  // (a) Every piece to one new face within the tolerance of its corners (the one that took the
+  // (a) Every piece to one holder within the tolerance of its corners (the one that took the
   // last piece first: neighbouring pieces mostly go to the same face).
   while (!plan->pieces.empty()) {
     if (++looked > kMaxWork) return false;
@@ -477,24 +698,37 @@ bool Coverage::Judge(std::span<const DVec3> fresh_corners, CoveragePlan* plan,
     const DVec3* corners = part.corners;
     int taker = -1;
     double worst = 0;
-    for (int n = 0; n < fresh && taker < 0; ++n) {
-      const int k = (last + n) % fresh;
-      worst = to_fresh[k].Corners(corners, tolerance2_);
+    for (int n = 0; n < holders && taker < 0; ++n) {
+      const int k = (last + n) % holders;
+      if (!CornersIn(corners, box[2 * k], box[2 * k + 1])) continue;
+      worst = to[k].Corners(corners, tolerance2_);
       if (worst <= tolerance2_) taker = k;
     }
     if (taker >= 0) {
-      plan->given.push_back({static_cast<uint32_t>(taker), piece});
-      plan->reach[taker] = std::max(plan->reach[taker], std::sqrt(worst));
+      plan->given.push_back({static_cast<uint32_t>(taker), kNone, piece});
+      spend(taker, std::sqrt(worst));
       last = taker;
       continue;
     }
-    // A corner or the centre beyond the tolerance of every new face: no part of the piece
-    // around it will find one either.
+    // Two holders across an edge, together: a piece straddling an edge over a flat or gently
+    // bent patch needs no cutting down to the tolerance's size along it.
+    if (!plan->fresh_pairs_found) FindFreshPairs(fresh, plan);
+    double pair_reach = 0;
+    const int pair = TakeByPair(corners, to, plan, &last_pair, &pair_reach);
+    if (pair >= 0) {
+      const CoveragePlan::FreshPair& p = plan->fresh_pairs[pair];
+      plan->given.push_back({static_cast<uint32_t>(p.k), static_cast<uint32_t>(p.j), piece});
+      spend(p.k, pair_reach);
+      spend(p.j, pair_reach);
+      continue;
+    }
+    // A corner or the centre beyond the tolerance of every holder: no part of the piece around
+    // it will find one either.
     const DVec3 points[4] = {corners[0], corners[1], corners[2],
                              (1.0 / 3.0) * (corners[0] + corners[1] + corners[2])};
     for (const DVec3& q : points) {
       bool near = false;
-      for (int k = 0; k < fresh && !near; ++k) near = to_fresh[k](q) <= tolerance2_;
+      for (int k = 0; k < holders && !near; ++k) near = to[k](q) <= tolerance2_;
       if (!near) return false;
     }
     if (piece.level() == kMaxPieceLevel) return false;
@@ -667,7 +901,37 @@ void Coverage::Apply(const CoveragePlan& plan) {
     held_[f].clear();
     whole_[f] = 0;
   }
-  for (const CoveragePlan::Given& g : plan.given) held_[plan.fresh_ids[g.fresh]].push_back(g.piece);
+  const auto same = [](const Piece& p, const Piece& q) {
+    return p.triangle == q.triangle && p.path == q.path;
+  };
+  for (const auto& [face, piece] : plan.released) {
+    std::vector<HeldPiece>& list = held_[face];
+    const auto at = std::find_if(list.begin(), list.end(),
+                                 [&](const HeldPiece& h) { return same(h.piece, piece); });
+    if (at == list.end()) continue;  // Audit reports a list that lost its half of a pair
+    *at = list.back();
+    list.pop_back();
+  }
+  const size_t fresh = plan.fresh_ids.size();
+  const auto id_of = [&](uint32_t holder) {
+    return holder < fresh ? plan.fresh_ids[holder] : plan.kept[holder - fresh];
+  };
+  for (const CoveragePlan::Given& g : plan.given) {
+    const uint32_t id = id_of(g.fresh);
+    if (g.partner == kNone) {
+      held_[id].push_back({g.piece, kNone});
+      continue;
+    }
+    const uint32_t partner = id_of(g.partner);
+    held_[id].push_back({g.piece, partner});
+    held_[partner].push_back({g.piece, id});
+  }
+  // A kept face's error covers what it holds now (the new faces' come with the commit).
+  if (FaceAttrQ* attrs = mesh_->face_attrs())
+    for (size_t k = 0; k < plan.kept.size(); ++k) {
+      const float reach = std::nextafter(static_cast<float>(plan.kept_reach[k]), 1e30f);
+      attrs[plan.kept[k]].error = std::max(attrs[plan.kept[k]].error, reach);
+    }
 }
 
 }  // namespace femsimp

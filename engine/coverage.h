@@ -4,10 +4,11 @@
 // (a) Every point of the input stays within the tolerance of the surface. The input's triangles
 //     are cut into pieces (a triangle, or one of the four triangles of a piece's midpoint
 //     subdivision), and every piece is held by one live face that is within the tolerance of
-//     all of it. The distance to a triangle is convex, so a face is within the tolerance of a
-//     piece when it is of the piece's three corners. A collapse rewrites only the faces of its
-//     fan (or star): the pieces those held go to the new faces, cut further where no one new
-//     face takes a whole piece; a piece no new face takes at the deepest level refuses it.
+//     all of it, or by two live faces across an edge whose hull is (a pair). The distance to a
+//     triangle, or to the hull, is convex, so a holder is within the tolerance of a piece when
+//     it is of the piece's three corners. A collapse rewrites only the faces of its fan (or
+//     star): the pieces those held go to the new faces, cut further where no one new face or
+//     pair takes a whole piece; a piece none takes at the deepest level refuses it.
 // (b) Every point of a new face lies within the tolerance of the input. The new face is cut the
 //     same way; a part is within when its corners all are within the tolerance of one input
 //     triangle (convexity), or its centre within the tolerance less the part's radius of one
@@ -16,6 +17,9 @@
 //
 // The pieces of a face change only when a collapse holding that face's corners' locks commits,
 // so the kernel's locks (and the rounds' disjoint fans) keep every face's list to one writer.
+// A pair's piece is listed with both faces; a collapse that rewrites one of them drops it from
+// the other's list too, under the locks of the edge the two share, which every collapse
+// touching either face holds.
 #pragma once
 
 #include <cstdint>
@@ -23,6 +27,7 @@
 #include <utility>
 #include <vector>
 
+#include "absl/status/status.h"
 #include "engine/mesh.h"
 #include "engine/star.h"
 #include "engine/triangle_distance.h"
@@ -47,13 +52,28 @@ struct Piece {
   }
 };
 
+// A piece in a face's list: held by that face alone, or together with `partner`, the face
+// across one of its edges (a pair: the piece is in the partner's list too).
+struct HeldPiece {
+  Piece piece;
+  uint32_t partner;  // kNone: held alone
+};
+
 // What the check of one proposed collapse found, kept for its commit; also its scratch.
 struct CoveragePlan {
   struct Given {
-    uint32_t fresh;  // index of the new face
+    uint32_t fresh;    // index of the holder: a new face, or past them a kept one
+    uint32_t partner;  // index of the holder across an edge holding it too, or kNone
     Piece piece;
   };
   std::vector<Given> given;
+  // Pieces a rewritten face held in a pair with a face the collapse keeps: (that face, the
+  // piece), dropped from its list at the commit.
+  std::vector<std::pair<uint32_t, Piece>> released;
+  // The faces named in `released`, each once: holders beside the new faces (Given's index
+  // fresh + k names kept[k]), and per kept face the largest distance it now certifies.
+  std::vector<uint32_t> kept;
+  std::vector<double> kept_reach;
   // The faces the collapse rewrites or deletes, and the ids of its new faces.
   std::vector<uint32_t> old_faces, fresh_ids;
   // Per new face: the largest distance its certificates leave (both ways), at most the
@@ -92,7 +112,23 @@ struct CoveragePlan {
   std::vector<uint32_t> near[9];
   uint32_t last_witness = 0;
   std::vector<uint32_t> found;
-  std::vector<uint32_t> under;  // the input triangles of the pieces given, each once
+  // Adjacent holders k and j (two corners the same; k a new face) whose hull lies within delta of
+  // them, delta below the tolerance: a piece within the tolerance less delta of the hull of a, b
+  // (the shared edge), c1 (k's third corner) and c2 (j's) is within the tolerance of the two. Found
+  // once per check, when a piece first needs them.
+  struct FreshPair {
+    int k, j;
+    DVec3 a, b, c1, c2;
+    double delta, limit;  // limit: (tolerance - delta)^2
+    DVec3 lo, hi;         // the hull's box, widened by tolerance - delta
+  };
+  std::vector<FreshPair> fresh_pairs;
+  bool fresh_pairs_found = false;
+  // The holders' corners (3 per new face, then 3 per kept face) and distances.
+  std::vector<DVec3> holder_corners;
+  std::vector<TriangleDistance> to_holder;
+  std::vector<DVec3> holder_box;  // per holder: its box widened by the tolerance, lo then hi
+  std::vector<uint32_t> under;    // the input triangles of the pieces given, each once
   // The input triangles the shadow certificate has looked at; member: in the part's slab,
   // facing its way, its shadow meeting the part's box.
   struct Point2 {
@@ -110,8 +146,10 @@ struct CoveragePlan {
 
 class Coverage {
  public:
-  // The mesh's live faces as they are now are the input; each holds itself, whole.
-  Coverage(const Mesh& mesh, double tolerance);
+  // The mesh's live faces as they are now are the input; each holds itself, whole. The mesh
+  // is the one simplified: the faces a collapse keeps are read from it, and their errors
+  // raised where they come to hold more (Apply).
+  Coverage(Mesh& mesh, double tolerance);
 
   // The deepest subdivision of a piece, and of a new face (2^-level of its edges).
   static constexpr int kMaxPieceLevel = 12;
@@ -128,8 +166,14 @@ class Coverage {
   // the plan gave it.
   void Apply(const CoveragePlan& plan);
 
-  // The pieces face f holds (tests, statistics).
-  std::vector<Piece> Held(uint32_t f) const;
+  // The pieces face f holds, alone or in a pair (tests, statistics).
+  std::vector<HeldPiece> Held(uint32_t f) const;
+  // Checks what the commits built (tests, and the end of every measured run): every input
+  // triangle's area is the sum of its pieces', each listed once (a pair's in both faces'
+  // lists, each naming the other), every holder live in `mesh` and within the tolerance of
+  // its pieces' corners (the pair's hull within the tolerance less its slack). Internal error
+  // naming the first piece that is not.
+  absl::Status Audit(const Mesh& mesh) const;
   // The corners of a piece.
   void Corners(Piece piece, DVec3 out[3]) const;
 
@@ -137,11 +181,17 @@ class Coverage {
   template <class Visit>
   void ForEachHeld(uint32_t f, Visit&& visit) const {
     if (whole_[f]) {
-      visit(Piece{f, 0});
+      visit(HeldPiece{Piece{f, 0}, kNone});
       return;
     }
-    for (const Piece& p : held_[f]) visit(p);
+    for (const HeldPiece& p : held_[f]) visit(p);
   }
+  // The new faces across an edge from each other, into plan->fresh_pairs.
+  void FindFreshPairs(int fresh, CoveragePlan* plan) const;
+  // The piece with corners c taken by one of plan->fresh_pairs whole: its index, and in
+  // *reach the largest distance certified, or -1. to: the holders' distances.
+  int TakeByPair(const DVec3* c, const TriangleDistance* to, CoveragePlan* plan, int* last_pair,
+                 double* reach) const;
   // (b) for the new face with corners p[0..2], against plan->witnesses: its certified reach,
   // or a negative number when some part is not within the tolerance.
   double Within(const DVec3* p, CoveragePlan* plan, uint64_t* work) const;
@@ -173,6 +223,7 @@ class Coverage {
   // scratch).
   static void Coarsen(std::vector<Piece>* pieces, std::vector<uint64_t>* keys);
 
+  Mesh* mesh_;
   std::vector<Vec3> input_;       // 3 corners per face id (the input's faces)
   std::vector<uint32_t> across_;  // 3 per face: the input face across each edge (kNone: none)
   // Per face edge with a face across: WithinPair's delta, rounded up (infinite where the pair
@@ -199,7 +250,7 @@ class Coverage {
   double cell_ = 1.0;
   int64_t dims_[3] = {1, 1, 1};
   std::vector<uint32_t> cell_start_, cell_faces_;
-  std::vector<std::vector<Piece>> held_;
+  std::vector<std::vector<HeldPiece>> held_;
   // 1: the face still holds exactly its own input triangle (no list yet). Bytes, not bits:
   // contexts write different faces' flags at once.
   std::vector<uint8_t> whole_;

@@ -313,6 +313,9 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
       result.limiting_rule = static_cast<Reject>(most - p->rejections.begin());
       break;
     }
+  // What the measured check's commits built holds every input point within the tolerance.
+  if (coverage)
+    if (absl::Status s = coverage->Audit(mesh); !s.ok()) return s;
   result.output_vertices = mesh.CountLiveVertices();
   result.output_faces = mesh.CountLiveFaces();
   result.deviation_bound = MaxDeviationBound(mesh);

@@ -138,10 +138,11 @@ TEST(Coverage, FlatteningATentIsWithinItsHeightOnly) {
   loose.Apply(f.plan);
   double held = 0;
   for (uint32_t face = 0; face < 6; ++face) {
-    for (const Piece& p : loose.Held(face)) {
+    for (const HeldPiece& p : loose.Held(face)) {
       EXPECT_TRUE(face >= 1 && face <= 4) << "a deleted face holds a piece";
+      if (p.partner != kNone && p.partner < face) continue;  // counted with its pair's first
       DVec3 c[3];
-      loose.Corners(p, c);
+      loose.Corners(p.piece, c);
       held += Area(c);
     }
   }
@@ -234,6 +235,89 @@ TEST(Coverage, AHeightFieldInTheSlabTakesTheNewFaceWhole) {
 // is not within 0.004 of the input; the hole's edges end the shadow inside the square.
 TEST(Coverage, AHoleUnderTheNewFaceIsRefused) {
   EXPECT_FALSE(JudgeReplacement(Checkerboard(16, 0.0035f, 5), 0.004, Square).within);
+}
+
+// The unit square as two triangles, split along the diagonal from (0, 0) to (1, 1).
+RawMesh FlatSquare() {
+  RawMesh m;
+  m.positions = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
+  m.triangles = {0, 1, 2, 0, 2, 3};
+  return m;
+}
+
+// The square split along its other diagonal, the new faces taking the old ids 0 and 1.
+Flattening FlippedSquare() {
+  Flattening f;
+  f.plan.old_faces = {0, 1};
+  f.plan.fresh_ids = {0, 1};
+  f.corners = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  return f;
+}
+
+// Every list holds two whole input triangles, each with the other face as its partner.
+void ExpectPairHoldsBothWhole(const Coverage& coverage) {
+  for (uint32_t face : {0u, 1u}) {
+    const std::vector<HeldPiece> held = coverage.Held(face);
+    ASSERT_EQ(held.size(), 2u) << "face " << face;
+    for (const HeldPiece& p : held) {
+      EXPECT_EQ(p.piece.level(), 0) << "face " << face;
+      EXPECT_EQ(p.partner, 1 - face);
+    }
+  }
+}
+
+// Each input triangle straddles the new diagonal: one new face holds only what lies on its
+// side, so alone they would cut the triangles down to the tolerance's size along the edge (and
+// give up at the deepest level). Together the two new faces are a flat convex quad, the
+// square itself, and take both triangles whole. Rewriting one of the two (as itself) takes the
+// pieces out of the other's list too, and gives them to the same pair again, once.
+TEST(Coverage, TwoNewFacesAcrossAnEdgeHoldWhatStraddlesItTogether) {
+  absl::StatusOr<Mesh> mesh = Mesh::Build(FlatSquare());
+  ASSERT_TRUE(mesh.ok()) << mesh.status();
+  Coverage coverage(*mesh, 1e-3);
+  Flattening flip = FlippedSquare();
+  uint64_t work = 0;
+  ASSERT_TRUE(coverage.Judge(flip.corners, &flip.plan, &work));
+  coverage.Apply(flip.plan);
+  ExpectPairHoldsBothWhole(coverage);
+  // The mesh as the kernel's commit leaves it (the coverage reads the faces it keeps there).
+  RawMesh flipped = FlatSquare();
+  flipped.triangles = {0, 1, 3, 1, 2, 3};
+  absl::StatusOr<Mesh> after = Mesh::Build(flipped);
+  ASSERT_TRUE(after.ok()) << after.status();
+  *mesh = *std::move(after);
+  EXPECT_TRUE(coverage.Audit(*mesh).ok()) << coverage.Audit(*mesh);
+
+  Flattening again;
+  again.plan.old_faces = {0};
+  again.plan.fresh_ids = {0};
+  again.corners = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  ASSERT_TRUE(coverage.Judge(again.corners, &again.plan, &work));
+  EXPECT_EQ(again.plan.kept, std::vector<uint32_t>{1});
+  coverage.Apply(again.plan);
+  ExpectPairHoldsBothWhole(coverage);
+
+  // Face 0 lifted 0.01 at one corner, beyond the tolerance of what it held: refused.
+  Flattening lifted;
+  lifted.plan.old_faces = {0};
+  lifted.plan.fresh_ids = {0};
+  lifted.corners = {{0, 0, 0.01}, {1, 0, 0}, {0, 1, 0}};
+  EXPECT_FALSE(coverage.Judge(lifted.corners, &lifted.plan, &work));
+}
+
+// The audit of what the commits built: the input as built passes; a commit that leaves a
+// piece to no face is reported, naming the input triangle.
+TEST(Coverage, AuditFindsAnInputTriangleNoFaceHolds) {
+  absl::StatusOr<Mesh> mesh = Mesh::Build(FlatSquare());
+  ASSERT_TRUE(mesh.ok()) << mesh.status();
+  Coverage coverage(*mesh, 1e-3);
+  EXPECT_TRUE(coverage.Audit(*mesh).ok());
+  CoveragePlan dropped;
+  dropped.old_faces = {1};  // rewritten, its triangle given to no new face
+  coverage.Apply(dropped);
+  const absl::Status audit = coverage.Audit(*mesh);
+  EXPECT_EQ(audit.code(), absl::StatusCode::kInternal);
+  EXPECT_NE(audit.message().find("input triangle 1 has 0 of its area"), std::string::npos) << audit;
 }
 
 // The tolerance alone decides: no volume bound, no minimum angle, normals free.
