@@ -71,7 +71,7 @@ double Area(const DVec3 c[3]) { return 0.5 * Norm(Cross(c[1] - c[0], c[2] - c[0]
 
 // Two triangles with two corners the same, as a pair whose hull lies within `delta` of them,
 // delta below the tolerance; false when they are not.
-bool MakePair(const DVec3* t, const DVec3* u, double tolerance, CoveragePlan::FreshPair* pair) {
+bool MakePair(const DVec3* t, const DVec3* u, double tolerance, CoveragePlan::HolderPair* pair) {
   const auto same = [](const DVec3& p, const DVec3& q) {
     return p.x == q.x && p.y == q.y && p.z == q.z;
   };
@@ -118,7 +118,7 @@ bool CornersIn(const DVec3* c, const DVec3& lo, const DVec3& hi) {
 // The largest squared distance of the corners c to the pair's hull, or more than its limit as
 // soon as one is farther. The hull is the tetrahedron's, and the two triangles are two of its
 // faces: either within the limit is enough.
-double PairWorst(const CoveragePlan::FreshPair& pair, const TriangleDistance& to_k,
+double PairWorst(const CoveragePlan::HolderPair& pair, const TriangleDistance& to_k,
                  const TriangleDistance& to_j, const DVec3* c) {
   double worst = 0;
   for (int q = 0; q < 3 && worst <= pair.limit; ++q) {
@@ -475,27 +475,27 @@ std::vector<HeldPiece> Coverage::Held(uint32_t f) const {
   return out;
 }
 
-void Coverage::FindFreshPairs(int fresh, CoveragePlan* plan) const {
-  plan->fresh_pairs.clear();
-  plan->fresh_pairs_found = true;
+void Coverage::FindHolderPairs(int fresh, CoveragePlan* plan) const {
+  plan->holder_pairs.clear();
+  plan->holder_pairs_found = true;
   const int holders = static_cast<int>(plan->holder_corners.size() / 3);
   const DVec3* corners = plan->holder_corners.data();
   for (int k = 0; k < fresh; ++k)
     for (int j = k + 1; j < holders; ++j) {
-      CoveragePlan::FreshPair pair;
+      CoveragePlan::HolderPair pair;
       if (!MakePair(&corners[3 * k], &corners[3 * j], tolerance_, &pair)) continue;
       pair.k = k;
       pair.j = j;
-      plan->fresh_pairs.push_back(pair);
+      plan->holder_pairs.push_back(pair);
     }
 }
 
 int Coverage::TakeByPair(const DVec3* c, const TriangleDistance* to, CoveragePlan* plan,
                          int* last_pair, double* reach) const {
-  const int pairs = static_cast<int>(plan->fresh_pairs.size());
+  const int pairs = static_cast<int>(plan->holder_pairs.size());
   for (int n = 0; n < pairs; ++n) {
     const int i = (*last_pair + n) % pairs;
-    const CoveragePlan::FreshPair& pair = plan->fresh_pairs[i];
+    const CoveragePlan::HolderPair& pair = plan->holder_pairs[i];
     if (!CornersIn(c, pair.lo, pair.hi)) continue;
     const double worst = PairWorst(pair, to[pair.k], to[pair.j], c);
     if (worst <= pair.limit) {
@@ -546,7 +546,7 @@ absl::Status Coverage::Audit(const Mesh& mesh) const {
         if (f > p.partner) return;  // judged, and its area counted, from the lower face
         DVec3 u[3];
         face_corners(p.partner, u);
-        CoveragePlan::FreshPair pair;
+        CoveragePlan::HolderPair pair;
         if (!MakePair(t, u, tolerance_, &pair)) {
           status =
               absl::InternalError(absl::StrCat("measured check: faces ", f, " and ", p.partner,
@@ -590,7 +590,7 @@ bool Coverage::Judge(std::span<const DVec3> fresh_corners, CoveragePlan* plan,
   const int fresh = static_cast<int>(fresh_corners.size() / 3);
   plan->given.clear();
   plan->witnesses.clear();
-  plan->fresh_pairs_found = false;
+  plan->holder_pairs_found = false;
   std::fill(plan->reach, plan->reach + fresh, 0.0);
   if (plan->gathered_from.empty() || plan->gathered_from != plan->old_faces) {
     plan->gathered.clear();
@@ -712,11 +712,11 @@ bool Coverage::Judge(std::span<const DVec3> fresh_corners, CoveragePlan* plan,
     }
     // Two holders across an edge, together: a piece straddling an edge over a flat or gently
     // bent patch needs no cutting down to the tolerance's size along it.
-    if (!plan->fresh_pairs_found) FindFreshPairs(fresh, plan);
+    if (!plan->holder_pairs_found) FindHolderPairs(fresh, plan);
     double pair_reach = 0;
     const int pair = TakeByPair(corners, to, plan, &last_pair, &pair_reach);
     if (pair >= 0) {
-      const CoveragePlan::FreshPair& p = plan->fresh_pairs[pair];
+      const CoveragePlan::HolderPair& p = plan->holder_pairs[pair];
       plan->given.push_back({static_cast<uint32_t>(p.k), static_cast<uint32_t>(p.j), piece});
       spend(p.k, pair_reach);
       spend(p.j, pair_reach);
@@ -904,10 +904,11 @@ void Coverage::Apply(const CoveragePlan& plan) {
   const auto same = [](const Piece& p, const Piece& q) {
     return p.triangle == q.triangle && p.path == q.path;
   };
-  for (const auto& [face, piece] : plan.released) {
-    std::vector<HeldPiece>& list = held_[face];
-    const auto at = std::find_if(list.begin(), list.end(),
-                                 [&](const HeldPiece& h) { return same(h.piece, piece); });
+  for (const std::pair<uint32_t, Piece>& released : plan.released) {
+    std::vector<HeldPiece>& list = held_[released.first];
+    const auto at = std::find_if(list.begin(), list.end(), [&](const HeldPiece& h) {
+      return same(h.piece, released.second);
+    });
     if (at == list.end()) continue;  // Audit reports a list that lost its half of a pair
     *at = list.back();
     list.pop_back();
@@ -917,7 +918,7 @@ void Coverage::Apply(const CoveragePlan& plan) {
     return holder < fresh ? plan.fresh_ids[holder] : plan.kept[holder - fresh];
   };
   for (const CoveragePlan::Given& g : plan.given) {
-    const uint32_t id = id_of(g.fresh);
+    const uint32_t id = id_of(g.holder);
     if (g.partner == kNone) {
       held_[id].push_back({g.piece, kNone});
       continue;

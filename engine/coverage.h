@@ -62,7 +62,7 @@ struct HeldPiece {
 // What the check of one proposed collapse found, kept for its commit; also its scratch.
 struct CoveragePlan {
   struct Given {
-    uint32_t fresh;    // index of the holder: a new face, or past them a kept one
+    uint32_t holder;   // a new face's index, or past them a kept face's
     uint32_t partner;  // index of the holder across an edge holding it too, or kNone
     Piece piece;
   };
@@ -116,14 +116,14 @@ struct CoveragePlan {
   // them, delta below the tolerance: a piece within the tolerance less delta of the hull of a, b
   // (the shared edge), c1 (k's third corner) and c2 (j's) is within the tolerance of the two. Found
   // once per check, when a piece first needs them.
-  struct FreshPair {
+  struct HolderPair {
     int k, j;
     DVec3 a, b, c1, c2;
     double delta, limit;  // limit: (tolerance - delta)^2
     DVec3 lo, hi;         // the hull's box, widened by tolerance - delta
   };
-  std::vector<FreshPair> fresh_pairs;
-  bool fresh_pairs_found = false;
+  std::vector<HolderPair> holder_pairs;
+  bool holder_pairs_found = false;
   // The holders' corners (3 per new face, then 3 per kept face) and distances.
   std::vector<DVec3> holder_corners;
   std::vector<TriangleDistance> to_holder;
@@ -186,9 +186,9 @@ class Coverage {
     }
     for (const HeldPiece& p : held_[f]) visit(p);
   }
-  // The new faces across an edge from each other, into plan->fresh_pairs.
-  void FindFreshPairs(int fresh, CoveragePlan* plan) const;
-  // The piece with corners c taken by one of plan->fresh_pairs whole: its index, and in
+  // The holders across an edge from each other (one of them new), into plan->holder_pairs.
+  void FindHolderPairs(int fresh, CoveragePlan* plan) const;
+  // The piece with corners c taken by one of plan->holder_pairs whole: its index, and in
   // *reach the largest distance certified, or -1. to: the holders' distances.
   int TakeByPair(const DVec3* c, const TriangleDistance* to, CoveragePlan* plan, int* last_pair,
                  double* reach) const;
