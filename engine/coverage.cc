@@ -507,7 +507,8 @@ int Coverage::TakeByPair(const DVec3* c, const TriangleDistance* to, CoveragePla
   return -1;
 }
 
-absl::Status Coverage::Audit(const Mesh& mesh) const {
+absl::Status Coverage::Audit() const {
+  const Mesh& mesh = *mesh_;
   const HalfEdgeQ* h = mesh.halfedges();
   const VertexQ* v = mesh.vertices();
   const auto face_corners = [&](uint32_t f, DVec3 out[3]) {
@@ -539,8 +540,10 @@ absl::Status Coverage::Audit(const Mesh& mesh) const {
       }
       DVec3 c[3];
       Corners(p.piece, c);
-      double worst = to_f.Corners(c, tolerance2_), limit = tolerance2_;
-      if (p.partner != kNone) {
+      double worst, limit = tolerance2_;
+      if (p.partner == kNone) {
+        worst = to_f.Corners(c, tolerance2_);
+      } else {
         pairs.push_back(
             {std::min(f, p.partner), std::max(f, p.partner), p.piece.triangle, p.piece.path});
         if (f > p.partner) return;  // judged, and its area counted, from the lower face

@@ -170,10 +170,10 @@ class Coverage {
   std::vector<HeldPiece> Held(uint32_t f) const;
   // Checks what the commits built (tests, and the end of every measured run): every input
   // triangle's area is the sum of its pieces', each listed once (a pair's in both faces'
-  // lists, each naming the other), every holder live in `mesh` and within the tolerance of
+  // lists, each naming the other), every holder live in the mesh and within the tolerance of
   // its pieces' corners (the pair's hull within the tolerance less its slack). Internal error
   // naming the first piece that is not.
-  absl::Status Audit(const Mesh& mesh) const;
+  absl::Status Audit() const;
   // The corners of a piece.
   void Corners(Piece piece, DVec3 out[3]) const;
 

@@ -315,7 +315,7 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
     }
   // What the measured check's commits built holds every input point within the tolerance.
   if (coverage)
-    if (absl::Status s = coverage->Audit(mesh); !s.ok()) return s;
+    if (absl::Status s = coverage->Audit(); !s.ok()) return s;
   result.output_vertices = mesh.CountLiveVertices();
   result.output_faces = mesh.CountLiveFaces();
   result.deviation_bound = MaxDeviationBound(mesh);

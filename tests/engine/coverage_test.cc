@@ -286,7 +286,7 @@ TEST(Coverage, TwoNewFacesAcrossAnEdgeHoldWhatStraddlesItTogether) {
   absl::StatusOr<Mesh> after = Mesh::Build(flipped);
   ASSERT_TRUE(after.ok()) << after.status();
   *mesh = *std::move(after);
-  EXPECT_TRUE(coverage.Audit(*mesh).ok()) << coverage.Audit(*mesh);
+  EXPECT_TRUE(coverage.Audit().ok()) << coverage.Audit();
 
   Flattening again;
   again.plan.old_faces = {0};
@@ -311,11 +311,11 @@ TEST(Coverage, AuditFindsAnInputTriangleNoFaceHolds) {
   absl::StatusOr<Mesh> mesh = Mesh::Build(FlatSquare());
   ASSERT_TRUE(mesh.ok()) << mesh.status();
   Coverage coverage(*mesh, 1e-3);
-  EXPECT_TRUE(coverage.Audit(*mesh).ok());
+  EXPECT_TRUE(coverage.Audit().ok());
   CoveragePlan dropped;
   dropped.old_faces = {1};  // rewritten, its triangle given to no new face
   coverage.Apply(dropped);
-  const absl::Status audit = coverage.Audit(*mesh);
+  const absl::Status audit = coverage.Audit();
   EXPECT_EQ(audit.code(), absl::StatusCode::kInternal);
   EXPECT_NE(audit.message().find("input triangle 1 has 0 of its area"), std::string::npos) << audit;
 }
