@@ -51,6 +51,7 @@ void Runtime::Worker(int index) {
       kernel = kernel_;
     }
     (*kernel)(*spes_[index]);
+    guided_.Finish(index);  // (it may not have asked at all)
     {
       std::lock_guard<std::mutex> lock(mu_);
       if (--pending_ == 0) done_cv_.notify_one();
@@ -67,10 +68,11 @@ uint64_t Runtime::StartCycles(RunStart start) const {
 absl::Status Runtime::Run(const Kernel& kernel, const WorkPlan& plan, RunStart start_kind) {
   std::vector<uint64_t> start(spes_.size()), moved(spes_.size());
   shared_next_.store(0, std::memory_order_relaxed);
+  guided_.Begin(num_spes(), plan.kind() == WorkPlan::Kind::kGuided ? plan.count() : 0);
   for (size_t i = 0; i < spes_.size(); ++i) {
     start[i] = spes_[i]->Now();
     moved[i] = spes_[i]->counters().DmaBytes();
-    spes_[i]->BeginRun(&plan, &shared_next_);
+    spes_[i]->BeginRun(&plan, &shared_next_, &guided_);
   }
   {
     std::unique_lock<std::mutex> lock(mu_);

@@ -97,6 +97,7 @@ class Runtime {
   bool stop_ = false;
   const Kernel* kernel_ = nullptr;
   std::atomic<uint64_t> shared_next_{0};
+  GuidedDispenser guided_;
 
   uint64_t ppe_cycles_ = 0;
   uint64_t spe_run_cycles_ = 0;

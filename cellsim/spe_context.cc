@@ -42,9 +42,9 @@ absl::Status SpeContext::RunThreads(int k, const std::function<void(SpeContext&,
 
 std::optional<uint64_t> SpeContext::NextWorkItem() {
   bool took_chunk = false;
-  std::optional<uint64_t> item = work_.Next(&took_chunk);
+  std::optional<uint64_t> item = work_.Next(Now() - run_start_, &took_chunk);
   if (took_chunk) {
-    // Taking a chunk of a shared index is a getllar + putllc on the real machine.
+    // Visiting a shared index is a getllar + putllc on the real machine.
     clock_.AddAtomic(config_.cost.atomic_getllar_cycles + config_.cost.atomic_putllc_cycles);
   }
   if (item.has_value()) ++counters_.work_items;
@@ -55,8 +55,10 @@ void SpeContext::ReportError(absl::Status status) {
   if (error_.ok() && !status.ok()) error_ = std::move(status);
 }
 
-void SpeContext::BeginRun(const WorkPlan* plan, std::atomic<uint64_t>* shared_next) {
-  work_.Begin(plan, shared_next, index_);
+void SpeContext::BeginRun(const WorkPlan* plan, std::atomic<uint64_t>* shared_next,
+                          GuidedDispenser* guided) {
+  work_.Begin(plan, shared_next, guided, index_);
+  run_start_ = Now();
   error_ = absl::OkStatus();
 }
 

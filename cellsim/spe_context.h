@@ -89,7 +89,7 @@ class SpeContext final : public Waiter {
   const absl::Status& error() const { return error_; }
 
   // Used by Runtime around each run.
-  void BeginRun(const WorkPlan* plan, std::atomic<uint64_t>* shared_next);
+  void BeginRun(const WorkPlan* plan, std::atomic<uint64_t>* shared_next, GuidedDispenser* guided);
   void EndRun() { work_.End(); }
 
  private:
@@ -107,6 +107,7 @@ class SpeContext final : public Waiter {
   SoftThreadScheduler threads_;
   std::unique_ptr<SoftwareCache> cache_;
   WorkCursor work_;
+  uint64_t run_start_ = 0;  // Now() when the current run began
   absl::Status error_;
 };
 

@@ -1,6 +1,7 @@
 #include "cellsim/work_plan.h"
 
 #include <algorithm>
+#include <tuple>
 
 namespace femsimp::cellsim {
 
@@ -19,10 +20,20 @@ WorkPlan WorkPlan::Shared(uint64_t count, uint64_t chunk) {
   return plan;
 }
 
-void WorkCursor::Begin(const WorkPlan* plan, std::atomic<uint64_t>* shared_next, int spe_index) {
+WorkPlan WorkPlan::Guided(uint64_t count) {
+  WorkPlan plan;
+  plan.kind_ = Kind::kGuided;
+  plan.count_ = count;
+  return plan;
+}
+
+void WorkCursor::Begin(const WorkPlan* plan, std::atomic<uint64_t>* shared_next,
+                       GuidedDispenser* guided, int spe_index) {
   *this = WorkCursor();
   plan_ = plan;
   shared_next_ = shared_next;
+  guided_ = guided;
+  spe_index_ = spe_index;
   if (plan->kind() == WorkPlan::Kind::kPerSpe &&
       static_cast<size_t>(spe_index) < plan->lists().size()) {
     list_ = plan->lists()[spe_index];
@@ -30,7 +41,7 @@ void WorkCursor::Begin(const WorkPlan* plan, std::atomic<uint64_t>* shared_next,
   }
 }
 
-std::optional<uint64_t> WorkCursor::Next(bool* took_chunk) {
+std::optional<uint64_t> WorkCursor::Next(uint64_t elapsed, bool* took_chunk) {
   *took_chunk = false;
   if (plan_ == nullptr) return std::nullopt;
   switch (plan_->kind()) {
@@ -46,6 +57,15 @@ std::optional<uint64_t> WorkCursor::Next(bool* took_chunk) {
         *took_chunk = true;
         pos_ = begin;
         end_ = std::min(begin + plan_->chunk(), plan_->count());
+      }
+      return pos_++;
+    case WorkPlan::Kind::kGuided:
+      if (pos_ >= end_) {
+        *took_chunk = true;
+        std::tie(pos_, end_) = guided_->Take(spe_index_, elapsed);
+        if (pos_ >= end_) return std::nullopt;
+      } else {
+        guided_->Progress(spe_index_, elapsed);
       }
       return pos_++;
   }

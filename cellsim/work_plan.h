@@ -7,6 +7,8 @@
 #include <span>
 #include <vector>
 
+#include "cellsim/guided_dispenser.h"
+
 namespace femsimp::cellsim {
 
 // How one Runtime::Run hands out work items; SPE kernels (and their software threads) pull
@@ -14,15 +16,20 @@ namespace femsimp::cellsim {
 //  - PerSpe: SPE i gets the values of lists[i], in order (the paper: candidates split
 //    uniformly, each SPE visits its own in cost order). The lists must outlive the run.
 //  - Shared: items 0..count-1 from one shared index, taken `chunk` at a time (dynamic load
-//    balancing; each chunk is charged one getllar + putllc in atomic cycles).
+//    balancing; each chunk is charged one getllar + putllc in atomic cycles). Served in the
+//    order the host threads ask, so the split depends on the host's scheduling.
+//  - Guided: items 0..count-1 from one shared index in chunks that shrink as it empties,
+//    served in modeled-time order (GuidedDispenser): the split depends on the modeled clocks
+//    alone. Each visit to the index is charged one getllar + putllc.
 //  - None: NextWorkItem returns nullopt at once.
 class WorkPlan {
  public:
-  enum class Kind { kNone, kPerSpe, kShared };
+  enum class Kind { kNone, kPerSpe, kShared, kGuided };
 
   static WorkPlan None() { return WorkPlan(); }
   static WorkPlan PerSpe(std::vector<std::span<const uint32_t>> lists);
   static WorkPlan Shared(uint64_t count, uint64_t chunk = 1);
+  static WorkPlan Guided(uint64_t count);
 
   Kind kind() const { return kind_; }
   const std::vector<std::span<const uint32_t>>& lists() const { return lists_; }
@@ -39,14 +46,18 @@ class WorkPlan {
 // One SPE's position in a WorkPlan during a run.
 class WorkCursor {
  public:
-  void Begin(const WorkPlan* plan, std::atomic<uint64_t>* shared_next, int spe_index);
+  void Begin(const WorkPlan* plan, std::atomic<uint64_t>* shared_next, GuidedDispenser* guided,
+             int spe_index);
   void End() { *this = WorkCursor(); }
-  // The next item, or nullopt. Sets *took_chunk when it had to take a shared chunk.
-  std::optional<uint64_t> Next(bool* took_chunk);
+  // The next item, or nullopt; `elapsed`: the SPE's modeled cycles since the run began. Sets
+  // *took_chunk when it had to visit the shared index.
+  std::optional<uint64_t> Next(uint64_t elapsed, bool* took_chunk);
 
  private:
   const WorkPlan* plan_ = nullptr;
   std::atomic<uint64_t>* shared_next_ = nullptr;
+  GuidedDispenser* guided_ = nullptr;
+  int spe_index_ = 0;
   std::span<const uint32_t> list_;
   uint64_t pos_ = 0;
   uint64_t end_ = 0;

@@ -104,12 +104,16 @@ class CellBackend final : public RemovalBackend {
           claimed * std::max(1.0, std::log2(std::max(2.0, claimed))) * kSortCyclesPerElementLevel);
     }
 
+    // A round's winners do not depend on which SPE runs which, so the SPEs share them out
+    // as they go (WorkPlan::Guided: chunks of neighbouring winners in vertex order, taken in
+    // modeled time); an SPE that drew cheap ones takes more, and a round waits less for its
+    // slowest SPE. The free schedule keeps the paper's fixed split.
+    const bool guided = phase.blocks && n > 1;
     std::vector<std::vector<uint32_t>> lists(n);
     uint64_t split_cycles = 0;
-    if (phase.blocks || n == 1) {
-      for (size_t i = 0; i < phase.count; ++i)
-        lists[i * n / phase.count].push_back(phase.candidates[i]);
-    } else {
+    if (n == 1) {
+      for (size_t i = 0; i < phase.count; ++i) lists[0].push_back(phase.candidates[i]);
+    } else if (!guided) {
       absl::StatusOr<uint64_t> split = SplitBySpace(phase, lists);
       if (!split.ok()) return split.status();
       split_cycles = *split;
@@ -130,15 +134,17 @@ class CellBackend final : public RemovalBackend {
             port.set_reread_on_stale(options_.reread_on_stale);
             RemovalKernel<CellPort> kernel(port, *kernel_.rules, kernel_.quadric, *phase.budget,
                                            kstats, kernel_.placement, kernel_.requeue_changed);
-            RunCandidates(kernel, phase, [&ctx]() -> std::optional<uint32_t> {
+            RunCandidates(kernel, phase, [&ctx, &phase, guided]() -> std::optional<uint32_t> {
               const std::optional<uint64_t> v = ctx.NextWorkItem();
               if (!v) return std::nullopt;
-              return static_cast<uint32_t>(*v);
+              return guided ? phase.candidates[*v] : static_cast<uint32_t>(*v);
             });
           });
           if (!s.ok()) spe.ReportError(s);
         },
-        cellsim::WorkPlan::PerSpe(std::move(spans)), removal_start);
+        guided ? cellsim::WorkPlan::Guided(phase.count)
+               : cellsim::WorkPlan::PerSpe(std::move(spans)),
+        removal_start);
     start_cycles += runtime_->StartCycles(removal_start);
     const double wall =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

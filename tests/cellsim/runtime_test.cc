@@ -1,6 +1,8 @@
 #include "cellsim/runtime.h"
 
+#include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cstring>
 #include <thread>
 #include <vector>
@@ -133,6 +135,88 @@ TEST(RuntimeTest, HandsOutWorkPerSpeAndShared) {
                   .ok());
   for (uint64_t i = 0; i < kItems; ++i) EXPECT_EQ(hits[i].load(), 1) << i;
   EXPECT_EQ((*rt)->TotalCounters().work_items, kItems + 4);
+}
+
+// The modeled cycles item i costs in the guided tests: uneven, heavy at the start.
+uint64_t ItemCost(uint64_t i) { return i < 100 ? 5000 + 37 * (i % 11) : 200 + 13 * (i % 7); }
+
+// What a guided run must do, event by event: the SPE earliest in modeled time (then the lower
+// index) visits the shared index (a getllar + putllc) and takes ceil(remaining / 2N) items;
+// each SPE ends with one visit that finds the index empty. Returns each SPE's items and sets
+// *slowest to the largest clock.
+std::vector<std::vector<uint64_t>> GuidedByHand(int spes, uint64_t count, uint64_t visit,
+                                                uint64_t* slowest) {
+  std::vector<std::vector<uint64_t>> items(spes);
+  std::vector<uint64_t> clock(spes, 0);
+  std::vector<bool> done(spes, false);
+  uint64_t next = 0;
+  for (;;) {
+    int s = -1;
+    for (int i = 0; i < spes; ++i)
+      if (!done[i] && (s < 0 || clock[i] < clock[s])) s = i;
+    if (s < 0) break;
+    clock[s] += visit;
+    if (next >= count) {
+      done[s] = true;
+      continue;
+    }
+    const uint64_t chunk = std::max<uint64_t>(1, (count - next + 2 * spes - 1) / (2 * spes));
+    for (uint64_t i = next; i < std::min(count, next + chunk); ++i) {
+      items[s].push_back(i);
+      clock[s] += ItemCost(i);
+    }
+    next = std::min(count, next + chunk);
+  }
+  *slowest = *std::max_element(clock.begin(), clock.end());
+  return items;
+}
+
+// A guided run splits by modeled time alone: the same items go to the same SPEs however the
+// host schedules its threads (here SPE 0's thread dawdles on every item), exactly as the
+// event-by-event account above, and it evens out work a fixed split does not.
+TEST(RuntimeTest, GuidedRunsSplitInModeledTimeWhateverTheHostDoes) {
+  constexpr int kSpes = 4;
+  constexpr uint64_t kItems = 400;
+  absl::StatusOr<std::unique_ptr<Runtime>> rt = Runtime::Create(SmallConfig(kSpes));
+  ASSERT_TRUE(rt.ok()) << rt.status();
+  const CostModel& cost = (*rt)->spe(0).config().cost;
+  uint64_t slowest = 0;
+  const std::vector<std::vector<uint64_t>> expected =
+      GuidedByHand(kSpes, kItems, cost.atomic_getllar_cycles + cost.atomic_putllc_cycles, &slowest);
+  for (int dawdle = 0; dawdle < 2; ++dawdle) {
+    std::vector<std::vector<uint64_t>> seen(kSpes);
+    ASSERT_TRUE((*rt)
+                    ->Run(
+                        [&](SpeContext& spe) {
+                          while (auto item = spe.NextWorkItem()) {
+                            if (dawdle && spe.index() == 0)
+                              std::this_thread::sleep_for(std::chrono::microseconds(200));
+                            seen[spe.index()].push_back(*item);
+                            spe.AddComputeCycles(ItemCost(*item));
+                          }
+                        },
+                        WorkPlan::Guided(kItems))
+                    .ok());
+    EXPECT_EQ(seen, expected) << "dawdle " << dawdle;
+    EXPECT_EQ((*rt)->last_run_cycles(), cost.spe_run_overhead_cycles + slowest);
+  }
+  // The same work split into fixed blocks waits for the SPE with the heavy items.
+  std::vector<std::vector<uint32_t>> blocks(kSpes);
+  for (uint32_t i = 0; i < kItems; ++i) blocks[i * kSpes / kItems].push_back(i);
+  ASSERT_TRUE((*rt)
+                  ->Run(
+                      [&](SpeContext& spe) {
+                        while (auto item = spe.NextWorkItem())
+                          spe.AddComputeCycles(ItemCost(*item));
+                      },
+                      WorkPlan::PerSpe({blocks[0], blocks[1], blocks[2], blocks[3]}))
+                  .ok());
+  EXPECT_GT((*rt)->last_run_cycles(), cost.spe_run_overhead_cycles + slowest * 3 / 2);
+  // No items: every SPE finds the index empty at once.
+  ASSERT_TRUE((*rt)
+                  ->Run([&](SpeContext& spe) { EXPECT_FALSE(spe.NextWorkItem().has_value()); },
+                        WorkPlan::Guided(0))
+                  .ok());
 }
 
 TEST(RuntimeTest, ReportsTheFirstKernelError) {

@@ -27,7 +27,7 @@ class SoftThreadsTest : public ::testing::Test {
   // returns the sum of the first words read.
   uint64_t Process(SpeContext& spe, int k) {
     WorkPlan plan = WorkPlan::PerSpe({items_});
-    spe.BeginRun(&plan, nullptr);
+    spe.BeginRun(&plan, nullptr, nullptr);
     uint64_t sum = 0;
     absl::Status s = spe.RunThreads(k, [&](SpeContext& ctx, int) {
       while (std::optional<uint64_t> item = ctx.NextWorkItem()) {

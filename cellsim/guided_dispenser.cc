@@ -1,0 +1,87 @@
+#include "cellsim/guided_dispenser.h"
+
+#include <algorithm>
+
+namespace femsimp::cellsim {
+
+void GuidedDispenser::Begin(int spes, uint64_t count) {
+  std::lock_guard<std::mutex> lock(mu_);
+  while (slots_.size() < static_cast<size_t>(spes)) slots_.push_back(std::make_unique<Slot>());
+  slots_.resize(spes);
+  for (auto& slot : slots_) {
+    slot->state = State::kWorking;
+    slot->progress.store(0, std::memory_order_relaxed);
+  }
+  waiting_.store(0, std::memory_order_relaxed);
+  next_ = 0;
+  count_ = count;
+}
+
+std::pair<uint64_t, uint64_t> GuidedDispenser::Take(int spe, uint64_t elapsed) {
+  std::unique_lock<std::mutex> lock(mu_);
+  Slot& slot = *slots_[spe];
+  // Once every item is taken, the order of the requests no longer matters.
+  if (next_ >= count_) return {count_, count_};
+  slot.state = State::kWaiting;
+  slot.asked_at = elapsed;
+  slot.progress.store(elapsed, std::memory_order_relaxed);
+  waiting_.fetch_add(1, std::memory_order_relaxed);
+  ServeLocked();
+  slot.wake.wait(lock, [&] { return slot.state == State::kServed; });
+  slot.state = State::kWorking;
+  const uint64_t spes = slots_.size();
+  const uint64_t chunk = std::max<uint64_t>(1, (count_ - next_ + 2 * spes - 1) / (2 * spes));
+  const uint64_t first = next_;
+  next_ = std::min(count_, next_ + chunk);
+  if (next_ >= count_) {
+    // Those still waiting learn that nothing is left, in any order.
+    for (auto& other : slots_)
+      if (other->state == State::kWaiting) {
+        other->state = State::kServed;
+        waiting_.fetch_sub(1, std::memory_order_relaxed);
+        other->wake.notify_one();
+      }
+  }
+  return {first, next_};
+}
+
+void GuidedDispenser::Progress(int spe, uint64_t elapsed) {
+  slots_[spe]->progress.store(elapsed, std::memory_order_relaxed);
+  if (waiting_.load(std::memory_order_relaxed) == 0) return;
+  std::lock_guard<std::mutex> lock(mu_);
+  ServeLocked();
+}
+
+void GuidedDispenser::Finish(int spe) {
+  std::lock_guard<std::mutex> lock(mu_);
+  if (static_cast<size_t>(spe) >= slots_.size()) return;
+  Slot& slot = *slots_[spe];
+  if (slot.state != State::kWorking) return;
+  slot.state = State::kDone;
+  ServeLocked();
+}
+
+void GuidedDispenser::ServeLocked() {
+  for (;;) {
+    int earliest = -1;
+    for (size_t i = 0; i < slots_.size(); ++i)
+      if (slots_[i]->state == State::kWaiting &&
+          (earliest < 0 || slots_[i]->asked_at < slots_[earliest]->asked_at))
+        earliest = static_cast<int>(i);
+    if (earliest < 0) return;
+    const uint64_t at = slots_[earliest]->asked_at;
+    // A working SPE (or one served, not yet back at work) may still ask at its progress or
+    // later: it must be past `at`, or at it with a higher index.
+    for (size_t i = 0; i < slots_.size(); ++i) {
+      const State state = slots_[i]->state;
+      if (state != State::kWorking && state != State::kServed) continue;
+      const uint64_t p = slots_[i]->progress.load(std::memory_order_relaxed);
+      if (p < at || (p == at && static_cast<int>(i) < earliest)) return;
+    }
+    slots_[earliest]->state = State::kServed;
+    waiting_.fetch_sub(1, std::memory_order_relaxed);
+    slots_[earliest]->wake.notify_one();
+  }
+}
+
+}  // namespace femsimp::cellsim

@@ -1,0 +1,56 @@
+#ifndef FEMSIMP_CELLSIM_GUIDED_DISPENSER_H_
+#define FEMSIMP_CELLSIM_GUIDED_DISPENSER_H_
+
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <utility>
+#include <vector>
+
+namespace femsimp::cellsim {
+
+// The shared index of a guided run (WorkPlan::Guided): items 0..count-1 in order, an SPE that
+// asks taking the next ceil(remaining / 2N) of them (guided self-scheduling: long runs of
+// neighbouring items first, single items at the end to even the SPEs out).
+//
+// On the machine the SPEs would take chunks with getllar/putllc on one line, in the order their
+// requests reach it. Here every SPE is a host thread running at its own pace, so the requests
+// are served in modeled time instead: an SPE that asked at modeled cycle t is served once it
+// is the earliest of those waiting and every SPE still working has reported progress past t
+// (Progress; ties go to the lower index). No request can then come earlier than the one
+// served, so the split depends on the modeled clocks alone, never on the host's scheduling;
+// the SPEs still run side by side on the host between requests.
+class GuidedDispenser {
+ public:
+  // A run of `spes` SPEs over `count` items; every SPE counts as working, at cycle 0.
+  void Begin(int spes, uint64_t count);
+  // SPE `spe`, `elapsed` modeled cycles into the run, asks for items; blocks until it is
+  // served. Returns [first, last), empty once every item has been taken.
+  std::pair<uint64_t, uint64_t> Take(int spe, uint64_t elapsed);
+  // SPE `spe` has reached `elapsed` modeled cycles: it will not ask earlier.
+  void Progress(int spe, uint64_t elapsed);
+  // SPE `spe` will ask no more in this run (its kernel returned).
+  void Finish(int spe);
+
+ private:
+  enum class State { kWorking, kWaiting, kServed, kDone };
+  struct Slot {
+    State state = State::kWorking;
+    uint64_t asked_at = 0;
+    std::atomic<uint64_t> progress{0};  // modeled cycles it is known to have reached
+    std::condition_variable wake;
+  };
+  // Serves waiting SPEs while the earliest of them cannot be overtaken. Caller holds mu_.
+  void ServeLocked();
+
+  std::mutex mu_;
+  std::vector<std::unique_ptr<Slot>> slots_;
+  std::atomic<int> waiting_{0};
+  uint64_t next_ = 0, count_ = 0;
+};
+
+}  // namespace femsimp::cellsim
+
+#endif  // FEMSIMP_CELLSIM_GUIDED_DISPENSER_H_
