@@ -4,7 +4,7 @@
 
 namespace femsimp::cellsim {
 
-void GuidedDispenser::Begin(int spes, uint64_t count) {
+void GuidedDispenser::Begin(int spes, uint64_t count, uint64_t visit_cycles) {
   std::lock_guard<std::mutex> lock(mu_);
   while (slots_.size() < static_cast<size_t>(spes)) slots_.push_back(std::make_unique<Slot>());
   slots_.resize(spes);
@@ -15,6 +15,7 @@ void GuidedDispenser::Begin(int spes, uint64_t count) {
   waiting_.store(0, std::memory_order_relaxed);
   next_ = 0;
   count_ = count;
+  visit_cycles_ = visit_cycles;
 }
 
 std::pair<uint64_t, uint64_t> GuidedDispenser::Take(int spe, uint64_t elapsed) {
@@ -29,20 +30,26 @@ std::pair<uint64_t, uint64_t> GuidedDispenser::Take(int spe, uint64_t elapsed) {
   ServeLocked();
   slot.wake.wait(lock, [&] { return slot.state == State::kServed; });
   slot.state = State::kWorking;
+  return {slot.first, slot.last};
+}
+
+void GuidedDispenser::GiveLocked(Slot& slot) {
   const uint64_t spes = slots_.size();
   const uint64_t chunk = std::max<uint64_t>(1, (count_ - next_ + 2 * spes - 1) / (2 * spes));
-  const uint64_t first = next_;
-  next_ = std::min(count_, next_ + chunk);
-  if (next_ >= count_) {
-    // Those still waiting learn that nothing is left, in any order.
-    for (auto& other : slots_)
-      if (other->state == State::kWaiting) {
-        other->state = State::kServed;
-        waiting_.fetch_sub(1, std::memory_order_relaxed);
-        other->wake.notify_one();
-      }
-  }
-  return {first, next_};
+  slot.first = next_;
+  slot.last = next_ = std::min(count_, next_ + chunk);
+  slot.state = State::kServed;
+  waiting_.fetch_sub(1, std::memory_order_relaxed);
+  slot.wake.notify_one();
+  if (next_ < count_) return;
+  // Those still waiting learn that nothing is left, in any order.
+  for (auto& other : slots_)
+    if (other->state == State::kWaiting) {
+      other->first = other->last = count_;
+      other->state = State::kServed;
+      waiting_.fetch_sub(1, std::memory_order_relaxed);
+      other->wake.notify_one();
+    }
 }
 
 void GuidedDispenser::Progress(int spe, uint64_t elapsed) {
@@ -78,9 +85,10 @@ void GuidedDispenser::ServeLocked() {
       const uint64_t p = slots_[i]->progress.load(std::memory_order_relaxed);
       if (p < at || (p == at && static_cast<int>(i) < earliest)) return;
     }
-    slots_[earliest]->state = State::kServed;
-    waiting_.fetch_sub(1, std::memory_order_relaxed);
-    slots_[earliest]->wake.notify_one();
+    // It cannot ask again before its visit is paid for: the next in line (asking at the same
+    // cycle, say) need not wait for it to report progress.
+    slots_[earliest]->progress.store(at + visit_cycles_, std::memory_order_relaxed);
+    GiveLocked(*slots_[earliest]);
   }
 }
 

@@ -24,8 +24,9 @@ namespace femsimp::cellsim {
 // the SPEs still run side by side on the host between requests.
 class GuidedDispenser {
  public:
-  // A run of `spes` SPEs over `count` items; every SPE counts as working, at cycle 0.
-  void Begin(int spes, uint64_t count);
+  // A run of `spes` SPEs over `count` items; every SPE counts as working, at cycle 0. An SPE
+  // served at cycle t asks again at t + visit_cycles or later (what it pays for the visit).
+  void Begin(int spes, uint64_t count, uint64_t visit_cycles);
   // SPE `spe`, `elapsed` modeled cycles into the run, asks for items; blocks until it is
   // served. Returns [first, last), empty once every item has been taken.
   std::pair<uint64_t, uint64_t> Take(int spe, uint64_t elapsed);
@@ -39,16 +40,21 @@ class GuidedDispenser {
   struct Slot {
     State state = State::kWorking;
     uint64_t asked_at = 0;
+    uint64_t first = 0, last = 0;  // the items it was served (at the serving, in serving order)
     std::atomic<uint64_t> progress{0};  // modeled cycles it is known to have reached
     std::condition_variable wake;
   };
   // Serves waiting SPEs while the earliest of them cannot be overtaken. Caller holds mu_.
   void ServeLocked();
+  // Gives `slot` its chunk and wakes it; once the index is empty, wakes every waiting SPE
+  // with nothing. Caller holds mu_.
+  void GiveLocked(Slot& slot);
 
   std::mutex mu_;
   std::vector<std::unique_ptr<Slot>> slots_;
   std::atomic<int> waiting_{0};
   uint64_t next_ = 0, count_ = 0;
+  uint64_t visit_cycles_ = 0;
 };
 
 }  // namespace femsimp::cellsim
