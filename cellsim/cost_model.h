@@ -52,6 +52,9 @@ struct CostModel {
   // come back up the same tree to SPE 0, whose outbound mailbox the PPE reads.
   uint64_t mailbox_cycles = 500;  // one PPE <-> SPE mailbox message over MMIO, either way
 
+  // One visit of an SPE to a shared work index (WorkPlan::Shared, Guided): a getllar + putllc.
+  uint64_t IndexVisitCycles() const { return atomic_getllar_cycles + atomic_putllc_cycles; }
+
   // What a resident run's start and end cost on n SPEs.
   uint64_t ResidentSyncCycles(int n) const {
     uint64_t levels = 0;

@@ -69,7 +69,7 @@ absl::Status Runtime::Run(const Kernel& kernel, const WorkPlan& plan, RunStart s
   std::vector<uint64_t> start(spes_.size()), moved(spes_.size());
   shared_next_.store(0, std::memory_order_relaxed);
   guided_.Begin(num_spes(), plan.kind() == WorkPlan::Kind::kGuided ? plan.count() : 0,
-                config_.spe.cost.atomic_getllar_cycles + config_.spe.cost.atomic_putllc_cycles);
+                config_.spe.cost.IndexVisitCycles());
   for (size_t i = 0; i < spes_.size(); ++i) {
     start[i] = spes_[i]->Now();
     moved[i] = spes_[i]->counters().DmaBytes();

@@ -44,8 +44,7 @@ std::optional<uint64_t> SpeContext::NextWorkItem() {
   bool took_chunk = false;
   std::optional<uint64_t> item = work_.Next(Now() - run_start_, &took_chunk);
   if (took_chunk) {
-    // Visiting a shared index is a getllar + putllc on the real machine.
-    clock_.AddAtomic(config_.cost.atomic_getllar_cycles + config_.cost.atomic_putllc_cycles);
+    clock_.AddAtomic(config_.cost.IndexVisitCycles());
   }
   if (item.has_value()) ++counters_.work_items;
   return item;

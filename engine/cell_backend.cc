@@ -110,15 +110,16 @@ class CellBackend final : public RemovalBackend {
     // slowest SPE. The free schedule keeps the paper's fixed split.
     const bool guided = phase.blocks && n > 1;
     std::vector<std::vector<uint32_t>> lists(n);
+    std::vector<std::span<const uint32_t>> spans;
     uint64_t split_cycles = 0;
     if (n == 1) {
-      for (size_t i = 0; i < phase.count; ++i) lists[0].push_back(phase.candidates[i]);
+      spans.emplace_back(phase.candidates, phase.count);
     } else if (!guided) {
       absl::StatusOr<uint64_t> split = SplitBySpace(phase, lists);
       if (!split.ok()) return split.status();
       split_cycles = *split;
+      spans.assign(lists.begin(), lists.end());
     }
-    std::vector<std::span<const uint32_t>> spans(lists.begin(), lists.end());
     const cellsim::RunStart removal_start =
         rounds ? cellsim::RunStart::kResident : cellsim::RunStart::kLaunch;
     std::vector<KernelStats> per_spe(n);

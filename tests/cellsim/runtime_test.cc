@@ -182,7 +182,7 @@ TEST(RuntimeTest, GuidedRunsSplitInModeledTimeWhateverTheHostDoes) {
   const CostModel& cost = (*rt)->spe(0).config().cost;
   uint64_t slowest = 0;
   const std::vector<std::vector<uint64_t>> expected =
-      GuidedByHand(kSpes, kItems, cost.atomic_getllar_cycles + cost.atomic_putllc_cycles, &slowest);
+      GuidedByHand(kSpes, kItems, cost.IndexVisitCycles(), &slowest);
   for (int dawdle = 0; dawdle < 2; ++dawdle) {
     std::vector<std::vector<uint64_t>> seen(kSpes);
     ASSERT_TRUE((*rt)
