@@ -34,8 +34,7 @@ std::pair<uint64_t, uint64_t> GuidedDispenser::Take(int spe, uint64_t elapsed) {
 }
 
 void GuidedDispenser::GiveLocked(Slot& slot) {
-  const uint64_t spes = slots_.size();
-  const uint64_t chunk = std::max<uint64_t>(1, (count_ - next_ + 2 * spes - 1) / (2 * spes));
+  const uint64_t chunk = ChunkSize(count_ - next_, static_cast<int>(slots_.size()));
   slot.first = next_;
   slot.last = next_ = std::min(count_, next_ + chunk);
   slot.state = State::kServed;

@@ -1,6 +1,7 @@
 #ifndef FEMSIMP_CELLSIM_GUIDED_DISPENSER_H_
 #define FEMSIMP_CELLSIM_GUIDED_DISPENSER_H_
 
+#include <algorithm>
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
@@ -34,6 +35,14 @@ class GuidedDispenser {
   void Progress(int spe, uint64_t elapsed);
   // SPE `spe` will ask no more in this run (its kernel returned).
   void Finish(int spe);
+
+  // How many items a request takes when `remaining` are left in a run of `spes` SPEs. The
+  // sequence of chunk sizes is the same whichever SPEs ask, so a caller can lay its items out
+  // chunk by chunk before the run.
+  static uint64_t ChunkSize(uint64_t remaining, int spes) {
+    const uint64_t twice = 2 * static_cast<uint64_t>(std::max(spes, 1));
+    return std::max<uint64_t>(1, (remaining + twice - 1) / twice);
+  }
 
  private:
   enum class State { kWorking, kWaiting, kServed, kDone };

@@ -26,7 +26,7 @@ constexpr uint64_t kListMergeCyclesPerVertex = 24;
 // the cost) is one more SPE run, parallel over the SPEs; choosing the winners (a sort of the
 // boxes and a sweep, greedy in cost order) is PPE work.
 constexpr uint64_t kFanBoxCyclesPerCandidate = 400;
-// The free schedule's split (SplitBySpace): a candidate's spatial key, from the vertex the
+// The free schedule's order (OrderBySpace): a candidate's spatial key, from the vertex the
 // cost phase has just read (three scalings and a bit interleave).
 constexpr uint64_t kSpatialKeyCyclesPerCandidate = 40;
 // A software thread's stack, from its SPE's local store: the kernel's state (two copies of its
@@ -104,21 +104,22 @@ class CellBackend final : public RemovalBackend {
           claimed * std::max(1.0, std::log2(std::max(2.0, claimed))) * kSortCyclesPerElementLevel);
     }
 
-    // A round's winners do not depend on which SPE runs which, so the SPEs share them out
-    // as they go (WorkPlan::Guided: chunks of neighbouring winners in vertex order, taken in
-    // modeled time); an SPE that drew cheap ones takes more, and a round waits less for its
-    // slowest SPE. The free schedule keeps the paper's fixed split.
-    const bool guided = phase.blocks && n > 1;
-    std::vector<std::vector<uint32_t>> lists(n);
+    // The SPEs share the work out as they go (WorkPlan::Guided: shrinking chunks from one
+    // shared index, taken in modeled time), so that an SPE that drew cheap candidates takes
+    // more and none waits long for the slowest. A round's winners go in vertex order
+    // (neighbouring winners share lines); the free schedule's candidates in chunks of a
+    // spatial order, each chunk in cost order (OrderBySpace). One SPE keeps its single list.
+    const bool guided = n > 1;
+    const uint32_t* items = phase.candidates;
     std::vector<std::span<const uint32_t>> spans;
     uint64_t split_cycles = 0;
-    if (n == 1) {
+    if (!guided) {
       spans.emplace_back(phase.candidates, phase.count);
-    } else if (!guided) {
-      absl::StatusOr<uint64_t> split = SplitBySpace(phase, lists);
+    } else if (!phase.blocks) {
+      absl::StatusOr<uint64_t> split = OrderBySpace(phase, n);
       if (!split.ok()) return split.status();
       split_cycles = *split;
-      spans.assign(lists.begin(), lists.end());
+      items = order_.data();
     }
     const cellsim::RunStart removal_start =
         rounds ? cellsim::RunStart::kResident : cellsim::RunStart::kLaunch;
@@ -135,10 +136,10 @@ class CellBackend final : public RemovalBackend {
             port.set_reread_on_stale(options_.reread_on_stale);
             RemovalKernel<CellPort> kernel(port, *kernel_.rules, kernel_.quadric, *phase.budget,
                                            kstats, kernel_.placement, kernel_.requeue_changed);
-            RunCandidates(kernel, phase, [&ctx, &phase, guided]() -> std::optional<uint32_t> {
+            RunCandidates(kernel, phase, [&ctx, items, guided]() -> std::optional<uint32_t> {
               const std::optional<uint64_t> v = ctx.NextWorkItem();
               if (!v) return std::nullopt;
-              return guided ? phase.candidates[*v] : static_cast<uint32_t>(*v);
+              return guided ? items[*v] : static_cast<uint32_t>(*v);
             });
           });
           if (!s.ok()) spe.ReportError(s);
@@ -200,15 +201,14 @@ class CellBackend final : public RemovalBackend {
     return sorted->elapsed_cycles;
   }
 
-  // The free schedule's split: SPE i takes the candidates in the i-th of n equal ranges of a
-  // spatial order, each SPE in cost order (as the paper's split keeps them), so that its
+  // The free schedule's order for a guided run: the candidates cut into the run's chunks
+  // (GuidedDispenser::ChunkSize, the same sequence whoever asks) along a spatial order, each
+  // chunk in cost order (as the paper's split keeps an SPE's candidates), so that an SPE's
   // neighbourhoods lie together (more cache hits) and rarely touch another SPE's (fewer lock
-  // conflicts). The SPEs compute the candidates' spatial keys and sort them (with the index
-  // in cost order below the key); returns the modeled cycles. (Deterministic rounds hand their
-  // winners over in vertex order, and contiguous blocks of those are close in memory already.)
-  absl::StatusOr<uint64_t> SplitBySpace(const RemovalPhase& phase,
-                                        std::vector<std::vector<uint32_t>>& lists) {
-    const size_t n = lists.size(), count = phase.count;
+  // conflicts). The SPEs compute the candidates' spatial keys and sort them (with the index in
+  // cost order below the key); returns the modeled cycles. Fills order_.
+  absl::StatusOr<uint64_t> OrderBySpace(const RemovalPhase& phase, int n) {
+    const size_t count = phase.count;
     uint64_t* keys = keys_[0].data();
     for (size_t i = 0; i < count; ++i)
       keys[i] = (uint64_t{spatial_(mesh_.vertices()[phase.candidates[i]])} << 32) | i;
@@ -217,9 +217,18 @@ class CellBackend final : public RemovalBackend {
     absl::StatusOr<cellsim::SpeSortStats> sorted =
         cellsim::SortOnSpes(*runtime_, keys, keys_[1].data(), m);
     if (!sorted.ok()) return sorted.status();
-    region_.resize(count);
-    for (size_t r = 0; r < count; ++r) region_[uint32_t(keys[r])] = uint32_t(r * n / count);
-    for (size_t i = 0; i < count; ++i) lists[region_[i]].push_back(phase.candidates[i]);
+    // Each candidate's chunk (by the chunk's first slot), then the candidates placed chunk by
+    // chunk in cost order: fill_[first] is that chunk's next free slot.
+    chunk_of_.resize(count);
+    fill_.resize(count);
+    for (size_t first = 0; first < count;) {
+      const size_t last = first + cellsim::GuidedDispenser::ChunkSize(count - first, n);
+      for (size_t r = first; r < last; ++r) chunk_of_[uint32_t(keys[r])] = uint32_t(first);
+      fill_[first] = uint32_t(first);
+      first = last;
+    }
+    order_.resize(count);
+    for (size_t i = 0; i < count; ++i) order_[fill_[chunk_of_[i]]++] = phase.candidates[i];
     return kSpatialKeyCyclesPerCandidate * count / n + sorted->elapsed_cycles;
   }
 
@@ -232,7 +241,9 @@ class CellBackend final : public RemovalBackend {
   std::array<std::vector<uint64_t>, 2> keys_;
   std::vector<uint32_t> rank_;
   const SpatialKey spatial_;
-  std::vector<uint32_t> region_;  // SplitBySpace: each candidate's SPE
+  // OrderBySpace: each candidate's chunk, each chunk's next free slot, and the candidates
+  // chunk by chunk.
+  std::vector<uint32_t> chunk_of_, fill_, order_;
 };
 
 }  // namespace

@@ -171,6 +171,15 @@ std::vector<std::vector<uint64_t>> GuidedByHand(int spes, uint64_t count, uint64
   return items;
 }
 
+// The chunk sizes a caller may lay its items out by: ceil(remaining / 2N), never empty.
+TEST(RuntimeTest, GuidedChunksHalveAnSpesShareOfWhatIsLeft) {
+  EXPECT_EQ(GuidedDispenser::ChunkSize(400, 4), 50u);
+  EXPECT_EQ(GuidedDispenser::ChunkSize(401, 4), 51u);
+  EXPECT_EQ(GuidedDispenser::ChunkSize(7, 4), 1u);
+  EXPECT_EQ(GuidedDispenser::ChunkSize(0, 4), 1u);
+  EXPECT_EQ(GuidedDispenser::ChunkSize(10, 1), 5u);
+}
+
 // A guided run splits by modeled time alone: the same items go to the same SPEs however the
 // host schedules its threads (here SPE 0's thread dawdles on every item), exactly as the
 // event-by-event account above, and it evens out work a fixed split does not.
