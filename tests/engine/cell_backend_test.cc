@@ -85,7 +85,7 @@ TEST(CellBackend, MoreSpesTakeFewerModeledCycles) {
 
 // Deterministic rounds keep their SPE program resident through a pass: one launch (the first
 // round's fan boxes), then a wake-up and a report for every other run. The free schedule
-// launches its one removal run per pass.
+// launches its one removal run per pass, and leaves the PPE nothing to do.
 TEST(CellBackend, RoundsLaunchOncePerPassAndWakeTheSpesAfter) {
   const RawMesh raw = testing::LoadTestMesh("fandisk.off");
   const cellsim::CostModel cost;
@@ -99,6 +99,7 @@ TEST(CellBackend, RoundsLaunchOncePerPassAndWakeTheSpesAfter) {
     for (const PassStats& p : run.result.passes) {
       if (free) {
         EXPECT_EQ(p.rounds, 0u);
+        EXPECT_EQ(p.ppe_cycles, 0u) << p.pass;  // the lists to cost merge on the SPEs
         EXPECT_EQ(p.spe_start_cycles, cost.spe_run_overhead_cycles) << p.pass;
       } else {
         ASSERT_GT(p.rounds, 0u) << p.pass;
