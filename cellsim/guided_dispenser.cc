@@ -4,7 +4,7 @@
 
 namespace femsimp::cellsim {
 
-void GuidedDispenser::Begin(int spes, uint64_t count, uint64_t visit_cycles) {
+void GuidedDispenser::Begin(int spes, uint64_t count, uint64_t visit_cycles, uint64_t max_chunk) {
   std::lock_guard<std::mutex> lock(mu_);
   while (slots_.size() < static_cast<size_t>(spes)) slots_.push_back(std::make_unique<Slot>());
   slots_.resize(spes);
@@ -16,6 +16,7 @@ void GuidedDispenser::Begin(int spes, uint64_t count, uint64_t visit_cycles) {
   next_ = 0;
   count_ = count;
   visit_cycles_ = visit_cycles;
+  max_chunk_ = max_chunk;
 }
 
 std::pair<uint64_t, uint64_t> GuidedDispenser::Take(int spe, uint64_t elapsed) {
@@ -34,7 +35,7 @@ std::pair<uint64_t, uint64_t> GuidedDispenser::Take(int spe, uint64_t elapsed) {
 }
 
 void GuidedDispenser::GiveLocked(Slot& slot) {
-  const uint64_t chunk = ChunkSize(count_ - next_, static_cast<int>(slots_.size()));
+  const uint64_t chunk = ChunkSize(count_ - next_, static_cast<int>(slots_.size()), max_chunk_);
   slot.first = next_;
   slot.last = next_ = std::min(count_, next_ + chunk);
   slot.state = State::kServed;

@@ -13,8 +13,9 @@
 namespace femsimp::cellsim {
 
 // The shared index of a guided run (WorkPlan::Guided): items 0..count-1 in order, an SPE that
-// asks taking the next ceil(remaining / 2N) of them (guided self-scheduling: long runs of
-// neighbouring items first, single items at the end to even the SPEs out).
+// asks taking the next ceil(remaining / 2N) of them, at most the run's max_chunk (guided
+// self-scheduling: long runs of neighbouring items first, single items at the end to even the
+// SPEs out).
 //
 // On the machine the SPEs would take chunks with getllar/putllc on one line, in the order their
 // requests reach it. Here every SPE is a host thread running at its own pace, so the requests
@@ -25,9 +26,10 @@ namespace femsimp::cellsim {
 // the SPEs still run side by side on the host between requests.
 class GuidedDispenser {
  public:
-  // A run of `spes` SPEs over `count` items; every SPE counts as working, at cycle 0. An SPE
-  // served at cycle t asks again at t + visit_cycles or later (what it pays for the visit).
-  void Begin(int spes, uint64_t count, uint64_t visit_cycles);
+  // A run of `spes` SPEs over `count` items, at most `max_chunk` a request; every SPE counts as
+  // working, at cycle 0. An SPE served at cycle t asks again at t + visit_cycles or later (what
+  // it pays for the visit).
+  void Begin(int spes, uint64_t count, uint64_t visit_cycles, uint64_t max_chunk);
   // SPE `spe`, `elapsed` modeled cycles into the run, asks for items; blocks until it is
   // served. Returns [first, last), empty once every item has been taken.
   std::pair<uint64_t, uint64_t> Take(int spe, uint64_t elapsed);
@@ -39,9 +41,10 @@ class GuidedDispenser {
   // How many items a request takes when `remaining` are left in a run of `spes` SPEs. The
   // sequence of chunk sizes is the same whichever SPEs ask, so a caller can lay its items out
   // chunk by chunk before the run.
-  static uint64_t ChunkSize(uint64_t remaining, int spes) {
+  static uint64_t ChunkSize(uint64_t remaining, int spes, uint64_t max_chunk) {
     const uint64_t twice = 2 * static_cast<uint64_t>(std::max(spes, 1));
-    return std::max<uint64_t>(1, (remaining + twice - 1) / twice);
+    return std::clamp<uint64_t>((remaining + twice - 1) / twice, 1,
+                                std::max<uint64_t>(max_chunk, 1));
   }
 
  private:
@@ -64,6 +67,7 @@ class GuidedDispenser {
   std::atomic<int> waiting_{0};
   uint64_t next_ = 0, count_ = 0;
   uint64_t visit_cycles_ = 0;
+  uint64_t max_chunk_ = 0;
 };
 
 }  // namespace femsimp::cellsim

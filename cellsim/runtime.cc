@@ -68,8 +68,9 @@ uint64_t Runtime::StartCycles(RunStart start) const {
 absl::Status Runtime::Run(const Kernel& kernel, const WorkPlan& plan, RunStart start_kind) {
   std::vector<uint64_t> start(spes_.size()), moved(spes_.size());
   shared_next_.store(0, std::memory_order_relaxed);
-  guided_.Begin(num_spes(), plan.kind() == WorkPlan::Kind::kGuided ? plan.count() : 0,
-                config_.spe.cost.IndexVisitCycles());
+  const bool guided = plan.kind() == WorkPlan::Kind::kGuided;
+  guided_.Begin(num_spes(), guided ? plan.count() : 0, config_.spe.cost.IndexVisitCycles(),
+                plan.chunk());
   for (size_t i = 0; i < spes_.size(); ++i) {
     start[i] = spes_[i]->Now();
     moved[i] = spes_[i]->counters().DmaBytes();

@@ -20,10 +20,11 @@ WorkPlan WorkPlan::Shared(uint64_t count, uint64_t chunk) {
   return plan;
 }
 
-WorkPlan WorkPlan::Guided(uint64_t count) {
+WorkPlan WorkPlan::Guided(uint64_t count, uint64_t max_chunk) {
   WorkPlan plan;
   plan.kind_ = Kind::kGuided;
   plan.count_ = count;
+  plan.chunk_ = std::max<uint64_t>(max_chunk, 1);
   return plan;
 }
 

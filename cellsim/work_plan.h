@@ -18,9 +18,9 @@ namespace femsimp::cellsim {
 //  - Shared: items 0..count-1 from one shared index, taken `chunk` at a time (dynamic load
 //    balancing; each chunk is charged one getllar + putllc in atomic cycles). Served in the
 //    order the host threads ask, so the split depends on the host's scheduling.
-//  - Guided: items 0..count-1 from one shared index in chunks that shrink as it empties,
-//    served in modeled-time order (GuidedDispenser): the split depends on the modeled clocks
-//    alone. Each visit to the index is charged one getllar + putllc.
+//  - Guided: items 0..count-1 from one shared index in chunks that shrink as it empties (at
+//    most max_chunk each), served in modeled-time order (GuidedDispenser): the split depends on
+//    the modeled clocks alone. Each visit to the index is charged one getllar + putllc.
 //  - None: NextWorkItem returns nullopt at once.
 class WorkPlan {
  public:
@@ -29,12 +29,13 @@ class WorkPlan {
   static WorkPlan None() { return WorkPlan(); }
   static WorkPlan PerSpe(std::vector<std::span<const uint32_t>> lists);
   static WorkPlan Shared(uint64_t count, uint64_t chunk = 1);
-  static WorkPlan Guided(uint64_t count);
+  static constexpr uint64_t kAnyChunk = ~uint64_t{0};
+  static WorkPlan Guided(uint64_t count, uint64_t max_chunk = kAnyChunk);
 
   Kind kind() const { return kind_; }
   const std::vector<std::span<const uint32_t>>& lists() const { return lists_; }
   uint64_t count() const { return count_; }
-  uint64_t chunk() const { return chunk_; }
+  uint64_t chunk() const { return chunk_; }  // Shared: each chunk; Guided: the largest
 
  private:
   Kind kind_ = Kind::kNone;

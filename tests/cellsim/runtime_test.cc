@@ -141,11 +141,11 @@ TEST(RuntimeTest, HandsOutWorkPerSpeAndShared) {
 uint64_t ItemCost(uint64_t i) { return i < 100 ? 5000 + 37 * (i % 11) : 200 + 13 * (i % 7); }
 
 // What a guided run must do, event by event: the SPE earliest in modeled time (then the lower
-// index) visits the shared index (a getllar + putllc) and takes ceil(remaining / 2N) items;
-// each SPE ends with one visit that finds the index empty. Returns each SPE's items and sets
-// *slowest to the largest clock.
+// index) visits the shared index (a getllar + putllc) and takes ceil(remaining / 2N) items, at
+// most max_chunk; each SPE ends with one visit that finds the index empty. Returns each SPE's
+// items and sets *slowest to the largest clock.
 std::vector<std::vector<uint64_t>> GuidedByHand(int spes, uint64_t count, uint64_t visit,
-                                                uint64_t* slowest) {
+                                                uint64_t max_chunk, uint64_t* slowest) {
   std::vector<std::vector<uint64_t>> items(spes);
   std::vector<uint64_t> clock(spes, 0);
   std::vector<bool> done(spes, false);
@@ -160,7 +160,8 @@ std::vector<std::vector<uint64_t>> GuidedByHand(int spes, uint64_t count, uint64
       done[s] = true;
       continue;
     }
-    const uint64_t chunk = std::max<uint64_t>(1, (count - next + 2 * spes - 1) / (2 * spes));
+    const uint64_t chunk =
+        std::min(max_chunk, std::max<uint64_t>(1, (count - next + 2 * spes - 1) / (2 * spes)));
     for (uint64_t i = next; i < std::min(count, next + chunk); ++i) {
       items[s].push_back(i);
       clock[s] += ItemCost(i);
@@ -171,18 +172,24 @@ std::vector<std::vector<uint64_t>> GuidedByHand(int spes, uint64_t count, uint64
   return items;
 }
 
-// The chunk sizes a caller may lay its items out by: ceil(remaining / 2N), never empty.
+// The chunk sizes a caller may lay its items out by: ceil(remaining / 2N), never empty, never
+// above the run's largest.
 TEST(RuntimeTest, GuidedChunksHalveAnSpesShareOfWhatIsLeft) {
-  EXPECT_EQ(GuidedDispenser::ChunkSize(400, 4), 50u);
-  EXPECT_EQ(GuidedDispenser::ChunkSize(401, 4), 51u);
-  EXPECT_EQ(GuidedDispenser::ChunkSize(7, 4), 1u);
-  EXPECT_EQ(GuidedDispenser::ChunkSize(0, 4), 1u);
-  EXPECT_EQ(GuidedDispenser::ChunkSize(10, 1), 5u);
+  constexpr uint64_t kAny = WorkPlan::kAnyChunk;
+  EXPECT_EQ(GuidedDispenser::ChunkSize(400, 4, kAny), 50u);
+  EXPECT_EQ(GuidedDispenser::ChunkSize(401, 4, kAny), 51u);
+  EXPECT_EQ(GuidedDispenser::ChunkSize(7, 4, kAny), 1u);
+  EXPECT_EQ(GuidedDispenser::ChunkSize(0, 4, kAny), 1u);
+  EXPECT_EQ(GuidedDispenser::ChunkSize(10, 1, kAny), 5u);
+  EXPECT_EQ(GuidedDispenser::ChunkSize(400, 4, 16), 16u);
+  EXPECT_EQ(GuidedDispenser::ChunkSize(40, 4, 16), 5u);
+  EXPECT_EQ(GuidedDispenser::ChunkSize(40, 4, 0), 1u);
 }
 
 // A guided run splits by modeled time alone: the same items go to the same SPEs however the
 // host schedules its threads (here SPE 0's thread dawdles on every item), exactly as the
-// event-by-event account above, and it evens out work a fixed split does not.
+// event-by-event account above, with or without a largest chunk, and it evens out work a fixed
+// split does not.
 TEST(RuntimeTest, GuidedRunsSplitInModeledTimeWhateverTheHostDoes) {
   constexpr int kSpes = 4;
   constexpr uint64_t kItems = 400;
@@ -190,24 +197,26 @@ TEST(RuntimeTest, GuidedRunsSplitInModeledTimeWhateverTheHostDoes) {
   ASSERT_TRUE(rt.ok()) << rt.status();
   const CostModel& cost = (*rt)->spe(0).config().cost;
   uint64_t slowest = 0;
-  const std::vector<std::vector<uint64_t>> expected =
-      GuidedByHand(kSpes, kItems, cost.IndexVisitCycles(), &slowest);
-  for (int dawdle = 0; dawdle < 2; ++dawdle) {
-    std::vector<std::vector<uint64_t>> seen(kSpes);
-    ASSERT_TRUE((*rt)
-                    ->Run(
-                        [&](SpeContext& spe) {
-                          while (auto item = spe.NextWorkItem()) {
-                            if (dawdle && spe.index() == 0)
-                              std::this_thread::sleep_for(std::chrono::microseconds(200));
-                            seen[spe.index()].push_back(*item);
-                            spe.AddComputeCycles(ItemCost(*item));
-                          }
-                        },
-                        WorkPlan::Guided(kItems))
-                    .ok());
-    EXPECT_EQ(seen, expected) << "dawdle " << dawdle;
-    EXPECT_EQ((*rt)->last_run_cycles(), cost.spe_run_overhead_cycles + slowest);
+  for (const uint64_t max_chunk : {uint64_t{7}, WorkPlan::kAnyChunk}) {
+    const std::vector<std::vector<uint64_t>> expected =
+        GuidedByHand(kSpes, kItems, cost.IndexVisitCycles(), max_chunk, &slowest);
+    for (int dawdle = 0; dawdle < 2; ++dawdle) {
+      std::vector<std::vector<uint64_t>> seen(kSpes);
+      ASSERT_TRUE((*rt)
+                      ->Run(
+                          [&](SpeContext& spe) {
+                            while (auto item = spe.NextWorkItem()) {
+                              if (dawdle && spe.index() == 0)
+                                std::this_thread::sleep_for(std::chrono::microseconds(200));
+                              seen[spe.index()].push_back(*item);
+                              spe.AddComputeCycles(ItemCost(*item));
+                            }
+                          },
+                          WorkPlan::Guided(kItems, max_chunk))
+                      .ok());
+      EXPECT_EQ(seen, expected) << "dawdle " << dawdle << ", largest chunk " << max_chunk;
+      EXPECT_EQ((*rt)->last_run_cycles(), cost.spe_run_overhead_cycles + slowest);
+    }
   }
   // The same work split into fixed blocks waits for the SPE with the heavy items.
   std::vector<std::vector<uint32_t>> blocks(kSpes);
