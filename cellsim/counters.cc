@@ -37,6 +37,7 @@ SpeCounters& SpeCounters::operator+=(const SpeCounters& o) {
   atomic_cycles += o.atomic_cycles;
   switch_cycles += o.switch_cycles;
   dma_stall_cycles += o.dma_stall_cycles;
+  work_wait_cycles += o.work_wait_cycles;
   stale_detections += o.stale_detections;
   lock_conflicts += o.lock_conflicts;
   for (int i = 0; i < kUserCounters; ++i) user[i] += o.user[i];
@@ -47,10 +48,10 @@ std::string SpeCounters::ToString() const {
   return absl::StrFormat(
       "cache reads=%d hits=%d misses=%d hit_ratio=%.3f prefetches=%d; dma gets=%d puts=%d "
       "bytes=%d; atomics=%d (putllc failures=%d); switches=%d; cycles busy=%d stall=%d "
-      "modeled=%d; stale=%d lock_conflicts=%d",
+      "work_wait=%d modeled=%d; stale=%d lock_conflicts=%d",
       cache_reads, cache_hits, cache_misses, HitRatio(), cache_prefetches, dma_gets, dma_puts,
       DmaBytes(), AtomicOps(), atomic_putllc_failure, thread_switches, BusyCycles(),
-      dma_stall_cycles, ModeledCycles(), stale_detections, lock_conflicts);
+      dma_stall_cycles, work_wait_cycles, ModeledCycles(), stale_detections, lock_conflicts);
 }
 
 }  // namespace femsimp::cellsim

@@ -42,13 +42,14 @@ struct SpeCounters {
   uint64_t thread_switches = 0;
   uint64_t work_items = 0;  // Items handed out by SpeContext::NextWorkItem.
 
-  // Modeled cycles by cause. Everything but dma_stall_cycles is the SPU being busy.
+  // Modeled cycles by cause. Everything but the two waits is the SPU being busy.
   uint64_t compute_cycles = 0;    // Charged by the kernel (SpeContext::AddComputeCycles).
   uint64_t cache_cycles = 0;      // Cache lookups and bookkeeping.
   uint64_t dma_issue_cycles = 0;  // Enqueuing MFC commands.
   uint64_t atomic_cycles = 0;     // Atomic unit operations.
   uint64_t switch_cycles = 0;     // Software thread switches.
   uint64_t dma_stall_cycles = 0;  // Waiting for a transfer that had not completed in model time.
+  uint64_t work_wait_cycles = 0;  // Waiting for work a shared index had not published yet.
 
   // Bumped by the engine itself: its view of what the emulation cannot know.
   uint64_t stale_detections = 0;  // Inconsistent (stale or half-updated) data found and handled.
@@ -67,8 +68,8 @@ struct SpeCounters {
   uint64_t BusyCycles() const {
     return compute_cycles + cache_cycles + dma_issue_cycles + atomic_cycles + switch_cycles;
   }
-  // Busy plus stalls: the SPE's modeled time over the counted period.
-  uint64_t ModeledCycles() const { return BusyCycles() + dma_stall_cycles; }
+  // Busy plus waits: the SPE's modeled time over the counted period.
+  uint64_t ModeledCycles() const { return BusyCycles() + dma_stall_cycles + work_wait_cycles; }
 
   void Reset() { *this = SpeCounters(); }
   SpeCounters& operator+=(const SpeCounters& other);

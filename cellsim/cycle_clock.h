@@ -26,6 +26,10 @@ class CycleClock {
   void StallUntil(uint64_t cycle) {
     if (cycle > now_) Charge(&SpeCounters::dma_stall_cycles, cycle - now_);
   }
+  // Waits until `cycle`, when the work it asked for is published; no-op when it is past.
+  void WaitForWorkUntil(uint64_t cycle) {
+    if (cycle > now_) Charge(&SpeCounters::work_wait_cycles, cycle - now_);
+  }
 
  private:
   void Charge(uint64_t SpeCounters::*field, uint64_t n) {

@@ -4,7 +4,8 @@
 
 namespace femsimp::cellsim {
 
-void GuidedDispenser::Begin(int spes, uint64_t count, uint64_t visit_cycles, uint64_t max_chunk) {
+void GuidedDispenser::Begin(int spes, uint64_t count, uint64_t visit_cycles, uint64_t max_chunk,
+                            const uint64_t* published_at) {
   std::lock_guard<std::mutex> lock(mu_);
   while (slots_.size() < static_cast<size_t>(spes)) slots_.push_back(std::make_unique<Slot>());
   slots_.resize(spes);
@@ -17,13 +18,14 @@ void GuidedDispenser::Begin(int spes, uint64_t count, uint64_t visit_cycles, uin
   count_ = count;
   visit_cycles_ = visit_cycles;
   max_chunk_ = max_chunk;
+  published_at_ = published_at;
 }
 
-std::pair<uint64_t, uint64_t> GuidedDispenser::Take(int spe, uint64_t elapsed) {
+GuidedDispenser::Grant GuidedDispenser::Take(int spe, uint64_t elapsed) {
   std::unique_lock<std::mutex> lock(mu_);
   Slot& slot = *slots_[spe];
   // Once every item is taken, the order of the requests no longer matters.
-  if (next_ >= count_) return {count_, count_};
+  if (next_ >= count_) return Grant{count_, count_, elapsed};
   slot.state = State::kWaiting;
   slot.asked_at = elapsed;
   slot.progress.store(elapsed, std::memory_order_relaxed);
@@ -31,13 +33,22 @@ std::pair<uint64_t, uint64_t> GuidedDispenser::Take(int spe, uint64_t elapsed) {
   ServeLocked();
   slot.wake.wait(lock, [&] { return slot.state == State::kServed; });
   slot.state = State::kWorking;
-  return {slot.first, slot.last};
+  return slot.grant;
 }
 
 void GuidedDispenser::GiveLocked(Slot& slot) {
-  const uint64_t chunk = ChunkSize(count_ - next_, static_cast<int>(slots_.size()), max_chunk_);
-  slot.first = next_;
-  slot.last = next_ = std::min(count_, next_ + chunk);
+  // Served when it asked, or when the next item is published if that is later; it cannot ask
+  // again before its visit is paid for, so the next in line (asking at the same cycle, say)
+  // need not wait for it to report progress.
+  const uint64_t at = std::max(slot.asked_at, PublishedAt(next_));
+  slot.progress.store(at + visit_cycles_, std::memory_order_relaxed);
+  uint64_t last = next_ + ChunkSize(count_ - next_, static_cast<int>(slots_.size()), max_chunk_);
+  last = std::min(count_, last);
+  if (published_at_ != nullptr)  // only what is published by then
+    last = static_cast<uint64_t>(
+        std::upper_bound(published_at_ + next_ + 1, published_at_ + last, at) - published_at_);
+  slot.grant = Grant{next_, last, at};
+  next_ = last;
   slot.state = State::kServed;
   waiting_.fetch_sub(1, std::memory_order_relaxed);
   slot.wake.notify_one();
@@ -45,7 +56,7 @@ void GuidedDispenser::GiveLocked(Slot& slot) {
   // Those still waiting learn that nothing is left, in any order.
   for (auto& other : slots_)
     if (other->state == State::kWaiting) {
-      other->first = other->last = count_;
+      other->grant = Grant{count_, count_, other->asked_at};
       other->state = State::kServed;
       waiting_.fetch_sub(1, std::memory_order_relaxed);
       other->wake.notify_one();
@@ -85,9 +96,6 @@ void GuidedDispenser::ServeLocked() {
       const uint64_t p = slots_[i]->progress.load(std::memory_order_relaxed);
       if (p < at || (p == at && static_cast<int>(i) < earliest)) return;
     }
-    // It cannot ask again before its visit is paid for: the next in line (asking at the same
-    // cycle, say) need not wait for it to report progress.
-    slots_[earliest]->progress.store(at + visit_cycles_, std::memory_order_relaxed);
     GiveLocked(*slots_[earliest]);
   }
 }

@@ -24,15 +24,28 @@ namespace femsimp::cellsim {
 // (Progress; ties go to the lower index). No request can then come earlier than the one
 // served, so the split depends on the modeled clocks alone, never on the host's scheduling;
 // the SPEs still run side by side on the host between requests.
+//
+// A run may publish its items over time (`published_at`, non-decreasing: item i may be taken
+// from that cycle of the run on, as when the PPE hands items over while it is still choosing
+// them). A request is then served at the later of its own cycle and the next item's, with the
+// items published by then, and the SPE waits until it is served.
 class GuidedDispenser {
  public:
-  // A run of `spes` SPEs over `count` items, at most `max_chunk` a request; every SPE counts as
-  // working, at cycle 0. An SPE served at cycle t asks again at t + visit_cycles or later (what
-  // it pays for the visit).
-  void Begin(int spes, uint64_t count, uint64_t visit_cycles, uint64_t max_chunk);
+  // A run of `spes` SPEs over `count` items, at most `max_chunk` a request, item i published at
+  // cycle published_at[i] of the run (all at 0 when null); every SPE counts as working, at
+  // cycle 0. An SPE served at cycle t asks again at t + visit_cycles or later (what it pays for
+  // the visit).
+  void Begin(int spes, uint64_t count, uint64_t visit_cycles, uint64_t max_chunk,
+             const uint64_t* published_at = nullptr);
+  // What a request got: items [first, last), empty once every item has been taken, and the
+  // cycle of the run it was served at (the request's own, or later when it waited for items).
+  struct Grant {
+    uint64_t first = 0, last = 0;
+    uint64_t served_at = 0;
+  };
   // SPE `spe`, `elapsed` modeled cycles into the run, asks for items; blocks until it is
-  // served. Returns [first, last), empty once every item has been taken.
-  std::pair<uint64_t, uint64_t> Take(int spe, uint64_t elapsed);
+  // served.
+  Grant Take(int spe, uint64_t elapsed);
   // SPE `spe` has reached `elapsed` modeled cycles: it will not ask earlier.
   void Progress(int spe, uint64_t elapsed);
   // SPE `spe` will ask no more in this run (its kernel returned).
@@ -52,10 +65,13 @@ class GuidedDispenser {
   struct Slot {
     State state = State::kWorking;
     uint64_t asked_at = 0;
-    uint64_t first = 0, last = 0;  // the items it was served (at the serving, in serving order)
+    Grant grant;                        // what it was served (at the serving, in serving order)
     std::atomic<uint64_t> progress{0};  // modeled cycles it is known to have reached
     std::condition_variable wake;
   };
+  uint64_t PublishedAt(uint64_t item) const {
+    return published_at_ == nullptr ? 0 : published_at_[item];
+  }
   // Serves waiting SPEs while the earliest of them cannot be overtaken. Caller holds mu_.
   void ServeLocked();
   // Gives `slot` its chunk and wakes it; once the index is empty, wakes every waiting SPE
@@ -68,6 +84,7 @@ class GuidedDispenser {
   uint64_t next_ = 0, count_ = 0;
   uint64_t visit_cycles_ = 0;
   uint64_t max_chunk_ = 0;
+  const uint64_t* published_at_ = nullptr;
 };
 
 }  // namespace femsimp::cellsim

@@ -70,7 +70,7 @@ absl::Status Runtime::Run(const Kernel& kernel, const WorkPlan& plan, RunStart s
   shared_next_.store(0, std::memory_order_relaxed);
   const bool guided = plan.kind() == WorkPlan::Kind::kGuided;
   guided_.Begin(num_spes(), guided ? plan.count() : 0, config_.spe.cost.IndexVisitCycles(),
-                plan.chunk());
+                plan.chunk(), guided ? plan.published_at() : nullptr);
   for (size_t i = 0; i < spes_.size(); ++i) {
     start[i] = spes_[i]->Now();
     moved[i] = spes_[i]->counters().DmaBytes();

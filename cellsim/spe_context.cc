@@ -41,9 +41,10 @@ absl::Status SpeContext::RunThreads(int k, const std::function<void(SpeContext&,
 }
 
 std::optional<uint64_t> SpeContext::NextWorkItem() {
-  bool took_chunk = false;
-  std::optional<uint64_t> item = work_.Next(Now() - run_start_, &took_chunk);
-  if (took_chunk) {
+  WorkCursor::Visit visit;
+  std::optional<uint64_t> item = work_.Next(Now() - run_start_, &visit);
+  if (visit.took_chunk) {
+    clock_.WaitForWorkUntil(run_start_ + visit.served_at);
     clock_.AddAtomic(config_.cost.IndexVisitCycles());
   }
   if (item.has_value()) ++counters_.work_items;

@@ -1,7 +1,6 @@
 #include "cellsim/work_plan.h"
 
 #include <algorithm>
-#include <tuple>
 
 namespace femsimp::cellsim {
 
@@ -20,11 +19,12 @@ WorkPlan WorkPlan::Shared(uint64_t count, uint64_t chunk) {
   return plan;
 }
 
-WorkPlan WorkPlan::Guided(uint64_t count, uint64_t max_chunk) {
+WorkPlan WorkPlan::Guided(uint64_t count, uint64_t max_chunk, const uint64_t* published_at) {
   WorkPlan plan;
   plan.kind_ = Kind::kGuided;
   plan.count_ = count;
   plan.chunk_ = std::max<uint64_t>(max_chunk, 1);
+  plan.published_at_ = published_at;
   return plan;
 }
 
@@ -42,8 +42,8 @@ void WorkCursor::Begin(const WorkPlan* plan, std::atomic<uint64_t>* shared_next,
   }
 }
 
-std::optional<uint64_t> WorkCursor::Next(uint64_t elapsed, bool* took_chunk) {
-  *took_chunk = false;
+std::optional<uint64_t> WorkCursor::Next(uint64_t elapsed, Visit* visit) {
+  *visit = Visit{false, elapsed};
   if (plan_ == nullptr) return std::nullopt;
   switch (plan_->kind()) {
     case WorkPlan::Kind::kNone:
@@ -55,15 +55,18 @@ std::optional<uint64_t> WorkCursor::Next(uint64_t elapsed, bool* took_chunk) {
       if (pos_ >= end_) {
         const uint64_t begin = shared_next_->fetch_add(plan_->chunk(), std::memory_order_relaxed);
         if (begin >= plan_->count()) return std::nullopt;
-        *took_chunk = true;
+        visit->took_chunk = true;
         pos_ = begin;
         end_ = std::min(begin + plan_->chunk(), plan_->count());
       }
       return pos_++;
     case WorkPlan::Kind::kGuided:
       if (pos_ >= end_) {
-        *took_chunk = true;
-        std::tie(pos_, end_) = guided_->Take(spe_index_, elapsed);
+        visit->took_chunk = true;
+        const GuidedDispenser::Grant grant = guided_->Take(spe_index_, elapsed);
+        pos_ = grant.first;
+        end_ = grant.last;
+        visit->served_at = grant.served_at;
         if (pos_ >= end_) return std::nullopt;
       } else {
         guided_->Progress(spe_index_, elapsed);

@@ -42,8 +42,11 @@ struct RemovalPhase {
   std::atomic<bool>* stop;                 // set on cancellation or a spent budget
   const std::function<bool()>* cancelled;  // thread-safe: every context polls it
   // Deterministic rounds (engine/rounds.h) run a pass as several removal phases.
-  bool pass_start = true;     // the first of its pass (the cell model charges cost and sort)
-  size_t claimed = 0;         // candidates whose claims the round checked (cell model)
+  bool pass_start = true;  // the first of its pass (the cell model charges cost and sort)
+  size_t claimed = 0;      // candidates whose claims the round checked (cell model)
+  // Rounds: each candidate's place in the round's window, i.e. in the order the winners were
+  // picked (the cell model hands them over as they are picked). May be null.
+  const uint32_t* window_rank = nullptr;
   bool fresh_caches = false;  // nothing cached may predate the last phase's writes
   // Each context takes a contiguous block of the candidates instead of every N-th one: the
   // rounds hand over their winners by vertex number, so a block is close in memory. (Natively,

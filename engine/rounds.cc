@@ -220,7 +220,7 @@ absl::Status RoundScheduler::RunPass(RemovalBackend& backend, const RemovalPhase
                                      PassStats& stats) {
   const size_t largest = std::max(kMinWindow, phase.sorted / kLargestWindowShare);
   size_t window_size = std::max(kMinWindow, phase.sorted / kFirstWindowShare);
-  std::vector<uint32_t> losers, winners;
+  std::vector<uint32_t> losers, winners, ranks;
   size_t fresh = 0;
   for (bool first = true; !phase.Stopped(); first = false) {
     // Losers first: they rank before every fresh candidate, so the window stays in cost order.
@@ -247,8 +247,12 @@ absl::Status RoundScheduler::RunPass(RemovalBackend& backend, const RemovalPhase
     // Their outcomes do not depend on the order they run in: by vertex number (as ReadFans read
     // them), for locality.
     winners.clear();
+    ranks.clear();
     for (uint64_t entry : by_vertex_)
-      if (won_[static_cast<uint32_t>(entry)]) winners.push_back(static_cast<uint32_t>(entry >> 32));
+      if (won_[static_cast<uint32_t>(entry)]) {
+        winners.push_back(static_cast<uint32_t>(entry >> 32));
+        ranks.push_back(static_cast<uint32_t>(entry));
+      }
     stats.busy_seconds +=
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     RemovalPhase round = phase;
@@ -256,6 +260,7 @@ absl::Status RoundScheduler::RunPass(RemovalBackend& backend, const RemovalPhase
     round.count = winners.size();
     round.pass_start = first;
     round.claimed = window_.size();
+    round.window_rank = ranks.data();
     round.fresh_caches = true;
     round.blocks = true;
     rules_.BeginRound(winners.size());

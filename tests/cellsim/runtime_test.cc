@@ -142,10 +142,12 @@ uint64_t ItemCost(uint64_t i) { return i < 100 ? 5000 + 37 * (i % 11) : 200 + 13
 
 // What a guided run must do, event by event: the SPE earliest in modeled time (then the lower
 // index) visits the shared index (a getllar + putllc) and takes ceil(remaining / 2N) items, at
-// most max_chunk; each SPE ends with one visit that finds the index empty. Returns each SPE's
-// items and sets *slowest to the largest clock.
+// most max_chunk; with items published over time (`published`, else all at once) it first
+// waits for the next one and takes only those published by then; each SPE ends with one visit
+// that finds the index empty. Returns each SPE's items and sets *slowest to the largest clock.
 std::vector<std::vector<uint64_t>> GuidedByHand(int spes, uint64_t count, uint64_t visit,
-                                                uint64_t max_chunk, uint64_t* slowest) {
+                                                uint64_t max_chunk, uint64_t* slowest,
+                                                const std::vector<uint64_t>* published = nullptr) {
   std::vector<std::vector<uint64_t>> items(spes);
   std::vector<uint64_t> clock(spes, 0);
   std::vector<bool> done(spes, false);
@@ -155,18 +157,28 @@ std::vector<std::vector<uint64_t>> GuidedByHand(int spes, uint64_t count, uint64
     for (int i = 0; i < spes; ++i)
       if (!done[i] && (s < 0 || clock[i] < clock[s])) s = i;
     if (s < 0) break;
-    clock[s] += visit;
     if (next >= count) {
+      clock[s] += visit;
       done[s] = true;
       continue;
     }
+    if (published != nullptr) clock[s] = std::max(clock[s], (*published)[next]);
+    const uint64_t served = clock[s];
+    clock[s] += visit;
     const uint64_t chunk =
         std::min(max_chunk, std::max<uint64_t>(1, (count - next + 2 * spes - 1) / (2 * spes)));
-    for (uint64_t i = next; i < std::min(count, next + chunk); ++i) {
+    uint64_t last = std::min(count, next + chunk);
+    if (published != nullptr)
+      for (uint64_t i = next + 1; i < last; ++i)
+        if ((*published)[i] > served) {
+          last = i;
+          break;
+        }
+    for (uint64_t i = next; i < last; ++i) {
       items[s].push_back(i);
       clock[s] += ItemCost(i);
     }
-    next = std::min(count, next + chunk);
+    next = last;
   }
   *slowest = *std::max_element(clock.begin(), clock.end());
   return items;
@@ -235,6 +247,45 @@ TEST(RuntimeTest, GuidedRunsSplitInModeledTimeWhateverTheHostDoes) {
                   ->Run([&](SpeContext& spe) { EXPECT_FALSE(spe.NextWorkItem().has_value()); },
                         WorkPlan::Guided(0))
                   .ok());
+}
+
+// Items published over time (as the PPE hands over a round's winners while it still picks
+// them): an SPE that asks before the next one is out waits for it, takes only what is out by
+// then, and the wait counts in its modeled time; the split still follows the modeled clocks
+// alone, whatever the host does.
+TEST(RuntimeTest, GuidedRunsWaitForItemsPublishedLater) {
+  constexpr int kSpes = 4;
+  constexpr uint64_t kItems = 400;
+  absl::StatusOr<std::unique_ptr<Runtime>> rt = Runtime::Create(SmallConfig(kSpes));
+  ASSERT_TRUE(rt.ok()) << rt.status();
+  const CostModel& cost = (*rt)->spe(0).config().cost;
+  std::vector<uint64_t> published(kItems);
+  for (uint64_t i = 0; i < kItems; ++i) published[i] = 3000 + 900 * i;  // slower than 4 SPEs
+  uint64_t slowest = 0;
+  const std::vector<std::vector<uint64_t>> expected = GuidedByHand(
+      kSpes, kItems, cost.IndexVisitCycles(), WorkPlan::kAnyChunk, &slowest, &published);
+  for (int dawdle = 0; dawdle < 2; ++dawdle) {
+    std::vector<std::vector<uint64_t>> seen(kSpes);
+    uint64_t waited = 0;
+    ASSERT_TRUE((*rt)
+                    ->Run(
+                        [&](SpeContext& spe) {
+                          while (auto item = spe.NextWorkItem()) {
+                            if (dawdle && spe.index() == 1)
+                              std::this_thread::sleep_for(std::chrono::microseconds(200));
+                            seen[spe.index()].push_back(*item);
+                            spe.AddComputeCycles(ItemCost(*item));
+                          }
+                        },
+                        WorkPlan::Guided(kItems, WorkPlan::kAnyChunk, published.data()))
+                    .ok());
+    for (int i = 0; i < kSpes; ++i) waited += (*rt)->spe(i).counters().work_wait_cycles;
+    EXPECT_EQ(seen, expected) << "dawdle " << dawdle;
+    EXPECT_EQ((*rt)->last_run_cycles(), cost.spe_run_overhead_cycles + slowest);
+    // The last item is out at 3000 + 900 * 399: nobody can finish before it.
+    EXPECT_GT(slowest, published.back());
+    EXPECT_GT(waited, 0u);
+  }
 }
 
 TEST(RuntimeTest, ReportsTheFirstKernelError) {
