@@ -55,6 +55,10 @@ struct CostModel {
   // One visit of an SPE to a shared work index (WorkPlan::Shared, Guided): a getllar + putllc.
   uint64_t IndexVisitCycles() const { return atomic_getllar_cycles + atomic_putllc_cycles; }
 
+  // SPEs that go on from one piece of work to the next without the PPE's word: each updates a
+  // word in main memory (getllar + putllc, in parallel) and the PPE reads it (one more).
+  uint64_t HandOffCycles() const { return 2 * IndexVisitCycles(); }
+
   // What a resident run's start and end cost on n SPEs.
   uint64_t ResidentSyncCycles(int n) const {
     uint64_t levels = 0;

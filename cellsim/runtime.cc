@@ -61,8 +61,15 @@ void Runtime::Worker(int index) {
 
 uint64_t Runtime::StartCycles(RunStart start) const {
   const CostModel& cost = config_.spe.cost;
-  return start == RunStart::kLaunch ? cost.spe_run_overhead_cycles
-                                    : cost.ResidentSyncCycles(num_spes());
+  switch (start) {
+    case RunStart::kLaunch:
+      return cost.spe_run_overhead_cycles;
+    case RunStart::kResident:
+      return cost.ResidentSyncCycles(num_spes());
+    case RunStart::kHandOff:
+      return cost.HandOffCycles();
+  }
+  return 0;
 }
 
 absl::Status Runtime::Run(const Kernel& kernel, const WorkPlan& plan, RunStart start_kind) {

@@ -22,9 +22,12 @@ namespace femsimp::cellsim {
 
 // How a run begins: kLaunch starts the SPE contexts and joins them at its end
 // (spe_run_overhead_cycles); kResident wakes a program a launch left running, which reports
-// back when done (CostModel::ResidentSyncCycles). The caller keeps the program resident: the
-// runtime cannot tell one program from another.
-enum class RunStart { kLaunch, kResident };
+// back when done (CostModel::ResidentSyncCycles); kHandOff goes on from the work the SPEs
+// just did, without a word from the PPE: each SPE tells the PPE through a word in main memory
+// that its last share is done and goes on to the next run's (CostModel::HandOffCycles). The
+// caller keeps the program resident and knows what hands off: the runtime cannot tell one
+// program from another.
+enum class RunStart { kLaunch, kResident, kHandOff };
 
 struct RuntimeConfig {
   int num_spes = 8;

@@ -96,8 +96,10 @@ class CellBackend final : public RemovalBackend {
       spe_sort_cycles = *sorted;
     }
     // Deterministic rounds (phase.claimed > 0): their SPE program is launched for the fan boxes
-    // of the pass's first round and stays resident until the pass ends; every later start is a
-    // wake-up and a report (CostModel::ResidentSyncCycles), not a launch and a join.
+    // of the pass's first round and stays resident until the pass ends; every later round's
+    // fan boxes start with a wake-up and end with a report (CostModel::ResidentSyncCycles), not
+    // a launch and a join. The SPEs go on from their fan boxes to the round's winners as the PPE
+    // publishes them (RunStart::kHandOff): no wake-up between the two.
     const bool rounds = phase.claimed > 0;
     uint64_t start_cycles = 0;
     if (rounds) {
@@ -135,7 +137,7 @@ class CellBackend final : public RemovalBackend {
       items = order_.data();
     }
     const cellsim::RunStart removal_start =
-        rounds ? cellsim::RunStart::kResident : cellsim::RunStart::kLaunch;
+        rounds ? cellsim::RunStart::kHandOff : cellsim::RunStart::kLaunch;
     std::vector<KernelStats> per_spe(n);
     const auto start = std::chrono::steady_clock::now();
     absl::Status status = runtime_->Run(

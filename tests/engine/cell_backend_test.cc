@@ -84,8 +84,9 @@ TEST(CellBackend, MoreSpesTakeFewerModeledCycles) {
 }
 
 // Deterministic rounds keep their SPE program resident through a pass: one launch (the first
-// round's fan boxes), then a wake-up and a report for every other run. The free schedule
-// launches its one removal run per pass, and leaves the PPE nothing to do.
+// round's fan boxes), then a wake-up and a report for every later round's fan boxes, and a
+// hand-off from each round's fan boxes to its removals. The free schedule launches its one
+// removal run per pass, and leaves the PPE nothing to do.
 TEST(CellBackend, RoundsLaunchOncePerPassAndWakeTheSpesAfter) {
   const RawMesh raw = testing::LoadTestMesh("fandisk.off");
   const cellsim::CostModel cost;
@@ -103,8 +104,9 @@ TEST(CellBackend, RoundsLaunchOncePerPassAndWakeTheSpesAfter) {
         EXPECT_EQ(p.spe_start_cycles, cost.spe_run_overhead_cycles) << p.pass;
       } else {
         ASSERT_GT(p.rounds, 0u) << p.pass;
-        EXPECT_EQ(p.spe_start_cycles,
-                  cost.spe_run_overhead_cycles + (2 * p.rounds - 1) * cost.ResidentSyncCycles(8))
+        EXPECT_EQ(p.spe_start_cycles, cost.spe_run_overhead_cycles +
+                                          (p.rounds - 1) * cost.ResidentSyncCycles(8) +
+                                          p.rounds * cost.HandOffCycles())
             << p.pass;
       }
       EXPECT_LT(p.spe_start_cycles, p.modeled_pass_cycles) << p.pass;
