@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "engine/vec.h"
@@ -108,6 +109,14 @@ struct NewDisplacement {
   }
 };
 
+// The reach of the box [d.lo + s, d.hi + s].
+double ShiftedReach(const Displacement& d, const DVec3& s) {
+  const double x = std::max(std::fabs(d.lo.x + s.x), std::fabs(d.hi.x + s.x));
+  const double y = std::max(std::fabs(d.lo.y + s.y), std::fabs(d.hi.y + s.y));
+  const double z = std::max(std::fabs(d.lo.z + s.z), std::fabs(d.hi.z + s.z));
+  return std::sqrt(x * x + y * y + z * z);
+}
+
 }  // namespace
 
 double Displacement::Reach() const {
@@ -118,7 +127,7 @@ double Displacement::Reach() const {
 }
 
 bool BoundDeviation(const Ring& ring, int target, int line_other, const Displacement* old_moved,
-                    Displacement* new_moved, int* work) {
+                    double limit, Displacement* new_moved, int* work) {
   const int n = ring.neighbours();
   const int nf = ring.faces;
   const DVec3 v = ToD(ring.center_pos);
@@ -151,31 +160,17 @@ bool BoundDeviation(const Ring& ring, int target, int line_other, const Displace
   }
   const P2 v2 = {Dot(vp - v, u), Dot(vp - v, w)};
 
-  // Old layout: fan faces with V at V'. It must wind once around V' (half a turn on a
-  // boundary, where V' lies on the straight new boundary edge).
-  double angle_v = 0.0, angle_vd_old = 0.0;
-  for (int f = 0; f < nf; ++f) {
-    const int b = f, c = (f + 1) % n;
-    if (!(Orient(v2, q[b], q[c]) > eps_area)) return false;
-    angle_v += AngleAt(v2, q[b], q[c]);
-    if (b == target) angle_vd_old += AngleAt(q[b], q[c], v2);
-    if (c == target) angle_vd_old += AngleAt(q[c], v2, q[b]);
-  }
-  const double full = ring.boundary ? std::numbers::pi : 2.0 * std::numbers::pi;
-  if (std::fabs(angle_v - full) > 1e-6) return false;
-
-  // New layout: the surviving faces with Vd for V, tiling the same polygon from Vd.
+  // Old layout: fan faces with V at V', every one counter-clockwise. New layout: the surviving
+  // faces with Vd for V, tiling the same polygon from Vd.
+  for (int f = 0; f < nf; ++f)
+    if (!(Orient(v2, q[f], q[(f + 1) % n]) > eps_area)) return false;
   const P2 qd = q[target];
   bool survives[kMaxRing];
-  double angle_vd_new = 0.0;
   for (int f = 0; f < nf; ++f) {
     const int b = f, c = (f + 1) % n;
     survives[f] = b != target && c != target;
-    if (!survives[f]) continue;
-    if (!(Orient(qd, q[b], q[c]) > eps_area)) return false;
-    angle_vd_new += AngleAt(qd, q[b], q[c]);
+    if (survives[f] && !(Orient(qd, q[b], q[c]) > eps_area)) return false;
   }
-  if (std::fabs(angle_vd_new - angle_vd_old) > 1e-6) return false;
 
   // The step at V', on the new face(s) holding its position.
   DVec3 step_v[kMaxRing];
@@ -194,6 +189,39 @@ bool BoundDeviation(const Ring& ring, int target, int line_other, const Displace
     placed = true;
   }
   if (!placed) return false;
+
+  // Refused early when V' alone takes a new face beyond the limit. Where the layouts tile (the
+  // turns below), some old face f overlaps the face g holding V' (the old fan covers all around
+  // V'), so g's bound is at least the smaller of f's bound plus |step| and the reach of f's box
+  // shifted by the step (NewDisplacement); the least of that over the fan is a floor for g's
+  // bound. Where they do not tile, the collapse is refused anyway.
+  for (int g = 0; g < nf; ++g) {
+    if (!holds_v[g]) continue;
+    const DVec3 s = step_v[g];
+    const double step = Norm(s);
+    double floor = std::numeric_limits<double>::infinity();
+    for (int f = 0; f < nf && floor > limit; ++f)
+      floor = std::min(floor, std::min(old_moved[f].bound + step, ShiftedReach(old_moved[f], s)));
+    if (floor > limit) {
+      *work = nf;
+      return false;
+    }
+  }
+
+  // The old layout winds once around V' (half a turn on a boundary, where V' lies on the
+  // straight new boundary edge), and the new one turns around Vd as the old one did.
+  double angle_v = 0.0, angle_vd_old = 0.0, angle_vd_new = 0.0;
+  for (int f = 0; f < nf; ++f) {
+    const int b = f, c = (f + 1) % n;
+    angle_v += AngleAt(v2, q[b], q[c]);
+    if (b == target) angle_vd_old += AngleAt(q[b], q[c], v2);
+    if (c == target) angle_vd_old += AngleAt(q[c], v2, q[b]);
+  }
+  const double full = ring.boundary ? std::numbers::pi : 2.0 * std::numbers::pi;
+  if (std::fabs(angle_v - full) > 1e-6) return false;
+  for (int f = 0; f < nf; ++f)
+    if (survives[f]) angle_vd_new += AngleAt(qd, q[f], q[(f + 1) % n]);
+  if (std::fabs(angle_vd_new - angle_vd_old) > 1e-6) return false;
 
   // Where old spoke V' -> k crosses new spoke Vd -> j, the step there (false: no crossing).
   const auto crossing = [&](int k, int j, DVec3* step) {

@@ -33,9 +33,11 @@ struct Displacement {
 // survives (the two containing V - Vd are deleted) and returns true; returns false when the
 // layouts do not tile the link polygon (the map cannot be built: the collapse is refused).
 // line_other: index of V's other feature neighbour when V slides along a feature line, or -1.
-// *work counts the elementary tests (the cell back end's cycle model).
+// limit: returns false early once some new face's bound is sure to exceed it (pass infinity
+// to have every bound computed). *work counts the elementary tests (the cell back end's cycle
+// model).
 bool BoundDeviation(const Ring& ring, int target, int line_other, const Displacement* old_moved,
-                    Displacement* new_moved, int* work);
+                    double limit, Displacement* new_moved, int* work);
 
 // The same for a full-edge collapse (engine/star.h): both patches are projected onto the plane
 // perpendicular to the old star's area-weighted normal, where each must tile the link polygon

@@ -29,7 +29,7 @@ class DeviationBoundRule final : public CollapseRule {
     for (int f = 0; f < nf; ++f) old_moved[f] = Unpack(p.fan_attr[f]);
     int work = 0;
     const bool bounded =
-        BoundDeviation(*p.fan, p.target, p.line_other, old_moved, new_moved, &work);
+        BoundDeviation(*p.fan, p.target, p.line_other, old_moved, tolerance_, new_moved, &work);
     p.cycles += static_cast<uint32_t>(28 * work);
     if (!bounded) return Verdict::kReject;
     for (int f = 0; f < nf; ++f)

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "engine/rule.h"
@@ -17,13 +18,15 @@ namespace {
 // h (a tent; 0 is flat).
 Ring Tent(float h) { return testing::RegularFan(6, h); }
 
+constexpr double kNoLimit = std::numeric_limits<double>::infinity();
+
 // The largest new bound over the faces that survive collapsing the tent's centre onto
 // neighbour 0, every old face having moved as `old`.
 Displacement Collapse(const Ring& fan, const Displacement& old) {
   Displacement old_moved[kMaxRing], new_moved[kMaxRing];
   for (int f = 0; f < fan.faces; ++f) old_moved[f] = old;
   int work = 0;
-  EXPECT_TRUE(BoundDeviation(fan, 0, -1, old_moved, new_moved, &work));
+  EXPECT_TRUE(BoundDeviation(fan, 0, -1, old_moved, kNoLimit, new_moved, &work));
   EXPECT_GT(work, 0);
   Displacement worst;
   for (int f = 1; f < fan.faces - 1; ++f)  // faces 0 and 5 hold V - Vd and go
@@ -85,6 +88,51 @@ TEST(Deviation, TheBoundCapsALooseBox) {
   EXPECT_NEAR(d.bound, 0.15, kEps);
   EXPECT_GE(d.lo.x, -0.15 - kEps);
   EXPECT_LE(d.hi.z, 0.15 + kEps);
+}
+
+// A limit only refuses early what the full computation would put beyond it: below the largest
+// new bound the collapse is refused, at or above it the same boxes come out, whatever the old
+// boxes (steps inwards, outwards, sideways, loose) and the tent's height.
+TEST(Deviation, ALimitRefusesOnlyWhatTheBoundExceeds) {
+  Displacement olds[5];
+  olds[1].bound = 0.1;
+  olds[1].hi = {0, 0, 0.1};
+  olds[2].bound = 0.1;
+  olds[2].lo = {0, 0, -0.1};
+  olds[3].bound = 0.1;
+  olds[3].hi = {0.1, 0, 0};
+  olds[4].bound = 0.05;
+  olds[4].lo = {-1, -1, -1};
+  olds[4].hi = {1, 1, 1};
+  int early_refusals = 0;
+  for (const float h : {0.0f, 0.01f, 0.1f, 0.4f}) {
+    const Ring fan = Tent(h);
+    for (const Displacement& old : olds) {
+      Displacement old_moved[kMaxRing], full[kMaxRing], limited[kMaxRing];
+      for (int f = 0; f < fan.faces; ++f) old_moved[f] = old;
+      int full_work = 0;
+      ASSERT_TRUE(BoundDeviation(fan, 0, -1, old_moved, kNoLimit, full, &full_work));
+      double worst = 0;
+      for (int f = 1; f < fan.faces - 1; ++f) worst = std::max(worst, full[f].bound);
+      for (const double scale : {0.5, 0.9, 0.999, 1.0, 1.001, 2.0}) {
+        const double limit = scale * worst;
+        int work = 0;
+        const bool within = BoundDeviation(fan, 0, -1, old_moved, limit, limited, &work);
+        if (!within) {
+          EXPECT_LT(limit, worst) << "h " << h << " old bound " << old.bound;
+          EXPECT_LT(work, full_work) << "refused before the overlay";
+          ++early_refusals;
+          continue;
+        }
+        for (int f = 1; f < fan.faces - 1; ++f) {
+          EXPECT_EQ(limited[f].bound, full[f].bound);
+          EXPECT_EQ(limited[f].lo.z, full[f].lo.z);
+          EXPECT_EQ(limited[f].hi.x, full[f].hi.x);
+        }
+      }
+    }
+  }
+  EXPECT_GT(early_refusals, 0) << "the floor refuses some limits below the bound";
 }
 
 // The rule stores the box in 16-bit steps of the tolerance, rounded outwards, reads it back for
