@@ -110,11 +110,10 @@ struct NewDisplacement {
 };
 
 // The reach of the box [d.lo + s, d.hi + s].
-double ShiftedReach(const Displacement& d, const DVec3& s) {
-  const double x = std::max(std::fabs(d.lo.x + s.x), std::fabs(d.hi.x + s.x));
-  const double y = std::max(std::fabs(d.lo.y + s.y), std::fabs(d.hi.y + s.y));
-  const double z = std::max(std::fabs(d.lo.z + s.z), std::fabs(d.hi.z + s.z));
-  return std::sqrt(x * x + y * y + z * z);
+double ShiftedReach(Displacement d, const DVec3& s) {
+  d.lo += s;
+  d.hi += s;
+  return d.Reach();
 }
 
 }  // namespace
