@@ -23,9 +23,10 @@ void Split(const DVec3 t[3], DVec3 child[4][3]) {
 
 // The squared distance from q to the tetrahedron (a, b, c, d) where q is known to be farther than
 // that from its faces abc and abd: 0 inside, else the nearer of the other two faces (also when
-// it is flat: its faces then cover it).
+// it is flat: its faces then cover it), which far_faces(q) measures.
+template <class FarFaces>
 double SquaredDistanceToTetrahedronPast(const DVec3& q, const DVec3& a, const DVec3& b,
-                                        const DVec3& c, const DVec3& d) {
+                                        const DVec3& c, const DVec3& d, FarFaces&& far_faces) {
   const DVec3 ab = b - a, ac = c - a, ad = d - a, aq = q - a;
   const double volume = Dot(ab, Cross(ac, ad));
   if (volume != 0) {
@@ -33,7 +34,13 @@ double SquaredDistanceToTetrahedronPast(const DVec3& q, const DVec3& a, const DV
                  lb = Dot(aq, Cross(ac, ad)) / volume;
     if (ld >= 0 && lc >= 0 && lb >= 0 && ld + lc + lb <= 1) return 0;
   }
-  return std::min(SquaredDistanceToTriangle(q, a, c, d), SquaredDistanceToTriangle(q, b, c, d));
+  return far_faces(q);
+}
+double SquaredDistanceToTetrahedronPast(const DVec3& q, const DVec3& a, const DVec3& b,
+                                        const DVec3& c, const DVec3& d) {
+  return SquaredDistanceToTetrahedronPast(q, a, b, c, d, [&](const DVec3& p) {
+    return std::min(SquaredDistanceToTriangle(p, a, c, d), SquaredDistanceToTriangle(p, b, c, d));
+  });
 }
 
 // The squared distance between the segments pq and rs (Ericson, 5.1.9), degenerate ones
@@ -102,6 +109,9 @@ bool MakePair(const DVec3* t, const DVec3* u, double tolerance, CoveragePlan::Ho
   }
   pair->lo = pair->lo - DVec3{widen, widen, widen};
   pair->hi = pair->hi + DVec3{widen, widen, widen};
+  const DVec3 a_side[3] = {pair->a, pair->c1, pair->c2}, b_side[3] = {pair->b, pair->c1, pair->c2};
+  pair->to_a_side = TriangleDistance(a_side);
+  pair->to_b_side = TriangleDistance(b_side);
   return true;
 }
 
@@ -115,17 +125,30 @@ bool CornersIn(const DVec3* c, const DVec3& lo, const DVec3& hi) {
   return true;
 }
 
+// The squared distances of a piece's first corners to one holder, already computed.
+struct KnownDistances {
+  const double* d = nullptr;
+  int count = 0;
+  double operator()(const TriangleDistance& to, const DVec3* c, int q) const {
+    return q < count ? d[q] : to(c[q]);
+  }
+};
+
 // The largest squared distance of the corners c to the pair's hull, or more than its limit as
 // soon as one is farther. The hull is the tetrahedron's, and the two triangles are two of its
 // faces: either within the limit is enough.
 double PairWorst(const CoveragePlan::HolderPair& pair, const TriangleDistance& to_k,
-                 const TriangleDistance& to_j, const DVec3* c) {
+                 const TriangleDistance& to_j, const DVec3* c, KnownDistances known_k = {},
+                 KnownDistances known_j = {}) {
   double worst = 0;
   for (int q = 0; q < 3 && worst <= pair.limit; ++q) {
-    double d = to_k(c[q]);
-    if (d > pair.limit) d = std::min(d, to_j(c[q]));
+    double d = known_k(to_k, c, q);
+    if (d > pair.limit) d = std::min(d, known_j(to_j, c, q));
     if (d > pair.limit)
-      d = std::min(d, SquaredDistanceToTetrahedronPast(c[q], pair.a, pair.b, pair.c1, pair.c2));
+      d = std::min(d, SquaredDistanceToTetrahedronPast(
+                          c[q], pair.a, pair.b, pair.c1, pair.c2, [&pair](const DVec3& p) {
+                            return std::min(pair.to_a_side(p), pair.to_b_side(p));
+                          }));
     worst = std::max(worst, d);
   }
   return worst;
@@ -497,7 +520,10 @@ int Coverage::TakeByPair(const DVec3* c, const TriangleDistance* to, CoveragePla
     const int i = (*last_pair + n) % pairs;
     const CoveragePlan::HolderPair& pair = plan->holder_pairs[i];
     if (!CornersIn(c, pair.lo, pair.hi)) continue;
-    const double worst = PairWorst(pair, to[pair.k], to[pair.j], c);
+    const auto known = [plan](int k) {
+      return KnownDistances{&plan->known[3 * size_t(k)], plan->known_count[k]};
+    };
+    const double worst = PairWorst(pair, to[pair.k], to[pair.j], c, known(pair.k), known(pair.j));
     if (worst <= pair.limit) {
       *last_pair = i;
       *reach = std::sqrt(worst) + pair.delta;
@@ -656,6 +682,8 @@ bool Coverage::Judge(std::span<const DVec3> fresh_corners, CoveragePlan* plan,
     }
   plan->kept_reach.assign(plan->kept.size(), 0.0);
   plan->to_holder.resize(holders);
+  plan->known.resize(3 * size_t(holders));
+  plan->known_count.resize(holders);
   plan->holder_box.resize(2 * holders);
   for (int k = 0; k < holders; ++k) {
     const DVec3* c = &plan->holder_corners[3 * k];
@@ -701,10 +729,19 @@ bool Coverage::Judge(std::span<const DVec3> fresh_corners, CoveragePlan* plan,
     const DVec3* corners = part.corners;
     int taker = -1;
     double worst = 0;
+    // Each holder's distances, kept for the pairs' test: a piece no holder takes alone has had
+    // every holder looked at, so what is kept is this piece's.
     for (int n = 0; n < holders && taker < 0; ++n) {
       const int k = (last + n) % holders;
+      plan->known_count[k] = 0;
       if (!CornersIn(corners, box[2 * k], box[2 * k + 1])) continue;
-      worst = to[k].Corners(corners, tolerance2_);
+      worst = 0;
+      for (int q = 0; q < 3 && worst <= tolerance2_; ++q) {
+        const double d = to[k](corners[q]);
+        plan->known[3 * size_t(k) + q] = d;
+        plan->known_count[k] = static_cast<uint8_t>(q + 1);
+        worst = std::max(worst, d);
+      }
       if (worst <= tolerance2_) taker = k;
     }
     if (taker >= 0) {

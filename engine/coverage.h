@@ -121,6 +121,8 @@ struct CoveragePlan {
     DVec3 a, b, c1, c2;
     double delta, limit;  // limit: (tolerance - delta)^2
     DVec3 lo, hi;         // the hull's box, widened by tolerance - delta
+    // The hull's other two faces, (a, c1, c2) and (b, c1, c2).
+    TriangleDistance to_a_side, to_b_side;
   };
   std::vector<HolderPair> holder_pairs;
   bool holder_pairs_found = false;
@@ -128,7 +130,11 @@ struct CoveragePlan {
   std::vector<DVec3> holder_corners;
   std::vector<TriangleDistance> to_holder;
   std::vector<DVec3> holder_box;  // per holder: its box widened by the tolerance, lo then hi
-  std::vector<uint32_t> under;    // the input triangles of the pieces given, each once
+  // Per holder: the squared distances of the piece's first known_count corners to it, as the
+  // test of single holders computed them (3 per holder).
+  std::vector<double> known;
+  std::vector<uint8_t> known_count;
+  std::vector<uint32_t> under;  // the input triangles of the pieces given, each once
   // The input triangles the shadow certificate has looked at; member: in the part's slab,
   // facing its way, its shadow meeting the part's box.
   struct Point2 {

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <limits>
 
 #include "engine/vec.h"
 
@@ -11,6 +12,8 @@ namespace femsimp {
 
 // The squared distance from q to the triangle (a, b, c); degenerate triangles included.
 double SquaredDistanceToTriangle(const DVec3& q, const DVec3& a, const DVec3& b, const DVec3& c);
+// The squared distance from q to the segment ab.
+double SquaredDistanceToSegment(const DVec3& q, const DVec3& a, const DVec3& b);
 
 // Squared distances from many points to one triangle: a point over the triangle's inside is
 // its height over the plane (the usual case for the pieces a new face takes), the others go
@@ -28,6 +31,12 @@ class TriangleDistance {
     s_ = {cc / det, -bc / det};
     u_ = {-bc / det, bb / det};
     n_ = (1.0 / length) * normal;
+    bc_ = ac_ - ab_;
+    ab_ab_ = bb;
+    ab_ac_ = bc;
+    inverse_ab2_ = 1.0 / bb;
+    inverse_ac2_ = 1.0 / cc;
+    inverse_bc2_ = 1.0 / Dot(bc_, bc_);
     over_ = true;
   }
   double operator()(const DVec3& q) const {
@@ -39,6 +48,23 @@ class TriangleDistance {
         const double h = Dot(d, n_);
         return h * h;
       }
+      // Outside the prism, the nearest point is on an edge whose line has q's projection on its
+      // far side (one or two of them). Each is a point of the triangle, so rounding keeps the
+      // distance from falling below the true one by more than a few ulps; the dot products
+      // along ab and ac are the ones above.
+      const auto along = [](const DVec3& from, const DVec3& edge, double t) {
+        const DVec3 gap = from - std::clamp(t, 0.0, 1.0) * edge;
+        return Dot(gap, gap);
+      };
+      double nearest = std::numeric_limits<double>::infinity();
+      if (u < 0) nearest = along(d, ab_, p * inverse_ab2_);
+      if (s < 0) nearest = std::min(nearest, along(d, ac_, r * inverse_ac2_));
+      if (s + u > 1) {
+        // Dot(q - b, c - b) from the same two products.
+        const double t = ((r - ab_ac_) - (p - ab_ab_)) * inverse_bc2_;
+        nearest = std::min(nearest, along(d - ab_, bc_, t));
+      }
+      return nearest;
     }
     return SquaredDistanceToTriangle(q, t_[0], t_[1], t_[2]);
   }
@@ -54,8 +80,10 @@ class TriangleDistance {
 
  private:
   DVec3 t_[3]{};
-  DVec3 ab_{0, 0, 0}, ac_{0, 0, 0}, n_{0, 0, 0};
+  DVec3 ab_{0, 0, 0}, ac_{0, 0, 0}, n_{0, 0, 0}, bc_{0, 0, 0};
   std::array<double, 2> s_{}, u_{};  // rows of the inverse Gram matrix of ab, ac
+  double ab_ab_ = 0, ab_ac_ = 0;     // ab.ab, ab.ac
+  double inverse_ab2_ = 0, inverse_ac2_ = 0, inverse_bc2_ = 0;  // 1 / squared edge lengths
   bool over_ = false;
 };
 

@@ -81,6 +81,29 @@ TEST(Coverage, DistanceToTriangleMatchesSampling) {
   }
 }
 
+// Outside the prism over the triangle, TriangleDistance measures only the edges the point's
+// projection lies beyond: the same distance as the region tests of SquaredDistanceToTriangle,
+// for points near the plane beyond every edge and corner, obtuse and thin triangles included.
+TEST(Coverage, TriangleDistanceOutsideThePrismIsTheExactDistance) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int outside = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    DVec3 t[3] = {{u(rng), u(rng), u(rng)}, {u(rng), u(rng), u(rng)}, {u(rng), u(rng), u(rng)}};
+    if (trial % 4 == 1) t[2] = t[0] + 0.9 * (t[1] - t[0]) + DVec3{0.05 * u(rng), 0.05, 0};
+    const DVec3 normal = Cross(t[1] - t[0], t[2] - t[0]);
+    // In the plane, around the triangle out to twice its size, and a little off it.
+    const double a = 3 * u(rng), b = 3 * u(rng), h = (trial % 3 == 0 ? 0.0 : 0.1 * u(rng));
+    const DVec3 q = t[0] + a * (t[1] - t[0]) + b * (t[2] - t[0]) + (h / Norm(normal)) * normal;
+    outside += a < 0 || b < 0 || a + b > 1;
+    const double exact = SquaredDistanceToTriangle(q, t[0], t[1], t[2]);
+    const double scale =
+        Dot(q - t[0], q - t[0]) + Dot(t[1] - t[0], t[1] - t[0]) + Dot(t[2] - t[0], t[2] - t[0]);
+    EXPECT_NEAR(TriangleDistance(t)(q), exact, 1e-12 * scale) << "trial " << trial;
+  }
+  EXPECT_GT(outside, 15000);
+}
+
 // A tent: the centre (vertex 0) at height h over `sides` neighbours on the unit circle (a
 // hexagon unless told).
 RawMesh Tent(float h, int sides = 6) {
