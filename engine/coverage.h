@@ -150,6 +150,12 @@ struct CoveragePlan {
   std::vector<uint32_t> shade_slot;  // per input triangle: its index in shade, or kNone
 };
 
+// The shadow certificate's clip (engine/coverage_shadow.cc): the largest |height| over the part
+// of the counter-clockwise triangle xy (heights at its corners, affine between) whose shadow
+// lies in the counter-clockwise triangle r; negative when none does.
+double ClippedHeight(const CoveragePlan::Point2 xy[3], const double height[3],
+                     const CoveragePlan::Point2 r[3]);
+
 class Coverage {
  public:
   // The mesh's live faces as they are now are the input; each holds itself, whole. The mesh

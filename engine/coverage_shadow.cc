@@ -68,6 +68,44 @@ double Inset(const Flat r[3], double s, Flat inset[3]) {
 
 }  // namespace
 
+double ClippedHeight(const CoveragePlan::Point2 xy[3], const double h[3],
+                     const CoveragePlan::Point2 r[3]) {
+  constexpr int kMax = 9;  // a triangle cut by three lines keeps at most six corners
+  Flat poly[kMax], next[kMax];
+  double height[kMax], next_height[kMax];
+  int count = 3;
+  for (int k = 0; k < 3; ++k) {
+    poly[k] = xy[k];
+    height[k] = h[k];
+  }
+  for (int i = 0; i < 3 && count > 0; ++i) {
+    const Flat& a = r[i];
+    const Flat& b = r[(i + 1) % 3];
+    int kept = 0;
+    for (int k = 0; k < count; ++k) {
+      const int l = (k + 1) % count;
+      const double sk = Turn(a, b, poly[k]), sl = Turn(a, b, poly[l]);
+      if (sk >= 0) {
+        next[kept] = poly[k];
+        next_height[kept++] = height[k];
+      }
+      if ((sk >= 0) != (sl >= 0)) {
+        const double t = sk / (sk - sl);
+        next[kept] = {poly[k].x + t * (poly[l].x - poly[k].x),
+                      poly[k].y + t * (poly[l].y - poly[k].y)};
+        next_height[kept++] = height[k] + t * (height[l] - height[k]);
+      }
+    }
+    count = kept;
+    std::copy(next, next + count, poly);
+    std::copy(next_height, next_height + count, height);
+  }
+  if (count == 0) return -1;
+  double highest = 0;
+  for (int k = 0; k < count; ++k) highest = std::max(highest, std::fabs(height[k]));
+  return highest;
+}
+
 double Coverage::WithinShadow(const DVec3* c, std::span<const uint32_t> seeds, CoveragePlan* plan,
                               uint64_t* work) const {
   const DVec3 e1 = c[1] - c[0], e2 = c[2] - c[0];
@@ -95,6 +133,10 @@ double Coverage::WithinShadow(const DVec3* c, std::span<const uint32_t> seeds, C
   Flat inset[3];
   const double rim = Inset(r, slack, inset);
   if (rim < 0) return -1;
+  // R's sides moved out by the slack: a triangle clipped to it keeps all of its part over R
+  // whatever the rounding of the clip.
+  Flat outset[3];
+  if (Inset(r, -slack, outset) < 0) return -1;
 
   std::vector<CoveragePlan::Shade>& shade = plan->shade;
   std::vector<uint32_t>& slot = plan->shade_slot;
@@ -105,24 +147,36 @@ double Coverage::WithinShadow(const DVec3* c, std::span<const uint32_t> seeds, C
     if (slot[t] != kNone) return slot[t];
     CoveragePlan::Shade s{t, false, 0, {}};
     const Vec3* p = &input_[3 * size_t{t}];
-    bool ok = true;
-    for (int k = 0; k < 3 && ok; ++k) {
+    double heights[3];
+    for (int k = 0; k < 3; ++k) {
       const DVec3 q = ToD(p[k]);
-      const double h = std::fabs(Dot(n, q - c[0]));
-      ok = h <= height_limit;
-      s.height = std::max(s.height, h);
+      heights[k] = Dot(n, q - c[0]);
+      s.height = std::max(s.height, std::fabs(heights[k]));
       s.xy[k] = flat(q);
     }
-    if (ok) {
-      const double perimeter =
-          Length(s.xy[0], s.xy[1]) + Length(s.xy[1], s.xy[2]) + Length(s.xy[2], s.xy[0]);
-      ok = Turn(s.xy[0], s.xy[1], s.xy[2]) > slack * perimeter;
-    }
+    // Facing R's way by more than rounding: twice the area above the slack times the perimeter,
+    // which the sum of the sides' |dx| + |dy| bounds from above (the square roots only near it).
+    const double turn = Turn(s.xy[0], s.xy[1], s.xy[2]);
+    double manhattan = 0;
+    for (int k = 0; k < 3; ++k)
+      manhattan +=
+          std::fabs(s.xy[(k + 1) % 3].x - s.xy[k].x) + std::fabs(s.xy[(k + 1) % 3].y - s.xy[k].y);
+    bool ok = turn > slack * manhattan ||
+              (turn > 0 && turn > slack * (Length(s.xy[0], s.xy[1]) + Length(s.xy[1], s.xy[2]) +
+                                           Length(s.xy[2], s.xy[0])));
     if (ok) {  // a triangle whose shadow misses R's box adds nothing (its edges are tested)
       ok = std::max({s.xy[0].x, s.xy[1].x, s.xy[2].x}) >= lo.x &&
            std::min({s.xy[0].x, s.xy[1].x, s.xy[2].x}) <= hi.x &&
            std::max({s.xy[0].y, s.xy[1].y, s.xy[2].y}) >= lo.y &&
            std::min({s.xy[0].y, s.xy[1].y, s.xy[2].y}) <= hi.y;
+    }
+    if (ok && s.height > height_limit) {
+      // Only its part over R must lie in the slab (the points of S the certificate uses are
+      // under R): a triangle that crosses R's border may rise beyond it outside. The clipped
+      // heights are interpolations: a relative margin covers their rounding.
+      const double over_r = ClippedHeight(s.xy, heights, outset);
+      ok = over_r >= 0 && over_r + 1e-12 * s.height <= height_limit;
+      if (ok) s.height = over_r + 1e-12 * s.height;
     }
     s.member = ok;
     slot[t] = static_cast<uint32_t>(shade.size());

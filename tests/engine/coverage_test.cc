@@ -254,6 +254,50 @@ TEST(Coverage, AHeightFieldInTheSlabTakesTheNewFaceWhole) {
   EXPECT_FALSE(JudgeReplacement(Checkerboard(16, 0.0045f), 0.004, Square).within);
 }
 
+// The shadow certificate keeps a triangle that crosses R's border when its part over R lies in
+// the slab: the largest |height| over the clip, against a dense sampling of the triangle's
+// points over R (never below it; above it by at most a sample's height step), and none when
+// the shadows do not meet.
+TEST(Coverage, ClippedHeightIsTheHighestPointOverR) {
+  using P = CoveragePlan::Point2;
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const auto turn = [](const P& a, const P& b, const P& p) {
+    return (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x);
+  };
+  const P r[3] = {{0, 0}, {1, 0}, {0.3, 0.9}};
+  int clipped = 0, apart = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    P xy[3] = {{u(rng), u(rng)}, {u(rng) + 0.5, u(rng)}, {u(rng), u(rng) + 0.5}};
+    if (turn(xy[0], xy[1], xy[2]) < 0) std::swap(xy[1], xy[2]);
+    if (trial % 10 == 0)
+      for (P& p : xy) p.x += 3;  // its shadow beside R's
+    const double h[3] = {u(rng), u(rng), u(rng)};
+    const double highest = ClippedHeight(xy, h, r);
+    constexpr int kSteps = 300;
+    double sampled = -1, step = 0;
+    for (int i = 0; i <= kSteps; ++i)
+      for (int j = 0; i + j <= kSteps; ++j) {
+        const double a = double(i) / kSteps, b = double(j) / kSteps;
+        const P p{xy[0].x + a * (xy[1].x - xy[0].x) + b * (xy[2].x - xy[0].x),
+                  xy[0].y + a * (xy[1].y - xy[0].y) + b * (xy[2].y - xy[0].y)};
+        if (turn(r[0], r[1], p) < 0 || turn(r[1], r[2], p) < 0 || turn(r[2], r[0], p) < 0) continue;
+        sampled = std::max(sampled, std::fabs(h[0] + a * (h[1] - h[0]) + b * (h[2] - h[0])));
+      }
+    step = (std::fabs(h[1] - h[0]) + std::fabs(h[2] - h[0])) / kSteps;
+    if (sampled < 0) {
+      ++apart;
+      if (trial % 10 == 0) EXPECT_LT(highest, 0) << "trial " << trial;
+      continue;
+    }
+    ++clipped;
+    EXPECT_GE(highest, sampled - 1e-12) << "trial " << trial;
+    EXPECT_LE(highest, sampled + 2 * step + 1e-12) << "trial " << trial;
+  }
+  EXPECT_GT(clipped, 200);
+  EXPECT_GE(apart, 30);
+}
+
 // A hole in the input under the square: its middle is 0.03 from any input point, so the square
 // is not within 0.004 of the input; the hole's edges end the shadow inside the square.
 TEST(Coverage, AHoleUnderTheNewFaceIsRefused) {
