@@ -21,28 +21,6 @@ void Split(const DVec3 t[3], DVec3 child[4][3]) {
     for (int i = 0; i < 3; ++i) child[k][i] = c[k][i];
 }
 
-// The squared distance from q to the tetrahedron (a, b, c, d) where q is known to be farther than
-// that from its faces abc and abd: 0 inside, else the nearer of the other two faces (also when
-// it is flat: its faces then cover it), which far_faces(q) measures.
-template <class FarFaces>
-double SquaredDistanceToTetrahedronPast(const DVec3& q, const DVec3& a, const DVec3& b,
-                                        const DVec3& c, const DVec3& d, FarFaces&& far_faces) {
-  const DVec3 ab = b - a, ac = c - a, ad = d - a, aq = q - a;
-  const double volume = Dot(ab, Cross(ac, ad));
-  if (volume != 0) {
-    const double ld = Dot(ab, Cross(ac, aq)) / volume, lc = Dot(ab, Cross(aq, ad)) / volume,
-                 lb = Dot(aq, Cross(ac, ad)) / volume;
-    if (ld >= 0 && lc >= 0 && lb >= 0 && ld + lc + lb <= 1) return 0;
-  }
-  return far_faces(q);
-}
-double SquaredDistanceToTetrahedronPast(const DVec3& q, const DVec3& a, const DVec3& b,
-                                        const DVec3& c, const DVec3& d) {
-  return SquaredDistanceToTetrahedronPast(q, a, b, c, d, [&](const DVec3& p) {
-    return std::min(SquaredDistanceToTriangle(p, a, c, d), SquaredDistanceToTriangle(p, b, c, d));
-  });
-}
-
 // The squared distance between the segments pq and rs (Ericson, 5.1.9), degenerate ones
 // included.
 double SquaredSegmentDistance(const DVec3& p, const DVec3& q, const DVec3& r, const DVec3& s) {
@@ -99,6 +77,7 @@ bool MakePair(const DVec3* t, const DVec3* u, double tolerance, CoveragePlan::Ho
   pair->delta = std::sqrt(SquaredSegmentDistance(pair->a, pair->b, pair->c1, pair->c2));
   if (!(pair->delta < tolerance)) return false;
   pair->limit = (tolerance - pair->delta) * (tolerance - pair->delta);
+  pair->beyond = 1.001 * tolerance * tolerance;
   const double widen = tolerance - pair->delta;
   const DVec3 c[4] = {pair->a, pair->b, pair->c1, pair->c2};
   pair->lo = {c[0].x, c[0].y, c[0].z};
@@ -144,6 +123,9 @@ double PairWorst(const CoveragePlan::HolderPair& pair, const TriangleDistance& t
   for (int q = 0; q < 3 && worst <= pair.limit; ++q) {
     double d = known_k(to_k, c, q);
     if (d > pair.limit) d = std::min(d, known_j(to_j, c, q));
+    // The hull lies within delta of the two: a point farther than the tolerance from both is
+    // farther than the tolerance less delta from the hull (with a margin for rounding).
+    if (d > pair.beyond) return d;
     if (d > pair.limit)
       d = std::min(d, SquaredDistanceToTetrahedronPast(
                           c[q], pair.a, pair.b, pair.c1, pair.c2, [&pair](const DVec3& p) {
@@ -432,8 +414,14 @@ void Coverage::Witnesses(const DVec3& lo, const DVec3& hi, std::span<const uint3
     if (w.hi.x < lo.x || w.lo.x > hi.x || w.hi.y < lo.y || w.lo.y > hi.y || w.hi.z < lo.z ||
         w.lo.z > hi.z)
       continue;
-    const DVec3 corners[3] = {ToD(t[0]), ToD(t[1]), ToD(t[2])};
-    w.distance = TriangleDistance(corners);
+    uint32_t& slot = plan->witness_distance_slot[f];
+    if (slot == kNone) {
+      const DVec3 corners[3] = {ToD(t[0]), ToD(t[1]), ToD(t[2])};
+      slot = static_cast<uint32_t>(plan->witness_distance.size());
+      plan->witness_distance.emplace_back(corners);
+      plan->witness_distance_of.push_back(f);
+    }
+    w.distance = slot;
     plan->witnesses.push_back(w);
   }
 }
@@ -790,6 +778,13 @@ bool Coverage::Judge(std::span<const DVec3> fresh_corners, CoveragePlan* plan,
       plan->under.push_back(g.piece.triangle);
   std::sort(plan->under.begin(), plan->under.end());
   plan->under.erase(std::unique(plan->under.begin(), plan->under.end()), plan->under.end());
+  if (plan->witness_distance_slot.size() != whole_.size())
+    plan->witness_distance_slot.assign(whole_.size(), kNone);
+  const auto forget_distances = [plan] {
+    for (uint32_t f : plan->witness_distance_of) plan->witness_distance_slot[f] = kNone;
+    plan->witness_distance_of.clear();
+    plan->witness_distance.clear();
+  };
   for (int k = 0; k < fresh; ++k) {
     const DVec3* c = &fresh_corners[3 * k];
     const DVec3 lo{std::min({c[0].x, c[1].x, c[2].x}), std::min({c[0].y, c[1].y, c[2].y}),
@@ -802,9 +797,13 @@ bool Coverage::Judge(std::span<const DVec3> fresh_corners, CoveragePlan* plan,
       GridWitnesses(lo, hi, plan);
       reach = Within(c, plan, &looked);
     }
-    if (reach < 0) return false;
+    if (reach < 0) {
+      forget_distances();
+      return false;
+    }
     plan->reach[k] = std::max(plan->reach[k], reach);
   }
+  forget_distances();
   *work += looked;
 
   return true;
@@ -894,14 +893,14 @@ double Coverage::WithinPart(const DVec3* c, int level, CoveragePlan* plan, uint6
              q.z <= w.hi.z;
     };
     if (inside(lo) && inside(hi)) {
-      const double worst = w.distance.Corners(c, tolerance2_);
+      const double worst = plan->DistanceTo(w).Corners(c, tolerance2_);
       if (worst <= tolerance2_) {
         plan->last_witness = i;
         return std::sqrt(worst);
       }
     }
     if (!inside(centre)) continue;
-    const double d2 = w.distance(centre);
+    const double d2 = plan->DistanceTo(w)(centre);
     if (d2 < nearest_centre) {
       nearest_centre = d2;
       nearest = w.triangle;

@@ -104,10 +104,18 @@ struct CoveragePlan {
   std::vector<uint64_t> keys;
   struct Witness {
     uint32_t triangle;
-    DVec3 lo, hi;  // its box, widened by the tolerance
-    TriangleDistance distance;
+    DVec3 lo, hi;       // its box, widened by the tolerance
+    uint32_t distance;  // its index in witness_distance
   };
   std::vector<Witness> witnesses;
+  // The distances to the input triangles the check's new faces have looked at, each built once
+  // per check (neighbouring new faces share most of theirs), and per input triangle its index
+  // there or kNone.
+  std::vector<TriangleDistance> witness_distance;
+  std::vector<uint32_t> witness_distance_of, witness_distance_slot;
+  const TriangleDistance& DistanceTo(const Witness& w) const {
+    return witness_distance[w.distance];
+  }
   // Per level of a new face's subdivision: the witnesses near the part being judged there.
   std::vector<uint32_t> near[9];
   uint32_t last_witness = 0;
@@ -120,6 +128,7 @@ struct CoveragePlan {
     int k, j;
     DVec3 a, b, c1, c2;
     double delta, limit;  // limit: (tolerance - delta)^2
+    double beyond;        // a squared distance from both triangles that is beyond the hull's limit
     DVec3 lo, hi;         // the hull's box, widened by tolerance - delta
     // The hull's other two faces, (a, c1, c2) and (b, c1, c2).
     TriangleDistance to_a_side, to_b_side;
