@@ -1,5 +1,6 @@
-// Point-to-triangle distances, the measured check's measure (engine/coverage.h): exact up to
-// rounding, and never below the true distance by more than a few ulps.
+// Point-to-triangle distances, and to the hull of two triangles across an edge: the measured
+// check's measure (engine/coverage.h), exact up to rounding and never below the true distance
+// by more than a few ulps.
 #pragma once
 
 #include <algorithm>
@@ -13,8 +14,6 @@ namespace femsimp {
 
 // The squared distance from q to the triangle (a, b, c); degenerate triangles included.
 double SquaredDistanceToTriangle(const DVec3& q, const DVec3& a, const DVec3& b, const DVec3& c);
-// The squared distance from q to the segment ab.
-double SquaredDistanceToSegment(const DVec3& q, const DVec3& a, const DVec3& b);
 
 // The squared distance from q to the tetrahedron (a, b, c, d) where q is known to be farther than
 // that from its faces abc and abd: 0 inside, else the nearer of the other two faces (also when
