@@ -21,41 +21,10 @@ void Split(const DVec3 t[3], DVec3 child[4][3]) {
     for (int i = 0; i < 3; ++i) child[k][i] = c[k][i];
 }
 
-// The squared distance between the segments pq and rs (Ericson, 5.1.9), degenerate ones
-// included.
-double SquaredSegmentDistance(const DVec3& p, const DVec3& q, const DVec3& r, const DVec3& s) {
-  const DVec3 d1 = q - p, d2 = s - r, w = p - r;
-  const double a = Dot(d1, d1), e = Dot(d2, d2), f = Dot(d2, w);
-  double t1 = 0, t2 = 0;
-  if (a <= 0 && e <= 0) {
-    // both points
-  } else if (a <= 0) {
-    t2 = std::clamp(f / e, 0.0, 1.0);
-  } else {
-    const double c = Dot(d1, w);
-    if (e <= 0) {
-      t1 = std::clamp(-c / a, 0.0, 1.0);
-    } else {
-      const double b = Dot(d1, d2), denominator = a * e - b * b;
-      t1 = denominator > 0 ? std::clamp((b * f - c * e) / denominator, 0.0, 1.0) : 0.0;
-      t2 = (b * t1 + f) / e;
-      if (t2 < 0) {
-        t2 = 0;
-        t1 = std::clamp(-c / a, 0.0, 1.0);
-      } else if (t2 > 1) {
-        t2 = 1;
-        t1 = std::clamp((b - c) / a, 0.0, 1.0);
-      }
-    }
-  }
-  const DVec3 gap = (p + t1 * d1) - (r + t2 * d2);
-  return Dot(gap, gap);
-}
-
 double Area(const DVec3 c[3]) { return 0.5 * Norm(Cross(c[1] - c[0], c[2] - c[0])); }
 
-// Two triangles with two corners the same, as a pair whose hull lies within `delta` of them,
-// delta below the tolerance; false when they are not.
+// Two triangles with two corners the same, as a pair with the cut between them; false when they
+// are not (or one is degenerate).
 bool MakePair(const DVec3* t, const DVec3* u, double tolerance, CoveragePlan::HolderPair* pair) {
   const auto same = [](const DVec3& p, const DVec3& q) {
     return p.x == q.x && p.y == q.y && p.z == q.z;
@@ -69,28 +38,17 @@ bool MakePair(const DVec3* t, const DVec3* u, double tolerance, CoveragePlan::Ho
         ++shared;
       }
   if (shared != 2) return false;
-  pair->a = t[at_t[0]];
-  pair->b = t[at_t[1]];
-  pair->c1 = t[3 - at_t[0] - at_t[1]];
-  pair->c2 = u[3 - at_u[0] - at_u[1]];
-  // As Coverage::WithinPair's delta: the hull lies within it of the two triangles.
-  pair->delta = std::sqrt(SquaredSegmentDistance(pair->a, pair->b, pair->c1, pair->c2));
-  if (!(pair->delta < tolerance)) return false;
-  pair->limit = (tolerance - pair->delta) * (tolerance - pair->delta);
-  pair->beyond = 1.001 * tolerance * tolerance;
-  const double widen = tolerance - pair->delta;
-  const DVec3 c[4] = {pair->a, pair->b, pair->c1, pair->c2};
-  pair->lo = {c[0].x, c[0].y, c[0].z};
-  pair->hi = pair->lo;
+  const DVec3 c[4] = {t[at_t[0]], t[at_t[1]], t[3 - at_t[0] - at_t[1]], u[3 - at_u[0] - at_u[1]]};
+  pair->cut = EdgeCut(c[0], c[1], c[2], c[3]);
+  if (!pair->cut.valid()) return false;
+  pair->lo = c[0];
+  pair->hi = c[0];
   for (const DVec3& p : c) {
     pair->lo = {std::min(pair->lo.x, p.x), std::min(pair->lo.y, p.y), std::min(pair->lo.z, p.z)};
     pair->hi = {std::max(pair->hi.x, p.x), std::max(pair->hi.y, p.y), std::max(pair->hi.z, p.z)};
   }
-  pair->lo = pair->lo - DVec3{widen, widen, widen};
-  pair->hi = pair->hi + DVec3{widen, widen, widen};
-  const DVec3 a_side[3] = {pair->a, pair->c1, pair->c2}, b_side[3] = {pair->b, pair->c1, pair->c2};
-  pair->to_a_side = TriangleDistance(a_side);
-  pair->to_b_side = TriangleDistance(b_side);
+  pair->lo = pair->lo - DVec3{tolerance, tolerance, tolerance};
+  pair->hi = pair->hi + DVec3{tolerance, tolerance, tolerance};
   return true;
 }
 
@@ -113,27 +71,14 @@ struct KnownDistances {
   }
 };
 
-// The largest squared distance of the corners c to the pair's hull, or more than its limit as
-// soon as one is farther. The hull is the tetrahedron's, and the two triangles are two of its
-// faces: either within the limit is enough.
+// The largest squared distance of the corners c to the pair (EdgeCut), or more than `limit` as
+// soon as one is farther.
 double PairWorst(const CoveragePlan::HolderPair& pair, const TriangleDistance& to_k,
-                 const TriangleDistance& to_j, const DVec3* c, KnownDistances known_k = {},
-                 KnownDistances known_j = {}) {
-  double worst = 0;
-  for (int q = 0; q < 3 && worst <= pair.limit; ++q) {
-    double d = known_k(to_k, c, q);
-    if (d > pair.limit) d = std::min(d, known_j(to_j, c, q));
-    // The hull lies within delta of the two: a point farther than the tolerance from both is
-    // farther than the tolerance less delta from the hull (with a margin for rounding).
-    if (d > pair.beyond) return d;
-    if (d > pair.limit)
-      d = std::min(d, SquaredDistanceToTetrahedronPast(
-                          c[q], pair.a, pair.b, pair.c1, pair.c2, [&pair](const DVec3& p) {
-                            return std::min(pair.to_a_side(p), pair.to_b_side(p));
-                          }));
-    worst = std::max(worst, d);
-  }
-  return worst;
+                 const TriangleDistance& to_j, const DVec3* c, double limit,
+                 KnownDistances known_k = {}, KnownDistances known_j = {}) {
+  return CutWorst(
+      pair.cut, c, [&](int q) { return known_k(to_k, c, q); },
+      [&](int q) { return known_j(to_j, c, q); }, to_k, to_j, limit);
 }
 
 }  // namespace
@@ -279,8 +224,7 @@ double Coverage::WithinFan(const DVec3* c, uint32_t v) const {
 }
 
 void Coverage::MeasurePairs() {
-  pair_delta_.assign(across_.size(), std::numeric_limits<float>::infinity());
-  pair_far_.assign(across_.size(), 0);
+  pair_far_.assign(across_.size(), kNoFar);
   for (uint32_t f = 0; f < whole_.size(); ++f) {
     if (!whole_[f]) continue;
     const Vec3* t1 = &input_[3 * size_t{f}];
@@ -288,21 +232,17 @@ void Coverage::MeasurePairs() {
       const uint32_t other = across_[3 * size_t{f} + e];
       if (other == kNone) continue;
       // Half-edge 3f + e runs from corner e + 2 to corner e (mod 3): corner e + 1 is the far one.
-      const DVec3 a = ToD(t1[(e + 2) % 3]), b = ToD(t1[e]), c1 = ToD(t1[(e + 1) % 3]);
+      const DVec3 a = ToD(t1[(e + 2) % 3]), b = ToD(t1[e]);
       const Vec3* t2 = &input_[3 * size_t{other}];
-      int far = -1;
+      int far = -1, on_edge = 0;
       for (int k = 0; k < 3; ++k) {
         const DVec3 q = ToD(t2[k]);
-        if (Dot(q - a, q - a) != 0 && Dot(q - b, q - b) != 0) far = k;
+        if (Dot(q - a, q - a) != 0 && Dot(q - b, q - b) != 0)
+          far = k;
+        else
+          ++on_edge;
       }
-      if (far < 0) continue;
-      const double delta = std::sqrt(SquaredSegmentDistance(a, b, c1, ToD(t2[far])));
-      if (delta >= tolerance_) continue;
-      // Stored as the float at or above it: WithinPair then leaves the tolerance less room.
-      float stored = static_cast<float>(delta);
-      if (stored < delta) stored = std::nextafter(stored, std::numeric_limits<float>::infinity());
-      pair_delta_[3 * size_t{f} + e] = stored;
-      pair_far_[3 * size_t{f} + e] = static_cast<uint8_t>(far);
+      if (far >= 0 && on_edge == 2) pair_far_[3 * size_t{f} + e] = static_cast<uint8_t>(far);
     }
   }
 }
@@ -511,10 +451,11 @@ int Coverage::TakeByPair(const DVec3* c, const TriangleDistance* to, CoveragePla
     const auto known = [plan](int k) {
       return KnownDistances{&plan->known[3 * size_t(k)], plan->known_count[k]};
     };
-    const double worst = PairWorst(pair, to[pair.k], to[pair.j], c, known(pair.k), known(pair.j));
-    if (worst <= pair.limit) {
+    const double worst =
+        PairWorst(pair, to[pair.k], to[pair.j], c, tolerance2_, known(pair.k), known(pair.j));
+    if (worst <= tolerance2_) {
       *last_pair = i;
-      *reach = std::sqrt(worst) + pair.delta;
+      *reach = std::sqrt(worst);
       return i;
     }
   }
@@ -554,7 +495,7 @@ absl::Status Coverage::Audit() const {
       }
       DVec3 c[3];
       Corners(p.piece, c);
-      double worst, limit = tolerance2_;
+      double worst;
       if (p.partner == kNone) {
         worst = to_f.Corners(c, tolerance2_);
       } else {
@@ -570,10 +511,9 @@ absl::Status Coverage::Audit() const {
                                                " hold ", name(p), " together but are no pair"));
           return;
         }
-        worst = PairWorst(pair, to_f, TriangleDistance(u), c);
-        limit = pair.limit;
+        worst = PairWorst(pair, to_f, TriangleDistance(u), c, tolerance2_);
       }
-      if (worst > limit) {
+      if (worst > tolerance2_) {
         status = absl::InternalError(absl::StrCat("measured check: face ", f, " holds ", name(p),
                                                   " farther than the tolerance"));
         return;
@@ -810,33 +750,30 @@ bool Coverage::Judge(std::span<const DVec3> fresh_corners, CoveragePlan* plan,
 }
 
 double Coverage::WithinPair(const DVec3* c, uint32_t face) const {
-  // Input faces t1 = (a, b, c1) and t2 = (b, a, c2) across the edge ab. Every point of their
-  // hull H is on a segment from ab to c1c2; where that segment passes nearest ab, it is within
-  // delta = dist(ab, c1c2) of t1 on the one side and of t2 on the other, and the distance to
-  // each is convex: so H lies within delta of t1 and t2 (0 for a flat convex quad). The
-  // distance to H is convex too: a part is within when its corners are within the tolerance
-  // less delta of H. This takes the parts that straddle an input edge whole.
+  // Input faces t1 = (a, b, c1) and t2 = (b, a, c2) across the edge ab, each within the
+  // tolerance of the part's part on its side of the cut between them (engine/edge_cut.h): this
+  // takes the parts that straddle an input edge whole, over a bent edge too.
   const Vec3* t1 = &input_[3 * size_t{face}];
   const DVec3 p1[3] = {ToD(t1[0]), ToD(t1[1]), ToD(t1[2])};
   double to_t1[3] = {-1, -1, -1};  // the corners' squared distances to t1, once computed
   for (int e = 0; e < 3; ++e) {
-    const double delta = pair_delta_[3 * size_t{face} + e];
-    if (!(delta < tolerance_)) continue;
+    const uint8_t far = pair_far_[3 * size_t{face} + e];
+    if (far == kNoFar) continue;
     const uint32_t other = across_[3 * size_t{face} + e];
     const DVec3 &a = p1[(e + 2) % 3], &b = p1[e], &c1 = p1[(e + 1) % 3];
-    const DVec3 c2 = ToD(input_[3 * size_t{other} + pair_far_[3 * size_t{face} + e]]);
-    const double limit = (tolerance_ - delta) * (tolerance_ - delta);
-    // The distance to H is the tetrahedron's: t1 and t2 are two of its faces, so either
-    // within the limit is enough (the usual case); the other two faces and the inside follow.
-    double worst = 0;
-    for (int k = 0; k < 3 && worst <= limit; ++k) {
-      if (to_t1[k] < 0) to_t1[k] = SquaredDistanceToTriangle(c[k], a, b, c1);
-      double d = to_t1[k];
-      if (d > limit) d = std::min(d, SquaredDistanceToTriangle(c[k], b, a, c2));
-      if (d > limit) d = std::min(d, SquaredDistanceToTetrahedronPast(c[k], a, b, c1, c2));
-      worst = std::max(worst, d);
-    }
-    if (worst <= limit) return std::sqrt(worst) + delta;
+    const DVec3 c2 = ToD(input_[3 * size_t{other} + far]);
+    const EdgeCut cut(a, b, c1, c2);
+    if (!cut.valid()) continue;
+    const auto to_t1_point = [&](const DVec3& q) { return SquaredDistanceToTriangle(q, a, b, c1); };
+    const auto to_t2_point = [&](const DVec3& q) { return SquaredDistanceToTriangle(q, b, a, c2); };
+    const double worst = CutWorst(
+        cut, c,
+        [&](int q) {
+          if (to_t1[q] < 0) to_t1[q] = to_t1_point(c[q]);
+          return to_t1[q];
+        },
+        [&](int q) { return to_t2_point(c[q]); }, to_t1_point, to_t2_point, tolerance2_);
+    if (worst <= tolerance2_) return std::sqrt(worst);
   }
   return -1;
 }

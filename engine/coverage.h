@@ -4,16 +4,19 @@
 // (a) Every point of the input stays within the tolerance of the surface. The input's triangles
 //     are cut into pieces (a triangle, or one of the four triangles of a piece's midpoint
 //     subdivision), and every piece is held by one live face that is within the tolerance of
-//     all of it, or by two live faces across an edge whose hull is (a pair). The distance to a
-//     triangle, or to the hull, is convex, so a holder is within the tolerance of a piece when
-//     it is of the piece's three corners. A collapse rewrites only the faces of its fan (or
+//     all of it, or by two live faces across an edge, each within the tolerance of the piece's
+//     part on its side of a plane through the edge (a pair). The distance to a triangle is
+//     convex, so a holder is within the tolerance of a piece (or part) when it is of its
+//     corners. A collapse rewrites only the faces of its fan (or
 //     star): the pieces those held go to the new faces, cut further where no one new face or
 //     pair takes a whole piece; a piece none takes at the deepest level refuses it.
 // (b) Every point of a new face lies within the tolerance of the input. The new face is cut the
 //     same way; a part is within when its corners all are within the tolerance of one input
-//     triangle (convexity), or its centre within the tolerance less the part's radius of one
-//     (the distance is 1-Lipschitz), or it lies over a nearly flat, convex fan of an input vertex
-//     (Fan below). The input triangles tried are those of the pieces the old faces held.
+//     triangle (convexity), or its parts on either side of the cut between two input triangles
+//     across an edge are of theirs, or its centre within the tolerance less the part's radius of
+//     one (the distance is 1-Lipschitz), or it lies over a nearly flat, convex fan of an input
+//     vertex (Fan below), or over input triangles in a slab (the shadow). The input triangles
+//     tried are those of the pieces the old faces held, then all near the new face.
 //
 // The pieces of a face change only when a collapse holding that face's corners' locks commits,
 // so the kernel's locks (and the rounds' disjoint fans) keep every face's list to one writer.
@@ -28,6 +31,7 @@
 #include <vector>
 
 #include "absl/status/status.h"
+#include "engine/edge_cut.h"
 #include "engine/mesh.h"
 #include "engine/star.h"
 #include "engine/triangle_distance.h"
@@ -120,18 +124,13 @@ struct CoveragePlan {
   std::vector<uint32_t> near[9];
   uint32_t last_witness = 0;
   std::vector<uint32_t> found;
-  // Adjacent holders k and j (two corners the same; k a new face) whose hull lies within delta of
-  // them, delta below the tolerance: a piece within the tolerance less delta of the hull of a, b
-  // (the shared edge), c1 (k's third corner) and c2 (j's) is within the tolerance of the two. Found
-  // once per check, when a piece first needs them.
+  // Adjacent holders k and j (two corners the same; k a new face): a piece whose part on each
+  // side of the cut between them is within the tolerance of that side's face (engine/edge_cut.h)
+  // is held by the two. Found once per check, when a piece first needs them.
   struct HolderPair {
     int k, j;
-    DVec3 a, b, c1, c2;
-    double delta, limit;  // limit: (tolerance - delta)^2
-    double beyond;        // a squared distance from both triangles that is beyond the hull's limit
-    DVec3 lo, hi;         // the hull's box, widened by tolerance - delta
-    // The hull's other two faces, (a, c1, c2) and (b, c1, c2).
-    TriangleDistance to_a_side, to_b_side;
+    EdgeCut cut;
+    DVec3 lo, hi;  // the two faces' box, widened by the tolerance
   };
   std::vector<HolderPair> holder_pairs;
   bool holder_pairs_found = false;
@@ -192,8 +191,8 @@ class Coverage {
   // Checks what the commits built (tests, and the end of every measured run): every input
   // triangle's area is the sum of its pieces', each listed once (a pair's in both faces'
   // lists, each naming the other), every holder live in the mesh and within the tolerance of
-  // its pieces' corners (the pair's hull within the tolerance less its slack). Internal error
-  // naming the first piece that is not.
+  // its pieces' corners (a pair: each of the two within it of the piece's part on its side of
+  // the cut). Internal error naming the first piece that is not.
   absl::Status Audit() const;
   // The corners of a piece.
   void Corners(Piece piece, DVec3 out[3]) const;
@@ -247,9 +246,9 @@ class Coverage {
   Mesh* mesh_;
   std::vector<Vec3> input_;       // 3 corners per face id (the input's faces)
   std::vector<uint32_t> across_;  // 3 per face: the input face across each edge (kNone: none)
-  // Per face edge with a face across: WithinPair's delta, rounded up (infinite where the pair
-  // cannot help), and the corner of the face across that is not on the edge.
-  std::vector<float> pair_delta_;
+  // Per face edge: the corner of the face across that is not on the edge (kNoFar: no face
+  // across, or it shares more than the edge).
+  static constexpr uint8_t kNoFar = 3;
   std::vector<uint8_t> pair_far_;
   // An input vertex's fan that its normal n sees as a convex polygon, each point of it once,
   // and whose corners lie in the slab lo <= n.(x - centre) <= hi thinner than the tolerance: every

@@ -44,11 +44,4 @@ double SquaredDistanceToTriangle(const DVec3& q, const DVec3& a, const DVec3& b,
   return Dot(d, d);
 }
 
-double SquaredDistanceToTetrahedronPast(const DVec3& q, const DVec3& a, const DVec3& b,
-                                        const DVec3& c, const DVec3& d) {
-  return SquaredDistanceToTetrahedronPast(q, a, b, c, d, [&](const DVec3& p) {
-    return std::min(SquaredDistanceToTriangle(p, a, c, d), SquaredDistanceToTriangle(p, b, c, d));
-  });
-}
-
 }  // namespace femsimp

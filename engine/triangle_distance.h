@@ -1,6 +1,5 @@
-// Point-to-triangle distances, and to the hull of two triangles across an edge: the measured
-// check's measure (engine/coverage.h), exact up to rounding and never below the true distance
-// by more than a few ulps.
+// Point-to-triangle distances, the measured check's measure (engine/coverage.h): exact up to
+// rounding, and never below the true distance by more than a few ulps.
 #pragma once
 
 #include <algorithm>
@@ -14,29 +13,6 @@ namespace femsimp {
 
 // The squared distance from q to the triangle (a, b, c); degenerate triangles included.
 double SquaredDistanceToTriangle(const DVec3& q, const DVec3& a, const DVec3& b, const DVec3& c);
-
-// The squared distance from q to the tetrahedron (a, b, c, d) where q is known to be farther than
-// that from its faces abc and abd: 0 inside, else the nearer of the other two faces (also when
-// it is flat: its faces then cover it), which far_faces(q) measures. The inside test only where
-// the volume stands above its rounding: in a tetrahedron as flat as a rounding error (two
-// corners on one line with a third) its barycentric coordinates are noise, and a point far
-// outside came out inside.
-template <class FarFaces>
-inline double SquaredDistanceToTetrahedronPast(const DVec3& q, const DVec3& a, const DVec3& b,
-                                               const DVec3& c, const DVec3& d,
-                                               FarFaces&& far_faces) {
-  const DVec3 ab = b - a, ac = c - a, ad = d - a, aq = q - a;
-  const double volume = Dot(ab, Cross(ac, ad));
-  if (std::fabs(volume) > 1e-6 * Norm(ab) * Norm(ac) * Norm(ad)) {
-    const double ld = Dot(ab, Cross(ac, aq)) / volume, lc = Dot(ab, Cross(aq, ad)) / volume,
-                 lb = Dot(aq, Cross(ac, ad)) / volume;
-    if (ld >= 0 && lc >= 0 && lb >= 0 && ld + lc + lb <= 1) return 0;
-  }
-  return far_faces(q);
-}
-// The same, the far faces measured by SquaredDistanceToTriangle.
-double SquaredDistanceToTetrahedronPast(const DVec3& q, const DVec3& a, const DVec3& b,
-                                        const DVec3& c, const DVec3& d);
 
 // Squared distances from many points to one triangle: a point over the triangle's inside is
 // its height over the plane (the usual case for the pieces a new face takes), the others go

@@ -254,29 +254,6 @@ TEST(Coverage, AHeightFieldInTheSlabTakesTheNewFaceWhole) {
   EXPECT_FALSE(JudgeReplacement(Checkerboard(16, 0.0045f), 0.004, Square).within);
 }
 
-// The distance to a pair's hull past its two known faces: 0 inside a solid tetrahedron, the far
-// faces' outside it; and for a tetrahedron as flat as rounding (three corners on one line, as
-// two holders across an edge were on a bottle at 0.1 %: the inside test took a point 0.99 from
-// both for inside), the far faces' distance, not 0.
-TEST(Coverage, DistanceToAPairsHullIsNeverZeroFarOutsideIt) {
-  const DVec3 a{19.108089447021484, 3.3527483940124512, 45.200508117675781};
-  const DVec3 b{19.399999618530273, -4.7516295233326553e-15, 34.629440307617188};
-  const DVec3 c1{19.399999618530273, -4.7516295233326553e-15, 30.401012420654297};
-  const DVec3 c2{19.399999618530273, -4.7516295233326553e-15, 38.857864379882812};
-  const DVec3 q{19.399999618530273, -4.7516295233326553e-15, 40.972078323364258};
-  const double to_faces =
-      std::min({SquaredDistanceToTriangle(q, a, b, c1), SquaredDistanceToTriangle(q, b, a, c2),
-                SquaredDistanceToTriangle(q, a, c1, c2), SquaredDistanceToTriangle(q, b, c1, c2)});
-  EXPECT_GT(to_faces, 0.9);
-  EXPECT_NEAR(SquaredDistanceToTetrahedronPast(q, a, b, c1, c2), to_faces, 1e-9);
-  // A solid one: its centroid inside, a point beyond a far face at that face's distance.
-  const DVec3 p{0, 0, 0}, r{1, 0, 0}, s{0, 1, 0}, t{0, 0, 1};
-  EXPECT_EQ(SquaredDistanceToTetrahedronPast(0.25 * (p + r + s + t), p, r, s, t), 0.0);
-  const DVec3 beyond{0.6, 0.6, 0.6};  // outside the face (r, s, t), nearest it
-  EXPECT_NEAR(SquaredDistanceToTetrahedronPast(beyond, p, r, s, t),
-              SquaredDistanceToTriangle(beyond, r, s, t), 1e-15);
-}
-
 // The shadow certificate keeps a triangle that crosses R's border when its part over R lies in
 // the slab: the largest |height| over the clip, against a dense sampling of the triangle's
 // points over R (never below it; above it by at most a sample's height step), and none when
@@ -395,6 +372,33 @@ TEST(Coverage, TwoNewFacesAcrossAnEdgeHoldWhatStraddlesItTogether) {
   lifted.plan.fresh_ids = {0};
   lifted.corners = {{0, 0, 0.01}, {1, 0, 0}, {0, 1, 0}};
   EXPECT_FALSE(coverage.Judge(lifted.corners, &lifted.plan, &work));
+}
+
+// The square folded along one diagonal (a valley 0.1 deep at its corners 1 and 3), the new
+// faces along the other (a ridge): each input triangle straddles the ridge, and the two new
+// faces' hull lies 0.1 from them, as far as the surfaces are apart. Cut between them along the
+// ridge, each side is within 0.0990 of its face (the valley's middle, under the ridge's): the
+// pair takes both input triangles whole at a tolerance just above that, and refuses below.
+TEST(Coverage, TwoNewFacesAcrossABentEdgeHoldWhatStraddlesItTogether) {
+  RawMesh folded = FlatSquare();
+  folded.positions[5] = folded.positions[11] = 0.1f;
+  absl::StatusOr<Mesh> mesh = Mesh::Build(folded);
+  ASSERT_TRUE(mesh.ok()) << mesh.status();
+  const double h = folded.positions[5];
+  Flattening flip = FlippedSquare();
+  for (DVec3& c : flip.corners)
+    if (c.x + c.y == 1) c.z = h;
+  const double apart = h / std::sqrt(1 + 2 * h * h);  // the valley's middle to the ridge's faces
+  uint64_t work = 0;
+  {
+    Coverage tight(*mesh, apart * 0.999);
+    Flattening f = flip;
+    EXPECT_FALSE(tight.Judge(f.corners, &f.plan, &work));
+  }
+  Coverage coverage(*mesh, apart * 1.005);
+  ASSERT_TRUE(coverage.Judge(flip.corners, &flip.plan, &work));
+  coverage.Apply(flip.plan);
+  ExpectPairHoldsBothWhole(coverage);
 }
 
 // The audit of what the commits built: the input as built passes; a commit that leaves a
