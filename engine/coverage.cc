@@ -109,7 +109,7 @@ Coverage::Coverage(Mesh& mesh, double tolerance)
     }
   }
   IndexInput();
-  MeasurePairs();
+  FindFarCorners();
   MeasureFans(mesh);
 }
 
@@ -223,7 +223,7 @@ double Coverage::WithinFan(const DVec3* c, uint32_t v) const {
   return reach <= tolerance_ ? reach : -1;
 }
 
-void Coverage::MeasurePairs() {
+void Coverage::FindFarCorners() {
   pair_far_.assign(across_.size(), kNoFar);
   for (uint32_t f = 0; f < whole_.size(); ++f) {
     if (!whole_[f]) continue;

@@ -237,7 +237,8 @@ class Coverage {
   // The same for every input triangle (from the grid).
   void GridWitnesses(const DVec3& lo, const DVec3& hi, CoveragePlan* plan) const;
   void IndexInput();
-  void MeasurePairs();
+  // pair_far_, for WithinPair.
+  void FindFarCorners();
   void MeasureFans(const Mesh& mesh);
   // Replaces every four children of one piece by that piece, as long as there are such (keys:
   // scratch).
