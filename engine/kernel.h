@@ -330,13 +330,20 @@ class RemovalKernel final : private NeighbourhoodReader {
         extra_attr[k] = port_.ReadFaceAttr(star.face[star.fan_faces + k]);
     proposal_.extra_attr = extra_attr;
     proposal_.new_extra_attr = placing_->new_extra_attr;
-    // The optimal point, then back along the way from Vd to it (clamped to what the bounds
-    // allow: nearer Vd the deviation spent is smaller, nearer the optimum the volume's), then
-    // the edge's midpoint.
+    // The optimal point; then two more that keep the volume, for when the optimum makes a
+    // sliver or crosses another part: the edge's midpoint and the link's centre, each moved onto
+    // the plane of the points that keep it; then back along the way from Vd to the optimum
+    // (nearer Vd the deviation spent is smaller, nearer the optimum the volume's), and the
+    // midpoint itself.
     const DVec3 optimal = OptimalPosition(star);
     const DVec3 towards = optimal - star.vd;
-    const DVec3 tries[] = {optimal, star.vd + 0.5 * towards, star.vd + 0.25 * towards,
-                           0.5 * (star.v + star.vd)};
+    const DVec3 midpoint = 0.5 * (star.v + star.vd);
+    const DVec3 tries[] = {optimal,
+                           OntoVolumePlane(star, midpoint),
+                           OntoVolumePlane(star, star.LinkCentre()),
+                           star.vd + 0.5 * towards,
+                           star.vd + 0.25 * towards,
+                           midpoint};
     for (const DVec3& at : tries) {
       // Judged where the float it is stored as puts it.
       const Vec3 stored{static_cast<float>(at.x), static_cast<float>(at.y),

@@ -7,6 +7,7 @@
 
 #include "engine/port.h"
 #include "engine/ring.h"
+#include "engine/star.h"
 
 namespace femsimp {
 namespace {
@@ -60,7 +61,8 @@ void RoundScheduler::ReadFans(const RemovalPhase& phase) {
   by_vertex_.resize(m);  // (vertex, window entry), sorted as plain keys
   for (uint32_t k = 0; k < m; ++k) by_vertex_[k] = uint64_t{phase.candidates[window_[k]]} << 32 | k;
   std::sort(by_vertex_.begin(), by_vertex_.end());
-  // A candidate's box: V and its one-ring (with full-edge collapses, its two-ring).
+  // A candidate's box: V and its one-ring (with full-edge collapses, the box of every star of
+  // V, widened as the placed vertex may go: star.h's WidenForPlacement).
   const auto read = [&](NativePort& port, Ring& ring, Ring& outer, size_t i) {
     const uint32_t k = static_cast<uint32_t>(by_vertex_[i]);
     const uint32_t v = static_cast<uint32_t>(by_vertex_[i] >> 32);
@@ -70,19 +72,29 @@ void RoundScheduler::ReadFans(const RemovalPhase& phase) {
     const VertexQ q = port.ReadVertex(v);
     const DVec3 at{q.x, q.y, q.z};
     FaceGrid::Box b{at, at};
-    const auto grow = [&b](const Vec3& p) {
-      b.lo = {std::min(b.lo.x, double(p.x)), std::min(b.lo.y, double(p.y)),
-              std::min(b.lo.z, double(p.z))};
-      b.hi = {std::max(b.hi.x, double(p.x)), std::max(b.hi.y, double(p.y)),
-              std::max(b.hi.z, double(p.z))};
+    const auto grow = [](FaceGrid::Box& box, const Vec3& p) {
+      box.lo = {std::min(box.lo.x, double(p.x)), std::min(box.lo.y, double(p.y)),
+                std::min(box.lo.z, double(p.z))};
+      box.hi = {std::max(box.hi.x, double(p.x)), std::max(box.hi.y, double(p.y)),
+                std::max(box.hi.z, double(p.z))};
     };
     if (GatherRing(port, v, ring) == RingResult::kOk) {
-      for (int r = 0; r < ring.neighbours(); ++r) {
-        grow(ring.pos[r]);
-        // A full-edge collapse onto this neighbour reaches its one-ring (and places the vertex
-        // inside their box). A ring that cannot be read is refused by the kernel.
-        if (placement_ && GatherRing(port, ring.nbr[r], outer) == RingResult::kOk)
-          for (int j = 0; j < outer.neighbours(); ++j) grow(outer.pos[j]);
+      for (int r = 0; r < ring.neighbours(); ++r) grow(b, ring.pos[r]);
+      // A full-edge collapse onto a neighbour reaches the neighbour's one-ring and places the
+      // vertex within the widened box of the two (EdgeStar::lo, hi). A ring that cannot be
+      // read is refused by the kernel.
+      if (placement_) {
+        const FaceGrid::Box fan = b;
+        for (int r = 0; r < ring.neighbours(); ++r) {
+          if (GatherRing(port, ring.nbr[r], outer) != RingResult::kOk) continue;
+          FaceGrid::Box star = fan;
+          for (int j = 0; j < outer.neighbours(); ++j) grow(star, outer.pos[j]);
+          WidenForPlacement(&star.lo, &star.hi);
+          b.lo = {std::min(b.lo.x, star.lo.x), std::min(b.lo.y, star.lo.y),
+                  std::min(b.lo.z, star.lo.z)};
+          b.hi = {std::max(b.hi.x, star.hi.x), std::max(b.hi.y, star.hi.y),
+                  std::max(b.hi.z, star.hi.z)};
+        }
       }
     }
     const double scale =

@@ -51,6 +51,7 @@ bool EdgeStar::Build(const Ring& fan, int target, const Ring& target_fan) {
     grow(c[count]);
     ++count;
   }
+  WidenForPlacement(&lo, &hi);
   return true;
 }
 
@@ -84,7 +85,35 @@ bool Solve(int n, double m[4][4], double r[4], double x[4]) {
   return std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2]);
 }
 
+// Sum over the surviving faces of b x c, and six times the old volume under the star, both
+// relative to `mid`: the new volume under the star is (p - mid) . normal_sum / 6.
+struct VolumeTerms {
+  DVec3 normal_sum{0, 0, 0};
+  double old_volume6 = 0.0;
+  double area2 = 0.0;
+  // Whether the plane of the points that keep the volume is defined (not a star folded shut).
+  bool defined() const { return Norm(normal_sum) > 1e-6 * area2; }
+};
+VolumeTerms VolumeTermsOf(const EdgeStar& star, const DVec3& mid) {
+  VolumeTerms t;
+  for (int k = 0; k < star.count; ++k) {
+    const DVec3 a = star.a[k] - mid, b = star.b[k] - mid, c = star.c[k] - mid;
+    t.old_volume6 += Dot(a, Cross(b, c));
+    t.area2 += Norm(Cross(b - a, c - a));
+    if (star.survives[k]) t.normal_sum += Cross(b, c);
+  }
+  return t;
+}
+
 }  // namespace
+
+DVec3 OntoVolumePlane(const EdgeStar& star, const DVec3& p) {
+  const DVec3 mid = 0.5 * (star.v + star.vd);
+  const VolumeTerms t = VolumeTermsOf(star, mid);
+  if (!t.defined()) return p;
+  return p + ((t.old_volume6 - Dot(p - mid, t.normal_sum)) / Dot(t.normal_sum, t.normal_sum)) *
+                 t.normal_sum;
+}
 
 DVec3 OptimalPosition(const EdgeStar& star) {
   // Coordinates relative to the edge's midpoint, where the answer is (small numbers, no
@@ -92,15 +121,10 @@ DVec3 OptimalPosition(const EdgeStar& star) {
   const DVec3 mid = 0.5 * (star.v + star.vd);
   double q[3][3] = {};
   double r[3] = {0, 0, 0};
-  DVec3 normal_sum{0, 0, 0};
-  double old_volume6 = 0.0, area2 = 0.0;
   for (int k = 0; k < star.count; ++k) {
     const DVec3 a = star.a[k] - mid, b = star.b[k] - mid, c = star.c[k] - mid;
     const DVec3 n = Cross(b - a, c - a);
     const double len = Norm(n);
-    old_volume6 += Dot(a, Cross(b, c));
-    area2 += len;
-    if (star.survives[k]) normal_sum += Cross(b, c);
     if (!(len > 0.0)) continue;
     const DVec3 u = (1.0 / len) * n;
     const double weight = 0.5 * len, d = Dot(u, a);
@@ -110,17 +134,18 @@ DVec3 OptimalPosition(const EdgeStar& star) {
       r[i] += weight * d * uu[i];
     }
   }
+  const VolumeTerms volume = VolumeTermsOf(star, mid);
   const double pull = 1e-3 * (q[0][0] + q[1][1] + q[2][2]) / 3.0;
-  double m[4][4] = {}, rhs[4] = {r[0], r[1], r[2], old_volume6}, x[4] = {0, 0, 0, 0};
+  double m[4][4] = {}, rhs[4] = {r[0], r[1], r[2], volume.old_volume6}, x[4] = {0, 0, 0, 0};
   for (int i = 0; i < 3; ++i) {
     for (int j = 0; j < 3; ++j) m[i][j] = q[i][j];
     m[i][i] += pull;
   }
-  // The new volume under the star (cones from the midpoint) is x . normal_sum / 6: keeping it
-  // equal to the old one is one linear constraint (a Lagrange multiplier in the fourth row).
-  const double ns[3] = {normal_sum.x, normal_sum.y, normal_sum.z};
-  const bool constrained = Norm(normal_sum) > 1e-6 * area2;
-  for (int i = 0; i < 3 && constrained; ++i) m[i][3] = m[3][i] = ns[i];
+  // Keeping the volume is one linear constraint (a Lagrange multiplier in the fourth row).
+  const DVec3 ns = volume.normal_sum;
+  const double row[3] = {ns.x, ns.y, ns.z};
+  const bool constrained = volume.defined();
+  for (int i = 0; i < 3 && constrained; ++i) m[i][3] = m[3][i] = row[i];
   if (!Solve(constrained ? 4 : 3, m, rhs, x)) return mid;
   return mid + DVec3{x[0], x[1], x[2]};
 }

@@ -144,6 +144,69 @@ TEST(EdgeStar, MassChangeMatchesTheWholeMeshAndOptimalKeepsTheVolume) {
   }
 }
 
+// Points moved onto the volume plane keep the volume under the star (the whole mesh's, by the
+// mass delta checked above); a point already on it stays where it is.
+TEST(EdgeStar, OntoVolumePlaneKeepsTheVolume) {
+  const RawMesh raw = testing::MakeTorus(16, 10);
+  absl::StatusOr<Mesh> mesh = Mesh::Build(raw);
+  ASSERT_TRUE(mesh.ok());
+  for (uint32_t v : {3u, 40u, 77u}) {
+    const Edge e = EdgeAt(*mesh, v, 1);
+    EdgeStar star;
+    ASSERT_TRUE(star.Build(e.fan, e.target, e.target_fan));
+    CollapseDelta half_edge;
+    CollapseMassDelta(e.fan, e.target, true, &half_edge);
+    const double spent = std::fabs(half_edge.mass.measure);
+    ASSERT_GT(spent, 0.0);  // the torus bends: the half-edge collapse changes the volume
+    for (const DVec3 p : {0.5 * (star.v + star.vd), star.LinkCentre(), star.vd, star.v}) {
+      star.p = OntoVolumePlane(star, p);
+      CollapseDelta delta;
+      StarMassDelta(star, true, &delta);
+      EXPECT_LT(std::fabs(delta.mass.measure), 1e-9 * spent) << "vertex " << v;
+    }
+    const DVec3 optimal = OptimalPosition(star);
+    EXPECT_LT(Norm(OntoVolumePlane(star, optimal) - optimal), 1e-9 * Norm(star.vd - star.v));
+  }
+}
+
+// Where the surface bends, the point that keeps the volume lies off the patch: outside the box
+// of V, Vd and their one-rings on some stars. The star's box reaches that far, and is that box
+// widened by WidenForPlacement, which the round scheduler widens the same way for each star of
+// a candidate (its box must hold every point the collapse may place).
+TEST(EdgeStar, PlacesBeyondThePatchWithinTheRoundsBox) {
+  const RawMesh raw = testing::MakeTorus(16, 10);
+  absl::StatusOr<Mesh> mesh = Mesh::Build(raw);
+  ASSERT_TRUE(mesh.ok());
+  int beyond_patch = 0, outside_star = 0;
+  for (uint32_t v = 0; v < mesh->vertex_capacity(); ++v) {
+    for (int target = 0; target < 3; ++target) {
+      const Edge e = EdgeAt(*mesh, v, target);
+      DVec3 lo = ToD(e.fan.center_pos), hi = lo;  // V, its one-ring and Vd's
+      const auto grow = [&](const Vec3& q) {
+        lo = {std::min(lo.x, double(q.x)), std::min(lo.y, double(q.y)),
+              std::min(lo.z, double(q.z))};
+        hi = {std::max(hi.x, double(q.x)), std::max(hi.y, double(q.y)),
+              std::max(hi.z, double(q.z))};
+      };
+      for (int r = 0; r < e.fan.neighbours(); ++r) grow(e.fan.pos[r]);
+      for (int r = 0; r < e.target_fan.neighbours(); ++r) grow(e.target_fan.pos[r]);
+      const DVec3 patch_lo = lo, patch_hi = hi;
+      WidenForPlacement(&lo, &hi);
+      EdgeStar star;
+      ASSERT_TRUE(star.Build(e.fan, e.target, e.target_fan));
+      EXPECT_TRUE(star.lo.x == lo.x && star.lo.y == lo.y && star.lo.z == lo.z &&
+                  star.hi.x == hi.x && star.hi.y == hi.y && star.hi.z == hi.z)
+          << "vertex " << v << " target " << target;
+      const DVec3 p = OptimalPosition(star);
+      beyond_patch += p.x < patch_lo.x || p.y < patch_lo.y || p.z < patch_lo.z ||
+                      p.x > patch_hi.x || p.y > patch_hi.y || p.z > patch_hi.z;
+      outside_star += !star.Contains(p);
+    }
+  }
+  EXPECT_GT(beyond_patch, 0);
+  EXPECT_LT(outside_star, beyond_patch);
+}
+
 // The bound holds: sampled distances between the two patches, both ways, stay below it (with
 // a zero bound before); and on a flat patch nothing moves off the surface.
 TEST(EdgeStar, DeviationBoundHoldsBothWays) {
