@@ -2,8 +2,11 @@
 // without a mesh, a port or the other rules.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -263,6 +266,71 @@ TEST(Rules, InertiaBudgetBoundsTheChangeOfEveryPrincipalMoment) {
   // Losing the whole measure is never within.
   spent = MassProperties{-4.0 / 3.0, {0, 0, 0}, {}};
   EXPECT_FALSE(within(spent));
+}
+
+// The eigenvalues of a symmetric 3x3 matrix, ascending, in closed form (the trigonometric
+// solution of the characteristic cubic): independent of the engine's Jacobi iteration.
+std::array<double, 3> Eigenvalues(const Sym3& m) {
+  const double q = m.trace() / 3;
+  const double off = m.xy * m.xy + m.yz * m.yz + m.zx * m.zx;
+  const double p2 =
+      (m.xx - q) * (m.xx - q) + (m.yy - q) * (m.yy - q) + (m.zz - q) * (m.zz - q) + 2 * off;
+  const double p = std::sqrt(p2 / 6);
+  if (!(p > 0)) return {q, q, q};
+  const Sym3 b{(m.xx - q) / p, (m.yy - q) / p, (m.zz - q) / p, m.xy / p, m.yz / p, m.zx / p};
+  const double det = b.xx * (b.yy * b.zz - b.yz * b.yz) - b.xy * (b.xy * b.zz - b.yz * b.zx) +
+                     b.zx * (b.xy * b.yz - b.yy * b.zx);
+  const double phi = std::acos(std::clamp(det / 2, -1.0, 1.0)) / 3;
+  const double largest = q + 2 * p * std::cos(phi);
+  const double smallest = q + 2 * p * std::cos(phi + 2 * std::numbers::pi / 3);
+  return {smallest, 3 * q - largest - smallest, largest};
+}
+
+// A slender part (moments 0.11, 1.01, 1.1): each moment keeps to its own share. Every random
+// change the budget lets through keeps each principal moment, rank by rank, within F of its
+// input value (the inertia about the moved centroid, computed here from the totals), and
+// changes far above F times the smallest moment pass where they load only the larger ones.
+TEST(Rules, InertiaBudgetKeepsEachMomentWithinItsOwnShare) {
+  SimplifyOptions o;
+  o.max_inertia_change = 0.01;
+  MassProperties input{1.0, {0, 0, 0}, {}};
+  input.second = Sym3{1.0, 0.1, 0.01, 0, 0, 0};
+  const std::array<double, 3> before = Eigenvalues(InertiaOf(input.second));
+  const FieldResultants none;
+  const RuleSet set = ClosedMeshRules(o, input, none);
+  const CollapseRule& inertia = Only(set, RuleStage::kBudget, Reject::kInertia);
+  const std::vector<DVec3> no_force;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  int passed = 0, beyond_smallest = 0;
+  for (int trial = 0; trial < 4000; ++trial) {
+    const double size = 0.03 * std::pow(10.0, -2.0 * (unit(rng) + 1) / 2);  // 3e-4 .. 3e-2
+    MassProperties spent{0.05 * size * unit(rng), {0, 0, 0}, {}};
+    spent.second = size * Sym3{unit(rng), unit(rng), unit(rng), unit(rng), unit(rng), unit(rng)};
+    spent.moment = 0.3 * size * DVec3{unit(rng), unit(rng), unit(rng)};
+    if (!inertia.WithinBudget(LedgerView{input, spent, none, no_force}, CollapseDelta{})) continue;
+    ++passed;
+    const double measure = input.measure + spent.measure;
+    const Sym3 after =
+        InertiaOf(input.second + spent.second) - (1.0 / measure) * InertiaOf(Outer(spent.moment));
+    const std::array<double, 3> moved = Eigenvalues(after);
+    for (int k = 0; k < 3; ++k)
+      EXPECT_LE(std::fabs(moved[k] - before[k]), 0.01 * before[k] * (1 + 1e-9))
+          << "trial " << trial << " moment " << k;
+    beyond_smallest += SpectralNorm(InertiaOf(spent.second)) > 0.01 * before[0];
+  }
+  EXPECT_GT(passed, 100);
+  EXPECT_GT(beyond_smallest, 10);
+  // The largest moment alone (I_zz by d: the second moment by diag(d, d, -d) / 2): 0.9 of its
+  // own share passes, eight times what the smallest moment's share would allow; 1.1 does not.
+  for (const double share : {0.9, 1.1}) {
+    MassProperties spent;
+    const double d = share * 0.01 * before[2];
+    spent.second = Sym3{d / 2, d / 2, -d / 2, 0, 0, 0};
+    EXPECT_EQ(inertia.WithinBudget(LedgerView{input, spent, none, no_force}, CollapseDelta{}),
+              share < 1)
+        << share;
+  }
 }
 
 // A compound collapse (engine/seam_collapse.h) spends for all its copies or none: each change is
