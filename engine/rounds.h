@@ -5,8 +5,9 @@
 // A round takes a window of the pass's candidates in cost order (the losers of the last round
 // first, then fresh ones) and
 //   1. reads, in parallel, each candidate's fan and its bounding box (V and its one-ring; with
-//      full-edge collapses, its two-ring widened as the placed vertex may go: star.h's
-//      WidenForPlacement): everything its collapse can lock, write or create lies in that box;
+//      full-edge collapses, the union of its stars' boxes, each widened as the placed vertex
+//      may go: star.h's WidenForPlacement): everything its collapse can lock, write or create
+//      lies in that box;
 //   2. picks the winners greedily in cost order: a candidate wins unless its box overlaps the
 //      box of a better-ranked winner (touching counts; found through a hashed grid of the
 //      winners' boxes; with a vertex target, only as many winners as removals remain). The
