@@ -90,8 +90,9 @@ std::vector<OptionSpec> MakeTable() {
        .help = "endpoint: the paper's half-edge collapse (a vertex moves onto a neighbour); "
                "optimal: where a mass budget (or the measured tolerance) refuses it and both "
                "ends of the edge are free to move (no feature line, boundary or seam), merge "
-               "them at the point nearest the old faces that keeps the volume, or else nearer "
-               "the kept end or at the edge's midpoint, if that passes every bound",
+               "them at the point nearest the old faces that keeps the volume, or else at "
+               "another point that keeps it, nearer the kept end or at the edge's midpoint, if "
+               "that passes every bound",
        .choices = {{"endpoint", "endpoint"}, {"optimal", "optimal"}},
        .field = &S::placement},
       {.name = "tolerance", .flag = "--tolerance", .metavar = "D", .section = "fidelity",
