@@ -171,17 +171,36 @@ bool EdgesMeet(const PreparedTriangle& s, const int side[3], const PreparedTrian
   return false;
 }
 
+// Corners all strictly on one side of the other's plane.
+bool Apart(const int side[3]) { return side[0] != 0 && side[0] == side[1] && side[1] == side[2]; }
+
 // Neither triangle shares a corner with the other: they meet iff an edge of one meets the
 // other. The side of each corner of one of the other's plane serves two edges: computed once.
 bool DisjointCornersIntersect(const PreparedTriangle& a, const PreparedTriangle& b) {
   int side_a[3], side_b[3];  // side_a[k]: a's corner k of b's plane; side_b[k]: b's of a's
+  // A triangle strictly on one side of the other's plane misses it, and the other misses it:
+  // most pairs a collapse tests end here, after three or six dot products.
+  const bool sharp = a.well_shaped && b.well_shaped;
   for (int k = 0; k < 3; ++k) side_a[k] = PlaneSide(b, a.t.p[k]);
+  if (sharp && Apart(side_a)) return false;
   for (int k = 0; k < 3; ++k) side_b[k] = PlaneSide(a, b.t.p[k]);
-  // Corners all strictly on one side: none of the triangle's edges meets the other (each has
-  // both ends there), so its edges need no test.
-  const bool a_apart = side_a[0] != 0 && side_a[0] == side_a[1] && side_a[1] == side_a[2];
-  const bool b_apart = side_b[0] != 0 && side_b[0] == side_b[1] && side_b[1] == side_b[2];
-  return (!a_apart && EdgesMeet(a, side_a, b)) || (!b_apart && EdgesMeet(b, side_b, a));
+  if (sharp && Apart(side_b)) return false;
+  return (!Apart(side_a) && EdgesMeet(a, side_a, b)) || (!Apart(side_b) && EdgesMeet(b, side_b, a));
+}
+
+// a and b share exactly the corner a.p[i] = b.p[j]. Beyond it, they meet iff the edge opposite
+// it in one meets the other. One's opposite corners strictly on one side of the other's plane:
+// it touches that plane at the shared corner only, so neither edge meets.
+bool OneCornerIntersect(const PreparedTriangle& a, int i, const PreparedTriangle& b, int j) {
+  const DVec3 &p = a.t.p[(i + 1) % 3], &q = a.t.p[(i + 2) % 3];
+  const bool sharp = a.well_shaped && b.well_shaped;
+  const int sp = PlaneSide(b, p), sq = PlaneSide(b, q);
+  if (sharp && sp == sq && sp != 0) return false;
+  const DVec3 &r = b.t.p[(j + 1) % 3], &s = b.t.p[(j + 2) % 3];
+  const int sr = PlaneSide(a, r), ss = PlaneSide(a, s);
+  if (sharp && sr == ss && sr != 0) return false;
+  return (Reaches(p, q, b) && SegmentMeets(p, q, sp, sq, b)) ||
+         (Reaches(r, s, a) && SegmentMeets(r, s, sr, ss, a));
 }
 
 }  // namespace
@@ -211,6 +230,9 @@ PreparedTriangle::PreparedTriangle(const Triangle& triangle) : t(triangle) {
   const DVec3 u = t.p[1] - t.p[0], v = t.p[2] - t.p[0];
   normal = Cross(u, v);
   scale2 = Dot(u, u) * Dot(v, v);
+  const DVec3 w = t.p[2] - t.p[1];
+  const double longest2 = std::max({Dot(u, u), Dot(v, v), Dot(w, w)});
+  well_shaped = Dot(normal, normal) > 1e-18 * longest2 * longest2;
   const double lo[3] = {min.x, min.y, min.z}, hi[3] = {max.x, max.y, max.z};
   for (int a = 0; a < 3; ++a) {
     const double slack = 1e-9 * (std::fabs(lo[a]) + std::fabs(hi[a]));
@@ -247,12 +269,7 @@ bool OverlappingTrianglesIntersect(const PreparedTriangle& pa, const PreparedTri
     const int sr = Orient2d(flat(p), flat(q), flat(r)), ss = Orient2d(flat(p), flat(q), flat(s));
     return sr * ss >= 0;
   }
-  if (shared == 1) {
-    // Beyond the shared corner, they meet iff the edge opposite it in one meets the other.
-    const int i = ia[0], j = ib[0];
-    return SegmentMeets(a.p[(i + 1) % 3], a.p[(i + 2) % 3], pb) ||
-           SegmentMeets(b.p[(j + 1) % 3], b.p[(j + 2) % 3], pa);
-  }
+  if (shared == 1) return OneCornerIntersect(pa, ia[0], pb, ib[0]);
   // Two triangles that meet have an edge of one meeting the other.
   return DisjointCornersIntersect(pa, pb);
 }

@@ -1,7 +1,9 @@
 // Whether two triangles of a surface mesh intersect beyond what they share. Closed sets, with
 // a relative tolerance on the orientation tests: near-touching counts as touching, so a
 // collapse refused on it errs on the safe side. Triangles that share an edge or a vertex meet
-// there by construction; that contact is not an intersection.
+// there by construction; that contact is not an intersection. A separating plane settles it
+// first: a triangle whose corners (beyond a shared one) lie strictly on one side of the
+// other's plane, beyond the same relative margin, is apart from it.
 #pragma once
 
 #include <cstdint>
@@ -38,6 +40,9 @@ struct PreparedTriangle {
   double scale2;       // |p1 - p0|^2 |p2 - p0|^2, the scale of the orientation test
   double reach_lo[3];  // per axis: a segment below this (or above reach_hi) misses the triangle
   double reach_hi[3];
+  // Its height over its longest edge is above 1e-9 of that edge: its plane is sharp enough for
+  // a side test to separate (the degenerate rule keeps new triangles far above this).
+  bool well_shaped;
   PreparedTriangle() = default;
   explicit PreparedTriangle(const Triangle& triangle);
 };
