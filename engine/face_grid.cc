@@ -364,6 +364,28 @@ bool FaceGrid::Overlaps(uint64_t key, const Box& box) const {
   return true;
 }
 
+// A fan's box covers a few cells; a larger one is not worth the hints.
+constexpr int64_t kMaxPrefetchCells = 8;
+
+void FaceGrid::PrefetchSlots(const Box& box) const {
+  const Range r = RangeOf(box);
+  if (r.count() > kMaxPrefetchCells) return;
+  ForEachCell(r, [&](uint64_t key) { __builtin_prefetch(&cells_[Mix(key) & mask_]); });
+}
+
+void FaceGrid::PrefetchLists(const Box& box) const {
+  const Range r = RangeOf(box);
+  if (r.count() > kMaxPrefetchCells) return;
+  ForEachCell(r, [&](uint64_t key) {
+    const int64_t slot = Find(key);
+    if (slot < 0) return;
+    const Cell& cell = cells_[slot];
+    // The first two lines: a cell lists a handful of faces, 16 bytes each.
+    if (cell.size > 0) __builtin_prefetch(cell.data);
+    if (cell.size > 4) __builtin_prefetch(cell.data + 4);
+  });
+}
+
 int64_t FaceGrid::Find(uint64_t key) const {
   for (uint64_t i = Mix(key) & mask_, n = 0; n <= mask_; i = (i + 1) & mask_, ++n) {
     const uint64_t k = cells_[i].key.load(std::memory_order_acquire);

@@ -148,6 +148,11 @@ class FaceGrid {
     __builtin_prefetch(&halfedges_[3 * f + 2]);  // 48 bytes may span two cache lines
   }
   void PrefetchCorners(uint32_t f) const;
+  // Hints that a hold of `box` comes soon, in two stages some candidates apart: the slots its
+  // cells hash to, then (those at hand) the cells' lists. Only while the lists stay as they
+  // are (a deterministic round's removals): the second stage reads them unlocked.
+  void PrefetchSlots(const Box& box) const;
+  void PrefetchLists(const Box& box) const;
 
   // Moves face f in the index from the cells of `before` to those of `after` (both within held
   // cells); an empty `after` removes it. False when a cell of `after` had no room (build only).

@@ -50,10 +50,15 @@ class NativeBackend final : public RemovalBackend {
       RunCandidates(kernel, phase, [&]() -> std::optional<uint32_t> {
         if (next >= end && !(phase.blocks && blocks_.Next(c, kBlockChunk, &next, &end)))
           return std::nullopt;
-        if (next + 2 * kPrefetchAhead * step < phase.count)
-          port.PrefetchVertex(phase.candidates[next + 2 * kPrefetchAhead * step]);
-        if (next + kPrefetchAhead * step < phase.count)
-          port.PrefetchFan(phase.candidates[next + kPrefetchAhead * step]);
+        const size_t far = next + 2 * kPrefetchAhead * step, near = next + kPrefetchAhead * step;
+        if (far < phase.count) {
+          port.PrefetchVertex(phase.candidates[far]);
+          if (phase.grid != nullptr) phase.grid->PrefetchSlots(phase.boxes[far]);
+        }
+        if (near < phase.count) {
+          port.PrefetchFan(phase.candidates[near]);
+          if (phase.grid != nullptr) phase.grid->PrefetchLists(phase.boxes[near]);
+        }
         const uint32_t v = phase.candidates[next];
         next += step;
         return v;

@@ -14,6 +14,7 @@
 #include <optional>
 #include <vector>
 
+#include "engine/face_grid.h"
 #include "engine/kernel.h"
 #include "engine/mesh.h"
 #include "engine/rule.h"
@@ -52,6 +53,10 @@ struct RemovalPhase {
   // rounds hand over their winners by vertex number, so a block is close in memory. (Natively,
   // a context done with its block takes chunks from the back of the others': engine/work_shares.h.)
   bool blocks = false;
+  // Rounds: each candidate's fan box and the face index, whose cells a native context hints
+  // ahead of the candidate's hold (FaceGrid::PrefetchSlots, PrefetchLists). May be null.
+  const FaceGrid::Box* boxes = nullptr;
+  const FaceGrid* grid = nullptr;
   // The pass's removable vertices in the order sorted (`sorted` of them): the cell back end
   // sorts them again on its SPEs, to model that sort's cost from the work it does.
   const uint32_t* order = nullptr;

@@ -233,6 +233,7 @@ absl::Status RoundScheduler::RunPass(RemovalBackend& backend, const RemovalPhase
   const size_t largest = std::max(kMinWindow, phase.sorted / kLargestWindowShare);
   size_t window_size = std::max(kMinWindow, phase.sorted / kFirstWindowShare);
   std::vector<uint32_t> losers, winners, ranks;
+  std::vector<FaceGrid::Box> winner_boxes;  // hints for the face index (RemovalPhase::boxes)
   size_t fresh = 0;
   for (bool first = true; !phase.Stopped(); first = false) {
     // Losers first: they rank before every fresh candidate, so the window stays in cost order.
@@ -260,10 +261,12 @@ absl::Status RoundScheduler::RunPass(RemovalBackend& backend, const RemovalPhase
     // them), for locality.
     winners.clear();
     ranks.clear();
+    winner_boxes.clear();
     for (uint64_t entry : by_vertex_)
       if (won_[static_cast<uint32_t>(entry)]) {
         winners.push_back(static_cast<uint32_t>(entry >> 32));
         ranks.push_back(static_cast<uint32_t>(entry));
+        if (grid_ != nullptr) winner_boxes.push_back(box_[static_cast<uint32_t>(entry)]);
       }
     stats.busy_seconds +=
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -275,6 +278,10 @@ absl::Status RoundScheduler::RunPass(RemovalBackend& backend, const RemovalPhase
     round.window_rank = ranks.data();
     round.fresh_caches = true;
     round.blocks = true;
+    if (grid_ != nullptr) {
+      round.boxes = winner_boxes.data();
+      round.grid = grid_;
+    }
     rules_.BeginRound(winners.size());
     if (grid_ != nullptr) {
       uint64_t new_cells = 0;  // at most: the kernel's fan boxes lie within the winners'
