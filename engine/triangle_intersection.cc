@@ -178,14 +178,17 @@ bool Apart(const int side[3]) { return side[0] != 0 && side[0] == side[1] && sid
 // other. The side of each corner of one of the other's plane serves two edges: computed once.
 bool DisjointCornersIntersect(const PreparedTriangle& a, const PreparedTriangle& b) {
   int side_a[3], side_b[3];  // side_a[k]: a's corner k of b's plane; side_b[k]: b's of a's
-  // A triangle strictly on one side of the other's plane misses it, and the other misses it:
-  // most pairs a collapse tests end here, after three or six dot products.
+  // A triangle strictly on one side of the other's plane cannot meet it: most pairs a collapse
+  // tests end here, after three or six dot products.
   const bool sharp = a.well_shaped && b.well_shaped;
   for (int k = 0; k < 3; ++k) side_a[k] = PlaneSide(b, a.t.p[k]);
-  if (sharp && Apart(side_a)) return false;
+  const bool a_apart = Apart(side_a);
+  if (sharp && a_apart) return false;
   for (int k = 0; k < 3; ++k) side_b[k] = PlaneSide(a, b.t.p[k]);
-  if (sharp && Apart(side_b)) return false;
-  return (!Apart(side_a) && EdgesMeet(a, side_a, b)) || (!Apart(side_b) && EdgesMeet(b, side_b, a));
+  const bool b_apart = Apart(side_b);
+  if (sharp && b_apart) return false;
+  // A triangle apart has no edge that meets the other (each has both ends on one side).
+  return (!a_apart && EdgesMeet(a, side_a, b)) || (!b_apart && EdgesMeet(b, side_b, a));
 }
 
 // a and b share exactly the corner a.p[i] = b.p[j]. Beyond it, they meet iff the edge opposite
