@@ -576,6 +576,7 @@ bool Coverage::Judge(std::span<const DVec3> fresh_corners, CoveragePlan* plan,
     // The input vertices at the pieces' corners (a piece whose child numbers are all one
     // corner's), each once.
     plan->probes.clear();
+    if (plan->probed.size() != fan_of_.size()) plan->probed.assign(fan_of_.size(), 0);
     for (const Piece& piece : plan->gathered) {
       const int level = piece.level();
       const uint32_t first = level == 0 ? 0 : (piece.path >> 4) & 3u;
@@ -585,13 +586,16 @@ bool Coverage::Judge(std::span<const DVec3> fresh_corners, CoveragePlan* plan,
       if (!corner) continue;
       for (uint32_t k = first; k < (level == 0 ? 3u : first + 1); ++k) {
         const size_t at = 3 * size_t{piece.triangle} + k;
-        plan->probes.push_back({corner_vertex_[at], at});
+        const uint32_t vertex = corner_vertex_[at];
+        if (plan->probed[vertex]) continue;
+        plan->probed[vertex] = 1;
+        plan->probes.push_back({vertex, at});
       }
     }
+    for (const auto& [vertex, at] : plan->probes) plan->probed[vertex] = 0;
+    // In vertex order, as the holder that found the last probe starts (a): which holder takes
+    // a piece first decides the plan.
     std::sort(plan->probes.begin(), plan->probes.end());
-    plan->probes.erase(std::unique(plan->probes.begin(), plan->probes.end(),
-                                   [](const auto& a, const auto& b) { return a.first == b.first; }),
-                       plan->probes.end());
     plan->gathered_parts.clear();
     for (const Piece& piece : plan->gathered) {
       CoveragePlan::Part part{piece, {}};

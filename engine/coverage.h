@@ -100,6 +100,7 @@ struct CoveragePlan {
   // The input vertices at the gathered pieces' corners: (vertex id, its index in the input's
   // corners), one per vertex.
   std::vector<std::pair<uint32_t, size_t>> probes;
+  std::vector<uint8_t> probed;  // per input vertex: 1 while it is in probes (scratch)
   uint32_t gathered_star = kNone;
   void Forget() { gathered_from.clear(); }
 
