@@ -45,7 +45,7 @@ std::vector<OptionSpec> MakeTable() {
        .field = &S::max_normal_deviation_deg},
       {.name = "min_angle_deg", .flag = "--min-angle", .metavar = "D", .section = "engine",
        .range = Range::ClosedOpen(0, 60), .unit = "degrees",
-       .help = "min interior angle of every new face", .field = &S::min_angle_deg},
+       .help = "min interior angle of every new face (0: off)", .field = &S::min_angle_deg},
       {.name = "candidate_fraction", .flag = "--candidate-fraction", .metavar = "F",
        .section = "engine", .range = Range::OpenClosed(0, 1),
        .help = "share of the lowest-cost vertices tried per pass", .field = &S::candidate_fraction},

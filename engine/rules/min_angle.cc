@@ -3,7 +3,7 @@
 // of the triangles they replace (V's whole fan, and Vd's for a full-edge collapse): on a
 // sliver-rich CAD export, where most triangles are below any useful threshold, collapses may then
 // only improve the worst angle, instead of none being allowed at all. Off in the topology-only
-// mode.
+// mode and at 0 degrees.
 #include <algorithm>
 
 #include "engine/rule.h"
@@ -83,7 +83,9 @@ class MinAngleRule final : public CollapseRule {
 }  // namespace
 
 std::unique_ptr<CollapseRule> MakeMinAngleRule(const SimplifyOptions& o, const RuleSetup&) {
-  if (o.topology_only) return nullptr;
+  // At 0 degrees both forms hold for every triangle (a new one too thin to measure is the
+  // degenerate rule's): the rule would only spend its angles.
+  if (o.topology_only || o.min_angle_deg <= 0.0) return nullptr;
   return std::make_unique<MinAngleRule>(o.min_angle_deg, o.strict_min_angle);
 }
 

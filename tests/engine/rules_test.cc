@@ -39,6 +39,15 @@ TEST(RuleSet, RulesFollowTheOptions) {
   o.topology_only = true;
   EXPECT_EQ(Names(RuleSet::Build(o, setup), RuleStage::kShape),
             Strings({"degenerate", "fold_over"}));
+  o.topology_only = false;
+
+  // At 0 degrees no angle is too small: the rule is left out, in both forms.
+  o.min_angle_deg = 0;
+  for (const bool strict : {false, true}) {
+    o.strict_min_angle = strict;
+    EXPECT_EQ(Names(RuleSet::Build(o, setup), RuleStage::kShape),
+              Strings({"degenerate", "fold_over", "normal_deviation"}));
+  }
 
   SimplifyOptions f;
   f.max_volume_change = 0.01;
