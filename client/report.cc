@@ -72,8 +72,9 @@ std::string PassJson(const PassStats& p) {
       ", \"removed\": ", p.removed, ", \"lock_conflicts\": ", p.lock_conflicts,
       ", \"inconsistent\": ", p.inconsistent, ", \"rounds\": ", p.rounds,
       ", \"seam_points_removed\": ", p.seam_points_removed, ", \"placed\": ", p.placed,
-      ", \"rejections\": ", rej, ", \"vertices_left\": ", p.vertices_left,
-      ", \"seconds\": ", JsonNumber(p.seconds), ", \"busy_seconds\": ", JsonNumber(p.busy_seconds));
+      ", \"boxes_kept\": ", p.boxes_kept, ", \"rejections\": ", rej,
+      ", \"vertices_left\": ", p.vertices_left, ", \"seconds\": ", JsonNumber(p.seconds),
+      ", \"busy_seconds\": ", JsonNumber(p.busy_seconds));
   if (p.cell) {
     absl::StrAppend(&s, ", \"cell\": ", CellJson(*p.cell), ", \"cell_per_spe\": [");
     for (size_t i = 0; i < p.cell_per_spe.size(); ++i)

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "absl/strings/str_cat.h"
 #include "engine/port.h"
 #include "engine/ring.h"
 #include "engine/star.h"
@@ -44,16 +45,17 @@ uint64_t CellKey(int64_t x, int64_t y, int64_t z) {
 }  // namespace
 
 RoundScheduler::RoundScheduler(Mesh& mesh, WorkerPool& pool, FaceGrid* grid, const RuleSet& rules,
-                               bool placement)
+                               bool placement, bool check_kept_boxes)
     : mesh_(mesh),
       pool_(pool),
       grid_(grid),
       rules_(rules),
       placement_(placement),
+      check_kept_boxes_(check_kept_boxes),
       fan_shares_(pool.size()),
       move_shares_(pool.size()) {}
 
-void RoundScheduler::ReadFans(const RemovalPhase& phase) {
+absl::StatusOr<uint64_t> RoundScheduler::ReadFans(const RemovalPhase& phase) {
   const size_t m = window_.size();
   box_.resize(m);
   live_.assign(m, 0);
@@ -63,11 +65,23 @@ void RoundScheduler::ReadFans(const RemovalPhase& phase) {
   std::sort(by_vertex_.begin(), by_vertex_.end());
   // A candidate's box: V and its one-ring (with full-edge collapses, the box of every star of
   // V, widened as the placed vertex may go: star.h's WidenForPlacement).
+  std::atomic<uint64_t> kept{0};
+  std::atomic<uint32_t> differs{kNone};  // check_kept_boxes: a vertex whose kept box is wrong
+  // Returns whether the box was kept.
   const auto read = [&](NativePort& port, Ring& ring, Ring& outer, size_t i) {
     const uint32_t k = static_cast<uint32_t>(by_vertex_[i]);
     const uint32_t v = static_cast<uint32_t>(by_vertex_[i] >> 32);
-    if (port.LoadStatus(v) != kRemovable) return;
+    if (port.LoadStatus(v) != kRemovable) return false;
     live_[k] = 1;
+    // A loser's placement box, from an earlier round of the pass, holds while no collapse since
+    // has changed the one-ring of V or of a neighbour (StampChanges): every ring it was made of
+    // is as it was, V's neighbours too. Reading them all again was most of a placement round.
+    const bool keep = placement_ && box_round_[k] != 0 && Untouched(v, k, box_round_[k]);
+    if (keep && !check_kept_boxes_) {
+      box_[k] = cached_box_[k];
+      return true;
+    }
+    nbr_count_[k] = 0;
     // A fan that cannot be read is V alone: the kernel refuses it without a neighbour.
     const VertexQ q = port.ReadVertex(v);
     const DVec3 at{q.x, q.y, q.z};
@@ -84,6 +98,8 @@ void RoundScheduler::ReadFans(const RemovalPhase& phase) {
       // vertex within the widened box of the two (EdgeStar::lo, hi). A ring that cannot be
       // read is refused by the kernel.
       if (placement_) {
+        nbr_count_[k] = static_cast<uint8_t>(ring.neighbours());
+        std::copy_n(ring.nbr, ring.neighbours(), &nbrs_[size_t{k} * kMaxRing]);
         const FaceGrid::Box fan = b;
         for (int r = 0; r < ring.neighbours(); ++r) {
           if (GatherRing(port, ring.nbr[r], outer) != RingResult::kOk) continue;
@@ -102,6 +118,15 @@ void RoundScheduler::ReadFans(const RemovalPhase& phase) {
                   std::fabs(b.hi.y), std::fabs(b.hi.z), Norm(b.hi - b.lo)});
     const DVec3 margin{kBoxMargin * scale, kBoxMargin * scale, kBoxMargin * scale};
     box_[k] = {b.lo - margin, b.hi + margin};
+    if (keep) {
+      const FaceGrid::Box& c = cached_box_[k];
+      if (!(c.lo.x == box_[k].lo.x && c.lo.y == box_[k].lo.y && c.lo.z == box_[k].lo.z &&
+            c.hi.x == box_[k].hi.x && c.hi.y == box_[k].hi.y && c.hi.z == box_[k].hi.z))
+        differs.store(v, std::memory_order_relaxed);
+      return true;
+    }
+    box_round_[k] = round_;
+    return false;
   };
   // Context c reads the c-th share of the window (in vertex order: the winners among them are
   // its share of the removal run too, so their fans are still in its cache), in chunks from the
@@ -116,13 +141,15 @@ void RoundScheduler::ReadFans(const RemovalPhase& phase) {
     NativePort port(mesh_);
     Ring ring, outer;
     const auto read_fans = [&](size_t begin, size_t end) {
+      uint64_t kept_here = 0;
       for (size_t i = begin; i < end; ++i) {
         if (i + 2 * kPrefetchAhead < m)
           port.PrefetchVertex(static_cast<uint32_t>(by_vertex_[i + 2 * kPrefetchAhead] >> 32));
         if (i + kPrefetchAhead < m)
           port.PrefetchFan(static_cast<uint32_t>(by_vertex_[i + kPrefetchAhead] >> 32));
-        read(port, ring, outer, i);
+        kept_here += read(port, ring, outer, i);
       }
+      kept.fetch_add(kept_here, std::memory_order_relaxed);
     };
     size_t begin, end;
     if (c != 0)
@@ -140,6 +167,10 @@ void RoundScheduler::ReadFans(const RemovalPhase& phase) {
     }
   });
   FinishIndexUpdates(phase, /*applied=*/true);
+  if (const uint32_t v = differs.load(); v != kNone)
+    return absl::InternalError(absl::StrCat("round ", round_, ": the box of vertex ", v,
+                                            " kept from an earlier round is not what it reads"));
+  return kept.load();
 }
 
 void RoundScheduler::FinishIndexUpdates(const RemovalPhase& phase, bool applied) {
@@ -152,6 +183,82 @@ void RoundScheduler::FinishIndexUpdates(const RemovalPhase& phase, bool applied)
     grid_->FinishRound(mesh_);
   else
     grid_->EndRound(mesh_);
+}
+
+bool RoundScheduler::Untouched(uint32_t v, uint32_t k, uint32_t since) const {
+  if (touched_[v] >= since) return false;
+  const uint32_t* nbr = &nbrs_[size_t{k} * kMaxRing];
+  for (int r = 0; r < nbr_count_[k]; ++r)
+    if (touched_[nbr[r]] >= since) return false;
+  return true;
+}
+
+void RoundScheduler::RecordWinners(const RemovalPhase& phase) {
+  recorded_.clear();
+  NativePort port(mesh_);
+  Ring ring;
+  for (size_t k = 0; k < window_.size(); ++k) {
+    if (!won_[k]) continue;
+    const uint32_t v = phase.candidates[window_[k]];
+    recorded_.push_back({v, port.ReadVertex(v)});
+    if (GatherRing(port, v, ring) != RingResult::kOk) {
+      recorded_.back().nbr_end = kNone;  // unknown: every ring near it counts as changed
+      continue;
+    }
+    for (int r = 0; r < ring.neighbours(); ++r)
+      recorded_.push_back({ring.nbr[r], port.ReadVertex(ring.nbr[r])});
+    recorded_[recorded_.size() - ring.neighbours() - 1].nbr_end = recorded_.size();
+  }
+}
+
+void RoundScheduler::StampChanges() {
+  if (touched_.size() < mesh_.vertex_capacity()) touched_.resize(mesh_.vertex_capacity(), 0);
+  NativePort port(mesh_);
+  Ring ring;
+  const auto stamp_ring_of = [&](uint32_t x) {
+    touched_[x] = round_;
+    if (GatherRing(port, x, ring) != RingResult::kOk) return false;
+    for (int r = 0; r < ring.neighbours(); ++r) touched_[ring.nbr[r]] = round_;
+    return true;
+  };
+  const auto moved = [&](const Recorded& e) {
+    const VertexQ q = port.ReadVertex(e.v);
+    return q.x != e.at.x || q.y != e.at.y || q.z != e.at.z;
+  };
+  for (size_t i = 0; i < recorded_.size();) {
+    const Recorded& w = recorded_[i];
+    if (w.nbr_end == kNone) {  // its ring could not be read: its two-ring as it is now
+      if (stamp_ring_of(w.v))
+        for (int r = 0, n = ring.neighbours(); r < n; ++r) {
+          Ring outer;
+          touched_[ring.nbr[r]] = round_;
+          if (GatherRing(port, ring.nbr[r], outer) == RingResult::kOk)
+            for (int j = 0; j < outer.neighbours(); ++j) touched_[outer.nbr[j]] = round_;
+        }
+      ++i;
+      continue;
+    }
+    const size_t end = w.nbr_end;
+    // A collapse of the winner W with a neighbour removes one of the two and may move the other:
+    // the rings it changes are those of W, its old neighbours, and the neighbours (as they are
+    // now) of whichever of W and them is still there and has moved, or of W when a neighbour
+    // went. Nothing moved or went: W was refused, and changed nothing.
+    bool any = mesh_.IsRemoved(w.v) || moved(w);
+    bool neighbour_went = false;
+    for (size_t j = i + 1; j < end; ++j)
+      if (mesh_.IsRemoved(recorded_[j].v)) {
+        neighbour_went = true;
+      } else if (moved(recorded_[j])) {
+        any = true;
+        stamp_ring_of(recorded_[j].v);
+      }
+    any = any || neighbour_went;
+    if (any) {
+      for (size_t j = i; j < end; ++j) touched_[recorded_[j].v] = round_;
+      if (!mesh_.IsRemoved(w.v) && (neighbour_went || moved(w))) stamp_ring_of(w.v);
+    }
+    i = end;
+  }
 }
 
 size_t RoundScheduler::PickWinners(const RemovalPhase& phase, int64_t room) {
@@ -233,20 +340,39 @@ absl::Status RoundScheduler::RunPass(RemovalBackend& backend, const RemovalPhase
   const size_t largest = std::max(kMinWindow, phase.sorted / kLargestWindowShare);
   size_t window_size = std::max(kMinWindow, phase.sorted / kFirstWindowShare);
   std::vector<uint32_t> losers, winners, ranks;
+  // Placement: each loser's box, the round it was read in, and V's neighbours then.
+  std::vector<FaceGrid::Box> loser_boxes;
+  std::vector<uint32_t> loser_rounds, loser_nbrs;
+  std::vector<uint8_t> loser_nbr_counts;
   std::vector<FaceGrid::Box> winner_boxes;  // hints for the face index (RemovalPhase::boxes)
   size_t fresh = 0;
   for (bool first = true; !phase.Stopped(); first = false) {
     // Losers first: they rank before every fresh candidate, so the window stays in cost order.
     window_.swap(losers);
     losers.clear();
+    cached_box_.swap(loser_boxes);
+    loser_boxes.clear();
+    box_round_.swap(loser_rounds);
+    loser_rounds.clear();
+    nbrs_.swap(loser_nbrs);
+    loser_nbrs.clear();
+    nbr_count_.swap(loser_nbr_counts);
+    loser_nbr_counts.clear();
     while (window_.size() < window_size && fresh < phase.count)
       window_.push_back(static_cast<uint32_t>(fresh++));
+    cached_box_.resize(window_.size());
+    box_round_.resize(window_.size(), 0);
+    nbr_count_.resize(window_.size(), 0);
+    if (placement_) nbrs_.resize(window_.size() * kMaxRing);
     if (window_.empty() || phase.PollCancelled()) break;
     const RemovalBudget& budget = *phase.budget;
     const int64_t room = budget.target > 0 ? budget.alive.load() - budget.target : INT64_MAX;
     if (room <= 0) break;
     const auto start = std::chrono::steady_clock::now();
-    ReadFans(phase);
+    ++round_;
+    absl::StatusOr<uint64_t> kept = ReadFans(phase);
+    if (!kept.ok()) return kept.status();
+    stats.boxes_kept += *kept;
     if (phase.Stopped()) break;
     const size_t live = static_cast<size_t>(std::count(live_.begin(), live_.end(), 1));
     const size_t won = PickWinners(phase, room);
@@ -256,7 +382,18 @@ absl::Status RoundScheduler::RunPass(RemovalBackend& backend, const RemovalPhase
     else if (5 * won > 4 * live)
       window_size = std::min(largest, 2 * window_size);
     for (size_t k = 0; k < window_.size(); ++k)
-      if (live_[k] && !won_[k]) losers.push_back(window_[k]);
+      if (live_[k] && !won_[k]) {
+        losers.push_back(window_[k]);
+        if (placement_) {
+          loser_boxes.push_back(box_[k]);
+          loser_rounds.push_back(box_round_[k]);
+          loser_nbr_counts.push_back(nbr_count_[k]);
+          loser_nbrs.insert(loser_nbrs.end(), nbrs_.begin() + k * kMaxRing,
+                            nbrs_.begin() + k * kMaxRing + nbr_count_[k]);
+          loser_nbrs.resize(loser_nbr_counts.size() * kMaxRing);
+        }
+      }
+    if (placement_) RecordWinners(phase);
     // Their outcomes do not depend on the order they run in: by vertex number (as ReadFans read
     // them), for locality.
     winners.clear();
@@ -289,6 +426,7 @@ absl::Status RoundScheduler::RunPass(RemovalBackend& backend, const RemovalPhase
       grid_->BeginRound(mesh_, new_cells);
     }
     absl::Status s = backend.RunRemoval(round, stats);
+    if (s.ok() && placement_) StampChanges();
     index_updates_pending_ = grid_ != nullptr;
     rules_.EndRound();
     if (!s.ok()) {

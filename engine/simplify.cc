@@ -216,7 +216,8 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
 
   std::optional<RoundScheduler> rounds;
   if (options.schedule == Schedule::kDeterministic)
-    rounds.emplace(mesh, pool, face_grid ? &*face_grid : nullptr, rules, kernel.placement);
+    rounds.emplace(mesh, pool, face_grid ? &*face_grid : nullptr, rules, kernel.placement,
+                   control.check_kept_boxes);
 
   CandidateSelection selection(mesh, pool, *cost, rounds.has_value(), options.periodic_retry);
   result.stop_reason = StopReason::kMaxPasses;

@@ -164,6 +164,9 @@ struct PassStats {
   uint64_t rounds = 0;               // deterministic schedule: rounds of non-interacting collapses
   uint64_t seam_points_removed = 0;  // assemblies: seam points slid along their seam (all copies)
   uint64_t placed = 0;  // of the removals: full-edge collapses (option placement = optimal)
+  // Deterministic rounds with full-edge collapses: candidates' boxes kept from an earlier round
+  // of the pass instead of read again (nothing they were made of had changed).
+  uint64_t boxes_kept = 0;
   std::array<uint64_t, static_cast<int>(Reject::kCount)> rejections{};
   uint64_t vertices_left = 0;
   double seconds = 0.0;       // wall time of the pass
@@ -218,6 +221,9 @@ struct SimplifyControl {
   // context every 32 candidates inside one (so from several threads at once: it must be
   // thread-safe); true stops the job with the mesh still valid, and must stay true.
   std::function<bool()> cancelled;
+  // A self-check for tests: the deterministic rounds read every box they keep from an earlier
+  // round again and fail the run (an internal error) where the two differ.
+  bool check_kept_boxes = false;
 };
 
 absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& options,

@@ -362,6 +362,7 @@ TEST(Wire, ProgressRoundTrip) {
   p.vertices_left = 100;
   p.removed = 20;
   p.seam_points_removed = 7;
+  p.boxes_kept = 11;
   p.rejections[static_cast<int>(Reject::kMinAngle)] = 5;
   p.cell = CellPassCounters{};
   p.cell->cache_hits = 9;
@@ -376,6 +377,7 @@ TEST(Wire, ProgressRoundTrip) {
   EXPECT_EQ(q.pass, 3);
   EXPECT_EQ(q.removed, 20u);
   EXPECT_EQ(q.seam_points_removed, 7u);
+  EXPECT_EQ(q.boxes_kept, 11u);
   EXPECT_EQ(q.rejections[static_cast<int>(Reject::kMinAngle)], 5u);
   ASSERT_TRUE(q.cell.has_value());
   EXPECT_EQ(q.cell->cache_hits, 9u);

@@ -185,12 +185,17 @@ RawMesh LoadTestMesh(const std::string& name) {
 }
 
 SimplifyRun SimplifyChecked(const RawMesh& input, const SimplifyOptions& options) {
+  return SimplifyCheckedWith(input, options, SimplifyControl{});
+}
+
+SimplifyRun SimplifyCheckedWith(const RawMesh& input, const SimplifyOptions& options,
+                                const SimplifyControl& control) {
   SimplifyRun run;
   run.input = input;
   absl::StatusOr<Mesh> mesh = Mesh::Build(input);
   EXPECT_TRUE(mesh.ok()) << mesh.status();
   if (!mesh.ok()) return run;
-  absl::StatusOr<SimplifyResult> result = Simplify(*mesh, options);
+  absl::StatusOr<SimplifyResult> result = Simplify(*mesh, options, control);
   EXPECT_TRUE(result.ok()) << result.status();
   if (!result.ok()) return run;
   EXPECT_EQ(HalfEdgeInvariantViolation(*mesh), "");

@@ -65,6 +65,8 @@ struct SimplifyRun {
   SimplifyResult result;
 };
 SimplifyRun SimplifyChecked(const RawMesh& input, const SimplifyOptions& options);
+SimplifyRun SimplifyCheckedWith(const RawMesh& input, const SimplifyOptions& options,
+                                const SimplifyControl& control);
 
 // A SimplifyControl::cancelled that says true once a vertex of `mesh` is gone, so that the
 // cancel lands inside the first pass's removals, past the set-up (which polls too).
