@@ -186,7 +186,7 @@ void RoundScheduler::FinishIndexUpdates(const RemovalPhase& phase, bool applied)
 }
 
 bool RoundScheduler::Untouched(uint32_t v, uint32_t k, uint32_t since) const {
-  if (touched_[v] >= since) return false;
+  if (unknown_change_round_ >= since || touched_[v] >= since) return false;
   const uint32_t* nbr = &nbrs_[size_t{k} * kMaxRing];
   for (int r = 0; r < nbr_count_[k]; ++r)
     if (touched_[nbr[r]] >= since) return false;
@@ -202,7 +202,7 @@ void RoundScheduler::RecordWinners(const RemovalPhase& phase) {
     const uint32_t v = phase.candidates[window_[k]];
     recorded_.push_back({v, port.ReadVertex(v)});
     if (GatherRing(port, v, ring) != RingResult::kOk) {
-      recorded_.back().nbr_end = kNone;  // unknown: every ring near it counts as changed
+      recorded_.back().nbr_end = kNone;  // unknown: every ring counts as changed
       continue;
     }
     for (int r = 0; r < ring.neighbours(); ++r)
@@ -217,9 +217,11 @@ void RoundScheduler::StampChanges() {
   Ring ring;
   const auto stamp_ring_of = [&](uint32_t x) {
     touched_[x] = round_;
-    if (GatherRing(port, x, ring) != RingResult::kOk) return false;
+    if (GatherRing(port, x, ring) != RingResult::kOk) {
+      unknown_change_round_ = round_;  // neighbours not known: no box read before holds
+      return;
+    }
     for (int r = 0; r < ring.neighbours(); ++r) touched_[ring.nbr[r]] = round_;
-    return true;
   };
   const auto moved = [&](const Recorded& e) {
     const VertexQ q = port.ReadVertex(e.v);
@@ -227,14 +229,8 @@ void RoundScheduler::StampChanges() {
   };
   for (size_t i = 0; i < recorded_.size();) {
     const Recorded& w = recorded_[i];
-    if (w.nbr_end == kNone) {  // its ring could not be read: its two-ring as it is now
-      if (stamp_ring_of(w.v))
-        for (int r = 0, n = ring.neighbours(); r < n; ++r) {
-          Ring outer;
-          touched_[ring.nbr[r]] = round_;
-          if (GatherRing(port, ring.nbr[r], outer) == RingResult::kOk)
-            for (int j = 0; j < outer.neighbours(); ++j) touched_[outer.nbr[j]] = round_;
-        }
+    if (w.nbr_end == kNone) {  // its ring could not be read: no box read before holds
+      unknown_change_round_ = round_;
       ++i;
       continue;
     }

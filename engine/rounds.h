@@ -94,6 +94,7 @@ class RoundScheduler {
   std::vector<uint8_t> nbr_count_;
   uint32_t round_ = 0;
   std::vector<uint32_t> touched_;
+  uint32_t unknown_change_round_ = 0;  // the last round with a winner whose ring was unreadable
   struct Recorded {
     uint32_t v;
     VertexQ at;
