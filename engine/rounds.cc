@@ -63,11 +63,11 @@ absl::StatusOr<uint64_t> RoundScheduler::ReadFans(const RemovalPhase& phase) {
   by_vertex_.resize(m);  // (vertex, window entry), sorted as plain keys
   for (uint32_t k = 0; k < m; ++k) by_vertex_[k] = uint64_t{phase.candidates[window_[k]]} << 32 | k;
   std::sort(by_vertex_.begin(), by_vertex_.end());
-  // A candidate's box: V and its one-ring (with full-edge collapses, the box of every star of
-  // V, widened as the placed vertex may go: star.h's WidenForPlacement).
   std::atomic<uint64_t> kept{0};
   std::atomic<uint32_t> differs{kNone};  // check_kept_boxes: a vertex whose kept box is wrong
-  // Returns whether the box was kept.
+  // A candidate's box: V and its one-ring (with full-edge collapses, the box of every star of
+  // V, widened as the placed vertex may go: star.h's WidenForPlacement). Returns whether the
+  // box was kept from an earlier round.
   const auto read = [&](NativePort& port, Ring& ring, Ring& outer, size_t i) {
     const uint32_t k = static_cast<uint32_t>(by_vertex_[i]);
     const uint32_t v = static_cast<uint32_t>(by_vertex_[i] >> 32);
