@@ -5,6 +5,7 @@
 #include "common/flags.h"
 #include "engine/option_flags.h"
 #include "engine/option_table.h"
+#include "engine/prepare.h"
 
 namespace femsimp::bench {
 namespace {
@@ -68,19 +69,27 @@ std::vector<std::string> DefaultFemsimpModes() {
 
 PeerRun RunFemsimp(const RawMesh& input, SimplifyOptions options) {
   PeerRun run;
-  absl::StatusOr<Mesh> mesh = Mesh::Build(input);
-  if (!mesh.ok()) {
-    run.error = mesh.status().ToString();
+  // Prepared as femsimp simplify and the server prepare it (repair, spatial renumbering, build):
+  // the greedy run's outcome depends on the vertex order, and the table reports what a user
+  // gets.
+  absl::StatusOr<PreparedMesh> prepared = PrepareMesh(input, options.repair);
+  if (!prepared.ok()) {
+    run.error = prepared.status().ToString();
     return run;
   }
   RunTimer timer(run);
-  absl::StatusOr<SimplifyResult> result = Simplify(*mesh, options);
+  absl::StatusOr<SimplifyResult> result = Simplify(prepared->mesh, options);
   timer.Stop();
   if (!result.ok()) {
     run.error = result.status().ToString();
     return run;
   }
-  run.output = mesh->ToRaw();
+  absl::StatusOr<RawMesh> output = OutputMesh(prepared->mesh, prepared->seam_map);
+  if (!output.ok()) {
+    run.error = output.status().ToString();
+    return run;
+  }
+  run.output = *std::move(output);
   return run;
 }
 

@@ -30,8 +30,9 @@ absl::StatusOr<FemsimpMode> ParseFemsimpMode(const std::string& spec);
 // bound only without feature lines.
 std::vector<std::string> DefaultFemsimpModes();
 
-// The mode's options with tolerance_relative set; Mesh::Build is not timed (the peers' mesh
-// set-up is not either): seconds are the engine's own.
+// The mode's options with tolerance_relative set, on the input prepared as the CLI prepares it
+// (PrepareMesh: repair, spatial renumbering, build), which is not timed (the peers' mesh set-up
+// is not either): seconds are the engine's own. The output as the CLI writes it (OutputMesh).
 PeerRun RunFemsimp(const RawMesh& input, SimplifyOptions options);
 
 }  // namespace femsimp::bench
