@@ -52,14 +52,14 @@ bool MakePair(const DVec3* t, const DVec3* u, double tolerance, CoveragePlan::Ho
   return true;
 }
 
-// Whether the three corners lie in the box [lo, hi]: outside it, a corner is farther than the
-// box's widening from what it was widened around.
+// Whether q lies in the box [lo, hi]: outside it, q is farther than the box's widening from
+// what it was widened around.
+bool PointIn(const DVec3& q, const DVec3& lo, const DVec3& hi) {
+  return q.x >= lo.x && q.x <= hi.x && q.y >= lo.y && q.y <= hi.y && q.z >= lo.z && q.z <= hi.z;
+}
+
 bool CornersIn(const DVec3* c, const DVec3& lo, const DVec3& hi) {
-  for (int q = 0; q < 3; ++q)
-    if (c[q].x < lo.x || c[q].x > hi.x || c[q].y < lo.y || c[q].y > hi.y || c[q].z < lo.z ||
-        c[q].z > hi.z)
-      return false;
-  return true;
+  return PointIn(c[0], lo, hi) && PointIn(c[1], lo, hi) && PointIn(c[2], lo, hi);
 }
 
 // The squared distances of a piece's first corners to one holder, already computed.
@@ -565,16 +565,15 @@ bool Coverage::Judge(std::span<const DVec3> fresh_corners, CoveragePlan* plan,
         }
         plan->gathered.push_back(p.piece);
       });
-    // Four children of one piece, held by the fan's faces, are judged as that piece: the lists
-    // do not grow with every collapse that cut them.
-    Coarsen(&plan->gathered, &plan->keys);
     plan->gathered_from = plan->old_faces;
+    plan->parts_ready = false;
     plan->kept.clear();
     for (const auto& [face, piece] : plan->released) plan->kept.push_back(face);
     std::sort(plan->kept.begin(), plan->kept.end());
     plan->kept.erase(std::unique(plan->kept.begin(), plan->kept.end()), plan->kept.end());
     // The input vertices at the pieces' corners (a piece whose child numbers are all one
-    // corner's), each once.
+    // corner's), each once. Four children of one piece give that piece's (corner k's child k is
+    // at corner k, the others at none), so the pieces need not be coarsened for them.
     plan->probes.clear();
     if (plan->probed.size() != fan_of_.size()) plan->probed.assign(fan_of_.size(), 0);
     for (const Piece& piece : plan->gathered) {
@@ -596,12 +595,6 @@ bool Coverage::Judge(std::span<const DVec3> fresh_corners, CoveragePlan* plan,
     // In vertex order, as the holder that found the last probe starts (a): which holder takes
     // a piece first decides the plan.
     std::sort(plan->probes.begin(), plan->probes.end());
-    plan->gathered_parts.clear();
-    for (const Piece& piece : plan->gathered) {
-      CoveragePlan::Part part{piece, {}};
-      Corners(piece, part.corners);
-      plan->gathered_parts.push_back(part);
-    }
   }
   // The holders: the new faces, then the faces kept whose pairs with rewritten ones this
   // collapse breaks (a kept face and the new face on the same edge may hold a piece again).
@@ -643,12 +636,26 @@ bool Coverage::Judge(std::span<const DVec3> fresh_corners, CoveragePlan* plan,
     bool near = false;
     for (int n = 0; n < holders && !near; ++n) {
       const int k = (last + n) % holders;
+      if (!PointIn(q, box[2 * k], box[2 * k + 1])) continue;
       if (to[k](q) <= tolerance2_) {
         near = true;
         last = k;
       }
     }
     if (!near) return false;
+  }
+  // Cut and given only past the probes, which refuse most refused collapses: once per candidate.
+  if (!plan->parts_ready) {
+    // Four children of one piece, held by the fan's faces, are judged as that piece: the lists
+    // do not grow with every collapse that cut them.
+    Coarsen(&plan->gathered, &plan->keys);
+    plan->gathered_parts.clear();
+    for (const Piece& piece : plan->gathered) {
+      CoveragePlan::Part part{piece, {}};
+      Corners(piece, part.corners);
+      plan->gathered_parts.push_back(part);
+    }
+    plan->parts_ready = true;
   }
   plan->pieces = plan->gathered_parts;
   // (a) Every piece to one holder within the tolerance of its corners (the one that took the

@@ -95,13 +95,14 @@ struct CoveragePlan {
   // gathered_star: the Vd of the full-edge collapse they were gathered for (its one-ring's
   // locks are let go between directions), else kNone.
   std::vector<uint32_t> gathered_from;
-  std::vector<Piece> gathered;       // (and Coarsen's list)
-  std::vector<Part> gathered_parts;  // the same, with their corners
+  std::vector<Piece> gathered;       // coarsened once parts_ready
+  std::vector<Part> gathered_parts;  // the same, with their corners, once parts_ready
   // The input vertices at the gathered pieces' corners: (vertex id, its index in the input's
   // corners), one per vertex.
   std::vector<std::pair<uint32_t, size_t>> probes;
   std::vector<uint8_t> probed;  // per input vertex: 1 while it is in probes (scratch)
   uint32_t gathered_star = kNone;
+  bool parts_ready = false;  // gathered coarsened and gathered_parts made (past the probes)
   void Forget() { gathered_from.clear(); }
 
   // Scratch, kept with the plan so that its capacity stays.
