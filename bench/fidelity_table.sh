@@ -13,8 +13,11 @@
 # FE_ARGS (default "--tolerances 0.01": which runs; see its --help).
 # Environment: BUILD_DIR (default build-bench), REPEATS (default 3), THREADS (default 1),
 # CGAL_LIMIT (CPU seconds per CGAL run, default 120), PARALLEL (meshes run side by side, default
-# 1), JOBS (build jobs, default 2), PARTS (the CAD-like parts, default
-# bracket_coarse,flange_coarse,bottle_coarse,sheet_coarse). Extra arguments go to every
+# 1), JOBS (build jobs, default 2), PARTS (the CAD-like parts, by file name, .off unless
+# another extension is given; default bracket_coarse,flange_coarse,bottle_coarse,sheet_coarse;
+# the held-out parts no tuning has seen: shaft_coarse,elbow_coarse,clevis_coarse,
+# shaft_export.stl,elbow_export.stl,clevis_export.stl), TEST_MESHES (from tests/data, default
+# fandisk.off,femur.off,blade.off,rotor_small.off; empty: none). Extra arguments go to every
 # fidelity_table run (e.g. --peers cgal --repeats 1).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -29,14 +32,19 @@ targets=(fidelity_table)
 ninja -C "$build" -j"${JOBS:-2}" "${targets[@]}"
 
 cad=$build/cad-meshes
-meshes=fandisk.off,femur.off,blade.off,rotor_small.off
+meshes=${TEST_MESHES-fandisk.off,femur.off,blade.off,rotor_small.off}
+missing=0
+names=()  # the parts named in PARTS, each once, for one make_cad_meshes.py call
 for p in ${parts//,/ }; do
-  if [[ ! -f $cad/$p.off ]]; then
-    /usr/bin/python3 "$root/scripts/make_cad_meshes.py" "$cad" --quiet \
-      --only bracket,flange,bottle,knob,sheet
-  fi
-  meshes+=,$cad/$p.off
+  [[ $p == *.* ]] || p=$p.off
+  [[ -f $cad/$p ]] || missing=1
+  [[ " ${names[*]} " == *" ${p%%_*} "* ]] || names+=("${p%%_*}")
+  meshes+=${meshes:+,}$cad/$p
 done
+if ((missing)); then
+  /usr/bin/python3 "$root/scripts/make_cad_meshes.py" "$cad" --quiet \
+    --only "$(IFS=,; echo "${names[*]}")"
+fi
 
 outputs=$build/fidelity-outputs
 rm -rf "$outputs"

@@ -18,7 +18,8 @@ writes the triangle soups, then makes broken copies the way CAD exports break:
              export    MeshAdapt, size = diagonal, 24 points per circle, nothing from curvature
                        (slivers, like a CAD tool's STL export), binary STL; the bottle's at
                        diagonal / 20, since its 0.6 wall needs it (the diagonal-sized one is
-                       kept as bottle_export_crossing.stl: its two wall sides cross)
+                       kept as bottle_export_crossing.stl: its two wall sides cross), and
+                       the held-out elbow's for its 2 mm wall
              occ_stl   OpenCASCADE's own BRepMesh tessellation, as CAD tools write STL: faces
                        triangulated apart, welded on equal float32 coordinates only; comes out
                        with slivers below 1 degree, cracks, flipped and degenerate facets
@@ -27,6 +28,10 @@ writes the triangle soups, then makes broken copies the way CAD exports break:
              own vertices), unreferenced (unused and duplicated vertices), bowtie (two parts
              welded at one vertex: non-manifold vertex); the assembly (non-manifold edges),
              bottle_export_crossing (self-intersecting) and every occ_stl file are not clean
+
+  held out   shaft (stepped, filleted, keyway, cross hole), elbow (thick-walled pipe bend),
+             clevis (two lugs with pin holes, a bored boss): parts no engine change was tuned
+             on, built only when named with --only (issue 13's peer table on unseen parts)
 
 Usage: /usr/bin/python3 scripts/make_cad_meshes.py [OUTDIR] [--only PART,...] [--check-determinism]
 OUTDIR defaults to build/cad-meshes. Writes OUTDIR/manifest.json: for each file its part,
@@ -235,7 +240,91 @@ def build_assembly(occ):
     return [t for d, t in out if d == 3]
 
 
+# ------------------------------------------------------------------- held-out parts
+# Parts no engine change was tuned on (issue 13's "parts you have not seen"): built only when
+# named with --only, so that the test suite's set stays as it is.
+
+
+def build_shaft(occ):
+    """Stepped shaft along z (radii 10, 14, 8), the steps filleted, a keyway milled into the
+    middle step and a cross hole through the first, both ends chamfered."""
+    a = occ.addCylinder(0, 0, 0, 0, 0, 40, 10)
+    b = occ.addCylinder(0, 0, 40, 0, 0, 30, 14)
+    c = occ.addCylinder(0, 0, 70, 0, 0, 35, 8)
+    fused, _ = occ.fuse([(3, b)], [(3, a), (3, c)])
+    occ.synchronize()
+    vol = fused[0][1]
+    steps = [t for _, t in gmsh.model.getEntities(1)
+             if _bbox_close(gmsh.model.getBoundingBox(1, t), (-10, -10, 40, 10, 10, 40))
+             or _bbox_close(gmsh.model.getBoundingBox(1, t), (-8, -8, 70, 8, 8, 70))]
+    out = occ.fillet([vol], steps, [1.5], removeVolume=True)
+    occ.synchronize()
+    vol = out[0][1]
+    key = occ.addBox(-2.5, 10.5, 45, 5, 5, 20)
+    hole = occ.addCylinder(-12, 0, 20, 24, 0, 0, 3)
+    out, _ = occ.cut([(3, vol)], [(3, key), (3, hole)])
+    occ.synchronize()
+    vol = out[0][1]
+    ends = [t for _, t in gmsh.model.getEntities(1)
+            if _bbox_close(gmsh.model.getBoundingBox(1, t), (-10, -10, 0, 10, 10, 0))
+            or _bbox_close(gmsh.model.getBoundingBox(1, t), (-8, -8, 105, 8, 8, 105))]
+    faces = [t for _, t in gmsh.model.getEntities(2)
+             if _bbox_close(gmsh.model.getBoundingBox(2, t), (-10, -10, 0, 10, 10, 0))
+             or _bbox_close(gmsh.model.getBoundingBox(2, t), (-8, -8, 105, 8, 8, 105))]
+    if len(ends) == 2 and len(faces) == 2:
+        out = occ.chamfer([vol], ends, faces, [1.0, 1.0], removeVolume=True)
+        occ.synchronize()
+    return [t for _, t in gmsh.model.getEntities(3)]
+
+
+def build_elbow(occ):
+    """Pipe elbow: a quarter torus (bend radius 40, outer radius 10, wall 2) with a straight
+    length on each end, hollow and open at both ends (a tube solid: closed surface)."""
+    bend = occ.addTorus(0, 0, 0, 40, 10, angle=math.pi / 2)
+    leg1 = occ.addCylinder(40, 0, 0, 0, -30, 0, 10)
+    leg2 = occ.addCylinder(0, 40, 0, -30, 0, 0, 10)
+    outer, _ = occ.fuse([(3, bend)], [(3, leg1), (3, leg2)])
+    ibend = occ.addTorus(0, 0, 0, 40, 8, angle=math.pi / 2)
+    ileg1 = occ.addCylinder(40, 0, 0, 0, -31, 0, 8)
+    ileg2 = occ.addCylinder(0, 40, 0, -31, 0, 0, 8)
+    inner, _ = occ.fuse([(3, ibend)], [(3, ileg1), (3, ileg2)])
+    out, _ = occ.cut(outer, inner)
+    occ.synchronize()
+    return [t for d, t in out if d == 3]
+
+
+def build_clevis(occ):
+    """Clevis: a base block with two lugs, each with a pin hole and a rounded end, a boss with
+    a bore under the base, the inner corners between lugs and base filleted."""
+    base = occ.addBox(-20, -15, 0, 40, 30, 12)
+    lug1 = occ.addBox(-20, -15, 12, 8, 30, 25)
+    lug2 = occ.addBox(12, -15, 12, 8, 30, 25)
+    end1 = occ.addCylinder(-20, 0, 37, 8, 0, 0, 15)
+    end2 = occ.addCylinder(12, 0, 37, 8, 0, 0, 15)
+    boss = occ.addCylinder(0, 0, -15, 0, 0, 15, 9)
+    fused, _ = occ.fuse([(3, base)], [(3, lug1), (3, lug2), (3, end1), (3, end2), (3, boss)])
+    occ.synchronize()
+    vol = fused[0][1]
+    inner = [t for _, t in gmsh.model.getEntities(1)
+             if _bbox_close(gmsh.model.getBoundingBox(1, t), (-12, -15, 12, -12, 15, 12))
+             or _bbox_close(gmsh.model.getBoundingBox(1, t), (12, -15, 12, 12, 15, 12))]
+    if inner:
+        out = occ.fillet([vol], inner, [3.0], removeVolume=True)
+        occ.synchronize()
+        vol = out[0][1]
+    pin = occ.addCylinder(-21, 0, 37, 42, 0, 0, 6)
+    bore = occ.addCylinder(0, 0, -16, 0, 0, 22, 4)
+    out, _ = occ.cut([(3, vol)], [(3, pin), (3, bore)])
+    occ.synchronize()
+    return [t for d, t in out if d == 3]
+
+
+HELD_OUT = ["shaft", "elbow", "clevis"]
+
 BUILDERS = {
+    "shaft": build_shaft,
+    "elbow": build_elbow,
+    "clevis": build_clevis,
     "bracket": build_bracket,
     "flange": build_flange,
     "bottle": build_bottle,
@@ -270,6 +359,9 @@ def part_variants(part):
     if part == "assembly":
         return [(v, VARIANTS[v], []) for v in ("coarse", "fine")]
     out = [(v, VARIANTS[v], []) for v in VARIANTS]
+    if part == "elbow":
+        # A 2 mm pipe wall bent at 40: facets as long as the bend cut through the other side.
+        out[-1] = ("export", dict(VARIANTS["export"], divisor=20.0), [])
     if part == "bottle":
         # A 0.6 wall exported at the diagonal's size: the two sides' facets cross each other.
         # The clean export keeps the facets below 8 wall thicknesses instead.
@@ -880,8 +972,9 @@ def main():
     args = ap.parse_args()
     parts = [p for p in args.only.split(",") if p] or PARTS
     for p in parts:
-        if p not in PARTS:
-            ap.error(f"unknown part {p}; parts: {', '.join(PARTS)}")
+        if p not in PARTS + HELD_OUT:
+            ap.error(f"unknown part {p}; parts: {', '.join(PARTS)}; held out (built only when "
+                     f"named): {', '.join(HELD_OUT)}")
     log = (lambda s: None) if args.quiet else (lambda s: print(s, file=sys.stderr, flush=True))
     manifest = generate(args.outdir, parts, log)
     for e in manifest["files"]:
