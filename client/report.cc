@@ -93,6 +93,9 @@ std::string Vec3Json(const DVec3& v) {
 std::string MassJson(const MassSummary& m) {
   return absl::StrCat("{\"solid\": ", m.solid ? "true" : "false", ", \"",
                       m.solid ? "volume" : "area", "\": ", JsonNumber(m.measure),
+                      m.solid ? absl::StrCat(", \"area\": ", JsonNumber(m.area),
+                                             ", \"mean_thickness\": ", JsonNumber(MeanThickness(m)))
+                              : std::string(),
                       ", \"centroid\": ", Vec3Json(m.centroid), ", \"principal_moments\": [",
                       JsonNumber(m.principal_moments[0]), ", ", JsonNumber(m.principal_moments[1]),
                       ", ", JsonNumber(m.principal_moments[2]), "], \"principal_axes\": [",
@@ -156,6 +159,27 @@ std::string MassSummaryLine(const FidelityFigures& f) {
       "change %.4f%%)\n",
       in.solid ? "volume" : "area (open surface)", in.measure, out.measure, moments(in),
       moments(out), 100 * f.inertia_change);
+}
+
+// A solid's mean thickness against the tolerance. Each side of a wall may move by the
+// tolerance, so where the tolerance reaches half the thickness a wall may lose or double all of
+// it; the mass budgets hold totals, not a wall's local thickness, and its stiffness follows that
+// (docs/FIDELITY.md § 5).
+std::string WallLines(const FidelityFigures& f) {
+  const double thickness = MeanThickness(f.input_mass);
+  if (thickness <= 0.0 || f.tolerance_abs <= 0.0) return "";
+  const double share = f.tolerance_abs / thickness;
+  std::string s =
+      absl::StrFormat("walls:    mean thickness 2V/A %.4g; the tolerance is %.0f%% of it\n",
+                      thickness, 100 * share);
+  if (share >= kThinWallShare)
+    absl::StrAppend(&s, absl::StrFormat("warning:  the tolerance is %.0f%% of the mean wall "
+                                        "thickness: a wall may thin or thicken by up to twice "
+                                        "the tolerance, which the mass budgets do not hold, and "
+                                        "its stiffness with it (femsimp check measures it; a "
+                                        "smaller --tolerance-relative keeps it)\n",
+                                        100 * share));
+  return s;
 }
 
 }  // namespace
@@ -275,7 +299,7 @@ std::string Summary(const RunReport& r) {
                                       : std::string("no tolerance"),
                   absl::StrFormat(", volume %+.4f%%, centroid shift %.4f%% of the diagonal\n",
                                   100 * f.volume_change, 100 * f.centroid_shift));
-  absl::StrAppend(&s, MassSummaryLine(f));
+  absl::StrAppend(&s, MassSummaryLine(f), WallLines(f));
   absl::StrAppend(&s,
                   absl::StrFormat("features: %u edges, %u corners (feature angle %g deg)\n",
                                   f.feature_edges, f.corner_vertices, r.options.feature_angle_deg));

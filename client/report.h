@@ -58,6 +58,8 @@ struct RunReport {
 };
 
 inline constexpr size_t kSummaryRepairRecords = 5;
+// The summary warns when the tolerance is at least this share of a solid's mean thickness.
+inline constexpr double kThinWallShare = 0.5;
 // Records kept per kind for the summary and --stats-json (the counts are always complete).
 inline constexpr size_t kReportRepairRecordsPerKind = 10000;
 

@@ -47,7 +47,16 @@ struct MassSummary {
   DVec3 centroid{0, 0, 0};
   double principal_moments[3] = {0, 0, 0};  // about the centroid, ascending
   DVec3 principal_axes[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  // The surface's area (an open mesh: the measure). With the volume it gives a solid's mean
+  // thickness, MeanThickness().
+  double area = 0.0;
 };
+
+// 2V/A: a plate's or a wall's thickness (a sphere's: 2/3 of its radius), the scale a tolerance
+// is to be compared with where the part is thin; 0 for an open surface or no area.
+inline double MeanThickness(const MassSummary& m) {
+  return m.solid && m.area > 0.0 ? 2.0 * m.measure / m.area : 0.0;
+}
 
 // The largest relative change of a principal moment, same rank against same rank (0 when a
 // moment of `before` is 0).

@@ -72,6 +72,19 @@ MassProperties MeasureMass(const Mesh& mesh, bool closed, const DVec3& origin) {
   return m;
 }
 
+double SurfaceArea(const Mesh& mesh) {
+  const VertexQ* v = mesh.vertices();
+  const HalfEdgeQ* h = mesh.halfedges();
+  double area = 0.0;
+  for (uint32_t f = 0; f < mesh.face_capacity(); ++f) {
+    if (h[3 * f].flags & kFaceRemoved) continue;
+    const DVec3 a = Pos(v[h[3 * f + 2].target]), b = Pos(v[h[3 * f].target]),
+                c = Pos(v[h[3 * f + 1].target]);
+    area += 0.5 * Norm(Cross(b - a, c - a));
+  }
+  return area;
+}
+
 MassProperties MovedSecondMoment(const MassProperties& m, const DVec3& from, const DVec3& to) {
   // J_to = J_from - m d^T - d m^T + M d d^T, with m the first moment about `from`, d = to - from.
   const DVec3 first = m.moment - m.measure * from, d = to - from;

@@ -52,6 +52,8 @@ struct FieldResultants {
 bool IsClosed(const Mesh& mesh);
 // With the second moment about `origin`.
 MassProperties MeasureMass(const Mesh& mesh, bool closed, const DVec3& origin);
+// The live faces' total area.
+double SurfaceArea(const Mesh& mesh);
 // The same properties with the second moment about `to` instead of `from` (parallel axes).
 MassProperties MovedSecondMoment(const MassProperties& m, const DVec3& from, const DVec3& to);
 // Centroid and principal moments of inertia (unit density) of m, whose second moment is about

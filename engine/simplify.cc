@@ -173,6 +173,7 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
   const MassProperties mass_before =
       MovedSecondMoment(measured, bounds.centre(), setup.mass_origin);
   result.input_mass = Summarize(mass_before, closed, setup.mass_origin);
+  result.input_mass.area = SurfaceArea(mesh);
   const FieldResultants fields_before = MeasureFields(mesh, groups);
   setup.mass = &mass_before;
   setup.resultants = &fields_before;
@@ -322,6 +323,7 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
   result.deviation_bound = MaxDeviationBound(mesh);
   const MassProperties mass_after = MeasureMass(mesh, closed, setup.mass_origin);
   result.output_mass = Summarize(mass_after, closed, setup.mass_origin);
+  result.output_mass.area = SurfaceArea(mesh);
   result.inertia_change = PrincipalMomentChange(result.input_mass, result.output_mass);
   if (closed && mass_before.measure != 0.0)
     result.volume_change = (mass_after.measure - mass_before.measure) / mass_before.measure;

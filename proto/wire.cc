@@ -259,6 +259,7 @@ namespace {
 void MassToProto(const MassSummary& m, v1::MassProperties* out) {
   out->set_solid(m.solid);
   out->set_measure(m.measure);
+  out->set_area(m.area);
   for (double c : {m.centroid.x, m.centroid.y, m.centroid.z}) out->add_centroid(c);
   for (int i = 0; i < 3; ++i) {
     out->add_principal_moments(m.principal_moments[i]);
@@ -271,6 +272,7 @@ MassSummary MassFromProto(const v1::MassProperties& in) {
   MassSummary m;
   m.solid = in.solid();
   m.measure = in.measure();
+  m.area = in.area();
   const auto at = [](const auto& values, int i) { return i < values.size() ? values[i] : 0.0; };
   m.centroid = {at(in.centroid(), 0), at(in.centroid(), 1), at(in.centroid(), 2)};
   for (int i = 0; i < 3; ++i) {

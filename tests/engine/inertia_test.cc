@@ -92,6 +92,23 @@ TEST(MassSummary, OpenPlateIsAShell) {
   EXPECT_NEAR(std::fabs(m.principal_axes[2].z), 1.0, 1e-12);
 }
 
+// A plate's mean thickness 2V/A is its thickness less what its rim adds to the area; an open
+// surface has none.
+TEST(MassSummary, MeanThicknessOfAPlate) {
+  absl::StatusOr<Mesh> plate = Mesh::Build(testing::MakeBox({40.0, 30.0, 0.5}, {8, 6, 1}));
+  ASSERT_TRUE(plate.ok()) << plate.status();
+  const double area = SurfaceArea(*plate);
+  EXPECT_NEAR(area, 2 * (40.0 * 30.0 + 40.0 * 0.5 + 30.0 * 0.5), 1e-9);
+  MassSummary m = Summarize(MeasureMass(*plate, true, {0, 0, 0}), true, {0, 0, 0});
+  m.area = area;
+  EXPECT_NEAR(MeanThickness(m), 2 * 40.0 * 30.0 * 0.5 / area, 1e-12);
+  EXPECT_GT(MeanThickness(m), 0.47);
+  EXPECT_LT(MeanThickness(m), 0.5);
+  MassSummary open = SummaryOf(testing::FlatGrid(4));
+  open.area = 16.0;
+  EXPECT_EQ(MeanThickness(open), 0.0);
+}
+
 TEST(MassSummary, MovingTheSecondMomentThereAndBackChangesNothing) {
   absl::StatusOr<Mesh> mesh = Mesh::Build(testing::Octahedron());
   ASSERT_TRUE(mesh.ok());

@@ -274,6 +274,7 @@ TEST(Wire, FidelityFiguresRoundTrip) {
   r.input_mass.solid = true;
   r.input_mass.measure = 2.5;
   r.input_mass.centroid = {1, -2, 3};
+  r.input_mass.area = 4.5;
   r.output_mass.principal_moments[2] = 7.25;
   r.output_mass.principal_axes[1] = {0, 0, -1};
   r.inertia_change = 0.004;
@@ -291,6 +292,7 @@ TEST(Wire, FidelityFiguresRoundTrip) {
   EXPECT_TRUE(back.input_mass.solid);
   EXPECT_EQ(back.input_mass.measure, 2.5);
   EXPECT_EQ(back.input_mass.centroid.y, -2);
+  EXPECT_EQ(back.input_mass.area, 4.5);
   EXPECT_FALSE(back.output_mass.solid);
   EXPECT_EQ(back.output_mass.principal_moments[2], 7.25);
   EXPECT_EQ(back.output_mass.principal_axes[1].z, -1);
@@ -332,6 +334,30 @@ TEST(Report, SummaryCountsSeamPoints) {
   EXPECT_NE(cli::Summary(r).find("seams:    7 seam points slid along their seams"),
             std::string::npos)
       << cli::Summary(r);
+}
+
+// A solid's summary gives its mean thickness against the tolerance, and warns where the
+// tolerance reaches half of it; an open surface, or a run without a tolerance, says nothing.
+TEST(Report, SummaryWarnsWhereTheToleranceReachesHalfTheWall) {
+  cli::RunReport r;
+  r.fidelity.input_mass.solid = true;
+  r.fidelity.input_mass.measure = 100.0;  // 2V/A = 2
+  r.fidelity.input_mass.area = 100.0;
+  r.fidelity.tolerance_abs = 0.5;
+  std::string s = cli::Summary(r);
+  EXPECT_NE(s.find("walls:    mean thickness 2V/A 2; the tolerance is 25% of it"),
+            std::string::npos)
+      << s;
+  EXPECT_EQ(s.find("warning:"), std::string::npos) << s;
+  r.fidelity.tolerance_abs = 1.0;
+  s = cli::Summary(r);
+  EXPECT_NE(s.find("warning:  the tolerance is 50% of the mean wall thickness"), std::string::npos)
+      << s;
+  r.fidelity.tolerance_abs = 0.0;
+  EXPECT_EQ(cli::Summary(r).find("walls:"), std::string::npos);
+  r.fidelity.tolerance_abs = 1.0;
+  r.fidelity.input_mass.solid = false;
+  EXPECT_EQ(cli::Summary(r).find("walls:"), std::string::npos);
 }
 
 // The remote client's progress line: a bar toward the target, none without one (a tolerance
@@ -599,6 +625,7 @@ TEST(Report, JsonHasEveryField) {
   r.input_vertices = 10;
   r.stop_reason = "target_reached";
   r.face_fields = {"pressure"};
+  r.fidelity.input_mass.solid = true;
   PassStats p;
   p.pass = 1;
   r.passes.push_back(p);
@@ -620,6 +647,7 @@ TEST(Report, JsonHasEveryField) {
                           "\"field_resultant\"",
                           "\"cost\": \"deviation\"",
                           "\"input_mass\"",
+                          "\"mean_thickness\"",
                           "\"inertia_change\"",
                           "\"tolerance_relative\"",
                           "\"feature_angle_deg\"",
