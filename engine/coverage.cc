@@ -644,7 +644,8 @@ bool Coverage::Judge(std::span<const DVec3> fresh_corners, CoveragePlan* plan,
     }
     if (!near) return false;
   }
-  // Cut and given only past the probes, which refuse most refused collapses: once per candidate.
+  // Coarsened, with their corners, only past the probes (which refuse most refused collapses),
+  // once per candidate.
   if (!plan->parts_ready) {
     // Four children of one piece, held by the fan's faces, are judged as that piece: the lists
     // do not grow with every collapse that cut them.
