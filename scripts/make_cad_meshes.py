@@ -245,6 +245,12 @@ def build_assembly(occ):
 # named with --only, so that the test suite's set stays as it is.
 
 
+def _entities_at(dim, *boxes):
+    """The entities of dimension dim whose bounding box is one of boxes."""
+    return [t for _, t in gmsh.model.getEntities(dim)
+            if any(_bbox_close(gmsh.model.getBoundingBox(dim, t), b) for b in boxes)]
+
+
 def build_shaft(occ):
     """Stepped shaft along z (radii 10, 14, 8), the steps filleted, a keyway milled into the
     middle step and a cross hole through the first, both ends chamfered."""
@@ -254,9 +260,7 @@ def build_shaft(occ):
     fused, _ = occ.fuse([(3, b)], [(3, a), (3, c)])
     occ.synchronize()
     vol = fused[0][1]
-    steps = [t for _, t in gmsh.model.getEntities(1)
-             if _bbox_close(gmsh.model.getBoundingBox(1, t), (-10, -10, 40, 10, 10, 40))
-             or _bbox_close(gmsh.model.getBoundingBox(1, t), (-8, -8, 70, 8, 8, 70))]
+    steps = _entities_at(1, (-10, -10, 40, 10, 10, 40), (-8, -8, 70, 8, 8, 70))
     out = occ.fillet([vol], steps, [1.5], removeVolume=True)
     occ.synchronize()
     vol = out[0][1]
@@ -265,12 +269,8 @@ def build_shaft(occ):
     out, _ = occ.cut([(3, vol)], [(3, key), (3, hole)])
     occ.synchronize()
     vol = out[0][1]
-    ends = [t for _, t in gmsh.model.getEntities(1)
-            if _bbox_close(gmsh.model.getBoundingBox(1, t), (-10, -10, 0, 10, 10, 0))
-            or _bbox_close(gmsh.model.getBoundingBox(1, t), (-8, -8, 105, 8, 8, 105))]
-    faces = [t for _, t in gmsh.model.getEntities(2)
-             if _bbox_close(gmsh.model.getBoundingBox(2, t), (-10, -10, 0, 10, 10, 0))
-             or _bbox_close(gmsh.model.getBoundingBox(2, t), (-8, -8, 105, 8, 8, 105))]
+    ends = _entities_at(1, (-10, -10, 0, 10, 10, 0), (-8, -8, 105, 8, 8, 105))
+    faces = _entities_at(2, (-10, -10, 0, 10, 10, 0), (-8, -8, 105, 8, 8, 105))
     if len(ends) == 2 and len(faces) == 2:
         out = occ.chamfer([vol], ends, faces, [1.0, 1.0], removeVolume=True)
         occ.synchronize()
@@ -305,9 +305,7 @@ def build_clevis(occ):
     fused, _ = occ.fuse([(3, base)], [(3, lug1), (3, lug2), (3, end1), (3, end2), (3, boss)])
     occ.synchronize()
     vol = fused[0][1]
-    inner = [t for _, t in gmsh.model.getEntities(1)
-             if _bbox_close(gmsh.model.getBoundingBox(1, t), (-12, -15, 12, -12, 15, 12))
-             or _bbox_close(gmsh.model.getBoundingBox(1, t), (12, -15, 12, 12, 15, 12))]
+    inner = _entities_at(1, (-12, -15, 12, -12, 15, 12), (12, -15, 12, 12, 15, 12))
     if inner:
         out = occ.fillet([vol], inner, [3.0], removeVolume=True)
         occ.synchronize()
