@@ -3,6 +3,7 @@
 #include "engine/mesh_checks.h"
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -118,6 +119,8 @@ class Repairer {
   void FilterFacets();
   void CloseTJunctions();
   void BuildEdges();
+  bool ZipTJunctions();
+  void PlaceSplitPieces(const std::vector<uint32_t>& after, uint32_t nk0);
   void Orient();
   void SplitVertices();
   void ReportVertices();
@@ -539,7 +542,7 @@ void Repairer::CloseTJunctions() {
                           s.split.size() == 1 ? " " : "s ", absl::StrJoin(s.split, ", "), " there");
           break;
         case Fate::kLeftOpen:
-          absl::StrAppend(&text, "; the T-junction at vertex ", s.ot, " is left open: ", s.why);
+          absl::StrAppend(&text, "; not split at its T vertex ", s.ot, ": ", s.why);
           break;
         default:
           break;
@@ -547,8 +550,12 @@ void Repairer::CloseTJunctions() {
       return text;
     });
   }
-  if (splits == 0) return;
-  // Facets in order, each split one's halves where it was.
+  if (splits > 0) PlaceSplitPieces(after, nk0);
+}
+
+// Puts every split facet's pieces where it stood: facets nk0 and on were appended, after[k]
+// being the piece that follows kept facet k (kNoIndex: none).
+void Repairer::PlaceSplitPieces(const std::vector<uint32_t>& after, uint32_t nk0) {
   std::vector<uint32_t> kept, tri, orig;
   kept.reserve(kept_.size());
   tri.reserve(tri_.size());
@@ -602,6 +609,168 @@ void Repairer::BuildEdges() {
     }
   }
   ebeg_.push_back(nh);
+}
+
+// Closes the cracks of faces tessellated one by one, as CAD exporters write them: one side of a
+// straight crack has the edge a-b, the other a-m-...-b with its vertices on that segment (a
+// T-junction at each). An open edge is split at the vertices of the open edges along it (within
+// the weld tolerance of the segment, or the float coordinates' rounding where that is larger):
+// its facet (a, b, c) becomes the fan (a, m, c), (m, .., c), (.., b, c), with its orientation,
+// group and fields; no point moves. A split is made only where every piece of the crack then
+// has exactly two facets, no piece or fan edge exists already and no piece has zero area; one
+// edge per facet a call. Returns whether it split any (the edges are then stale).
+bool Repairer::ZipTJunctions() {
+  const uint32_t ne = static_cast<uint32_t>(ebeg_.size() - 1);
+  auto head = [&](uint32_t h) { return tri_[h % 3 == 2 ? h - 2 : h + 1]; };
+  std::vector<uint32_t> open;  // one half-edge per open edge
+  for (uint32_t e = 0; e < ne; ++e)
+    if (ebeg_[e + 1] - ebeg_[e] == 1) open.push_back(ehe_[ebeg_[e]]);
+  if (open.empty()) return false;
+
+  // Edges are numbered in order of their lower vertex (BuildEdges).
+  std::vector<uint32_t> lo_start(nv_ + 1, 0);
+  for (uint32_t e = 0; e < ne; ++e) {
+    const uint32_t h = ehe_[ebeg_[e]];
+    ++lo_start[std::min(tri_[h], head(h)) + 1];
+  }
+  for (size_t v = 0; v < nv_; ++v) lo_start[v + 1] += lo_start[v];
+  auto uses = [&](uint32_t u, uint32_t v) -> uint32_t {
+    const uint32_t lo = std::min(u, v), hi = std::max(u, v);
+    for (uint32_t e = lo_start[lo]; e < lo_start[lo + 1]; ++e)
+      if (const uint32_t h = ehe_[ebeg_[e]]; std::max(tri_[h], head(h)) == hi)
+        return ebeg_[e + 1] - ebeg_[e];
+    return 0;
+  };
+  auto key = [](uint32_t u, uint32_t v) {
+    return u < v ? uint64_t(u) << 32 | v : uint64_t(v) << 32 | u;
+  };
+  absl::flat_hash_map<uint32_t, std::vector<uint32_t>> open_at;  // vertex -> its open half-edges
+  for (uint32_t h : open) {
+    open_at[tri_[h]].push_back(h);
+    open_at[head(h)].push_back(h);
+  }
+
+  struct Plan {
+    uint32_t h;                 // open half-edge x -> y of kept facet h / 3
+    std::vector<uint32_t> cut;  // the vertices it is split at, from x to y
+    bool split = false;
+  };
+  // A crack's vertices along one edge are few; a longer collinear walk is left alone.
+  constexpr size_t kMaxWalk = 256;
+  std::vector<Plan> plans(open.size());
+  for (size_t i = 0; i < open.size(); ++i) {
+    Plan& plan = plans[i];
+    plan.h = open[i];
+    const uint32_t x = tri_[plan.h], y = head(plan.h);
+    const std::array<double, 3> px = PosD(x), py = PosD(y);
+    std::array<double, 3> d;
+    double len2 = 0, scale = 0;
+    for (int k = 0; k < 3; ++k) {
+      d[k] = py[k] - px[k];
+      len2 += d[k] * d[k];
+      scale = std::max({scale, std::abs(px[k]), std::abs(py[k])});
+    }
+    const double tol = std::max(result_.report.weld_tolerance_absolute, 2 * FLT_EPSILON * scale);
+    const double len = std::sqrt(len2);
+    if (!(len > 2 * tol)) continue;
+    std::vector<uint32_t> seen = {x, y}, stack = {x, y};
+    std::vector<std::pair<double, uint32_t>> inner;  // (along, vertex)
+    while (!stack.empty() && seen.size() <= kMaxWalk) {
+      const uint32_t u = stack.back();
+      stack.pop_back();
+      for (uint32_t h : open_at[u]) {
+        const uint32_t v = tri_[h] == u ? head(h) : tri_[h];
+        if (std::find(seen.begin(), seen.end(), v) != seen.end()) continue;
+        const std::array<double, 3> p = PosD(v);
+        double t = 0;
+        for (int k = 0; k < 3; ++k) t += (p[k] - px[k]) * d[k];
+        t /= len2;
+        const double tc = std::clamp(t, 0.0, 1.0);
+        double d2 = 0;
+        for (int k = 0; k < 3; ++k) d2 += (p[k] - px[k] - tc * d[k]) * (p[k] - px[k] - tc * d[k]);
+        if (d2 > tol * tol) continue;
+        seen.push_back(v);
+        stack.push_back(v);
+        if (t * len > tol && (1 - t) * len > tol) inner.push_back({t, v});
+      }
+    }
+    if (inner.empty() || seen.size() > kMaxWalk) continue;
+    std::sort(inner.begin(), inner.end());
+    const uint32_t c = tri_[3 * (plan.h / 3) + (plan.h % 3 + 2) % 3];
+    bool ok = true;
+    uint32_t from = x;
+    for (size_t j = 0; ok && j <= inner.size(); ++j) {
+      const uint32_t to = j < inner.size() ? inner[j].second : y;
+      ok = uses(from, to) <= 1 && !IsZeroArea(Pos(from), Pos(to), Pos(c)) &&
+           (to == y || uses(to, c) == 0);
+      from = to;
+    }
+    if (!ok) continue;
+    for (const auto& [t, v] : inner) plan.cut.push_back(v);
+    plan.split = true;
+  }
+
+  // A crack closes only as a whole: drop the splits whose pieces would not have exactly two
+  // facets (an open edge left whole counts as one piece), until none is left to drop.
+  absl::flat_hash_map<uint32_t, size_t> facet_plan;  // one edge per facet a call
+  for (size_t i = 0; i < plans.size(); ++i)
+    if (plans[i].split && !facet_plan.try_emplace(plans[i].h / 3, i).second) plans[i].split = false;
+  auto pieces = [&](const Plan& p, auto&& visit) {
+    uint32_t from = tri_[p.h];
+    for (uint32_t v : p.cut) {
+      visit(from, v);
+      from = v;
+    }
+    visit(from, head(p.h));
+  };
+  bool changed = true;
+  while (changed) {
+    changed = false;
+    absl::flat_hash_map<uint64_t, uint32_t> count;
+    for (const Plan& p : plans) pieces(p, [&](uint32_t u, uint32_t v) { ++count[key(u, v)]; });
+    absl::flat_hash_map<uint64_t, uint32_t> fan_edges;
+    for (Plan& p : plans) {
+      if (!p.split) continue;
+      bool whole = true;
+      pieces(p, [&](uint32_t u, uint32_t v) { whole = whole && count[key(u, v)] == 2; });
+      const uint32_t c = tri_[3 * (p.h / 3) + (p.h % 3 + 2) % 3];
+      for (uint32_t v : p.cut) whole = whole && ++fan_edges[key(v, c)] == 1;
+      if (!whole) {
+        p.split = false;
+        changed = true;
+      }
+    }
+  }
+
+  const uint32_t nk0 = static_cast<uint32_t>(kept_.size());
+  std::vector<uint32_t> after(nk0, kNoIndex);
+  bool any = false;
+  for (const Plan& p : plans) {
+    if (!p.split) continue;
+    any = true;
+    const uint32_t k = p.h / 3, cy = 3 * k + (p.h % 3 + 1) % 3, cc = 3 * k + (p.h % 3 + 2) % 3;
+    const uint32_t y = tri_[cy], c = tri_[cc], facet = kept_[k];
+    const uint32_t ox = orig_[p.h], oy = orig_[cy], oc = orig_[cc];
+    tri_[cy] = p.cut[0];  // the first piece in place: (x, m, c)
+    orig_[cy] = p.cut[0];
+    uint32_t prev = k;
+    for (size_t j = 0; j < p.cut.size(); ++j) {
+      const uint32_t m = p.cut[j], next = j + 1 < p.cut.size() ? p.cut[j + 1] : y;
+      const uint32_t n = static_cast<uint32_t>(kept_.size());
+      kept_.push_back(facet);
+      tri_.insert(tri_.end(), {m, next, c});
+      orig_.insert(orig_.end(), {m, j + 1 < p.cut.size() ? next : oy, oc});
+      after.push_back(after[prev]);
+      after[prev] = n;
+      prev = n;
+      Record(RepairKind::kSplitEdge, facet, m, PosD(m), [&] {
+        return absl::StrCat("edge from vertex ", ox, " to vertex ", oy, " split at vertex ", m,
+                            " (a T-junction: the facets across the crack have a vertex there)");
+      });
+    }
+  }
+  if (any) PlaceSplitPieces(after, nk0);
+  return any;
 }
 
 // Components are connected through manifold edges (2 facets). In each, a breadth-first walk
@@ -912,6 +1081,8 @@ absl::StatusOr<RepairResult> Repairer::Run(RawMesh& mesh) {
                                                    " facets were degenerate or duplicates"));
   if (!strict_) CloseTJunctions();
   BuildEdges();
+  // A split can leave a facet's other open edge for the next call: a triangle has three.
+  for (int call = 0; call < 3 && !strict_ && ZipTJunctions(); ++call) BuildEdges();
   Orient();
   SplitVertices();
   ReportEdges();

@@ -24,9 +24,10 @@ writes the triangle soups, then makes broken copies the way CAD exports break:
                        triangulated apart, welded on equal float32 coordinates only; comes out
                        with slivers below 1 degree, cracks, flipped and degenerate facets
   broken     flipped, duplicate, degenerate (coincident vertices, repeated index, collinear
-             T-junction sliver), crack (one CAD seam unwelded), unwelded (every CAD face its
-             own vertices), unreferenced (unused and duplicated vertices), bowtie (two parts
-             welded at one vertex: non-manifold vertex); the assembly (non-manifold edges),
+             T-junction sliver), crack (one CAD seam unwelded), tjunction (one CAD seam
+             tessellated apart: T-junctions), unwelded (every CAD face its own vertices),
+             unreferenced (unused and duplicated vertices), bowtie (two parts welded at one
+             vertex: non-manifold vertex); the assembly (non-manifold edges),
              bottle_export_crossing (self-intersecting) and every occ_stl file are not clean
 
   held out   shaft (stepped, filleted, keyway, cross hole), elbow (thick-walled pipe bend),
@@ -771,6 +772,32 @@ def break_unwelded(rng, pos, tris, groups):
         "note": "each CAD face has its own copies of its border vertices"}]
 
 
+def break_tjunction(rng, pos, tris, groups):
+    """One CAD face tessellated apart from its neighbour, as many CAD exporters write faces:
+    along the longest seam between CAD faces A and B, B's facets get a vertex at the midpoint
+    (rounded to float32) of every seam edge while A keeps the whole edges: a T-junction at each
+    midpoint and a crack no weld closes."""
+    seams = seam_edges(tris, groups)
+    (ga, gb), edges = max(seams.items(), key=lambda kv: (len(kv[1]), kv[0]))
+    pos = list(pos)
+    tris = tris.tolist()
+    groups = groups.tolist()
+    for u, v in edges:
+        f = next(i for i, t in enumerate(tris) if groups[i] == gb and u in t and v in t)
+        t = tris[f]
+        j = next(j for j in range(3) if {t[j], t[(j + 1) % 3]} == {u, v})
+        x, y, c = t[j], t[(j + 1) % 3], t[(j + 2) % 3]
+        m = len(pos)
+        pos.append(((pos[x].astype(np.float64) + pos[y]) / 2).astype(np.float32))
+        tris[f] = [x, m, c]
+        tris.append([m, y, c])
+        groups.append(gb)
+    return np.array(pos, dtype=np.float32), np.array(tris), np.array(groups), [{
+        "kind": "tjunction", "count": len(edges), "cad_faces": [int(ga), int(gb)],
+        "note": f"seam between CAD faces {ga} and {gb} tessellated apart: face {gb}'s side has a"
+                f" vertex at the midpoint of each of its {len(edges)} edges, face {ga}'s not"}]
+
+
 def break_unreferenced(rng, pos, tris, groups):
     lo, hi = pos.min(axis=0).astype(np.float64), pos.max(axis=0).astype(np.float64)
     free = (lo + rng.random((6, 3)) * (hi - lo)).astype(np.float32)
@@ -808,6 +835,7 @@ BREAKERS = {
     "duplicate": break_duplicate,
     "degenerate": break_degenerate,
     "crack": break_crack,
+    "tjunction": break_tjunction,
     "unwelded": break_unwelded,
     "unreferenced": break_unreferenced,
     "bowtie": break_bowtie,
@@ -820,6 +848,7 @@ BROKEN_SHAPE = {
     "duplicate": (False, False),
     "degenerate": (False, False),  # the repeated-index faces add uses to their edges
     "crack": (False, True),
+    "tjunction": (False, True),
     "unwelded": (False, True),
     "unreferenced": (True, True),
     "bowtie": (True, False),  # every edge is fine; one vertex has two fans
@@ -834,6 +863,8 @@ BROKEN = [
     ("knob_export", "degenerate"),
     ("flange_coarse", "crack"),
     ("bottle_coarse", "crack"),
+    ("flange_coarse", "tjunction"),
+    ("knob_export", "tjunction"),
     ("bracket_coarse", "unwelded"),
     ("knob_coarse", "unreferenced"),
     ("bracket_coarse", "bowtie"),

@@ -340,8 +340,9 @@ TEST(Repair, ChainsOfTJunctionSliversAlongOneEdge) {
 
 TEST(Repair, UnsafeTJunctionSplitsFallBackToRemovingTheSliver) {
   // Both sides of edge (0, 1) have a T vertex (8 in facet 4's fan, 9 in facet 9's), and each
-  // side's sliver has the other as its only neighbour across the edge: no split is safe, both
-  // slivers are removed and the zero-area hole between them stays open, but manifold.
+  // side's sliver has the other as its only neighbour across the edge: no sliver split is safe,
+  // both slivers are removed, and the crack between 0-8-1 and 0-9-1 they leave is zipped (each
+  // side split at the other's vertex).
   RawMesh m = TJunctionCube({0.5f});                     // facets 0-11, 12 = (8, 1, 5)
   m.positions.insert(m.positions.end(), {0.75f, 0, 0});  // vertex 9
   m.triangles[3 * 9 + 2] = 9;                            // facet 9: (0, 3, 9)
@@ -349,19 +350,24 @@ TEST(Repair, UnsafeTJunctionSplitsFallBackToRemovingTheSliver) {
   AppendNumberedFacet(m, {0, 1, 8});                     // facet 14
   AppendNumberedFacet(m, {1, 0, 9});                     // facet 15
   RepairResult r = Repair(m);
-  ExpectBuilds(m);
-  EXPECT_EQ(TopologyOf(m).boundary_edges, 4);
-  EXPECT_EQ(r.report.count(RepairKind::kSplitEdge), 0u) << r.report.Details();
+  ExpectClosedCube(m);
   EXPECT_EQ(r.report.count(RepairKind::kDegenerateFacet), 2u);
   const std::string records = Records(r.report, RepairKind::kDegenerateFacet);
   EXPECT_HAS(records,
-             "degenerate facet 14 at (0.5, 0, 0): zero area (its corners lie on a line); the "
-             "T-junction at vertex 8 is left open: the other facets on its longest edge have "
-             "zero area too");
+             "degenerate facet 14 at (0.5, 0, 0): zero area (its corners lie on a line); not "
+             "split at its T vertex 8: the other facets on its longest edge have zero area too");
   EXPECT_HAS(records, "degenerate facet 15 at");
+  EXPECT_EQ(r.report.count(RepairKind::kSplitEdge), 2u) << r.report.Details();
+  const std::string splits = Records(r.report, RepairKind::kSplitEdge);
+  EXPECT_HAS(splits,
+             "split edge of facet 9 at (0.5, 0, 0): edge from vertex 9 to vertex 0 split "
+             "at vertex 8 (a T-junction: the facets across the crack have a vertex there)");
+  EXPECT_HAS(splits,
+             "split edge of facet 12 at (0.75, 0, 0): edge from vertex 8 to vertex 1 "
+             "split at vertex 9");
 
   // A split that would add an edge that exists already (here 8-3, of an extra facet) is not
-  // made either.
+  // made either, by the sliver or by the zip.
   m = TJunctionCube({0.5f});
   AppendNumberedFacet(m, {3, 8, 6});  // facet 13: not a sliver, its edge 3-8 is in the way
   AppendNumberedFacet(m, {0, 1, 8});  // facet 14
@@ -369,9 +375,66 @@ TEST(Repair, UnsafeTJunctionSplitsFallBackToRemovingTheSliver) {
   ExpectBuilds(m);
   EXPECT_EQ(r.report.count(RepairKind::kSplitEdge), 0u) << r.report.Details();
   EXPECT_HAS(Records(r.report, RepairKind::kDegenerateFacet),
-             "degenerate facet 14 at (0.5, 0, 0): zero area (its corners lie on a line); the "
-             "T-junction at vertex 8 is left open: splitting facet 9 there would add an edge to "
-             "vertex 3 that exists already");
+             "degenerate facet 14 at (0.5, 0, 0): zero area (its corners lie on a line); not "
+             "split at its T vertex 8: splitting facet 9 there would add an edge to vertex 3 "
+             "that exists already");
+}
+
+TEST(Repair, TJunctionCracksAreZipped) {
+  // Facet 4's side of edge (0, 1) has T vertices, facet 9's has the whole edge and nothing
+  // closes the crack between them (faces tessellated one by one): facet 9 is split at each.
+  for (const std::vector<float>& xs : {std::vector<float>{0.5f}, {0.25f, 0.5f, 0.75f}}) {
+    SCOPED_TRACE(xs.size());
+    RawMesh m = xs.size() == 1 ? TJunctionCube({0.5f}) : TJunctionCube({0.25f, 0.5f, 0.75f});
+    EXPECT_EQ(TopologyOf(m).boundary_edges, int(xs.size()) + 2);
+    RepairResult r = Repair(m);
+    ExpectClosedCube(m);
+    EXPECT_EQ(r.report.count(RepairKind::kSplitEdge), xs.size()) << r.report.Details();
+    EXPECT_EQ(r.report.num_changes(), xs.size()) << r.report.Details();
+    EXPECT_HAS(Records(r.report, RepairKind::kSplitEdge),
+               "split edge of facet 9 at (0.5, 0, 0): edge from vertex 1 to vertex 0 split at "
+               "vertex ");
+    // Facet 9's pieces in its place, with its group and field value; no point moved.
+    std::vector<uint32_t> origin = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9};
+    origin.insert(origin.end(), xs.size(), 9);
+    for (uint32_t f = 10; f < 12 + xs.size(); ++f) origin.push_back(f);
+    EXPECT_EQ(r.facet_origin, origin);
+    for (size_t f = 9; f < 10 + xs.size(); ++f) {
+      EXPECT_EQ(m.face_groups[f], 109);
+      EXPECT_EQ(m.face_fields[0].values[f], 4.5f);
+    }
+    // Strict mode: an open crack is not a defect; nothing changes.
+    RawMesh strict_mesh =
+        xs.size() == 1 ? TJunctionCube({0.5f}) : TJunctionCube({0.25f, 0.5f, 0.75f});
+    const RawMesh before = strict_mesh;
+    RepairOptions strict;
+    strict.mode = RepairMode::kOff;
+    EXPECT_TRUE(RepairMesh(strict_mesh, strict).ok());
+    ExpectSameMesh(strict_mesh, before);
+  }
+}
+
+TEST(Repair, TJunctionZipTakesFloatRoundingButNotAGap) {
+  // Edge (0, 1) slanted, so that its third is not a float: the T vertex, rounded, lies off the
+  // segment by the float coordinates' rounding, which the zip takes even without a weld
+  // tolerance. A T vertex a thousandth off the segment is a gap, and stays open.
+  for (float off : {0.f, 1e-3f}) {
+    SCOPED_TRACE(off);
+    RawMesh m = TJunctionCube({1.f / 3});
+    m.positions[3 * 1 + 1] = 0.3f;  // vertex 1 at (1, 0.3, 0): the -y faces are no longer flat
+    m.positions[3 * 8 + 1] = 0.3f / 3 + off;
+    RepairOptions options;
+    options.weld_tolerance = 0;
+    RepairResult r = Repair(m, options);
+    ExpectBuilds(m);
+    if (off == 0) {
+      EXPECT_EQ(TopologyOf(m).boundary_edges, 0);
+      EXPECT_EQ(r.report.count(RepairKind::kSplitEdge), 1u) << r.report.Details();
+    } else {
+      EXPECT_EQ(TopologyOf(m).boundary_edges, 3);
+      EXPECT_EQ(r.report.num_changes(), 0u) << r.report.Details();
+    }
+  }
 }
 
 // The bottom quad uses its own copies (8, 9) of vertices 0 and 1: the edges (0, 1), (0, 2) and
