@@ -51,6 +51,7 @@ constexpr KindInfo kKinds[kNumRepairKinds] = {
      "non-manifold vertices", ""},
     {"unreferenced_vertex", "unreferenced vertex", "unreferenced vertices", "dropped",
      "unreferenced vertex", "unreferenced vertices", ""},
+    {"filled_hole", "filled hole", "filled holes", "filled", "hole", "holes", ""},
     {"seam_edge", "non-manifold edge", "non-manifold edges", "kept", "non-manifold edge",
      "non-manifold edges", " as seams"},
     {"non_orientable", "non-orientable component", "non-orientable components", "left",
@@ -120,6 +121,7 @@ class Repairer {
   void CloseTJunctions();
   void BuildEdges();
   bool ZipTJunctions();
+  bool FillHoles();
   void PlaceSplitPieces(const std::vector<uint32_t>& after, uint32_t nk0);
   void Orient();
   void SplitVertices();
@@ -773,6 +775,172 @@ bool Repairer::ZipTJunctions() {
   return any;
 }
 
+// Fills the holes of a surface closed but for a few missing facets, as exporters drop them. A
+// component is filled only when every open loop of it is such a hole: at most kMaxHoleEdges
+// edges, each vertex on it with two open edges, and a fill of at most kMaxHoleShare of the
+// component's area; then each loop gets the triangulation of least area that adds no edge the
+// mesh has and no zero-area facet, oriented as most facets around it are, with the group and
+// fields of the facet across the loop's first edge. A sheet's border or a missing CAD face is
+// larger, and such a component stays open. No point moves. Returns whether it added any facet (the
+// edges are then stale).
+bool Repairer::FillHoles() {
+  constexpr size_t kMaxHoleEdges = 6;
+  constexpr double kMaxHoleShare = 0.1;
+  const uint32_t ne = static_cast<uint32_t>(ebeg_.size() - 1);
+  auto head = [&](uint32_t h) { return tri_[h % 3 == 2 ? h - 2 : h + 1]; };
+  absl::flat_hash_map<uint32_t, std::vector<uint32_t>> open_at;  // vertex -> its open half-edges
+  for (uint32_t e = 0; e < ne; ++e)
+    if (ebeg_[e + 1] - ebeg_[e] == 1) {
+      const uint32_t h = ehe_[ebeg_[e]];
+      open_at[tri_[h]].push_back(h);
+      open_at[head(h)].push_back(h);
+    }
+  if (open_at.empty()) return false;
+
+  const uint32_t nk = static_cast<uint32_t>(kept_.size());
+  UnionFind components(nk);
+  for (uint32_t e = 0; e < ne; ++e)
+    for (uint32_t i = ebeg_[e] + 1; i < ebeg_[e + 1]; ++i)
+      components.Union(ehe_[ebeg_[e]] / 3, ehe_[i] / 3);
+  auto area = [&](uint32_t a, uint32_t b, uint32_t c) {
+    const std::array<double, 3> p = PosD(a), q = PosD(b), r = PosD(c);
+    const double u[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]};
+    const double w[3] = {r[0] - p[0], r[1] - p[1], r[2] - p[2]};
+    const double x = u[1] * w[2] - u[2] * w[1], y = u[2] * w[0] - u[0] * w[2],
+                 z = u[0] * w[1] - u[1] * w[0];
+    return 0.5 * std::sqrt(x * x + y * y + z * z);
+  };
+  absl::flat_hash_map<uint32_t, double> component_area;  // of the components with open edges
+  for (const auto& [v, hs] : open_at) component_area.try_emplace(components.Find(hs[0] / 3), 0.0);
+  for (uint32_t k = 0; k < nk; ++k)
+    if (auto it = component_area.find(components.Find(k)); it != component_area.end())
+      it->second += area(tri_[3 * k], tri_[3 * k + 1], tri_[3 * k + 2]);
+
+  // Edges are numbered in order of their lower vertex (BuildEdges).
+  std::vector<uint32_t> lo_start(nv_ + 1, 0);
+  for (uint32_t e = 0; e < ne; ++e) {
+    const uint32_t h = ehe_[ebeg_[e]];
+    ++lo_start[std::min(tri_[h], head(h)) + 1];
+  }
+  for (size_t v = 0; v < nv_; ++v) lo_start[v + 1] += lo_start[v];
+  auto exists = [&](uint32_t u, uint32_t v) {
+    const uint32_t lo = std::min(u, v), hi = std::max(u, v);
+    for (uint32_t e = lo_start[lo]; e < lo_start[lo + 1]; ++e)
+      if (const uint32_t h = ehe_[ebeg_[e]]; std::max(tri_[h], head(h)) == hi) return true;
+    return false;
+  };
+
+  struct Hole {
+    uint32_t first;              // the open half-edge it starts with
+    std::vector<uint32_t> loop;  // its vertices, in that half-edge's direction
+    std::vector<uint32_t> fill;  // three vertices a facet, oriented against the loop
+    double area = 0;
+  };
+  std::vector<Hole> holes;
+  absl::flat_hash_map<uint32_t, bool> fillable;  // component -> every loop of it a hole
+  absl::flat_hash_map<uint32_t, bool> walked;    // open half-edges already on a loop
+  std::vector<uint32_t> starts;
+  for (const auto& [v, hs] : open_at)
+    for (uint32_t h : hs)
+      if (tri_[h] == v) starts.push_back(h);
+  std::sort(starts.begin(), starts.end());  // input order, whatever the map's
+  for (uint32_t h0 : starts) {
+    if (walked.contains(h0)) continue;
+    const uint32_t comp = components.Find(h0 / 3);
+    fillable.try_emplace(comp, true);
+    Hole hole{h0, {tri_[h0]}, {}, 0};
+    bool ok = open_at[tri_[h0]].size() == 2;
+    size_t along = 0;  // loop edges whose facet runs along the loop (the rest are flipped)
+    for (uint32_t h = h0; ok;) {
+      walked[h] = true;
+      along += tri_[h] == hole.loop.back();
+      const uint32_t v = tri_[h] == hole.loop.back() ? head(h) : tri_[h];
+      if (v == hole.loop.front()) break;
+      const std::vector<uint32_t>& at = open_at[v];
+      if (at.size() != 2 || hole.loop.size() == kMaxHoleEdges) {
+        ok = false;
+        break;
+      }
+      hole.loop.push_back(v);
+      h = at[0] == h ? at[1] : at[0];
+    }
+    if (!ok || hole.loop.size() < 3) {
+      fillable[comp] = false;
+      continue;
+    }
+    // Least-area triangulation of the loop (n <= kMaxHoleEdges): best[i][j] fills the polygon
+    // i..j, cut[i][j] is its apex.
+    const size_t n = hole.loop.size();
+    const auto& p = hole.loop;
+    std::vector<double> best(n * n, 0.0);
+    std::vector<uint32_t> cut(n * n, kNoIndex);
+    for (size_t span = 2; span < n; ++span)
+      for (size_t i = 0; i + span < n; ++i) {
+        const size_t j = i + span;
+        best[i * n + j] = HUGE_VAL;
+        for (size_t k = i + 1; k < j; ++k) {
+          // A side that is not on the loop is a new edge: one the mesh has would be a third use.
+          // (Side i-j is the loop's closing edge, or a side its parent checked.)
+          if ((k > i + 1 && exists(p[i], p[k])) || (j > k + 1 && exists(p[k], p[j])) ||
+              IsZeroArea(Pos(p[i]), Pos(p[k]), Pos(p[j])))
+            continue;
+          const double a = best[i * n + k] + best[k * n + j] + area(p[i], p[k], p[j]);
+          if (a < best[i * n + j]) {
+            best[i * n + j] = a;
+            cut[i * n + j] = static_cast<uint32_t>(k);
+          }
+        }
+      }
+    hole.area = best[n - 1];
+    // Against the loop when most of its facets run along it (Orient turns the others).
+    const bool against = 2 * along >= n;
+    if (!(hole.area <= kMaxHoleShare * component_area[comp])) {
+      fillable[comp] = false;
+      continue;
+    }
+    std::vector<std::pair<size_t, size_t>> todo = {{0, n - 1}};
+    while (!todo.empty()) {
+      const auto [i, j] = todo.back();
+      todo.pop_back();
+      if (j < i + 2) continue;
+      const size_t k = cut[i * n + j];
+      if (against) {
+        hole.fill.insert(hole.fill.end(), {p[j], p[k], p[i]});
+      } else {
+        hole.fill.insert(hole.fill.end(), {p[i], p[k], p[j]});
+      }
+      todo.push_back({i, k});
+      todo.push_back({k, j});
+    }
+    holes.push_back(std::move(hole));
+  }
+
+  bool any = false;
+  for (const Hole& hole : holes) {
+    const uint32_t comp = components.Find(hole.first / 3);
+    if (!fillable[comp]) continue;
+    any = true;
+    const uint32_t facet = kept_[hole.first / 3];
+    for (size_t c = 0; c < hole.fill.size(); c += 3) {
+      kept_.push_back(facet);
+      tri_.insert(tri_.end(), &hole.fill[c], &hole.fill[c] + 3);
+      orig_.insert(orig_.end(), &hole.fill[c], &hole.fill[c] + 3);
+    }
+    std::array<double, 3> at{};
+    for (uint32_t v : hole.loop)
+      for (int k = 0; k < 3; ++k) at[k] += PosD(v)[k] / double(hole.loop.size());
+    Record(RepairKind::kFilledHole, facet, hole.loop[0], at, [&] {
+      return absl::StrFormat(
+          "a hole of %u edges (vertices %s) closed by %u facet%s of area %.3g (%.2g%% of its "
+          "surface's), with facet %u's group and fields",
+          hole.loop.size(), absl::StrJoin(hole.loop, ", "), hole.fill.size() / 3,
+          hole.fill.size() == 3 ? "" : "s", hole.area, 100 * hole.area / component_area[comp],
+          facet);
+    });
+  }
+  return any;
+}
+
 // Components are connected through manifold edges (2 facets). In each, a breadth-first walk
 // gives every facet its parity relative to the first; the component then takes the orientation
 // of positive volume when it is closed (kOn), else that of the majority of its facets.
@@ -1083,6 +1251,7 @@ absl::StatusOr<RepairResult> Repairer::Run(RawMesh& mesh) {
   BuildEdges();
   // A split can leave a facet's other open edge for the next call: a triangle has three.
   for (int call = 0; call < 3 && !strict_ && ZipTJunctions(); ++call) BuildEdges();
+  if (!strict_ && FillHoles()) BuildEdges();
   Orient();
   SplitVertices();
   ReportEdges();
@@ -1136,6 +1305,9 @@ std::string RepairRecord::ToString() const {
       break;
     case RepairKind::kSplitEdge:
       absl::StrAppend(&s, " of facet ", facet);
+      break;
+    case RepairKind::kFilledHole:
+      absl::StrAppend(&s, " next to facet ", facet);
       break;
     case RepairKind::kDegenerateFacet:
     case RepairKind::kDuplicateFacet:

@@ -44,6 +44,7 @@ enum class RepairKind : int {
   kReversedComponent,   // a closed component that was inside out (its facets are also listed)
   kSplitVertex,         // a vertex where several fans met, given one copy per fan
   kUnreferencedVertex,  // dropped: no facet uses it (any more)
+  kFilledHole,          // a small loop of open edges closed by new facets (a facet missing)
   // Defects left in place (the mesh still fails Mesh::Build while any remains).
   kSeamEdge,       // an edge of 3 or more facets: kept, listed in RepairResult::seams
   kNonOrientable,  // a component that no choice of facet orientations makes consistent
@@ -97,15 +98,17 @@ struct RepairResult {
   RepairReport report;
   std::vector<SeamEdge> seams;  // every non-manifold edge of the output, ordered by (a, b)
   // Provenance of the output (empty in kOff mode, where the mesh is left as it was): the input
-  // facet of each output facet, and the input vertex of each output vertex (split copies name
-  // the vertex they were split from).
+  // facet of each output facet (for a facet that fills a hole: the facet across the hole's first
+  // edge, whose group and fields it takes), and the input vertex of each output vertex (split
+  // copies name the vertex they were split from).
   std::vector<uint32_t> facet_origin, vertex_origin;
 };
 
 // Repairs `mesh` in place (kOn) in this order: weld coincident vertices; remove degenerate, then
-// duplicate facets; close T-junctions; orient each component consistently (outward when closed);
-// split non-manifold vertices; drop unreferenced vertices. Faces keep their input order, groups
-// and fields; kept vertices keep their order, split copies are appended. A mesh with nothing to
+// duplicate facets; close T-junctions; zip T-junction cracks; fill small holes; orient each
+// component consistently (outward when closed); split non-manifold vertices; drop unreferenced
+// vertices. Faces keep their input order, groups and fields (hole fills are appended); kept
+// vertices keep their order, split copies are appended. A mesh with nothing to
 // repair comes back untouched (byte-identical) with an empty report. Non-manifold edges are kept
 // and reported.
 //
@@ -117,7 +120,12 @@ struct RepairResult {
 // Slivers along one edge (a chain, sharing middle vertices) are taken one after another, each
 // once no other sliver is left on its longest edge. A split that would make a zero-area facet or
 // an edge that already exists is not made: the sliver is then only removed, and its record says
-// why the T-junction stays open.
+// why.
+//
+// T-junction cracks (no sliver): an open edge is split at the vertices of the open edges along
+// it, where the whole crack then closes (docs/FIDELITY.md, "Repair"). Holes: a component whose
+// every open loop is small (at most 6 edges, a tenth of its area) gets them filled with the
+// least-area triangulation that adds no existing edge.
 //
 // Errors (InvalidArgument, the mesh untouched): what no repair can fix (indices out of range,
 // referenced non-finite coordinates, inconsistent array sizes, empty input or output), each

@@ -25,9 +25,9 @@ writes the triangle soups, then makes broken copies the way CAD exports break:
                        with slivers below 1 degree, cracks, flipped and degenerate facets
   broken     flipped, duplicate, degenerate (coincident vertices, repeated index, collinear
              T-junction sliver), crack (one CAD seam unwelded), tjunction (one CAD seam
-             tessellated apart: T-junctions), unwelded (every CAD face its own vertices),
-             unreferenced (unused and duplicated vertices), bowtie (two parts welded at one
-             vertex: non-manifold vertex); the assembly (non-manifold edges),
+             tessellated apart: T-junctions), missing (five facets dropped: holes), unwelded
+             (every CAD face its own vertices), unreferenced (unused and duplicated vertices),
+             bowtie (two parts welded at one vertex: non-manifold vertex); the assembly (non-manifold edges),
              bottle_export_crossing (self-intersecting) and every occ_stl file are not clean
 
   held out   shaft (stepped, filleted, keyway, cross hole), elbow (thick-walled pipe bend),
@@ -798,6 +798,41 @@ def break_tjunction(rng, pos, tris, groups):
                 f" vertex at the midpoint of each of its {len(edges)} edges, face {ga}'s not"}]
 
 
+def break_missing(rng, pos, tris, groups):
+    """Facets an exporter dropped: three single facets apart from one another, and two
+    neighbours of one CAD face together (holes of 3, 3, 3 and 4 edges)."""
+    _, uniq, inv, counts = edge_table(tris)
+    edge_faces = {}
+    for k, e in enumerate(inv.tolist()):
+        edge_faces.setdefault(e, []).append(k % len(tris))
+    near = set()  # faces sharing a vertex with one already dropped
+    drop = []
+    for f in rng.permutation(len(tris)).tolist():
+        if len(drop) == 3:
+            break
+        if f not in near:
+            drop.append(f)
+            near.update(np.flatnonzero(np.isin(tris, tris[f]).any(axis=1)).tolist())
+    pair = None
+    for f in rng.permutation(len(tris)).tolist():
+        if f in near:
+            continue
+        for e in (inv[f], inv[len(tris) + f], inv[2 * len(tris) + f]):
+            g = [x for x in edge_faces[int(e)] if x != f]
+            if len(g) == 1 and groups[g[0]] == groups[f] and g[0] not in near:
+                pair = [f, g[0]]
+                break
+        if pair:
+            break
+    drop += pair
+    keep = np.ones(len(tris), dtype=bool)
+    keep[drop] = False
+    return pos, tris[keep], groups[keep], [{
+        "kind": "missing_facets", "count": 5, "facets": sorted(int(f) for f in drop),
+        "note": "three facets dropped apart and two neighbours together: holes of 3, 3, 3 and "
+                "4 edges"}]
+
+
 def break_unreferenced(rng, pos, tris, groups):
     lo, hi = pos.min(axis=0).astype(np.float64), pos.max(axis=0).astype(np.float64)
     free = (lo + rng.random((6, 3)) * (hi - lo)).astype(np.float32)
@@ -836,6 +871,7 @@ BREAKERS = {
     "degenerate": break_degenerate,
     "crack": break_crack,
     "tjunction": break_tjunction,
+    "missing": break_missing,
     "unwelded": break_unwelded,
     "unreferenced": break_unreferenced,
     "bowtie": break_bowtie,
@@ -849,6 +885,7 @@ BROKEN_SHAPE = {
     "degenerate": (False, False),  # the repeated-index faces add uses to their edges
     "crack": (False, True),
     "tjunction": (False, True),
+    "missing": (False, True),
     "unwelded": (False, True),
     "unreferenced": (True, True),
     "bowtie": (True, False),  # every edge is fine; one vertex has two fans
@@ -865,6 +902,8 @@ BROKEN = [
     ("bottle_coarse", "crack"),
     ("flange_coarse", "tjunction"),
     ("knob_export", "tjunction"),
+    ("bracket_coarse", "missing"),
+    ("flange_export", "missing"),
     ("bracket_coarse", "unwelded"),
     ("knob_coarse", "unreferenced"),
     ("bracket_coarse", "bowtie"),

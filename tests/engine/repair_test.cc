@@ -417,7 +417,8 @@ TEST(Repair, TJunctionCracksAreZipped) {
 TEST(Repair, TJunctionZipTakesFloatRoundingButNotAGap) {
   // Edge (0, 1) slanted, so that its third is not a float: the T vertex, rounded, lies off the
   // segment by the float coordinates' rounding, which the zip takes even without a weld
-  // tolerance. A T vertex a thousandth off the segment is a gap, and stays open.
+  // tolerance. A T vertex a thousandth off the segment is a gap: not zipped, but a hole of
+  // three edges, which a sliver facet fills.
   for (float off : {0.f, 1e-3f}) {
     SCOPED_TRACE(off);
     RawMesh m = TJunctionCube({1.f / 3});
@@ -431,8 +432,11 @@ TEST(Repair, TJunctionZipTakesFloatRoundingButNotAGap) {
       EXPECT_EQ(TopologyOf(m).boundary_edges, 0);
       EXPECT_EQ(r.report.count(RepairKind::kSplitEdge), 1u) << r.report.Details();
     } else {
-      EXPECT_EQ(TopologyOf(m).boundary_edges, 3);
-      EXPECT_EQ(r.report.num_changes(), 0u) << r.report.Details();
+      EXPECT_EQ(TopologyOf(m).boundary_edges, 0);
+      EXPECT_EQ(r.report.count(RepairKind::kSplitEdge), 0u) << r.report.Details();
+      EXPECT_EQ(r.report.count(RepairKind::kFilledHole), 1u) << r.report.Details();
+      EXPECT_HAS(Records(r.report, RepairKind::kFilledHole),
+                 "a hole of 3 edges (vertices 0, 8, 1)");
     }
   }
 }
@@ -664,6 +668,87 @@ TEST(Repair, UnrepairableInputIsRefusedWithEveryProblem) {
   r = RepairMesh(all_degenerate, {});
   ASSERT_FALSE(r.ok());
   EXPECT_HAS(std::string(r.status().message()), "empty after repair");
+}
+
+// Facets a CAD export dropped: a surface closed but for small holes is closed again.
+TEST(Repair, MissingFacetsAreFilled) {
+  RawMesh m = Cube();
+  NumberFacets(m);
+  const std::vector<uint32_t> gone(m.triangles.begin() + 3 * 8, m.triangles.begin() + 3 * 9);
+  m.triangles.erase(m.triangles.begin() + 3 * 8, m.triangles.begin() + 3 * 9);  // facet 8
+  m.face_groups.erase(m.face_groups.begin() + 8);
+  m.face_fields[0].values.erase(m.face_fields[0].values.begin() + 8);
+  RepairResult r = Repair(m);
+  ExpectClosedCube(m);
+  EXPECT_EQ(r.report.count(RepairKind::kFilledHole), 1u) << r.report.Details();
+  EXPECT_EQ(r.report.num_changes(), 1u) << r.report.Details();
+  EXPECT_HAS(Records(r.report, RepairKind::kFilledHole),
+             "filled hole next to facet 1 at (0.333333333, 0.666666667, 0): a hole of 3 edges "
+             "(vertices 2, 0, 3) closed by 1 facet of area 0.5 (9.1% of its surface's), with "
+             "facet 1's group and fields");
+  // The new facet is the one dropped (0, 2, 3), turned as it was, appended with the group and
+  // field value of the facet across the loop's first edge (2-0, facet 1).
+  ASSERT_EQ(m.num_faces(), 12u);
+  EXPECT_EQ(gone, (std::vector<uint32_t>{0, 2, 3}));
+  EXPECT_EQ(std::vector<uint32_t>(m.triangles.end() - 3, m.triangles.end()),
+            (std::vector<uint32_t>{3, 0, 2}));
+  EXPECT_EQ(r.facet_origin.back(), 1u);
+  EXPECT_EQ(m.face_groups.back(), 101);
+
+  // Strict mode: an open surface is not a defect; nothing changes.
+  RawMesh strict_mesh = Cube();
+  strict_mesh.triangles.resize(3 * 11);
+  const RawMesh before = strict_mesh;
+  RepairOptions strict;
+  strict.mode = RepairMode::kOff;
+  EXPECT_TRUE(RepairMesh(strict_mesh, strict).ok());
+  ExpectSameMesh(strict_mesh, before);
+}
+
+TEST(Repair, OpenSurfacesAreNotHoles) {
+  // A flat square (its border is all of it), a box without its lid (the opening is a fifth of
+  // its area) and two holes meeting at a vertex (four open edges there) stay open.
+  RawMesh square;
+  square.positions = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
+  square.triangles = {0, 1, 2, 0, 2, 3};
+  RawMesh tray = Cube();
+  tray.triangles.resize(3 * 10);  // facets 10 and 11: the +z quad
+  RawMesh touching = Cube();      // without facets 9 (0, 3, 1) and 5 (0, 5, 4): they share vertex 0
+  touching.triangles.erase(touching.triangles.begin() + 3 * 9, touching.triangles.begin() + 30);
+  touching.triangles.erase(touching.triangles.begin() + 3 * 5, touching.triangles.begin() + 18);
+  for (RawMesh* m : {&square, &tray, &touching}) {
+    const int open = TopologyOf(*m).boundary_edges;
+    RepairResult r = Repair(*m);
+    EXPECT_EQ(r.report.count(RepairKind::kFilledHole), 0u) << r.report.Details();
+    EXPECT_EQ(TopologyOf(*m).boundary_edges, open);
+  }
+}
+
+TEST(Repair, FandiskHolesAreFilledAsMostFacetsAroundThemTurn) {
+  const RawMesh clean = testing::LoadTestMesh("fandisk.off");
+  RawMesh m = clean;
+  // Facet 100 alone (a hole of 3 edges), and 5000 with the facet across its first edge (4).
+  const uint32_t a = m.triangles[3 * 5000], b = m.triangles[3 * 5000 + 1];
+  size_t across = 0;
+  for (size_t f = 0; f < m.num_faces(); ++f)
+    if (f != 5000 &&
+        (m.triangles[3 * f] == b || m.triangles[3 * f + 1] == b || m.triangles[3 * f + 2] == b) &&
+        (m.triangles[3 * f] == a || m.triangles[3 * f + 1] == a || m.triangles[3 * f + 2] == a))
+      across = f;
+  ASSERT_NE(across, 0u);
+  std::vector<size_t> drop = {across, 5000, 100};
+  std::sort(drop.rbegin(), drop.rend());
+  for (size_t f : drop)
+    m.triangles.erase(m.triangles.begin() + 3 * f, m.triangles.begin() + 3 * f + 3);
+  Flip(m, 99);  // next to the first hole: turned by Orient, not followed by the fill
+  EXPECT_GT(TopologyOf(m).boundary_edges, 0);
+  RepairResult r = Repair(m);
+  ExpectBuilds(m);
+  EXPECT_EQ(TopologyOf(m).boundary_edges, 0);
+  EXPECT_EQ(r.report.count(RepairKind::kFilledHole), 2u) << r.report.Details();
+  EXPECT_EQ(r.report.count(RepairKind::kFlippedFacet), 1u) << r.report.Details();
+  EXPECT_EQ(m.num_faces(), clean.num_faces());
+  EXPECT_NEAR(SignedVolume(m), SignedVolume(clean), 1e-4 * std::abs(SignedVolume(clean)));
 }
 
 TEST(Repair, FandiskWithFlippedAndDuplicatedFacets) {
