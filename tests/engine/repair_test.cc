@@ -260,6 +260,15 @@ void ExpectClosedCube(const RawMesh& m) {
   EXPECT_NEAR(SignedVolume(m), 1.0, 1e-6);
 }
 
+// Strict mode accepts `m` (nothing Mesh::Build refuses) and changes nothing.
+void ExpectStrictModeLeavesAlone(RawMesh m) {
+  const RawMesh before = m;
+  RepairOptions strict;
+  strict.mode = RepairMode::kOff;
+  EXPECT_TRUE(RepairMesh(m, strict).ok());
+  ExpectSameMesh(m, before);
+}
+
 TEST(Repair, TJunctionSliverSplitsTheFacetAcross) {
   RawMesh m = TJunctionCube({0.5f});  // facets 0-11, 12 = (8, 1, 5)
   AppendNumberedFacet(m, {0, 1, 8});  // facet 13
@@ -404,13 +413,8 @@ TEST(Repair, TJunctionCracksAreZipped) {
       EXPECT_EQ(m.face_fields[0].values[f], 4.5f);
     }
     // Strict mode: an open crack is not a defect; nothing changes.
-    RawMesh strict_mesh =
-        xs.size() == 1 ? TJunctionCube({0.5f}) : TJunctionCube({0.25f, 0.5f, 0.75f});
-    const RawMesh before = strict_mesh;
-    RepairOptions strict;
-    strict.mode = RepairMode::kOff;
-    EXPECT_TRUE(RepairMesh(strict_mesh, strict).ok());
-    ExpectSameMesh(strict_mesh, before);
+    ExpectStrictModeLeavesAlone(xs.size() == 1 ? TJunctionCube({0.5f})
+                                               : TJunctionCube({0.25f, 0.5f, 0.75f}));
   }
 }
 
@@ -696,13 +700,9 @@ TEST(Repair, MissingFacetsAreFilled) {
   EXPECT_EQ(m.face_groups.back(), 101);
 
   // Strict mode: an open surface is not a defect; nothing changes.
-  RawMesh strict_mesh = Cube();
-  strict_mesh.triangles.resize(3 * 11);
-  const RawMesh before = strict_mesh;
-  RepairOptions strict;
-  strict.mode = RepairMode::kOff;
-  EXPECT_TRUE(RepairMesh(strict_mesh, strict).ok());
-  ExpectSameMesh(strict_mesh, before);
+  RawMesh holed = Cube();
+  holed.triangles.resize(3 * 11);
+  ExpectStrictModeLeavesAlone(holed);
 }
 
 TEST(Repair, OpenSurfacesAreNotHoles) {
