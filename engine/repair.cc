@@ -614,13 +614,13 @@ void Repairer::BuildEdges() {
 }
 
 // Closes the cracks of faces tessellated one by one, as CAD exporters write them: one side of a
-// straight crack has the edge a-b, the other a-m-...-b with its vertices on that segment (a
-// T-junction at each). An open edge is split at the vertices of the open edges along it (within
-// the weld tolerance of the segment, or the float coordinates' rounding where that is larger):
-// its facet (a, b, c) becomes the fan (a, m, c), (m, .., c), (.., b, c), with its orientation,
-// group and fields; no point moves. A split is made only where every piece of the crack then
-// has exactly two facets, no piece or fan edge exists already and no piece has zero area; one
-// edge per facet a call. Returns whether it split any (the edges are then stale).
+// crack has the edge a-b, the other a-m-...-b with its vertices on that segment (a T-junction
+// at each) or, along a curve, off it by the chord's sagitta. An open edge is split at the
+// vertices of the open edges along it (within an eighth of its length of the segment): its
+// facet (a, b, c) becomes the fan (a, m, c), (m, .., c), (.., b, c), with its orientation, group
+// and fields; no point moves. A split is made only where every piece of the crack then has
+// exactly two facets, no piece or fan edge exists already and no piece has zero area or turns
+// over; one edge per facet a call. Returns whether it split any (the edges are then stale).
 bool Repairer::ZipTJunctions() {
   const uint32_t ne = static_cast<uint32_t>(ebeg_.size() - 1);
   auto head = [&](uint32_t h) { return tri_[h % 3 == 2 ? h - 2 : h + 1]; };
@@ -655,10 +655,13 @@ bool Repairer::ZipTJunctions() {
   struct Plan {
     uint32_t h;                 // open half-edge x -> y of kept facet h / 3
     std::vector<uint32_t> cut;  // the vertices it is split at, from x to y
+    std::vector<double> off;    // their distances from the segment x-y
     bool split = false;
   };
   // A crack's vertices along one edge are few; a longer collinear walk is left alone.
   constexpr size_t kMaxWalk = 256;
+  // A chord of a circle cut in n is off the arc by about 1/(2n) of its length: 7 and up.
+  constexpr double kMaxGapShare = 0.125;
   std::vector<Plan> plans(open.size());
   for (size_t i = 0; i < open.size(); ++i) {
     Plan& plan = plans[i];
@@ -673,10 +676,10 @@ bool Repairer::ZipTJunctions() {
       scale = std::max({scale, std::abs(px[k]), std::abs(py[k])});
     }
     const double tol = std::max(result_.report.weld_tolerance_absolute, 2 * FLT_EPSILON * scale);
-    const double len = std::sqrt(len2);
+    const double len = std::sqrt(len2), reach = std::max(tol, kMaxGapShare * len);
     if (!(len > 2 * tol)) continue;
     std::vector<uint32_t> seen = {x, y}, stack = {x, y};
-    std::vector<std::pair<double, uint32_t>> inner;  // (along, vertex)
+    std::vector<std::array<double, 3>> inner;  // (along, vertex, distance)
     while (!stack.empty() && seen.size() <= kMaxWalk) {
       const uint32_t u = stack.back();
       stack.pop_back();
@@ -690,25 +693,38 @@ bool Repairer::ZipTJunctions() {
         const double tc = std::clamp(t, 0.0, 1.0);
         double d2 = 0;
         for (int k = 0; k < 3; ++k) d2 += (p[k] - px[k] - tc * d[k]) * (p[k] - px[k] - tc * d[k]);
-        if (d2 > tol * tol) continue;
+        if (d2 > reach * reach) continue;
         seen.push_back(v);
         stack.push_back(v);
-        if (t * len > tol && (1 - t) * len > tol) inner.push_back({t, v});
+        if (t * len > reach && (1 - t) * len > reach)
+          inner.push_back({t, double(v), d2 > tol * tol ? std::sqrt(d2) : 0.0});
       }
     }
     if (inner.empty() || seen.size() > kMaxWalk) continue;
     std::sort(inner.begin(), inner.end());
     const uint32_t c = tri_[3 * (plan.h / 3) + (plan.h % 3 + 2) % 3];
+    auto normal = [&](uint32_t a, uint32_t b) {  // of (a, b, c)
+      const std::array<double, 3> pa = PosD(a), pb = PosD(b), pc = PosD(c);
+      const double u[3] = {pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]};
+      const double w[3] = {pc[0] - pa[0], pc[1] - pa[1], pc[2] - pa[2]};
+      return std::array<double, 3>{u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
+                                   u[0] * w[1] - u[1] * w[0]};
+    };
+    const std::array<double, 3> n0 = normal(x, y);
     bool ok = true;
     uint32_t from = x;
     for (size_t j = 0; ok && j <= inner.size(); ++j) {
-      const uint32_t to = j < inner.size() ? inner[j].second : y;
+      const uint32_t to = j < inner.size() ? uint32_t(inner[j][1]) : y;
+      const std::array<double, 3> n = normal(from, to);
       ok = uses(from, to) <= 1 && !IsZeroArea(Pos(from), Pos(to), Pos(c)) &&
-           (to == y || uses(to, c) == 0);
+           n[0] * n0[0] + n[1] * n0[1] + n[2] * n0[2] > 0 && (to == y || uses(to, c) == 0);
       from = to;
     }
     if (!ok) continue;
-    for (const auto& [t, v] : inner) plan.cut.push_back(v);
+    for (const auto& [t, v, off] : inner) {
+      plan.cut.push_back(uint32_t(v));
+      plan.off.push_back(off);
+    }
     plan.split = true;
   }
 
@@ -767,7 +783,9 @@ bool Repairer::ZipTJunctions() {
       prev = n;
       Record(RepairKind::kSplitEdge, facet, m, PosD(m), [&] {
         return absl::StrCat("edge from vertex ", ox, " to vertex ", oy, " split at vertex ", m,
-                            " (a T-junction: the facets across the crack have a vertex there)");
+                            " (a T-junction: the facets across the crack have a vertex there",
+                            p.off[j] > 0 ? absl::StrFormat(", %.3g off the edge", p.off[j]) : "",
+                            ")");
       });
     }
   }

@@ -123,7 +123,8 @@ struct RepairResult {
 // why.
 //
 // T-junction cracks (no sliver): an open edge is split at the vertices of the open edges along
-// it, where the whole crack then closes (docs/FIDELITY.md, "Repair"). Holes: a component whose
+// it (within an eighth of its length: on a curved seam they are off its chord), where the
+// whole crack then closes (docs/FIDELITY.md, "Repair"). Holes: a component whose
 // every open loop is small (at most 6 edges, a tenth of its area) gets them filled with the
 // least-area triangulation that adds no existing edge.
 //

@@ -25,7 +25,8 @@ writes the triangle soups, then makes broken copies the way CAD exports break:
                        with slivers below 1 degree, cracks, flipped and degenerate facets
   broken     flipped, duplicate, degenerate (coincident vertices, repeated index, collinear
              T-junction sliver), crack (one CAD seam unwelded), tjunction (one CAD seam
-             tessellated apart: T-junctions), missing (five facets dropped: holes), unwelded
+             tessellated apart: T-junctions; tjunction_curved: along a circle, the new
+             vertices on it, off the chords), missing (five facets dropped: holes), unwelded
              (every CAD face its own vertices), unreferenced (unused and duplicated vertices),
              bowtie (two parts welded at one vertex: non-manifold vertex); the assembly (non-manifold edges),
              bottle_export_crossing (self-intersecting) and every occ_stl file are not clean
@@ -772,13 +773,26 @@ def break_unwelded(rng, pos, tris, groups):
         "note": "each CAD face has its own copies of its border vertices"}]
 
 
-def break_tjunction(rng, pos, tris, groups):
-    """One CAD face tessellated apart from its neighbour, as many CAD exporters write faces:
-    along the longest seam between CAD faces A and B, B's facets get a vertex at the midpoint
-    (rounded to float32) of every seam edge while A keeps the whole edges: a T-junction at each
-    midpoint and a crack no weld closes."""
-    seams = seam_edges(tris, groups)
-    (ga, gb), edges = max(seams.items(), key=lambda kv: (len(kv[1]), kv[0]))
+def _circle_of(points):
+    """(centre, radius) of the circle the float64 points lie on, or None when they do not lie on
+    one (planar within 1e-5 and on the circle within 1e-5 of its radius)."""
+    c0 = points.mean(axis=0)
+    q = points - c0
+    _, sv, vt = np.linalg.svd(q)
+    if len(points) < 4 or sv[2] > 1e-5 * sv[0]:
+        return None
+    x, y = q @ vt[0], q @ vt[1]
+    a = np.stack([2 * x, 2 * y, np.ones_like(x)], axis=1)
+    (cx, cy, c), *_ = np.linalg.lstsq(a, x * x + y * y, rcond=None)
+    radius = float(np.sqrt(c + cx * cx + cy * cy))
+    centre = c0 + cx * vt[0] + cy * vt[1]
+    if np.abs(np.linalg.norm(points - centre, axis=1) - radius).max() > 1e-5 * radius:
+        return None
+    return centre, radius
+
+
+def _split_seam(pos, tris, groups, edges, gb, place):
+    """Splits B's facet on each seam edge (u, v) at place(u, v), a new vertex; A keeps the edge."""
     pos = list(pos)
     tris = tris.tolist()
     groups = groups.tolist()
@@ -788,14 +802,52 @@ def break_tjunction(rng, pos, tris, groups):
         j = next(j for j in range(3) if {t[j], t[(j + 1) % 3]} == {u, v})
         x, y, c = t[j], t[(j + 1) % 3], t[(j + 2) % 3]
         m = len(pos)
-        pos.append(((pos[x].astype(np.float64) + pos[y]) / 2).astype(np.float32))
+        pos.append(place(pos[x].astype(np.float64), pos[y].astype(np.float64)).astype(np.float32))
         tris[f] = [x, m, c]
         tris.append([m, y, c])
         groups.append(gb)
-    return np.array(pos, dtype=np.float32), np.array(tris), np.array(groups), [{
+    return np.array(pos, dtype=np.float32), np.array(tris), np.array(groups)
+
+
+def break_tjunction(rng, pos, tris, groups):
+    """One CAD face tessellated apart from its neighbour, as many CAD exporters write faces:
+    along the longest seam between CAD faces A and B, B's facets get a vertex at the midpoint
+    (rounded to float32) of every seam edge while A keeps the whole edges: a T-junction at each
+    midpoint and a crack no weld closes."""
+    seams = seam_edges(tris, groups)
+    (ga, gb), edges = max(seams.items(), key=lambda kv: (len(kv[1]), kv[0]))
+    pos, tris, groups = _split_seam(pos, tris, groups, edges, gb, lambda a, b: (a + b) / 2)
+    return pos, tris, groups, [{
         "kind": "tjunction", "count": len(edges), "cad_faces": [int(ga), int(gb)],
         "note": f"seam between CAD faces {ga} and {gb} tessellated apart: face {gb}'s side has a"
                 f" vertex at the midpoint of each of its {len(edges)} edges, face {ga}'s not"}]
+
+
+def break_tjunction_curved(rng, pos, tris, groups):
+    """The same along a circular seam, B's new vertices on the circle itself (as a mesher that
+    samples the CAD curve puts them): each is off A's chord by its sagitta, a narrow gap."""
+    seams = seam_edges(tris, groups)
+    for (ga, gb), edges in sorted(seams.items(), key=lambda kv: (-len(kv[1]), kv[0])):
+        verts = sorted({v for e in edges for v in e})
+        circle = _circle_of(pos[verts].astype(np.float64))
+        if circle is not None:
+            break
+    else:
+        raise RuntimeError("no circular seam")
+    centre, radius = circle
+
+    def on_circle(a, b):
+        d = (a + b) / 2 - centre
+        return centre + radius * d / np.linalg.norm(d)
+
+    chord = float(np.median([np.linalg.norm(pos[u].astype(np.float64) - pos[v]) for u, v in edges]))
+    pos, tris, groups = _split_seam(pos, tris, groups, edges, gb, on_circle)
+    return pos, tris, groups, [{
+        "kind": "tjunction_curved", "count": len(edges), "cad_faces": [int(ga), int(gb)],
+        "radius": radius, "median_chord": chord,
+        "note": f"circular seam (radius {radius:.4g}) between CAD faces {ga} and {gb} tessellated"
+                f" apart: face {gb}'s side has a vertex on the circle in each of its {len(edges)}"
+                f" edges, off face {ga}'s chords by the sagitta"}]
 
 
 def break_missing(rng, pos, tris, groups):
@@ -871,6 +923,7 @@ BREAKERS = {
     "degenerate": break_degenerate,
     "crack": break_crack,
     "tjunction": break_tjunction,
+    "tjunction_curved": break_tjunction_curved,
     "missing": break_missing,
     "unwelded": break_unwelded,
     "unreferenced": break_unreferenced,
@@ -885,6 +938,7 @@ BROKEN_SHAPE = {
     "degenerate": (False, False),  # the repeated-index faces add uses to their edges
     "crack": (False, True),
     "tjunction": (False, True),
+    "tjunction_curved": (False, True),
     "missing": (False, True),
     "unwelded": (False, True),
     "unreferenced": (True, True),
@@ -902,6 +956,8 @@ BROKEN = [
     ("bottle_coarse", "crack"),
     ("flange_coarse", "tjunction"),
     ("knob_export", "tjunction"),
+    ("bottle_coarse", "tjunction_curved"),
+    ("flange_export", "tjunction_curved"),
     ("bracket_coarse", "missing"),
     ("flange_export", "missing"),
     ("bracket_coarse", "unwelded"),
