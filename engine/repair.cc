@@ -120,6 +120,8 @@ class Repairer {
   void FilterFacets();
   void CloseTJunctions();
   void BuildEdges();
+  // How many kept facets use edge u-v (after BuildEdges).
+  uint32_t EdgeUses(uint32_t u, uint32_t v) const;
   bool ZipTJunctions();
   bool FillHoles();
   void PlaceSplitPieces(const std::vector<uint32_t>& after, uint32_t nk0);
@@ -144,7 +146,8 @@ class Repairer {
   // Undirected edges of the kept faces: edge e owns half-edges ehe_[ebeg_[e] .. ebeg_[e + 1]),
   // half-edge 3k + i running from corner i to corner i + 1 of kept face k (before flips).
   std::vector<uint32_t> ebeg_, ehe_, edge_of_;
-  std::vector<uint32_t> copy_of_;  // split copy i is a copy of input vertex copy_of_[i]
+  std::vector<uint32_t> edges_from_;  // edges are numbered by lower vertex: v's start at [v]
+  std::vector<uint32_t> copy_of_;     // split copy i is a copy of input vertex copy_of_[i]
   // Zero-area facets with three distinct vertices (kOn), for CloseTJunctions to remove.
   std::vector<uint32_t> slivers_;
 };
@@ -611,6 +614,20 @@ void Repairer::BuildEdges() {
     }
   }
   ebeg_.push_back(nh);
+  const uint32_t ne = static_cast<uint32_t>(ebeg_.size() - 1);
+  edges_from_.resize(nv_ + 1);
+  for (size_t v = 0; v <= nv_; ++v)  // a vertex without edges starts where the next one does
+    edges_from_[v] = start[v] < nh ? edge_of_[ehe_[start[v]]] : ne;
+}
+
+uint32_t Repairer::EdgeUses(uint32_t u, uint32_t v) const {
+  const uint32_t lo = std::min(u, v), hi = std::max(u, v);
+  for (uint32_t e = edges_from_[lo]; e < edges_from_[lo + 1]; ++e) {
+    const uint32_t h = ehe_[ebeg_[e]];
+    const uint32_t other = tri_[h] == lo ? tri_[h % 3 == 2 ? h - 2 : h + 1] : tri_[h];
+    if (other == hi) return ebeg_[e + 1] - ebeg_[e];
+  }
+  return 0;
 }
 
 // Closes the cracks of faces tessellated one by one, as CAD exporters write them: one side of a
@@ -629,20 +646,6 @@ bool Repairer::ZipTJunctions() {
     if (ebeg_[e + 1] - ebeg_[e] == 1) open.push_back(ehe_[ebeg_[e]]);
   if (open.empty()) return false;
 
-  // Edges are numbered in order of their lower vertex (BuildEdges).
-  std::vector<uint32_t> lo_start(nv_ + 1, 0);
-  for (uint32_t e = 0; e < ne; ++e) {
-    const uint32_t h = ehe_[ebeg_[e]];
-    ++lo_start[std::min(tri_[h], head(h)) + 1];
-  }
-  for (size_t v = 0; v < nv_; ++v) lo_start[v + 1] += lo_start[v];
-  auto uses = [&](uint32_t u, uint32_t v) -> uint32_t {
-    const uint32_t lo = std::min(u, v), hi = std::max(u, v);
-    for (uint32_t e = lo_start[lo]; e < lo_start[lo + 1]; ++e)
-      if (const uint32_t h = ehe_[ebeg_[e]]; std::max(tri_[h], head(h)) == hi)
-        return ebeg_[e + 1] - ebeg_[e];
-    return 0;
-  };
   auto key = [](uint32_t u, uint32_t v) {
     return u < v ? uint64_t(u) << 32 | v : uint64_t(v) << 32 | u;
   };
@@ -716,8 +719,8 @@ bool Repairer::ZipTJunctions() {
     for (size_t j = 0; ok && j <= inner.size(); ++j) {
       const uint32_t to = j < inner.size() ? uint32_t(inner[j][1]) : y;
       const std::array<double, 3> n = normal(from, to);
-      ok = uses(from, to) <= 1 && !IsZeroArea(Pos(from), Pos(to), Pos(c)) &&
-           n[0] * n0[0] + n[1] * n0[1] + n[2] * n0[2] > 0 && (to == y || uses(to, c) == 0);
+      ok = EdgeUses(from, to) <= 1 && !IsZeroArea(Pos(from), Pos(to), Pos(c)) &&
+           n[0] * n0[0] + n[1] * n0[1] + n[2] * n0[2] > 0 && (to == y || EdgeUses(to, c) == 0);
       from = to;
     }
     if (!ok) continue;
@@ -834,20 +837,6 @@ bool Repairer::FillHoles() {
     if (auto it = component_area.find(components.Find(k)); it != component_area.end())
       it->second += area(tri_[3 * k], tri_[3 * k + 1], tri_[3 * k + 2]);
 
-  // Edges are numbered in order of their lower vertex (BuildEdges).
-  std::vector<uint32_t> lo_start(nv_ + 1, 0);
-  for (uint32_t e = 0; e < ne; ++e) {
-    const uint32_t h = ehe_[ebeg_[e]];
-    ++lo_start[std::min(tri_[h], head(h)) + 1];
-  }
-  for (size_t v = 0; v < nv_; ++v) lo_start[v + 1] += lo_start[v];
-  auto exists = [&](uint32_t u, uint32_t v) {
-    const uint32_t lo = std::min(u, v), hi = std::max(u, v);
-    for (uint32_t e = lo_start[lo]; e < lo_start[lo + 1]; ++e)
-      if (const uint32_t h = ehe_[ebeg_[e]]; std::max(tri_[h], head(h)) == hi) return true;
-    return false;
-  };
-
   struct Hole {
     uint32_t first;              // the open half-edge it starts with
     std::vector<uint32_t> loop;  // its vertices, in that half-edge's direction
@@ -899,7 +888,7 @@ bool Repairer::FillHoles() {
         for (size_t k = i + 1; k < j; ++k) {
           // A side that is not on the loop is a new edge: one the mesh has would be a third use.
           // (Side i-j is the loop's closing edge, or a side its parent checked.)
-          if ((k > i + 1 && exists(p[i], p[k])) || (j > k + 1 && exists(p[k], p[j])) ||
+          if ((k > i + 1 && EdgeUses(p[i], p[k]) > 0) || (j > k + 1 && EdgeUses(p[k], p[j]) > 0) ||
               IsZeroArea(Pos(p[i]), Pos(p[k]), Pos(p[j])))
             continue;
           const double a = best[i * n + k] + best[k * n + j] + area(p[i], p[k], p[j]);
