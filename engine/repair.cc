@@ -12,6 +12,7 @@
 #include <utility>
 
 #include "absl/container/flat_hash_map.h"
+#include "absl/container/flat_hash_set.h"
 #include "absl/status/status.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
@@ -840,12 +841,12 @@ bool Repairer::FillHoles() {
   struct Hole {
     uint32_t first;              // the open half-edge it starts with
     std::vector<uint32_t> loop;  // its vertices, in that half-edge's direction
-    std::vector<uint32_t> fill;  // three vertices a facet, oriented against the loop
+    std::vector<uint32_t> fill;  // three vertices a facet, turned as most facets around it
     double area = 0;
   };
   std::vector<Hole> holes;
   absl::flat_hash_map<uint32_t, bool> fillable;  // component -> every loop of it a hole
-  absl::flat_hash_map<uint32_t, bool> walked;    // open half-edges already on a loop
+  absl::flat_hash_set<uint32_t> walked;          // open half-edges already on a loop
   std::vector<uint32_t> starts;
   for (const auto& [v, hs] : open_at)
     for (uint32_t h : hs)
@@ -859,7 +860,7 @@ bool Repairer::FillHoles() {
     bool ok = open_at[tri_[h0]].size() == 2;
     size_t along = 0;  // loop edges whose facet runs along the loop (the rest are flipped)
     for (uint32_t h = h0; ok;) {
-      walked[h] = true;
+      walked.insert(h);
       along += tri_[h] == hole.loop.back();
       const uint32_t v = tri_[h] == hole.loop.back() ? head(h) : tri_[h];
       if (v == hole.loop.front()) break;
