@@ -87,6 +87,13 @@ class Repairer {
     const float* p = Pos(v);
     return {p[0], p[1], p[2]};
   }
+  // (b - a) x (c - a): the facet's normal, twice its area long.
+  std::array<double, 3> AreaVector(uint32_t a, uint32_t b, uint32_t c) const {
+    const std::array<double, 3> p = PosD(a), q = PosD(b), r = PosD(c);
+    const double u[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]};
+    const double w[3] = {r[0] - p[0], r[1] - p[1], r[2] - p[2]};
+    return {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+  }
   std::array<double, 3> Centroid(const uint32_t* t) const {
     std::array<double, 3> c{};
     for (int i = 0; i < 3; ++i)
@@ -707,19 +714,12 @@ bool Repairer::ZipTJunctions() {
     if (inner.empty() || seen.size() > kMaxWalk) continue;
     std::sort(inner.begin(), inner.end());
     const uint32_t c = tri_[3 * (plan.h / 3) + (plan.h % 3 + 2) % 3];
-    auto normal = [&](uint32_t a, uint32_t b) {  // of (a, b, c)
-      const std::array<double, 3> pa = PosD(a), pb = PosD(b), pc = PosD(c);
-      const double u[3] = {pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]};
-      const double w[3] = {pc[0] - pa[0], pc[1] - pa[1], pc[2] - pa[2]};
-      return std::array<double, 3>{u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
-                                   u[0] * w[1] - u[1] * w[0]};
-    };
-    const std::array<double, 3> n0 = normal(x, y);
+    const std::array<double, 3> n0 = AreaVector(x, y, c);
     bool ok = true;
     uint32_t from = x;
     for (size_t j = 0; ok && j <= inner.size(); ++j) {
       const uint32_t to = j < inner.size() ? uint32_t(inner[j][1]) : y;
-      const std::array<double, 3> n = normal(from, to);
+      const std::array<double, 3> n = AreaVector(from, to, c);
       ok = EdgeUses(from, to) <= 1 && !IsZeroArea(Pos(from), Pos(to), Pos(c)) &&
            n[0] * n0[0] + n[1] * n0[1] + n[2] * n0[2] > 0 && (to == y || EdgeUses(to, c) == 0);
       from = to;
@@ -825,12 +825,8 @@ bool Repairer::FillHoles() {
     for (uint32_t i = ebeg_[e] + 1; i < ebeg_[e + 1]; ++i)
       components.Union(ehe_[ebeg_[e]] / 3, ehe_[i] / 3);
   auto area = [&](uint32_t a, uint32_t b, uint32_t c) {
-    const std::array<double, 3> p = PosD(a), q = PosD(b), r = PosD(c);
-    const double u[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]};
-    const double w[3] = {r[0] - p[0], r[1] - p[1], r[2] - p[2]};
-    const double x = u[1] * w[2] - u[2] * w[1], y = u[2] * w[0] - u[0] * w[2],
-                 z = u[0] * w[1] - u[1] * w[0];
-    return 0.5 * std::sqrt(x * x + y * y + z * z);
+    const std::array<double, 3> n = AreaVector(a, b, c);
+    return 0.5 * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
   };
   absl::flat_hash_map<uint32_t, double> component_area;  // of the components with open edges
   for (const auto& [v, hs] : open_at) component_area.try_emplace(components.Find(hs[0] / 3), 0.0);
