@@ -278,6 +278,12 @@ bool BoundDeviation(const Ring& ring, int target, int line_other, const Displace
       moved.AddCell(old_moved[f], cell);
     }
     new_moved[g] = moved.Finish(eps_len);
+    // A face's bound only grows with its cells: one beyond the limit refuses the collapse, and
+    // the faces after it need not be laid over.
+    if (new_moved[g].bound > limit) {
+      *work = tests;
+      return false;
+    }
   }
   *work = tests;
   return true;
