@@ -11,6 +11,9 @@ void AddKernelStats(KernelStats& k, const RemovalPhase& phase, PassStats& stats)
   if (phase.requeued != nullptr)
     phase.requeued->insert(phase.requeued->end(), k.requeued.begin(), k.requeued.end());
   k.requeued.clear();
+  if (phase.changed != nullptr)
+    phase.changed->insert(phase.changed->end(), k.changed.begin(), k.changed.end());
+  k.changed.clear();
   stats.tried += k.tried;
   stats.removed += k.removed;
   stats.placed += k.placed;

@@ -66,6 +66,8 @@ struct RemovalPhase {
   size_t looked = 0, merged = 0;
   // Where the contexts' KernelStats::requeued go once the phase is over (may be null).
   std::vector<uint32_t>* requeued = nullptr;
+  // Where the contexts' KernelStats::changed go (may be null: dropped).
+  std::vector<uint32_t>* changed = nullptr;
 
   bool Stopped() const {
     return stop->load(std::memory_order_relaxed) || budget->stop.load(std::memory_order_relaxed);
@@ -107,8 +109,8 @@ absl::StatusOr<std::unique_ptr<RemovalBackend>> MakeCellBackend(Mesh& mesh,
                                                                 const KernelConfig& kernel,
                                                                 const CellOptions& options);
 
-// Adds one context's kernel counters into the pass statistics.
-// Adds a context's counters to the pass's, and moves its requeued vertices to the phase's list.
+// Adds a context's counters to the pass's, and moves its requeued and changed vertices to the
+// phase's lists.
 void AddKernelStats(KernelStats& k, const RemovalPhase& phase, PassStats& stats);
 
 }  // namespace femsimp

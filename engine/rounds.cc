@@ -73,10 +73,10 @@ absl::StatusOr<uint64_t> RoundScheduler::ReadFans(const RemovalPhase& phase) {
     const uint32_t v = static_cast<uint32_t>(by_vertex_[i] >> 32);
     if (port.LoadStatus(v) != kRemovable) return false;
     live_[k] = 1;
-    // A loser's placement box, from an earlier round of the pass, holds while no collapse since
-    // has changed the one-ring of V or of a neighbour (StampChanges): every ring it was made of
-    // is as it was, V's neighbours too. Reading them all again was most of a placement round.
-    const bool keep = placement_ && box_round_[k] != 0 && Untouched(v, k, box_round_[k]);
+    // A loser's box, from an earlier round of the pass, holds while no collapse since has
+    // changed the one-ring of V (with placement, or of a neighbour; StampChanges): every ring it
+    // was made of is as it was. Reading them all again was most of a placement round.
+    const bool keep = box_round_[k] != 0 && Untouched(v, k, box_round_[k]);
     if (keep && !check_kept_boxes_) {
       box_[k] = cached_box_[k];
       return true;
@@ -185,76 +185,18 @@ void RoundScheduler::FinishIndexUpdates(const RemovalPhase& phase, bool applied)
     grid_->EndRound(mesh_);
 }
 
+void RoundScheduler::StampChanges() {
+  if (touched_.size() < mesh_.vertex_capacity()) touched_.resize(mesh_.vertex_capacity(), 0);
+  for (uint32_t u : changed_) touched_[u] = round_;
+  changed_.clear();
+}
+
 bool RoundScheduler::Untouched(uint32_t v, uint32_t k, uint32_t since) const {
-  if (unknown_change_round_ >= since || touched_[v] >= since) return false;
+  if (touched_[v] >= since) return false;
   const uint32_t* nbr = &nbrs_[size_t{k} * kMaxRing];
   for (int r = 0; r < nbr_count_[k]; ++r)
     if (touched_[nbr[r]] >= since) return false;
   return true;
-}
-
-void RoundScheduler::RecordWinners(const RemovalPhase& phase) {
-  recorded_.clear();
-  NativePort port(mesh_);
-  Ring ring;
-  for (size_t k = 0; k < window_.size(); ++k) {
-    if (!won_[k]) continue;
-    const uint32_t v = phase.candidates[window_[k]];
-    recorded_.push_back({v, port.ReadVertex(v)});
-    if (GatherRing(port, v, ring) != RingResult::kOk) {
-      recorded_.back().nbr_end = kNone;  // unknown: every ring counts as changed
-      continue;
-    }
-    for (int r = 0; r < ring.neighbours(); ++r)
-      recorded_.push_back({ring.nbr[r], port.ReadVertex(ring.nbr[r])});
-    recorded_[recorded_.size() - ring.neighbours() - 1].nbr_end = recorded_.size();
-  }
-}
-
-void RoundScheduler::StampChanges() {
-  if (touched_.size() < mesh_.vertex_capacity()) touched_.resize(mesh_.vertex_capacity(), 0);
-  NativePort port(mesh_);
-  Ring ring;
-  const auto stamp_ring_of = [&](uint32_t x) {
-    touched_[x] = round_;
-    if (GatherRing(port, x, ring) != RingResult::kOk) {
-      unknown_change_round_ = round_;  // neighbours not known: no box read before holds
-      return;
-    }
-    for (int r = 0; r < ring.neighbours(); ++r) touched_[ring.nbr[r]] = round_;
-  };
-  const auto moved = [&](const Recorded& e) {
-    const VertexQ q = port.ReadVertex(e.v);
-    return q.x != e.at.x || q.y != e.at.y || q.z != e.at.z;
-  };
-  for (size_t i = 0; i < recorded_.size();) {
-    const Recorded& w = recorded_[i];
-    if (w.nbr_end == kNone) {  // its ring could not be read: no box read before holds
-      unknown_change_round_ = round_;
-      ++i;
-      continue;
-    }
-    const size_t end = w.nbr_end;
-    // A collapse of the winner W with a neighbour removes one of the two and may move the other:
-    // the rings it changes are those of W, its old neighbours, and the neighbours (as they are
-    // now) of whichever of W and them is still there and has moved, or of W when a neighbour
-    // went. Nothing moved or went: W was refused, and changed nothing.
-    bool any = mesh_.IsRemoved(w.v) || moved(w);
-    bool neighbour_went = false;
-    for (size_t j = i + 1; j < end; ++j)
-      if (mesh_.IsRemoved(recorded_[j].v)) {
-        neighbour_went = true;
-      } else if (moved(recorded_[j])) {
-        any = true;
-        stamp_ring_of(recorded_[j].v);
-      }
-    any = any || neighbour_went;
-    if (any) {
-      for (size_t j = i; j < end; ++j) touched_[recorded_[j].v] = round_;
-      if (!mesh_.IsRemoved(w.v) && (neighbour_went || moved(w))) stamp_ring_of(w.v);
-    }
-    i = end;
-  }
 }
 
 size_t RoundScheduler::PickWinners(const RemovalPhase& phase, int64_t room) {
@@ -336,7 +278,7 @@ absl::Status RoundScheduler::RunPass(RemovalBackend& backend, const RemovalPhase
   const size_t largest = std::max(kMinWindow, phase.sorted / kLargestWindowShare);
   size_t window_size = std::max(kMinWindow, phase.sorted / kFirstWindowShare);
   std::vector<uint32_t> losers, winners, ranks;
-  // Placement: each loser's box, the round it was read in, and V's neighbours then.
+  // Each loser's box and the round it was read in; with placement, V's neighbours then.
   std::vector<FaceGrid::Box> loser_boxes;
   std::vector<uint32_t> loser_rounds, loser_nbrs;
   std::vector<uint8_t> loser_nbr_counts;
@@ -380,16 +322,15 @@ absl::Status RoundScheduler::RunPass(RemovalBackend& backend, const RemovalPhase
     for (size_t k = 0; k < window_.size(); ++k)
       if (live_[k] && !won_[k]) {
         losers.push_back(window_[k]);
+        loser_boxes.push_back(box_[k]);
+        loser_rounds.push_back(box_round_[k]);
+        loser_nbr_counts.push_back(nbr_count_[k]);
         if (placement_) {
-          loser_boxes.push_back(box_[k]);
-          loser_rounds.push_back(box_round_[k]);
-          loser_nbr_counts.push_back(nbr_count_[k]);
           loser_nbrs.insert(loser_nbrs.end(), nbrs_.begin() + k * kMaxRing,
                             nbrs_.begin() + k * kMaxRing + nbr_count_[k]);
           loser_nbrs.resize(loser_nbr_counts.size() * kMaxRing);
         }
       }
-    if (placement_) RecordWinners(phase);
     // Their outcomes do not depend on the order they run in: by vertex number (as ReadFans read
     // them), for locality.
     winners.clear();
@@ -411,6 +352,7 @@ absl::Status RoundScheduler::RunPass(RemovalBackend& backend, const RemovalPhase
     round.window_rank = ranks.data();
     round.fresh_caches = true;
     round.blocks = true;
+    round.changed = &changed_;
     if (grid_ != nullptr) {
       round.boxes = winner_boxes.data();
       round.grid = grid_;
@@ -422,7 +364,7 @@ absl::Status RoundScheduler::RunPass(RemovalBackend& backend, const RemovalPhase
       grid_->BeginRound(mesh_, new_cells);
     }
     absl::Status s = backend.RunRemoval(round, stats);
-    if (s.ok() && placement_) StampChanges();
+    if (s.ok()) StampChanges();
     index_updates_pending_ = grid_ != nullptr;
     rules_.EndRound();
     if (!s.ok()) {

@@ -7,10 +7,12 @@
 //   1. reads, in parallel, each candidate's fan and its bounding box (V and its one-ring; with
 //      full-edge collapses, the union of its stars' boxes, each widened as the placed vertex
 //      may go: star.h's WidenForPlacement): everything its collapse can lock, write or create
-//      lies in that box. A loser's star box is kept from the round that read it while no
-//      collapse since has changed the one-ring of V or of a neighbour (each round stamps the
-//      vertices whose rings its collapses changed): most of a placement round's candidates are
-//      losers of the round before, and their boxes are seven rings each;
+//      lies in that box. A loser's box is kept from the round that read it while no collapse
+//      since has changed the one-ring of V (or, with full-edge collapses, of a neighbour): each
+//      round stamps the vertices its commits locked, which are those whose rings changed. Most
+//      of a round's candidates can be losers of the round before (a placement round's boxes
+//      are seven rings each; the large fans of a coarse CAD export overlap), and most winners
+//      are refused and change nothing;
 //   2. picks the winners greedily in cost order: a candidate wins unless its box overlaps the
 //      box of a better-ranked winner (touching counts; found through a hashed grid of the
 //      winners' boxes; with a vertex target, only as many winners as removals remain). The
@@ -66,13 +68,11 @@ class RoundScheduler {
   void FinishIndexUpdates(const RemovalPhase& phase, bool applied);
   // Marks the winners in window order; returns how many.
   size_t PickWinners(const RemovalPhase& phase, int64_t room);
-  // Placement rounds: RecordWinners notes each winner's one-ring (ids, positions) before the
-  // winners run; StampChanges stamps with this round every vertex whose one-ring a winner's
-  // collapse changed; Untouched: no vertex of {v} and its one-ring is stamped at or after round
-  // `since` (k: v's window entry, which keeps v's neighbours as its box was read), so that the
-  // rings v's box was made of then are unchanged.
-  void RecordWinners(const RemovalPhase& phase);
+  // Stamps with this round every vertex the round's commits locked (KernelStats::changed).
   void StampChanges();
+  // No vertex of {v} and, with placement, its one-ring is stamped at or after round `since`
+  // (k: v's window entry, which keeps v's neighbours as its box was read), so that the rings
+  // v's box was made of then are unchanged.
   bool Untouched(uint32_t v, uint32_t k, uint32_t since) const;
 
   Mesh& mesh_;
@@ -85,22 +85,16 @@ class RoundScheduler {
   std::vector<uint32_t> window_;
   std::vector<FaceGrid::Box> box_;
   std::vector<uint8_t> live_, won_;
-  // Placement: each entry's box as an earlier round read it (losers carry theirs), the round
-  // it was read in (0: none), the rounds so far in the run, and per vertex the last round whose
-  // winners' two-rings held it.
+  // Each entry's box as an earlier round read it (losers carry theirs), the round it was read
+  // in (0: none), the rounds so far in the run, and per vertex the last round whose commits
+  // locked it.
   std::vector<FaceGrid::Box> cached_box_;
   std::vector<uint32_t> box_round_;
   std::vector<uint32_t> nbrs_;  // kMaxRing slots per entry: V's neighbours
   std::vector<uint8_t> nbr_count_;
   uint32_t round_ = 0;
   std::vector<uint32_t> touched_;
-  uint32_t unknown_change_round_ = 0;  // the last round with a winner whose ring was unreadable
-  struct Recorded {
-    uint32_t v;
-    VertexQ at;
-    size_t nbr_end = 0;  // a winner's entry: the end of its neighbours' (kNone: ring unread)
-  };
-  std::vector<Recorded> recorded_;  // each winner, then its neighbours
+  std::vector<uint32_t> changed_;  // the round's KernelStats::changed
   std::vector<uint64_t> by_vertex_;
   bool index_updates_pending_ = false;
   // ReadFans: each context's share of the window (in vertex order) and of the last round's face

@@ -164,8 +164,8 @@ struct PassStats {
   uint64_t rounds = 0;               // deterministic schedule: rounds of non-interacting collapses
   uint64_t seam_points_removed = 0;  // assemblies: seam points slid along their seam (all copies)
   uint64_t placed = 0;  // of the removals: full-edge collapses (option placement = optimal)
-  // Deterministic rounds with full-edge collapses: candidates' boxes kept from an earlier round
-  // of the pass instead of read again (nothing they were made of had changed).
+  // Deterministic rounds: candidates' boxes kept from an earlier round of the pass instead of
+  // read again (no commit since changed what they were made of).
   uint64_t boxes_kept = 0;
   std::array<uint64_t, static_cast<int>(Reject::kCount)> rejections{};
   uint64_t vertices_left = 0;

@@ -92,10 +92,11 @@ INSTANTIATE_TEST_SUITE_P(Meshes, Deterministic,
                          ::testing::Combine(::testing::Values("fandisk.off", "rotor_small.off"),
                                             ::testing::Values(0, 1, 2, 3)));
 
-// With full-edge collapses a round keeps a loser's box from the round that read it while
-// nothing it was made of changed (engine/rounds.h): the self-check reads each kept box again
-// and fails the run where the two differ; and the boxes kept are many.
-TEST(Deterministic, PlacementRoundsKeepOnlyBoxesAFreshReadGives) {
+// A round keeps a loser's box from the round that read it while nothing it was made of changed
+// (engine/rounds.h): the self-check reads each kept box again and fails the run where the two
+// differ; and the boxes kept are many. With full-edge collapses (boxes over V's two-ring), and
+// with half-edge collapses (V's one-ring) at a tolerance that refuses most winners.
+TEST(Deterministic, RoundsKeepOnlyBoxesAFreshReadGives) {
   SimplifyControl check;
   check.check_kept_boxes = true;
   for (const char* name : {"fandisk.off", "rotor_small.off"}) {
@@ -128,6 +129,27 @@ TEST(Deterministic, PlacementRoundsKeepOnlyBoxesAFreshReadGives) {
         // Most candidates lose a few rounds before they run: more boxes kept than tried.
         EXPECT_GT(kept, tried) << what << ", rounds " << rounds;
       }
+    }
+  }
+  for (const char* name : {"fandisk.off", "rotor_small.off"}) {
+    SimplifyOptions o;  // bound only, at a tolerance where most winners are refused
+    o.max_volume_change = 0;
+    o.min_angle_deg = 0;
+    o.max_normal_deviation_deg = 180;
+    o.tolerance_relative = 0.001;
+    const RawMesh input = testing::LoadTestMesh(name);
+    for (const int threads : {1, 2}) {
+      o.threads = threads;
+      const SimplifyRun checked = testing::SimplifyCheckedWith(input, o, check);
+      const SimplifyRun plain = SimplifyChecked(input, o);
+      const std::string what =
+          std::string(name) + ", half-edge, threads " + std::to_string(threads);
+      ExpectSameOutput(checked, plain, what);
+      uint64_t kept = 0, kept_checked = 0, tried = 0;
+      for (const PassStats& p : plain.result.passes) kept += p.boxes_kept, tried += p.tried;
+      for (const PassStats& p : checked.result.passes) kept_checked += p.boxes_kept;
+      EXPECT_EQ(kept_checked, kept) << what;
+      EXPECT_GT(kept, tried / 2) << what;
     }
   }
 }
