@@ -2,7 +2,10 @@
 """The CAD-like set (issue 12, item 7), end to end: generate it (scripts/make_cad_meshes.py),
 simplify every clean part with a plain femsimp call (the FE defaults) at one thread, judge
 every output independently (cad_judge), repair, simplify and judge every broken copy, and
-write a markdown table.
+write a markdown table. With --mode FLAGS --tolerance-relative T the same with those engine
+options at that tolerance (issue 13's tolerance modes: the judge checks T and no volume
+budget), each clean part's output also compared with a 2-thread run's (the cell back end does
+not run the measured check).
 
 Fails (exit 1) when the generator fails or is not deterministic, when femsimp fails on a clean
 part or its output fails a judge check, when two 1-thread runs differ or a run with 2 threads
@@ -38,11 +41,29 @@ def sha256(path):
         return hashlib.sha256(f.read()).hexdigest()
 
 
-def femsimp_args(entry):
-    """A plain call: the defaults bound the deviation (everywhere) and the volume (closed
-    parts), keep features and seams and refuse self-intersections; one thread."""
-    del entry  # the same call for every part
-    return ["--threads", "1", "--quiet"]
+class Settings:
+    """What every part is run with and judged against: a plain call by default."""
+
+    def __init__(self, mode=None, tolerance=TOLERANCE_RELATIVE):
+        self.mode = mode
+        self.tolerance = tolerance
+        # A plain call: the defaults bound the deviation (everywhere) and the volume (closed
+        # parts), keep features and seams and refuse self-intersections. A mode's flags set
+        # no volume budget (the tolerance modes of docs/FIDELITY.md).
+        self.volume = MAX_VOLUME_CHANGE if mode is None else None
+
+    def femsimp_args(self):
+        args = ["--threads", "1", "--quiet"]
+        if self.mode is not None:
+            args += self.mode.split() + ["--tolerance-relative", str(self.tolerance)]
+        return args
+
+    def variants(self):
+        """Runs that must give the 1-thread output byte for byte, and how many of each."""
+        if self.mode is not None:
+            return {"2 threads": (["--threads", "2"], 1)}
+        return {"2 threads": (["--threads", "2"], 3),
+                "cell, 4 SPEs": (["--backend", "cell", "--spes", "4"], 3)}
 
 
 def run_femsimp(femsimp, src, dst, args):
@@ -51,10 +72,10 @@ def run_femsimp(femsimp, src, dst, args):
     return p, time.monotonic() - start
 
 
-def judge(judge_exe, src, dst, closed, repaired_input=False):
-    args = [judge_exe, src, dst, "--tolerance-relative", str(TOLERANCE_RELATIVE)]
-    if closed:
-        args += ["--max-volume-change", str(MAX_VOLUME_CHANGE)]
+def judge(judge_exe, settings, src, dst, closed, repaired_input=False):
+    args = [judge_exe, src, dst, "--tolerance-relative", str(settings.tolerance)]
+    if closed and settings.volume is not None:
+        args += ["--max-volume-change", str(settings.volume)]
     if repaired_input:
         args.append("--repaired-input")
     p = subprocess.run(args, capture_output=True, text=True)
@@ -89,7 +110,12 @@ def main():
                     help="generate the set into WORK (checked for determinism) and stop")
     ap.add_argument("--no-determinism-check", action="store_true",
                     help="generate once (default: twice, compared byte for byte)")
+    ap.add_argument("--mode", help="femsimp engine flags instead of a plain call")
+    ap.add_argument("--tolerance-relative", type=float, default=TOLERANCE_RELATIVE,
+                    help="with --mode: the tolerance run and judged")
+    ap.add_argument("--outputs", default="outputs", help="subdirectory of WORK for the outputs")
     args = ap.parse_args()
+    settings = Settings(args.mode, args.tolerance_relative)
 
     probe = subprocess.run([args.python, "-c", "import gmsh, numpy"], capture_output=True)
     if probe.returncode != 0 and not args.reuse:
@@ -98,7 +124,7 @@ def main():
         return 77
 
     meshes = os.path.join(args.work, "meshes")
-    outputs = os.path.join(args.work, "outputs")
+    outputs = os.path.join(args.work, args.outputs)
     failures = []
     start = time.monotonic()
     if not args.reuse:
@@ -138,7 +164,7 @@ def main():
         if kinds & NOT_THE_SOURCE:
             source = None
         reference = entry if source is None or gaps else source
-        fargs = femsimp_args(reference)
+        fargs = settings.femsimp_args()
         p, seconds = run_femsimp(args.femsimp, src, dst, fargs)
         message = (p.stderr.strip() or p.stdout.strip()).splitlines()
         message = message[0] if message else ""
@@ -156,13 +182,13 @@ def main():
             if not row["repeatable"]:
                 failures.append(f"{entry['file']}: two 1-thread runs differ")
             # Deterministic (issue 12, item 6): three runs with 2 threads and three on the cell
-            # back end with 4 SPEs give the 1-thread output, byte for byte.
+            # back end with 4 SPEs (a mode: one with 2 threads) give the 1-thread output, byte
+            # for byte.
             rest = fargs[2:]  # fargs starts with --threads 1
-            variants = {"2 threads": ["--threads", "2"] + rest,
-                        "cell, 4 SPEs": ["--backend", "cell", "--spes", "4"] + rest}
             row["deterministic"] = True
-            for name, vargs in variants.items():
-                for k in range(3):
+            for name, (vflags, repeats) in settings.variants().items():
+                vargs = vflags + rest
+                for k in range(repeats):
                     path = f"{dst}.{name.replace(' ', '').replace(',', '_')}_{k}" \
                            f"{os.path.splitext(dst)[1]}"
                     run_femsimp(args.femsimp, src, path, vargs)
@@ -187,7 +213,7 @@ def main():
         # strictly: the engine saw that very soup.
         changed_by_repair = row["repair"] != "no changes"
         relaxed = not entry["clean"] and source is None and changed_by_repair
-        verdict, err = judge(args.judge, src, dst, reference["measured"]["closed"],
+        verdict, err = judge(args.judge, settings, src, dst, reference["measured"]["closed"],
                              repaired_input=relaxed)
         row["relaxed"] = relaxed
         row["judge"] = verdict
@@ -202,7 +228,7 @@ def main():
         print(f"{entry['file']:36s} femsimp {row['seconds']:.2f} s, judge "
               f"{verdict['judge_seconds'] if verdict else 0:.2f} s: {status}", flush=True)
 
-    table = make_table(meshes, clean_rows, broken_rows)
+    table = make_table(settings, meshes, clean_rows, broken_rows)
     with open(args.table, "w") as f:
         f.write(table)
     print()
@@ -214,19 +240,27 @@ def main():
     return 1 if failures else 0
 
 
-def make_table(meshes, clean_rows, broken_rows):
+def make_table(settings, meshes, clean_rows, broken_rows):
+    if settings.mode is None:
+        call = (f"A plain `femsimp simplify IN OUT --threads 1` (the FE defaults: tolerance "
+                f"{settings.tolerance} of the diagonal, volume within {settings.volume} on "
+                "closed parts, no self-intersections)")
+        same = ("Same ×6: three runs with `--threads 2` and three with `--backend cell --spes "
+                "4` gave the 1-thread output byte for byte (required).")
+        same_column = "same ×6"
+    else:
+        call = (f"`femsimp simplify IN OUT {' '.join(settings.femsimp_args())}` (tolerance "
+                f"{settings.tolerance} of the diagonal)")
+        same = "Same: a run with `--threads 2` gave the 1-thread output byte for byte (required)."
+        same_column = "same"
     lines = [
-        f"A plain `femsimp simplify IN OUT --threads 1` (the FE defaults: tolerance "
-        f"{TOLERANCE_RELATIVE} of the diagonal, volume within {MAX_VOLUME_CHANGE} on closed "
-        f"parts, no self-intersections); every output judged by "
+        f"{call}; every output judged by "
         "tests/cad/cad_judge (CGAL). Hausdorff: two-sided, certified lower bound within 1 % of "
         "the tolerance, in % of the bounding-box diagonal. Self-int.: intersecting face pairs, "
-        "input -> output. Seconds: femsimp wall time (read, simplify, write). Same ×6: three "
-        "runs with `--threads 2` and three with `--backend cell --spes 4` gave the 1-thread "
-        "output byte for byte (required).",
+        "input -> output. Seconds: femsimp wall time (read, simplify, write). " + same,
         "",
         "| part | variant | V in | V out | reduction | Hausdorff / diag | volume change | "
-        "self-int. | min angle in | seconds | same ×6 | judged |",
+        f"self-int. | min angle in | seconds | {same_column} | judged |",
         "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---|---|",
     ]
     reductions = []
