@@ -94,12 +94,35 @@ INSTANTIATE_TEST_SUITE_P(Meshes, Deterministic,
 
 // A round keeps a loser's box from the round that read it while nothing it was made of changed
 // (engine/rounds.h): the self-check reads each kept box again and fails the run where the two
-// differ; and the boxes kept are many. With full-edge collapses (boxes over V's two-ring), and
-// with half-edge collapses (V's one-ring) at a tolerance that refuses most winners.
-TEST(Deterministic, RoundsKeepOnlyBoxesAFreshReadGives) {
+// differ. Runs `o` with and without it: the same output and the same boxes kept; returns the
+// plain run's boxes kept, candidates tried and rounds.
+struct KeptBoxes {
+  uint64_t kept = 0, tried = 0, rounds = 0;
+};
+KeptBoxes ExpectOnlyFreshBoxesKept(const RawMesh& input, const SimplifyOptions& o,
+                                   const std::string& what) {
   SimplifyControl check;
   check.check_kept_boxes = true;
+  const SimplifyRun checked = testing::SimplifyCheckedWith(input, o, check);
+  const SimplifyRun plain = SimplifyChecked(input, o);
+  ExpectSameOutput(checked, plain, what);
+  KeptBoxes k;
+  for (const PassStats& p : plain.result.passes) {
+    k.kept += p.boxes_kept;
+    k.tried += p.tried;
+    k.rounds += p.rounds;
+  }
+  uint64_t kept_checked = 0;
+  for (const PassStats& p : checked.result.passes) kept_checked += p.boxes_kept;
+  EXPECT_EQ(kept_checked, k.kept) << what;
+  return k;
+}
+
+// With full-edge collapses (boxes over V's two-ring), and with half-edge collapses (V's
+// one-ring) at a tolerance that refuses most winners: the boxes kept are many.
+TEST(Deterministic, RoundsKeepOnlyBoxesAFreshReadGives) {
   for (const char* name : {"fandisk.off", "rotor_small.off"}) {
+    const RawMesh input = testing::LoadTestMesh(name);
     for (const bool measured : {false, true}) {
       if (measured && std::string(name) == "fandisk.off") continue;  // minutes under TSan
       SimplifyOptions o = OptionSet(3);
@@ -109,47 +132,26 @@ TEST(Deterministic, RoundsKeepOnlyBoxesAFreshReadGives) {
         o.tolerance_relative = 0.01;
         o.max_inertia_change = 0;
       }
-      const RawMesh input = testing::LoadTestMesh(name);
       for (const int threads : {1, 2}) {
         o.threads = threads;
-        const SimplifyRun checked = testing::SimplifyCheckedWith(input, o, check);
-        const SimplifyRun plain = SimplifyChecked(input, o);
         const std::string what = std::string(name) + (measured ? ", measured" : ", mapped") +
                                  ", threads " + std::to_string(threads);
-        ExpectSameOutput(checked, plain, what);
-        uint64_t kept = 0, rounds = 0, tried = 0;
-        for (const PassStats& p : plain.result.passes) {
-          kept += p.boxes_kept;
-          rounds += p.rounds;
-          tried += p.tried;
-        }
-        uint64_t kept_checked = 0;
-        for (const PassStats& p : checked.result.passes) kept_checked += p.boxes_kept;
-        EXPECT_EQ(kept_checked, kept) << what;
+        const KeptBoxes k = ExpectOnlyFreshBoxesKept(input, o, what);
         // Most candidates lose a few rounds before they run: more boxes kept than tried.
-        EXPECT_GT(kept, tried) << what << ", rounds " << rounds;
+        EXPECT_GT(k.kept, k.tried) << what << ", rounds " << k.rounds;
       }
     }
-  }
-  for (const char* name : {"fandisk.off", "rotor_small.off"}) {
-    SimplifyOptions o;  // bound only, at a tolerance where most winners are refused
+    SimplifyOptions o;  // bound only, half-edge collapses
     o.max_volume_change = 0;
     o.min_angle_deg = 0;
     o.max_normal_deviation_deg = 180;
     o.tolerance_relative = 0.001;
-    const RawMesh input = testing::LoadTestMesh(name);
     for (const int threads : {1, 2}) {
       o.threads = threads;
-      const SimplifyRun checked = testing::SimplifyCheckedWith(input, o, check);
-      const SimplifyRun plain = SimplifyChecked(input, o);
       const std::string what =
           std::string(name) + ", half-edge, threads " + std::to_string(threads);
-      ExpectSameOutput(checked, plain, what);
-      uint64_t kept = 0, kept_checked = 0, tried = 0;
-      for (const PassStats& p : plain.result.passes) kept += p.boxes_kept, tried += p.tried;
-      for (const PassStats& p : checked.result.passes) kept_checked += p.boxes_kept;
-      EXPECT_EQ(kept_checked, kept) << what;
-      EXPECT_GT(kept, tried / 2) << what;
+      const KeptBoxes k = ExpectOnlyFreshBoxesKept(input, o, what);
+      EXPECT_GT(k.kept, k.tried / 2) << what << ", rounds " << k.rounds;
     }
   }
 }
