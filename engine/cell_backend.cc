@@ -138,7 +138,7 @@ class CellBackend final : public RemovalBackend {
     }
     const cellsim::RunStart removal_start =
         rounds ? cellsim::RunStart::kHandOff : cellsim::RunStart::kLaunch;
-    std::vector<KernelStats> per_spe(n);
+    std::vector<KernelStats> per_spe = ContextStats(phase, n);
     const auto start = std::chrono::steady_clock::now();
     absl::Status status = runtime_->Run(
         [&](cellsim::SpeContext& spe) {

@@ -41,9 +41,10 @@ struct KernelStats {
   // Refused vertices this context made removable again (their fans changed): the next
   // selection's candidates besides the pass's own (engine/selection.h). Duplicates allowed.
   std::vector<uint32_t> requeued;
-  // Vertices whose one-ring this context's commits changed (every vertex a commit locked: V's
-  // neighbours, and with placement Vd's); the rounds keep the boxes of the others
-  // (engine/rounds.h). Duplicates allowed.
+  // With record_changed (the rounds ask for it): vertices whose one-ring this context's commits
+  // changed (every vertex a commit locked: V's neighbours, and with placement Vd's); the rounds
+  // keep the boxes of the others (engine/rounds.h). Duplicates allowed.
+  bool record_changed = false;
   std::vector<uint32_t> changed;
 };
 
@@ -554,7 +555,8 @@ class RemovalKernel final : private NeighbourhoodReader {
     rules_.Commit(proposal_);
     budget_.Removed();
     port_.StoreStatus(v, kRemoved);
-    stats_.changed.insert(stats_.changed.end(), locked_, locked_ + nlocked_);
+    if (stats_.record_changed)
+      stats_.changed.insert(stats_.changed.end(), locked_, locked_ + nlocked_);
     // Every locked vertex's fan changed: one refused before may pass now, so it is a
     // candidate again next pass (the local rules refuse an unchanged fan again).
     if (requeue_changed_)

@@ -7,6 +7,12 @@
 
 namespace femsimp {
 
+std::vector<KernelStats> ContextStats(const RemovalPhase& phase, int contexts) {
+  std::vector<KernelStats> stats(contexts);
+  for (KernelStats& k : stats) k.record_changed = phase.changed != nullptr;
+  return stats;
+}
+
 void AddKernelStats(KernelStats& k, const RemovalPhase& phase, PassStats& stats) {
   if (phase.requeued != nullptr)
     phase.requeued->insert(phase.requeued->end(), k.requeued.begin(), k.requeued.end());
@@ -38,7 +44,7 @@ class NativeBackend final : public RemovalBackend {
 
   absl::Status RunRemoval(const RemovalPhase& phase, PassStats& stats) override {
     const int n = pool_.size();
-    std::vector<KernelStats> per_context(n);
+    std::vector<KernelStats> per_context = ContextStats(phase, n);
     std::vector<double> busy(n, 0.0);
     if (phase.blocks) blocks_.Reset(phase.count);
     pool_.Run([&](int c) {

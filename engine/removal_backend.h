@@ -109,6 +109,8 @@ absl::StatusOr<std::unique_ptr<RemovalBackend>> MakeCellBackend(Mesh& mesh,
                                                                 const KernelConfig& kernel,
                                                                 const CellOptions& options);
 
+// The contexts' counters for a phase, recording what the phase asks for.
+std::vector<KernelStats> ContextStats(const RemovalPhase& phase, int contexts);
 // Adds a context's counters to the pass's, and moves its requeued and changed vertices to the
 // phase's lists.
 void AddKernelStats(KernelStats& k, const RemovalPhase& phase, PassStats& stats);

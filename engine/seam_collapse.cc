@@ -89,7 +89,6 @@ SeamCollapser::SweepResult SeamCollapser::Sweep(RemovalBudget& budget) {
     if (result.budget_spent) break;
   }
   result.requeued.swap(scratch_stats_.requeued);
-  scratch_stats_.changed.clear();  // sweeps run between passes, where no box is kept
   return result;
 }
 
