@@ -193,6 +193,7 @@ void RoundScheduler::StampChanges() {
 
 bool RoundScheduler::Untouched(uint32_t v, uint32_t k, uint32_t since) const {
   if (touched_[v] >= since) return false;
+  if (nbr_count_[k] == 0) return true;  // no placement: V's one-ring alone made its box
   const uint32_t* nbr = &nbrs_[size_t{k} * kMaxRing];
   for (int r = 0; r < nbr_count_[k]; ++r)
     if (touched_[nbr[r]] >= since) return false;
