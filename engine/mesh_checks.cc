@@ -17,9 +17,9 @@ uint32_t Root(std::vector<uint32_t>& parent, uint32_t i) {
   return i;
 }
 
-}  // namespace
-
-bool IsZeroArea(const float* a, const float* b, const float* c) {
+// Twice the area of triangle abc and its longest edge squared, in double precision.
+void AreaAndLongestEdge(const float* a, const float* b, const float* c, double* twice_area,
+                        double* longest2) {
   double u[3], w[3], e[3];
   for (int i = 0; i < 3; ++i) {
     u[i] = double(b[i]) - a[i];
@@ -29,9 +29,23 @@ bool IsZeroArea(const float* a, const float* b, const float* c) {
   const double cx = u[1] * w[2] - u[2] * w[1], cy = u[2] * w[0] - u[0] * w[2],
                cz = u[0] * w[1] - u[1] * w[0];
   auto len2 = [](const double* v) { return v[0] * v[0] + v[1] * v[1] + v[2] * v[2]; };
-  const double longest2 = std::max({len2(u), len2(w), len2(e)});
+  *longest2 = std::max({len2(u), len2(w), len2(e)});
+  *twice_area = std::sqrt(cx * cx + cy * cy + cz * cz);
+}
+
+}  // namespace
+
+bool IsZeroArea(const float* a, const float* b, const float* c) {
+  double twice_area, longest2;
+  AreaAndLongestEdge(a, b, c, &twice_area, &longest2);
   // Twice the area against the longest edge squared: a relative test, scale-free.
-  return !(std::sqrt(cx * cx + cy * cy + cz * cz) > 1e-12 * longest2);
+  return !(twice_area > 1e-12 * longest2);
+}
+
+double HeightOverLongestEdge(const float* a, const float* b, const float* c) {
+  double twice_area, longest2;
+  AreaAndLongestEdge(a, b, c, &twice_area, &longest2);
+  return longest2 > 0 ? twice_area / std::sqrt(longest2) : 0.0;
 }
 
 absl::Status CheckSoup(const RawMesh& raw) {

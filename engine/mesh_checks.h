@@ -27,6 +27,9 @@ absl::Status CheckSoup(const RawMesh& raw);
 // The zero-area test of CheckSoup (and of the repair stage, so that both decide alike): twice
 // the area at most 1e-12 of the longest edge squared.
 bool IsZeroArea(const float* a, const float* b, const float* c);
+// The distance of the corner opposite the longest edge from that edge's line (0 when all three
+// corners coincide): the repair stage's needle test against the weld tolerance.
+double HeightOverLongestEdge(const float* a, const float* b, const float* c);
 
 // Topology of a triangle soup, counted over the vertices that faces use.
 struct SoupTopology {

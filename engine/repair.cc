@@ -156,7 +156,8 @@ class Repairer {
   std::vector<uint32_t> ebeg_, ehe_, edge_of_;
   std::vector<uint32_t> edges_from_;  // edges are numbered by lower vertex: v's start at [v]
   std::vector<uint32_t> copy_of_;     // split copy i is a copy of input vertex copy_of_[i]
-  // Zero-area facets with three distinct vertices (kOn), for CloseTJunctions to remove.
+  // Zero-area facets and needles with three distinct vertices (kOn), for CloseTJunctions to
+  // remove.
   std::vector<uint32_t> slivers_;
 };
 
@@ -302,7 +303,13 @@ void Repairer::FilterFacets() {
       fate[f] = kRepeats;
       continue;
     }
-    if (IsZeroArea(Pos(w[0]), Pos(w[1]), Pos(w[2]))) {
+    // A needle (corners on a line within the weld tolerance) is a sliver as a zero-area facet
+    // is: a CAD exporter that writes an edge's midpoint in single precision closes the
+    // T-junction there with one, its middle corner off the edge by the rounding, and tetgen
+    // aborts on it.
+    if (IsZeroArea(Pos(w[0]), Pos(w[1]), Pos(w[2])) ||
+        (!strict_ && HeightOverLongestEdge(Pos(w[0]), Pos(w[1]), Pos(w[2])) <=
+                         result_.report.weld_tolerance_absolute)) {
       fate[f] = kZeroArea;
       continue;
     }
@@ -509,7 +516,7 @@ void Repairer::CloseTJunctions() {
       Record(RepairKind::kSplitEdge, kept_[p.k], s.ot, PosD(s.t), [&] {
         const uint32_t* h = &orig_[3 * p.k];
         return absl::StrCat("edge from vertex ", ox, " to vertex ", oy, " split at vertex ", s.ot,
-                            " (a T-junction closed by zero-area facet ", s.facet, "): facets (",
+                            " (a T-junction closed by degenerate facet ", s.facet, "): facets (",
                             h[0], ", ", h[1], ", ", h[2], ") and (", s.ot, ", ", oy, ", ", oc, ")");
       });
       s.split.push_back(kept_[p.k]);
@@ -545,7 +552,12 @@ void Repairer::CloseTJunctions() {
     const uint32_t* o = &in_.triangles[3 * size_t(s.facet)];
     const uint32_t w[3] = {rep_[o[0]], rep_[o[1]], rep_[o[2]]};
     Record(RepairKind::kDegenerateFacet, s.facet, -1, Centroid(w), [&] {
-      std::string text = "zero area (its corners lie on a line)";
+      std::string text = IsZeroArea(Pos(w[0]), Pos(w[1]), Pos(w[2]))
+                             ? "zero area (its corners lie on a line)"
+                             : absl::StrFormat(
+                                   "a needle (its corners lie on a line within the weld tolerance: "
+                                   "%.3g from it)",
+                                   HeightOverLongestEdge(Pos(w[0]), Pos(w[1]), Pos(w[2])));
       switch (s.fate) {
         case Fate::kCopy:
           absl::StrAppend(&text, "; same vertices as facet ", s.other);

@@ -37,7 +37,7 @@ enum class RepairKind : int {
   // Changes (kOn).
   kWeldedVertex,        // merged into a coincident vertex (within the weld tolerance)
   kStitchedEdge,        // two boundary edges joined into one by the weld (a crack closed)
-  kDegenerateFacet,     // removed: repeats a vertex (after welding) or has zero area
+  kDegenerateFacet,     // removed: repeats a vertex (after welding), zero area or a needle
   kSplitEdge,           // a facet's edge split at the T vertex of a zero-area sliver it faced
   kDuplicateFacet,      // removed: same three vertices as an earlier facet, either orientation
   kFlippedFacet,        // turned to agree with its component (or with the outward orientation)
@@ -112,7 +112,8 @@ struct RepairResult {
 // repair comes back untouched (byte-identical) with an empty report. Non-manifold edges are kept
 // and reported.
 //
-// T-junctions: a zero-area facet (a, t, b) with three distinct vertices, t between a and b, that
+// T-junctions: a zero-area facet (a, t, b) with three distinct vertices, t between a and b (or a
+// needle: t within the weld tolerance of edge a-b, as a single-precision export writes it), that
 // shares an edge a-t or t-b with another facet closes a T-junction; removing it alone would open
 // a crack along a-b. So each facet (a, b, c) across its longest edge a-b is split at t into
 // (a, t, c) and (t, b, c) (its orientation, group and field values), both in its place, first

@@ -7,8 +7,12 @@ options at that tolerance (issue 13's tolerance modes: the judge checks T and no
 budget), each clean part's output also compared with a 2-thread run's (the cell back end does
 not run the measured check).
 
+With --tetgen, every output without boundary edges (a repaired CAD tessellation and an
+assembly's parts included) whose input does not intersect itself must also tet-mesh (`tetgen
+-pQ`): the FE mesher is the last judge of an FE-usable surface.
+
 Fails (exit 1) when the generator fails or is not deterministic, when femsimp fails on a clean
-part or its output fails a judge check, when two 1-thread runs differ or a run with 2 threads
+part or its output fails a judge check or tetgen, when two 1-thread runs differ or a run with 2 threads
 or on the cell back end with 4 SPEs gives another output, when femsimp refuses a
 broken copy without a non-manifold edge (repair is on by default) or its output fails the judge
 (against the clean source where the repaired copy is the source's surface; KNOWN_REPAIR_GAPS are
@@ -34,6 +38,9 @@ MAX_VOLUME_CHANGE = 0.005
 KNOWN_REPAIR_GAPS = {}
 # Broken copies whose repaired surface is not their source's (two copies sharing a vertex).
 NOT_THE_SOURCE = {"nonmanifold_vertex"}
+# Inputs no mesher takes as they are (their own faces cross): their outputs keep the crossings.
+NOT_TET_MESHABLE = {"self_intersecting"}
+TETGEN_SECONDS = 120
 
 
 def sha256(path):
@@ -84,6 +91,44 @@ def judge(judge_exe, settings, src, dst, closed, repaired_input=False):
     return json.loads(p.stdout), p.stderr.strip()
 
 
+def obj_to_off(src, dst):
+    vertices, faces = [], []
+    with open(src) as f:
+        for line in f:
+            words = line.split()
+            if words and words[0] == "v":
+                vertices.append(" ".join(words[1:4]))
+            elif words and words[0] == "f":
+                faces.append(" ".join(str(int(w.split("/")[0]) - 1) for w in words[1:]))
+    with open(dst, "w") as f:
+        f.write(f"OFF\n{len(vertices)} {len(faces)} 0\n")
+        f.writelines(v + "\n" for v in vertices)
+        f.writelines(f"{len(face.split())} {face}\n" for face in faces)
+
+
+def tetgen_refusal(tetgen, path, scratch):
+    """None when tetgen tet-meshes the surface at `path`, else what it said (or its exit)."""
+    os.makedirs(scratch, exist_ok=True)
+    stem, ext = os.path.splitext(os.path.basename(path))
+    copy = os.path.join(scratch, stem + (".off" if ext == ".obj" else ext))
+    if ext == ".obj":  # tetgen reads no .obj: the same vertices and faces as an .off
+        obj_to_off(path, copy)
+    else:
+        shutil.copyfile(path, copy)
+    try:
+        p = subprocess.run([tetgen, "-pQ", copy], capture_output=True, text=True,
+                           timeout=TETGEN_SECONDS)
+    except subprocess.TimeoutExpired:
+        return f"tetgen ran past {TETGEN_SECONDS} s"
+    finally:
+        for name in os.listdir(scratch):
+            os.remove(os.path.join(scratch, name))
+    said = " ".join((p.stdout + p.stderr).split())
+    if p.returncode != 0 or "error" in said.lower():
+        return f"tetgen exit {p.returncode}" + (f": {said[:200]}" if said else "")
+    return None
+
+
 def repair_line(stdout):
     """The repair summary's first line ("repair:   N changes (...)"), without the label."""
     for line in stdout.splitlines():
@@ -114,6 +159,7 @@ def main():
     ap.add_argument("--tolerance-relative", type=float, default=TOLERANCE_RELATIVE,
                     help="with --mode: the tolerance run and judged")
     ap.add_argument("--outputs", default="outputs", help="subdirectory of WORK for the outputs")
+    ap.add_argument("--tetgen", help="tetgen executable: every closed output must tet-mesh")
     args = ap.parse_args()
     settings = Settings(args.mode, args.tolerance_relative)
 
@@ -217,6 +263,11 @@ def main():
                              repaired_input=relaxed)
         row["relaxed"] = relaxed
         row["judge"] = verdict
+        watertight = verdict is not None and verdict["output"]["boundary_edges"] == 0
+        if args.tetgen and watertight and not kinds & NOT_TET_MESHABLE:
+            row["tetgen"] = tetgen_refusal(args.tetgen, dst, os.path.join(outputs, "tetgen"))
+            if row["tetgen"]:
+                failures.append(f"{entry['file']}: the output does not tet-mesh: {row['tetgen']}")
         if verdict is None:
             failures.append(f"{entry['file']}: cad_judge failed: {err}")
         elif verdict["failures"] and row.get("known_gaps"):
@@ -224,7 +275,7 @@ def main():
                   + "; ".join(verdict["failures"]))
         elif verdict["failures"]:
             failures.append(f"{entry['file']}: " + "; ".join(verdict["failures"]))
-        status = "ok" if verdict and not verdict["failures"] else "FAIL"
+        status = "ok" if verdict and not verdict["failures"] and not row.get("tetgen") else "FAIL"
         print(f"{entry['file']:36s} femsimp {row['seconds']:.2f} s, judge "
               f"{verdict['judge_seconds'] if verdict else 0:.2f} s: {status}", flush=True)
 
@@ -274,6 +325,10 @@ def make_table(settings, meshes, clean_rows, broken_rows):
         reductions.append(j["vertex_reduction"])
         volume = pct(j["volume_change"]) if j["closed"] else "open"
         verdict = "ok" if not j["failures"] else "**" + "; ".join(j["failures"]) + "**"
+        if row.get("tetgen"):
+            verdict += ", **" + row["tetgen"] + "**"
+        elif "tetgen" in row:
+            verdict += ", tet-meshed"
         if not row.get("repeatable", True):
             verdict += ", **not repeatable**"
         lines.append(
@@ -323,6 +378,8 @@ def make_table(settings, meshes, clean_rows, broken_rows):
                     f"{j['self_intersections_in']} -> {j['self_intersections_out']}")
             if j.get("seam_points_in"):
                 what += f", seam points {j['seam_points_in']} -> {j['seam_points_out']}"
+            if "tetgen" in row:
+                what += ", tet-meshed" if not row["tetgen"] else f", **{row['tetgen']}**"
             if j["failures"]:
                 what += "; judge: **" + "; ".join(j["failures"]) + "**"
                 if row.get("known_gaps"):

@@ -285,7 +285,7 @@ TEST(Repair, TJunctionSliverSplitsTheFacetAcross) {
              "a T-junction at vertex 8: split facet 9 there");
   EXPECT_HAS(Records(r.report, RepairKind::kSplitEdge),
              "split edge of facet 9 at (0.5, 0, 0): edge from vertex 1 to vertex 0 split at "
-             "vertex 8 (a T-junction closed by zero-area facet 13): facets (8, 3, 1) and "
+             "vertex 8 (a T-junction closed by degenerate facet 13): facets (8, 3, 1) and "
              "(8, 0, 3)");
   ASSERT_EQ(r.report.records.size(), 2u);
   EXPECT_EQ(r.report.records[1].kind, RepairKind::kSplitEdge);
@@ -314,6 +314,39 @@ TEST(Repair, TJunctionSliverSplitsTheFacetAcross) {
   EXPECT_HAS(message, "repair is off and the mesh has 1 defect (1 degenerate facet)");
   EXPECT_HAS(message, "degenerate facet 13 at (0.5, 0, 0): zero area");
   EXPECT_HAS_NOT(message, "split");
+}
+
+// A CAD exporter writing the T vertex in single precision puts it off the edge by the rounding:
+// the facet closing the T-junction is a needle, not of zero area, which Mesh::Build accepts and
+// tetgen aborts on. Within the weld tolerance of the edge it is a sliver like a zero-area one;
+// beyond it, a thin facet the repair leaves alone.
+TEST(Repair, TJunctionNeedleWithinTheWeldToleranceIsASliver) {
+  const auto needle_cube = [](float off) {
+    RawMesh m = TJunctionCube({0.5f});  // T vertex 8 on edge (0, 1) of the face y = 0
+    m.positions[3 * 8 + 2] = off;       // moved off the edge within that face
+    AppendNumberedFacet(m, {0, 1, 8});  // facet 13
+    return m;
+  };
+  RawMesh m = needle_cube(1e-8f);  // the weld tolerance: 1e-7 of the diagonal, 1.7e-7
+  ASSERT_TRUE(Mesh::Build(m).ok());
+  RepairResult r = Repair(m);
+  ExpectClosedCube(m);
+  EXPECT_EQ(r.report.count(RepairKind::kDegenerateFacet), 1u) << r.report.Details();
+  EXPECT_EQ(r.report.count(RepairKind::kSplitEdge), 1u);
+  EXPECT_HAS(Records(r.report, RepairKind::kDegenerateFacet),
+             "degenerate facet 13 at (0.5, 0, 3.33333331e-09): a needle (its corners lie on a "
+             "line within the weld tolerance: 1e-08 from it); closed a T-junction at vertex 8: "
+             "split facet 9 there");
+  EXPECT_EQ(m.num_faces(), 14u);  // the needle out, facet 9 in two
+
+  // Thin beyond the weld tolerance: a facet like any other.
+  RawMesh thin = needle_cube(1e-5f);
+  const RawMesh before = thin;
+  r = Repair(thin);
+  EXPECT_EQ(r.report.num_changes(), 0u) << r.report.Details();
+  ExpectSameMesh(thin, before);
+  // Strict mode keeps the zero-area test of Mesh::Build: the needle is not a defect there.
+  ExpectStrictModeLeavesAlone(needle_cube(1e-8f));
 }
 
 TEST(Repair, ChainsOfTJunctionSliversAlongOneEdge) {
