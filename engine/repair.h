@@ -38,7 +38,7 @@ enum class RepairKind : int {
   kWeldedVertex,        // merged into a coincident vertex (within the weld tolerance)
   kStitchedEdge,        // two boundary edges joined into one by the weld (a crack closed)
   kDegenerateFacet,     // removed: repeats a vertex (after welding), zero area or a needle
-  kSplitEdge,           // a facet's edge split at the T vertex of a zero-area sliver it faced
+  kSplitEdge,           // a facet's edge split at the T vertex of a sliver it faced
   kDuplicateFacet,      // removed: same three vertices as an earlier facet, either orientation
   kFlippedFacet,        // turned to agree with its component (or with the outward orientation)
   kReversedComponent,   // a closed component that was inside out (its facets are also listed)

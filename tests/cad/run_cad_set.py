@@ -12,8 +12,8 @@ assembly's parts included) whose input does not intersect itself must also tet-m
 -pQ`): the FE mesher is the last judge of an FE-usable surface.
 
 Fails (exit 1) when the generator fails or is not deterministic, when femsimp fails on a clean
-part or its output fails a judge check or tetgen, when two 1-thread runs differ or a run with 2 threads
-or on the cell back end with 4 SPEs gives another output, when femsimp refuses a
+part or its output fails a judge check or tetgen, when two 1-thread runs differ or a run with 2
+threads or on the cell back end with 4 SPEs gives another output, when femsimp refuses a
 broken copy without a non-manifold edge (repair is on by default) or its output fails the judge
 (against the clean source where the repaired copy is the source's surface; KNOWN_REPAIR_GAPS are
 reported, not counted), or when it refuses an assembly (seams are kept conforming). Exit 77 (skip)
