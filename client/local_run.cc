@@ -10,6 +10,7 @@
 #include "client/fe_report.h"
 #include "client/report.h"
 #include "client/run_input.h"
+#include "engine/crossings.h"
 #include "engine/io/mesh_io.h"
 #include "engine/mesh.h"
 #include "engine/prepare.h"
@@ -82,6 +83,9 @@ int RunLocal(const SimplifyArgs& args) {
     PrintError("femsimp: %s\n", out.status().ToString().c_str());
     return kExitEngineFailed;
   }
+  const auto crossings_start = std::chrono::steady_clock::now();
+  report.fidelity.output_crossings = FindCrossings(*out);
+  report.crossings_seconds = SecondsSince(crossings_start);
   // The check runs before OUT is written, so that the summary and --stats-json hold it; OUT is
   // written whether it succeeds or not.
   int fe_code = kExitOk;

@@ -103,6 +103,13 @@ std::string MassJson(const MassSummary& m) {
                       Vec3Json(m.principal_axes[2]), "]}");
 }
 
+std::string CrossingsJson(const SoupCrossings& c) {
+  if (c.pairs == 0) return "{\"pairs\": 0}";
+  return absl::StrCat("{\"pairs\": ", c.pairs, ", \"faces\": [", c.face_a, ", ", c.face_b,
+                      "], \"at\": [", JsonNumber(c.at[0]), ", ", JsonNumber(c.at[1]), ", ",
+                      JsonNumber(c.at[2]), "]}");
+}
+
 std::string FidelityJson(const FidelityFigures& f) {
   return absl::StrCat("{\"feature_edges\": ", f.feature_edges,
                       ", \"corner_vertices\": ", f.corner_vertices,
@@ -112,6 +119,7 @@ std::string FidelityJson(const FidelityFigures& f) {
                       ", \"centroid_shift\": ", JsonNumber(f.centroid_shift),
                       ", \"max_field_change\": ", JsonNumber(f.max_field_change),
                       ", \"inertia_change\": ", JsonNumber(f.inertia_change),
+                      ", \"output_crossings\": ", CrossingsJson(f.output_crossings),
                       ",\n    \"input_mass\": ", MassJson(f.input_mass),
                       ",\n    \"output_mass\": ", MassJson(f.output_mass), "}");
 }
@@ -159,6 +167,20 @@ std::string MassSummaryLine(const FidelityFigures& f) {
       "change %.4f%%)\n",
       in.solid ? "volume" : "area (open surface)", in.measure, out.measure, moments(in),
       moments(out), 100 * f.inertia_change);
+}
+
+// An output that intersects itself is refused by the mesher that comes next; the collapses make no
+// crossing unless allowed to (docs/FIDELITY.md § 9), so they came with the input, which repair
+// cannot untangle (a thin wall exported with facets as large as the part).
+std::string CrossingsWarning(const SoupCrossings& c, bool allowed) {
+  if (c.pairs == 0) return "";
+  return absl::StrFormat(
+      "warning:  OUT intersects itself: %u face pair%s cross (the first: faces %u and %u, at "
+      "(%.6g, %.6g, "
+      "%.6g)); %s; a mesher such as tetgen refuses it (a finer export of the part avoids it)\n",
+      c.pairs, c.pairs == 1 ? "" : "s", c.face_a, c.face_b, c.at[0], c.at[1], c.at[2],
+      allowed ? "--allow-self-intersections let the run make crossings"
+              : "the input's own crossings, kept (the simplification makes none)");
 }
 
 // A solid's mean thickness against the tolerance. Each side of a wall may move by the
@@ -221,6 +243,7 @@ FidelityFigures FidelityFigures::Of(const SimplifyResult& r) {
   f.input_mass = r.input_mass;
   f.output_mass = r.output_mass;
   f.inertia_change = r.inertia_change;
+  f.output_crossings = r.output_crossings;
   return f;
 }
 
@@ -299,7 +322,8 @@ std::string Summary(const RunReport& r) {
                                       : std::string("no tolerance"),
                   absl::StrFormat(", volume %+.4f%%, centroid shift %.4f%% of the diagonal\n",
                                   100 * f.volume_change, 100 * f.centroid_shift));
-  absl::StrAppend(&s, MassSummaryLine(f), WallLines(f));
+  absl::StrAppend(&s, MassSummaryLine(f), WallLines(f),
+                  CrossingsWarning(f.output_crossings, r.options.allow_self_intersections));
   absl::StrAppend(&s,
                   absl::StrFormat("features: %u edges, %u corners (feature angle %g deg)\n",
                                   f.feature_edges, f.corner_vertices, r.options.feature_angle_deg));
@@ -328,9 +352,12 @@ std::string Summary(const RunReport& r) {
     s += "\n";
   }
   double speedup = r.engine_seconds > 0 ? r.busy_seconds / r.engine_seconds : 0.0;
+  const std::string crossings_check =
+      r.server.empty() ? absl::StrFormat(", crossings check %.3f s", r.crossings_seconds) : "";
   absl::StrAppend(&s, absl::StrFormat("time:     load %.3f s, engine %.3f s (parallel speedup "
-                                      "%.2f), write %.3f s\n",
-                                      r.load_seconds, r.engine_seconds, speedup, r.write_seconds));
+                                      "%.2f)%s, write %.3f s\n",
+                                      r.load_seconds, r.engine_seconds, speedup, crossings_check,
+                                      r.write_seconds));
   if (!r.server.empty())
     absl::StrAppend(&s,
                     absl::StrFormat("server:   %s, job %s, queued %.3f s, rpc %.3f s%s\n", r.server,
@@ -352,6 +379,7 @@ std::string ReportJson(const RunReport& r) {
       JsonNumber(r.engine_seconds > 0 ? r.busy_seconds / r.engine_seconds : 0.0),
       ",\n  \"load_seconds\": ", JsonNumber(r.load_seconds),
       ",\n  \"write_seconds\": ", JsonNumber(r.write_seconds),
+      ",\n  \"crossings_seconds\": ", JsonNumber(r.crossings_seconds),
       ",\n  \"stop_reason\": ", JsonString(r.stop_reason),
       ",\n  \"limiting_rule\": ", JsonString(r.limiting_rule),
       ",\n  \"modeled_cycles\": ", r.modeled_cycles, ",\n  \"options\": ", OptionsJson(r.options),

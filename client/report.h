@@ -21,6 +21,7 @@ struct FidelityFigures {
   double volume_change = 0.0, centroid_shift = 0.0, max_field_change = 0.0;
   MassSummary input_mass, output_mass;
   double inertia_change = 0.0;
+  SoupCrossings output_crossings;
   static FidelityFigures Of(const SimplifyResult& r);
 };
 
@@ -33,8 +34,9 @@ struct RunReport {
   double engine_seconds = 0.0;  // Simplify() alone
   double busy_seconds = 0.0;    // summed over contexts
   double write_seconds = 0.0;
-  double transfer_seconds = 0.0;  // remote: whole RPC, upload to last chunk
-  double queue_seconds = 0.0;     // remote: waiting in the server's queue
+  double crossings_seconds = 0.0;  // local: FindCrossings on the output (remote: the server's)
+  double transfer_seconds = 0.0;   // remote: whole RPC, upload to last chunk
+  double queue_seconds = 0.0;      // remote: waiting in the server's queue
   std::string stop_reason;
   std::string limiting_rule;   // the rule that refused most in the last pass (no_progress)
   std::string server, job_id;  // remote only

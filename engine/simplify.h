@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "absl/status/statusor.h"
+#include "engine/crossings.h"
 #include "engine/inertia.h"
 #include "engine/mesh.h"
 #include "engine/repair.h"
@@ -210,6 +211,10 @@ struct SimplifyResult {
   // principal moment of inertia.
   MassSummary input_mass, output_mass;
   double inertia_change = 0.0;
+  // Face pairs of the output that cross each other (engine/crossings.h). Not Simplify's: it is
+  // not engine time, and the output soup is what a mesher reads, so the callers of OutputMesh
+  // (the CLI, the server) fill it from the soup they write.
+  SoupCrossings output_crossings;
 };
 
 struct SimplifyControl {

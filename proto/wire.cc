@@ -297,6 +297,13 @@ void FidelityToProto(const SimplifyResult& r, v1::Result* out) {
   MassToProto(r.input_mass, out->mutable_input_mass());
   MassToProto(r.output_mass, out->mutable_output_mass());
   out->set_inertia_change(r.inertia_change);
+  v1::OutputCrossings* crossings = out->mutable_output_crossings();
+  crossings->set_pairs(r.output_crossings.pairs);
+  if (r.output_crossings.pairs > 0) {
+    crossings->set_face_a(r.output_crossings.face_a);
+    crossings->set_face_b(r.output_crossings.face_b);
+    for (double x : r.output_crossings.at) crossings->add_at(x);
+  }
 }
 
 void FidelityFromProto(const v1::Result& in, SimplifyResult* out) {
@@ -310,6 +317,12 @@ void FidelityFromProto(const v1::Result& in, SimplifyResult* out) {
   out->input_mass = MassFromProto(in.input_mass());
   out->output_mass = MassFromProto(in.output_mass());
   out->inertia_change = in.inertia_change();
+  const v1::OutputCrossings& crossings = in.output_crossings();
+  out->output_crossings.pairs = crossings.pairs();
+  out->output_crossings.face_a = crossings.face_a();
+  out->output_crossings.face_b = crossings.face_b();
+  for (int i = 0; i < 3 && i < crossings.at_size(); ++i)
+    out->output_crossings.at[i] = crossings.at(i);
 }
 
 absl::Status CheckFieldNames(const google::protobuf::RepeatedPtrField<std::string>& names,

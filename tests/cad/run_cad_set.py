@@ -137,6 +137,12 @@ def repair_line(stdout):
     return ""
 
 
+def reported_crossings(stdout):
+    """The face pairs femsimp's summary says OUT crosses itself in (0 without the warning)."""
+    m = re.search(r"OUT intersects itself: (\d+) face pairs? cross", stdout)
+    return int(m.group(1)) if m else 0
+
+
 def pct(x, digits=3):
     return f"{100 * x:.{digits}g} %"
 
@@ -268,6 +274,11 @@ def main():
             row["tetgen"] = tetgen_refusal(args.tetgen, dst, os.path.join(outputs, "tetgen"))
             if row["tetgen"]:
                 failures.append(f"{entry['file']}: the output does not tet-mesh: {row['tetgen']}")
+        # The crossings femsimp reports with the output are the judge's (CGAL's exact count).
+        if verdict is not None and reported_crossings(p.stdout) != verdict["self_intersections_out"]:
+            failures.append(f"{entry['file']}: femsimp reports {reported_crossings(p.stdout)} "
+                            f"crossing face pairs, the judge counts "
+                            f"{verdict['self_intersections_out']}")
         if verdict is None:
             failures.append(f"{entry['file']}: cad_judge failed: {err}")
         elif verdict["failures"] and row.get("known_gaps"):

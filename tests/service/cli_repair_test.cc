@@ -11,11 +11,14 @@
 
 #include <google/protobuf/util/message_differencer.h>
 
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
 #include "client/args.h"
 #include "client/exit_codes.h"
 #include "client/local_run.h"
 #include "client/remote_call.h"
 #include "client/remote_run.h"
+#include "engine/crossings.h"
 #include "engine/io/mesh_io.h"
 #include "engine/mesh.h"
 #include "engine/mesh_checks.h"
@@ -276,6 +279,46 @@ TEST_F(CliRepairTest, ServerStrictModeIsRefusedByNameAndSeamsAreKept) {
   EXPECT_EQ(ends, (std::array<std::array<float, 3>, 2>{{{0, 0, 0}, {1, 0, 0}}}));
   // The same locally.
   ASSERT_EQ(Run({WriteSoup("hinge.off", hinge), Path("out.off")}), cli::kExitOk) << err_;
+}
+
+// Two boxes through each other in one file (a thin wall exported with facets as large as the
+// part crosses itself alike): repair cannot untangle them, the simplification keeps them and
+// makes no more, and the summary, --stats-json and the server's Result say where OUT crosses
+// itself before a mesher refuses it.
+TEST_F(CliRepairTest, AnOutputThatIntersectsItselfIsReportedLocallyAndByTheServer) {
+  RawMesh boxes = testing::MakeBox({1, 1, 1}, {6, 6, 6});
+  const RawMesh second = testing::MakeBox({1, 1, 1}, {6, 6, 6});
+  const uint32_t base = static_cast<uint32_t>(boxes.num_vertices());
+  for (size_t i = 0; i < second.positions.size(); ++i)
+    boxes.positions.push_back(second.positions[i] + (i % 3 == 0 ? 0.5f : 0.25f));
+  for (uint32_t v : second.triangles) boxes.triangles.push_back(base + v);
+  const std::string crossing = WriteSoup("crossing.off", boxes);
+  testing::InProcessServer s;
+  for (const bool remote : {false, true}) {
+    std::vector<std::string> args = {crossing, Path("out.off"), "--stats-json", Path("s.json")};
+    if (remote) args.insert(args.end(), {"--server", s.address()});
+    ASSERT_EQ(Run(args), cli::kExitOk) << err_;
+    absl::StatusOr<RawMesh> out = ReadMeshFile(Path("out.off"));
+    ASSERT_TRUE(out.ok()) << out.status();
+    const SoupCrossings c = FindCrossings(*out);
+    ASSERT_GT(c.pairs, 0u);
+    EXPECT_LT(out->num_faces(), boxes.num_faces());
+    EXPECT_HAS(out_,
+               absl::StrFormat("warning:  OUT intersects itself: %u face pairs cross (the first: "
+                               "faces %u and %u, at (",
+                               c.pairs, c.face_a, c.face_b));
+    EXPECT_HAS(out_, "the input's own crossings, kept (the simplification makes none)");
+    if (!remote) {
+      EXPECT_HAS(out_, "), crossings check ");  // its cost, beside the engine's
+    }
+    EXPECT_HAS(testing::ReadFileBytes(Path("s.json")),
+               absl::StrCat("\"output_crossings\": {\"pairs\": ", c.pairs, ", \"faces\": [",
+                            c.face_a, ", ", c.face_b, "]"));
+  }
+  // A clean input: no warning, and the count says none.
+  ASSERT_EQ(Run({input_, Path("out.off"), "--stats-json", Path("s.json")}), cli::kExitOk) << err_;
+  EXPECT_EQ(out_.find("intersects itself"), std::string::npos) << out_;
+  EXPECT_HAS(testing::ReadFileBytes(Path("s.json")), "\"output_crossings\": {\"pairs\": 0}");
 }
 
 TEST_F(CliRepairTest, RemoteRunPrintsTheServersReport) {

@@ -1,5 +1,6 @@
 // Service pieces without a server: argument parsing, wire conversions, chunking, stream
 // validation, the job queue, the stats JSON.
+#include <array>
 #include <cmath>
 #include <functional>
 #include <set>
@@ -278,6 +279,7 @@ TEST(Wire, FidelityFiguresRoundTrip) {
   r.output_mass.principal_moments[2] = 7.25;
   r.output_mass.principal_axes[1] = {0, 0, -1};
   r.inertia_change = 0.004;
+  r.output_crossings = {.pairs = 8, .face_a = 12, .face_b = 57, .at = {1.5, -2.25, 3}};
   v1::Result m;
   wire::FidelityToProto(r, &m);
   SimplifyResult back;
@@ -298,6 +300,10 @@ TEST(Wire, FidelityFiguresRoundTrip) {
   EXPECT_EQ(back.output_mass.principal_axes[1].z, -1);
   EXPECT_EQ(back.output_mass.principal_axes[0].x, 1);
   EXPECT_EQ(back.inertia_change, 0.004);
+  EXPECT_EQ(back.output_crossings.pairs, 8u);
+  EXPECT_EQ(back.output_crossings.face_a, 12u);
+  EXPECT_EQ(back.output_crossings.face_b, 57u);
+  EXPECT_EQ(back.output_crossings.at, (std::array<double, 3>{1.5, -2.25, 3}));
 }
 
 // A client's label, or a file name in a message, must not forge a log line or reach the
@@ -358,6 +364,29 @@ TEST(Report, SummaryWarnsWhereTheToleranceReachesHalfTheWall) {
   r.fidelity.tolerance_abs = 1.0;
   r.fidelity.input_mass.solid = false;
   EXPECT_EQ(cli::Summary(r).find("walls:"), std::string::npos);
+}
+
+// An output that intersects itself gets a warning naming a pair: the mesher would refuse it.
+TEST(Report, SummaryWarnsWhereTheOutputIntersectsItself) {
+  cli::RunReport r;
+  EXPECT_EQ(cli::Summary(r).find("intersects itself"), std::string::npos);
+  r.fidelity.output_crossings = {.pairs = 8, .face_a = 12, .face_b = 57, .at = {1.5, -2, 3}};
+  std::string s = cli::Summary(r);
+  EXPECT_NE(s.find("warning:  OUT intersects itself: 8 face pairs cross (the first: faces 12 and "
+                   "57, at (1.5, "
+                   "-2, 3)); the input's own crossings, kept (the simplification makes none); a "
+                   "mesher such as tetgen refuses it"),
+            std::string::npos)
+      << s;
+  r.options.allow_self_intersections = true;
+  r.fidelity.output_crossings.pairs = 1;
+  s = cli::Summary(r);
+  EXPECT_NE(s.find("1 face pair cross (the first: faces 12 and 57"), std::string::npos) << s;
+  EXPECT_NE(s.find("--allow-self-intersections let the run make crossings"), std::string::npos)
+      << s;
+  EXPECT_NE(cli::ReportJson(r).find("\"output_crossings\": {\"pairs\": 1, \"faces\": [12, 57], "
+                                    "\"at\": [1.5, -2, 3]}"),
+            std::string::npos);
 }
 
 // The remote client's progress line: a bar toward the target, none without one (a tolerance
@@ -635,6 +664,7 @@ TEST(Report, JsonHasEveryField) {
                           "\"engine_seconds\"",
                           "\"load_seconds\"",
                           "\"write_seconds\"",
+                          "\"crossings_seconds\"",
                           "\"stop_reason\"",
                           "\"options\"",
                           "\"passes\"",
@@ -649,6 +679,7 @@ TEST(Report, JsonHasEveryField) {
                           "\"input_mass\"",
                           "\"mean_thickness\"",
                           "\"inertia_change\"",
+                          "\"output_crossings\": {\"pairs\": 0}",
                           "\"tolerance_relative\"",
                           "\"feature_angle_deg\"",
                           "\"max_field_change\"",

@@ -1,0 +1,177 @@
+#include "engine/crossings.h"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+#include <vector>
+
+#include "engine/transversal_crossing.h"
+
+namespace femsimp {
+namespace {
+
+// Faces cover at most this many cells on average (the cells grow until they do), and a cell
+// coordinate fits 21 bits, so that three pack into one key.
+constexpr double kCellsPerFace = 8.0;
+constexpr int kKeyBits = 21;
+
+struct Box {
+  float lo[3], hi[3];
+  bool Overlaps(const Box& o) const {
+    for (int a = 0; a < 3; ++a)
+      if (lo[a] > o.hi[a] || o.lo[a] > hi[a]) return false;
+    return true;
+  }
+};
+
+struct CellRange {
+  int32_t lo[3], hi[3];
+  int64_t count() const {
+    return int64_t{hi[0] - lo[0] + 1} * (hi[1] - lo[1] + 1) * (hi[2] - lo[2] + 1);
+  }
+};
+
+class Grid {
+ public:
+  Grid(const float (&origin)[3], double cell) : cell_(cell) {
+    std::copy(origin, origin + 3, origin_);
+  }
+  CellRange Of(const Box& b) const {
+    CellRange r;
+    for (int a = 0; a < 3; ++a) {
+      r.lo[a] = static_cast<int32_t>(std::floor((double{b.lo[a]} - origin_[a]) / cell_));
+      r.hi[a] = static_cast<int32_t>(std::floor((double{b.hi[a]} - origin_[a]) / cell_));
+    }
+    return r;
+  }
+  double cell() const { return cell_; }
+
+ private:
+  float origin_[3];
+  double cell_;
+};
+
+uint64_t Key(int64_t x, int64_t y, int64_t z) {
+  return uint64_t(x) << (2 * kKeyBits) | uint64_t(y) << kKeyBits | uint64_t(z);
+}
+
+}  // namespace
+
+SoupCrossings FindCrossings(const RawMesh& soup) {
+  SoupCrossings found;
+  const size_t nf = soup.num_faces();
+  if (nf < 2) return found;
+  const auto corner = [&](size_t f, int k) {
+    return &soup.positions[3 * size_t{soup.triangles[3 * f + k]}];
+  };
+  std::vector<Box> box(nf);
+  float lo[3] = {HUGE_VALF, HUGE_VALF, HUGE_VALF}, hi[3] = {-HUGE_VALF, -HUGE_VALF, -HUGE_VALF};
+  double edges = 0;
+  for (size_t f = 0; f < nf; ++f) {
+    const float* p[3] = {corner(f, 0), corner(f, 1), corner(f, 2)};
+    for (int a = 0; a < 3; ++a) {
+      box[f].lo[a] = std::min({p[0][a], p[1][a], p[2][a]});
+      box[f].hi[a] = std::max({p[0][a], p[1][a], p[2][a]});
+      lo[a] = std::min(lo[a], box[f].lo[a]);
+      hi[a] = std::max(hi[a], box[f].hi[a]);
+    }
+    for (int k = 0; k < 3; ++k) {
+      const float* q = p[(k + 1) % 3];
+      edges += std::hypot(double{q[0]} - p[k][0], double{q[1]} - p[k][1], double{q[2]} - p[k][2]);
+    }
+  }
+  const double extent =
+      std::max({double{hi[0]} - lo[0], double{hi[1]} - lo[1], double{hi[2]} - lo[2], 1e-300});
+  Grid grid(lo, std::max(2.0 * edges / (3.0 * double(nf)), extent / double(1 << (kKeyBits - 1))));
+  std::vector<CellRange> range(nf);
+  for (;;) {  // large faces among small ones would each cover many cells
+    double covered = 0;
+    for (size_t f = 0; f < nf; ++f) covered += double((range[f] = grid.Of(box[f])).count());
+    if (covered <= kCellsPerFace * double(nf)) break;
+    grid = Grid(lo, 2 * grid.cell());
+  }
+  std::vector<std::pair<uint64_t, uint32_t>> listed;  // (cell, face), by cell
+  for (size_t f = 0; f < nf; ++f) {
+    const CellRange& r = range[f];
+    for (int32_t x = r.lo[0]; x <= r.hi[0]; ++x)
+      for (int32_t y = r.lo[1]; y <= r.hi[1]; ++y)
+        for (int32_t z = r.lo[2]; z <= r.hi[2]; ++z)
+          listed.emplace_back(Key(x, y, z), static_cast<uint32_t>(f));
+  }
+  std::sort(listed.begin(), listed.end());
+  // What the pair loop reads of each listed face, in the list's order: a cell's faces are then
+  // read from one stretch of memory, not from wherever the soup put them.
+  struct Entry {
+    Box box;
+    int32_t first_cell[3];
+    uint32_t face;
+  };
+  std::vector<Entry> entries(listed.size());
+  for (size_t i = 0; i < listed.size(); ++i) {
+    const uint32_t f = listed[i].second;
+    entries[i] = {box[f], {range[f].lo[0], range[f].lo[1], range[f].lo[2]}, f};
+  }
+  const auto cell_end = [&](size_t begin) {
+    size_t end = begin;
+    while (end < listed.size() && listed[end].first == listed[begin].first) ++end;
+    return end;
+  };
+  // Each cell's faces by the low x of their boxes, so that the pair loop stops at the first
+  // partner beyond a face's box (a cell of slivers holds hundreds of faces).
+  for (size_t begin = 0, end; begin < listed.size(); begin = end) {
+    end = cell_end(begin);
+    std::sort(entries.begin() + begin, entries.begin() + end,
+              [](const Entry& a, const Entry& b) { return a.box.lo[0] < b.box.lo[0]; });
+  }
+  const auto triangle = [&](uint32_t f) {
+    Triangle t;
+    for (int k = 0; k < 3; ++k) {
+      const float* p = corner(f, k);
+      t.p[k] = {p[0], p[1], p[2]};
+      t.id[k] = soup.triangles[3 * size_t{f} + k];
+    }
+    return t;
+  };
+  const auto shares_an_edge = [&](uint32_t a, uint32_t b) {
+    int shared = 0;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        shared += soup.triangles[3 * size_t{a} + i] == soup.triangles[3 * size_t{b} + j];
+    return shared >= 2;
+  };
+  const uint64_t mask = (uint64_t{1} << kKeyBits) - 1;
+  for (size_t begin = 0, end; begin < listed.size(); begin = end) {
+    end = cell_end(begin);
+    if (end - begin < 2) continue;
+    const uint64_t k = listed[begin].first;
+    const int32_t here[3] = {int32_t(k >> (2 * kKeyBits)), int32_t((k >> kKeyBits) & mask),
+                             int32_t(k & mask)};
+    for (size_t i = begin; i < end; ++i) {
+      const Entry& a = entries[i];
+      for (size_t j = i + 1; j < end; ++j) {
+        const Entry& b = entries[j];
+        if (b.box.lo[0] > a.box.hi[0]) break;
+        if (!a.box.Overlaps(b.box)) continue;
+        // A pair that shares several cells is tested in the first of them only.
+        if (std::max(a.first_cell[0], b.first_cell[0]) != here[0] ||
+            std::max(a.first_cell[1], b.first_cell[1]) != here[1] ||
+            std::max(a.first_cell[2], b.first_cell[2]) != here[2])
+          continue;
+        // Faces with a common edge meet along it or fold within one plane: never a crossing.
+        if (shares_an_edge(a.face, b.face)) continue;
+        const std::pair<uint32_t, uint32_t> pair = std::minmax(a.face, b.face);
+        const std::optional<DVec3> at =
+            TransversalCrossing(triangle(pair.first), triangle(pair.second));
+        if (!at) continue;
+        if (found.pairs++ == 0 || pair < std::pair(found.face_a, found.face_b)) {
+          found.face_a = pair.first;
+          found.face_b = pair.second;
+          found.at = {at->x, at->y, at->z};
+        }
+      }
+    }
+  }
+  return found;
+}
+
+}  // namespace femsimp
