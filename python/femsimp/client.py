@@ -10,13 +10,14 @@ import random
 import sys
 import threading
 import time
+import warnings
 from dataclasses import dataclass, field
 
 import grpc
 
 from . import _wire, options as opts
 from ._stubs import load as _load_stubs
-from .errors import FemsimpError
+from .errors import FemsimpError, FemsimpWarning
 from .inputs import prepare
 from .progress import ProgressBar
 
@@ -96,6 +97,21 @@ class _Failed(Exception):
     def __init__(self, code, details, pushback_ms=None, job_id=""):
         super().__init__(details)
         self.code, self.details, self.pushback_ms, self.job_id = code, details, pushback_ms, job_id
+
+
+def _warn_if_crossing(result, allowed):
+    """The C++ CLI's warning: a mesher refuses an output whose faces cross (Result
+    .output_crossings counts the pairs that certainly do)."""
+    c = result.output_crossings
+    if c.pairs == 0:
+        return
+    at = ", ".join(f"{x:.6g}" for x in c.at)
+    cause = ("allow_self_intersections let the run make crossings" if allowed
+             else "the input's own crossings, kept (the simplification makes none)")
+    warnings.warn(f"the output intersects itself: {c.pairs} face pair"
+                  f"{'' if c.pairs == 1 else 's'} cross (the first: faces {c.face_a} and "
+                  f"{c.face_b}, at ({at})); {cause}; a mesher such as tetgen refuses it",
+                  FemsimpWarning, stacklevel=3)
 
 
 class Client:
@@ -239,6 +255,7 @@ class Client:
                 bar.close()
         points, triangles, groups, fields = outcome.mesh
         outcome.mesh = prepared.restore(points, triangles, groups, fields)
+        _warn_if_crossing(outcome.result, checked.get("allow_self_intersections", False))
         return outcome
 
     def _with_retry(self, requests, progress, bar, deadline_at):

@@ -1,6 +1,7 @@
 """Client against a real femsimp-server: each input kind comes back as itself, groups and fields
 carried, progress, cancel, jobs, and failures as FemsimpError with their status."""
 import threading
+import warnings
 
 import grpc
 import meshio
@@ -40,6 +41,25 @@ def test_groups_and_fields_round_trip(client):
         centroid[np.arange(len(centroid)), np.argmax(np.abs(centroid - 0.5), axis=1)] > 0.5)
     assert np.array_equal(out.groups, side_of + 1)
     assert np.array_equal(out.fields["pressure"], np.where(side_of == 1, 2.5, 0.0))
+
+
+def test_an_output_that_crosses_itself_warns(client):
+    # Two cubes through each other, as a thin wall exported with facets as large as the part
+    # crosses itself: repair cannot untangle them, the simplification keeps them.
+    points, triangles, _ = box_surface(6)
+    both = (np.concatenate([points, points + [0.5, 0.3, 0.2]]),
+            np.concatenate([triangles, triangles + len(points)]))
+    with pytest.warns(femsimp.FemsimpWarning,
+                      match=r"intersects itself: \d+ face pairs cross \(the first: faces \d+ "
+                            r"and \d+, at \(.*the input's own crossings"):
+        out = client.run(both, ratio=0.5)
+    assert out.result.output_crossings.pairs > 0
+    assert len(out.result.output_crossings.at) == 3
+    # A clean part: no warning, and the count says none.
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", femsimp.FemsimpWarning)
+        clean = client.run(box_surface(6)[:2], ratio=0.5)
+    assert clean.result.output_crossings.pairs == 0
 
 
 def test_meshio_in_meshio_out(client):
