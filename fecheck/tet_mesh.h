@@ -22,8 +22,9 @@ struct TetMesh {
   size_t num_tets() const { return tets.size() / 4; }
 };
 
-// What tetgen needs of a surface: valid triangles (CheckSoup), closed (no boundary edge) and
-// enclosing a positive volume (oriented outwards). InvalidArgument saying what is wrong.
+// What tetgen needs of a surface: valid triangles (CheckSoup), closed (no boundary edge),
+// enclosing a positive volume (oriented outwards) and not crossing itself (FindCrossings: faces
+// that certainly cross). InvalidArgument saying what is wrong.
 absl::Status CheckClosedSolid(const RawMesh& surface);
 
 // Runs tetgen on `surface` (written to run.dir) with the quality bound -q1.414 and, when

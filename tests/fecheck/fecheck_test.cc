@@ -139,6 +139,18 @@ TEST(ClosedSolid, OpenAndInsideOutSurfacesAreRefused) {
   for (size_t f = 0; f < inverted.num_faces(); ++f)
     std::swap(inverted.triangles[3 * f + 1], inverted.triangles[3 * f + 2]);
   EXPECT_HAS(CheckClosedSolid(inverted).message(), "no positive volume");
+  // Two boxes through each other: closed and outward, but they bound no solid.
+  RawMesh crossing = box;
+  const RawMesh second = testing::MakeBox({1, 1, 1}, {2, 2, 2});
+  const uint32_t base = static_cast<uint32_t>(crossing.num_vertices());
+  for (size_t i = 0; i < second.positions.size(); ++i)
+    crossing.positions.push_back(second.positions[i] + 0.3f);
+  for (uint32_t v : second.triangles) crossing.triangles.push_back(base + v);
+  const absl::Status c = CheckClosedSolid(crossing);
+  EXPECT_EQ(c.code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_HAS(c.message(), "the surface intersects itself: ");
+  EXPECT_HAS(c.message(), " face pairs cross (the first: faces ");
+  EXPECT_HAS(c.message(), "tetgen cannot mesh it");
 }
 
 class ChildProcess : public testing::TempDirTest {};
@@ -309,7 +321,7 @@ TEST(FeCheck, OpenSurfaceIsRefusedBeforeAnyToolRuns) {
   EXPECT_HAS(r.status().message(), "simplified: the surface is not closed (3 boundary edges)");
 }
 
-TEST(FeCheck, SelfIntersectingSurfaceQuotesTetgen) {
+TEST(FeCheck, SelfIntersectingSurfaceIsRefusedBeforeAnyToolRuns) {
   SKIP_WITHOUT_FE_TOOLS();
   // Two closed tetrahedra that pass through each other: closed and outward, but no solid.
   RawMesh two = testing::Tetrahedron();
@@ -318,10 +330,13 @@ TEST(FeCheck, SelfIntersectingSurfaceQuotesTetgen) {
   for (size_t i = 0; i < shifted.positions.size(); ++i)
     two.positions.push_back(shifted.positions[i] + 0.2f);
   for (uint32_t v : shifted.triangles) two.triangles.push_back(v + n);
-  absl::StatusOr<FeCheckReport> r = RunFeCheck(Beam(), two, {});
+  int stages = 0;
+  FeCheckControl control;
+  control.on_stage = [&](const FeStage&) { ++stages; };
+  absl::StatusOr<FeCheckReport> r = RunFeCheck(Beam(), two, {}, control);
   EXPECT_EQ(r.status().code(), absl::StatusCode::kInvalidArgument);
-  EXPECT_HAS(r.status().message(), "simplified: tetgen failed (");
-  EXPECT_HAS(r.status().message(), "intersect");
+  EXPECT_HAS(r.status().message(), "simplified: the surface intersects itself: ");
+  EXPECT_EQ(stages, 0);  // not even the original's tetgen run
 }
 
 // PATH without the tools: the message names the missing ones and their Debian packages.
