@@ -175,9 +175,9 @@ std::string MassSummaryLine(const FidelityFigures& f) {
 std::string CrossingsWarning(const SoupCrossings& c, bool allowed) {
   if (c.pairs == 0) return "";
   return absl::StrFormat(
-      "warning:  OUT intersects itself: %u face pair%s cross (the first: faces %u and %u, at "
-      "(%.6g, %.6g, "
-      "%.6g)); %s; a mesher such as tetgen refuses it (a finer export of the part avoids it)\n",
+      "warning:  OUT intersects itself: %u face pair%s cross (the first: faces %u and %u, "
+      "at (%.6g, %.6g, %.6g)); %s; a mesher such as tetgen refuses it (a finer export of the "
+      "part avoids it)\n",
       c.pairs, c.pairs == 1 ? "" : "s", c.face_a, c.face_b, c.at[0], c.at[1], c.at[2],
       allowed ? "--allow-self-intersections let the run make crossings"
               : "the input's own crossings, kept (the simplification makes none)");

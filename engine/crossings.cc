@@ -99,8 +99,8 @@ SoupCrossings FindCrossings(const RawMesh& soup) {
           listed.emplace_back(Key(x, y, z), static_cast<uint32_t>(f));
   }
   std::sort(listed.begin(), listed.end());
-  // What the pair loop reads of each listed face, in the list's order: a cell's faces are then
-  // read from one stretch of memory, not from wherever the soup put them.
+  // What the pair loop reads of each listed face, in the list's order, so that each cell's
+  // stretch can be sorted for the sweep below.
   struct Entry {
     Box box;
     int32_t first_cell[3];
