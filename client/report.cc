@@ -174,13 +174,11 @@ std::string MassSummaryLine(const FidelityFigures& f) {
 // cannot untangle (a thin wall exported with facets as large as the part).
 std::string CrossingsWarning(const SoupCrossings& c, bool allowed) {
   if (c.pairs == 0) return "";
-  return absl::StrFormat(
-      "warning:  OUT intersects itself: %u face pair%s cross (the first: faces %u and %u, "
-      "at (%.6g, %.6g, %.6g)); %s; a mesher such as tetgen refuses it (a finer export of the "
-      "part avoids it)\n",
-      c.pairs, c.pairs == 1 ? "" : "s", c.face_a, c.face_b, c.at[0], c.at[1], c.at[2],
+  return absl::StrCat(
+      "warning:  OUT intersects itself: ", DescribeCrossings(c), "; ",
       allowed ? "--allow-self-intersections let the run make crossings"
-              : "the input's own crossings, kept (the simplification makes none)");
+              : "the input's own crossings, kept (the simplification makes none)",
+      "; a mesher such as tetgen refuses it (a finer export of the part avoids it)\n");
 }
 
 // A solid's mean thickness against the tolerance. Each side of a wall may move by the

@@ -5,6 +5,7 @@
 #include <utility>
 #include <vector>
 
+#include "absl/strings/str_format.h"
 #include "engine/transversal_crossing.h"
 
 namespace femsimp {
@@ -172,6 +173,12 @@ SoupCrossings FindCrossings(const RawMesh& soup) {
     }
   }
   return found;
+}
+
+std::string DescribeCrossings(const SoupCrossings& c) {
+  return absl::StrFormat("%u face pair%s cross (the first: faces %u and %u, at (%.6g, %.6g, %.6g))",
+                         c.pairs, c.pairs == 1 ? "" : "s", c.face_a, c.face_b, c.at[0], c.at[1],
+                         c.at[2]);
 }
 
 }  // namespace femsimp

@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cstdint>
+#include <string>
 
 #include "engine/raw_mesh.h"
 
@@ -25,5 +26,9 @@ struct SoupCrossings {
 // certain crossings count, not contacts or folds within one plane), found through a uniform grid
 // of cells about twice the mean edge (coarser where large faces would span many cells).
 SoupCrossings FindCrossings(const RawMesh& soup);
+
+// "N face pairs cross (the first: faces A and B, at (x, y, z))": the words every report of them
+// uses (the summary, the FE check's refusal); meaningful when pairs > 0.
+std::string DescribeCrossings(const SoupCrossings& c);
 
 }  // namespace femsimp

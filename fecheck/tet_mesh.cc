@@ -77,11 +77,10 @@ absl::Status CheckClosedSolid(const RawMesh& surface) {
   // tetgen aborts on such a surface, quoting two of its own face numbers; this names the
   // surface's faces and where they cross, before any tool runs.
   if (const SoupCrossings c = FindCrossings(surface); c.pairs > 0)
-    return absl::InvalidArgumentError(absl::StrFormat(
-        "the surface intersects itself: %u face pair%s cross (the first: faces %u and %u, at "
-        "(%.6g, %.6g, %.6g)), so it bounds no solid and tetgen cannot mesh it (a finer export "
-        "of the part avoids it)",
-        c.pairs, c.pairs == 1 ? "" : "s", c.face_a, c.face_b, c.at[0], c.at[1], c.at[2]));
+    return absl::InvalidArgumentError(absl::StrCat(
+        "the surface intersects itself: ", DescribeCrossings(c),
+        ", so it bounds no solid and tetgen cannot mesh it (a finer export of the part avoids "
+        "it)"));
   return absl::OkStatus();
 }
 
