@@ -171,6 +171,82 @@ bool EdgesMeet(const PreparedTriangle& s, const int side[3], const PreparedTrian
   return false;
 }
 
+double Cross2(const P2& u, const P2& v) { return u.x * v.y - u.y * v.x; }
+P2 Minus(const P2& a, const P2& b) { return {a.x - b.x, a.y - b.y}; }
+
+// Twice the signed area of a 2D triangle.
+double Area2(const P2 t[3]) { return Cross2(Minus(t[1], t[0]), Minus(t[2], t[0])); }
+
+// A line along an edge of s (2D, twice its signed area s_area2) with s on one side and every
+// corner of o that the edge does not share at least margin / |edge| beyond it on the other.
+bool AnEdgeSeparates(const P2 s[3], const uint32_t s_id[3], double s_area2, const P2 o[3],
+                     const uint32_t o_id[3], double margin) {
+  const double inward = s_area2 > 0 ? 1.0 : -1.0;
+  for (int k = 0; k < 3; ++k) {
+    const int l = (k + 1) % 3;
+    const P2 edge = Minus(s[l], s[k]);
+    bool separates = true;
+    for (int i = 0; i < 3 && separates; ++i)
+      if (o_id[i] != s_id[k] && o_id[i] != s_id[l])
+        separates = inward * Cross2(edge, Minus(o[i], s[k])) <= -margin;
+    if (separates) return true;
+  }
+  return false;
+}
+
+// How clear ClearlyApartInTheirPlane wants it, relative to the longest edge L of the two.
+constexpr double kClearlyApart = 1e-3;
+
+// Triangles whose corners all lie within the near-touch band of each other's plane (a flat
+// region: most pairs the rule tests on a CAD part), separated in that plane by a line along an
+// edge of one, clearly: the other's corners off the line at least kClearlyApart·L beyond it,
+// and both triangles at least as thick. Then the two are more than kClearlyApart²·L/8 apart
+// beyond the corners they share, and tilted from each other by less than 1e-9: a gap that no
+// sign the plain tests take (each zero only within 1e-12 of its lengths) can close, so they
+// would answer "apart" too, at several times this cost. (A projection never separates what
+// meets, so this is sound whatever the plane's accuracy.)
+bool ClearlyApartInTheirPlane(const PreparedTriangle& a, const PreparedTriangle& b) {
+  const Projection flat(a.normal);
+  P2 pa[3], pb[3];
+  double longest2 = 0;
+  for (int k = 0; k < 3; ++k) {
+    pa[k] = flat(a.t.p[k]);
+    pb[k] = flat(b.t.p[k]);
+  }
+  for (int k = 0; k < 3; ++k) {
+    const P2 ea = Minus(pa[(k + 1) % 3], pa[k]), eb = Minus(pb[(k + 1) % 3], pb[k]);
+    longest2 = std::max({longest2, ea.x * ea.x + ea.y * ea.y, eb.x * eb.x + eb.y * eb.y});
+  }
+  const double margin = kClearlyApart * longest2;
+  const double area_a = Area2(pa), area_b = Area2(pb);
+  if (!(std::fabs(area_a) > margin && std::fabs(area_b) > margin)) return false;
+  return AnEdgeSeparates(pa, a.t.id, area_a, pb, b.t.id, margin) ||
+         AnEdgeSeparates(pb, b.t.id, area_b, pa, a.t.id, margin);
+}
+
+// ClearlyApartInTheirPlane for triangles that share exactly the corner a.p[i] = b.p[j]: only a
+// line through it can separate them, along one of the four edges there.
+bool ClearlyApartAtSharedCorner(const PreparedTriangle& a, int i, const PreparedTriangle& b,
+                                int j) {
+  const Projection flat(a.normal);
+  const P2 oa = flat(a.t.p[i]), ob = flat(b.t.p[j]);
+  const P2 u1 = Minus(flat(a.t.p[(i + 1) % 3]), oa), u2 = Minus(flat(a.t.p[(i + 2) % 3]), oa);
+  const P2 w1 = Minus(flat(b.t.p[(j + 1) % 3]), ob), w2 = Minus(flat(b.t.p[(j + 2) % 3]), ob);
+  const auto length2 = [](const P2& v) { return v.x * v.x + v.y * v.y; };
+  const double margin =
+      kClearlyApart * std::max({length2(u1), length2(u2), length2(Minus(u2, u1)), length2(w1),
+                                length2(w2), length2(Minus(w2, w1))});
+  const double area_a = Cross2(u1, u2), area_b = Cross2(w1, w2);
+  if (!(std::fabs(area_a) > margin && std::fabs(area_b) > margin)) return false;
+  // The line along `edge` has the edge's own triangle on the side `inward`, c and d beyond it.
+  const auto beyond = [margin](const P2& edge, double inward, const P2& c, const P2& d) {
+    return inward * Cross2(edge, c) <= -margin && inward * Cross2(edge, d) <= -margin;
+  };
+  const double side_a = area_a > 0 ? 1.0 : -1.0, side_b = area_b > 0 ? 1.0 : -1.0;
+  return beyond(u1, side_a, w1, w2) || beyond(u2, -side_a, w1, w2) || beyond(w1, side_b, u1, u2) ||
+         beyond(w2, -side_b, u1, u2);
+}
+
 // Corners all strictly on one side of the other's plane.
 bool Apart(const int side[3]) { return side[0] != 0 && side[0] == side[1] && side[1] == side[2]; }
 
@@ -187,6 +263,9 @@ bool DisjointCornersIntersect(const PreparedTriangle& a, const PreparedTriangle&
   for (int k = 0; k < 3; ++k) side_b[k] = PlaneSide(a, b.t.p[k]);
   const bool b_apart = Apart(side_b);
   if (sharp && b_apart) return false;
+  if (side_a[0] == 0 && side_a[1] == 0 && side_a[2] == 0 && side_b[0] == 0 && side_b[1] == 0 &&
+      side_b[2] == 0 && ClearlyApartInTheirPlane(a, b))
+    return false;
   // A triangle apart has no edge that meets the other (each has both ends on one side).
   return (!a_apart && EdgesMeet(a, side_a, b)) || (!b_apart && EdgesMeet(b, side_b, a));
 }
@@ -202,6 +281,8 @@ bool OneCornerIntersect(const PreparedTriangle& a, int i, const PreparedTriangle
   const DVec3 &r = b.t.p[(j + 1) % 3], &s = b.t.p[(j + 2) % 3];
   const int sr = PlaneSide(a, r), ss = PlaneSide(a, s);
   if (sharp && sr == ss && sr != 0) return false;
+  if (sp == 0 && sq == 0 && sr == 0 && ss == 0 && ClearlyApartAtSharedCorner(a, i, b, j))
+    return false;
   return (Reaches(p, q, b) && SegmentMeets(p, q, sp, sq, b)) ||
          (Reaches(r, s, a) && SegmentMeets(r, s, sr, ss, a));
 }

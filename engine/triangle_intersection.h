@@ -3,7 +3,8 @@
 // collapse refused on it errs on the safe side. Triangles that share an edge or a vertex meet
 // there by construction; that contact is not an intersection. A separating plane settles it
 // first: a triangle whose corners (beyond a shared one) lie strictly on one side of the
-// other's plane, beyond the same relative margin, is apart from it.
+// other's plane, beyond the same relative margin, is apart from it; coplanar triangles that a
+// line in their plane separates by far more than that margin are apart too.
 #pragma once
 
 #include <cstdint>

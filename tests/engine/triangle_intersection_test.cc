@@ -4,7 +4,9 @@
 // coplanar and nearly coplanar placements, collinear and touching cases, on a coarse lattice
 // so that exact zeros and ties come often. One difference is by design and never shows here:
 // a triangle strictly on one side of the other's plane is apart where the plain tests may call
-// a near-touch along a sliver (tests/engine/self_intersection_test.cc has such a pair).
+// a near-touch along a sliver (tests/engine/self_intersection_test.cc has such a pair). Coplanar
+// pairs that a line in their plane separates by far more than the near-touch margin are decided
+// in the plane; the plain tests answer "apart" there too, and these pairs check it.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -260,6 +262,45 @@ TEST(PreparedTriangleTests, MatchThePlainOnes) {
   // Both answers come often enough for the comparison to mean something.
   EXPECT_GT(hits, 40000);
   EXPECT_GT(overlapping - hits, 40000);
+}
+
+// A flat region of a CAD part: triangles in one plane far from the origin (CAD flats are planes
+// the float corners lie on exactly: one at z = 40, and a tilted one on a dyadic grid), sharing a
+// corner or none, at every angle and size ratio. Such pairs are decided in the plane
+// (ClearlyApartInTheirPlane and its shared-corner form) wherever a line separates them clearly:
+// the answer must be the plain tests' on every pair.
+TEST(PreparedTriangleTests, MatchThePlainOnesInAPlane) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  bool tilted = false;
+  auto in_plane = [&](double u, double v) {
+    if (!tilted) return DVec3{static_cast<float>(1000 + u), static_cast<float>(-250 + v), 40.0};
+    const double x = 1000 + std::round(u * 4096) / 4096, y = -250 + std::round(v * 4096) / 4096;
+    return DVec3{x, y, 0.5 * x + 0.25 * y};  // exact in float
+  };
+  auto around = [&](double u, double v) {  // a corner at a random angle and distance
+    const double angle = 2 * M_PI * unit(rng), r = std::pow(10.0, -2 * unit(rng));
+    return in_plane(u + r * std::cos(angle), v + r * std::sin(angle));
+  };
+  int hits = 0, misses = 0;
+  for (int n = 0; n < 200000; ++n) {
+    tilted = n % 2 == 1;
+    const double u = unit(rng), v = unit(rng);
+    Triangle a{{in_plane(u, v), around(u, v), around(u, v)}, {0, 1, 2}};
+    Triangle b{{a.p[0], around(u, v), around(u, v)}, {0, 4, 5}};
+    if (n % 5 == 0) {  // no corner shared
+      b.p[0] = around(u, v);
+      b.id[0] = 3;
+    }
+    std::rotate(b.p, b.p + n % 3, b.p + 3);  // the shared corner at any place
+    std::rotate(b.id, b.id + n % 3, b.id + 3);
+    const bool expected = reference::TrianglesIntersect(a, b);
+    ASSERT_EQ(TrianglesIntersect(a, b), expected) << "pair " << n;
+    ASSERT_EQ(TrianglesIntersect(b, a), reference::TrianglesIntersect(b, a)) << "pair " << n;
+    (expected ? hits : misses) += 1;
+  }
+  EXPECT_GT(hits, 20000);
+  EXPECT_GT(misses, 20000);
 }
 
 }  // namespace
