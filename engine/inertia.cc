@@ -26,6 +26,11 @@ Sym3 Outer(const DVec3& a) {
   return {a.x * a.x, a.y * a.y, a.z * a.z, a.x * a.y, a.y * a.z, a.z * a.x};
 }
 
+Sym3 SymmetricProduct(const DVec3& a, const DVec3& b) {
+  return {2 * a.x * b.x,         2 * a.y * b.y,         2 * a.z * b.z,
+          a.x * b.y + a.y * b.x, a.y * b.z + a.z * b.y, a.z * b.x + a.x * b.z};
+}
+
 Sym3 TetrahedronSecondMoment(const DVec3& a, const DVec3& b, const DVec3& c, const DVec3& d,
                              double volume) {
   return (volume / 20.0) * (Outer(a) + Outer(b) + Outer(c) + Outer(d) + Outer(a + b + c + d));

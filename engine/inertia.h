@@ -17,7 +17,8 @@ struct Sym3 {
 Sym3 operator+(Sym3 a, const Sym3& b);
 Sym3 operator-(Sym3 a, const Sym3& b);
 Sym3 operator*(double s, const Sym3& a);
-Sym3 Outer(const DVec3& a);  // a a^T
+Sym3 Outer(const DVec3& a);                             // a a^T
+Sym3 SymmetricProduct(const DVec3& a, const DVec3& b);  // a b^T + b a^T
 
 // The integral of x x^T over a tetrahedron (a, b, c, d) of signed volume `volume`, or over a
 // triangle (a, b, c) of area `area`: the moment / 20 (or / 12) of sum(p p^T) + s s^T, s = sum(p).

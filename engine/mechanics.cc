@@ -89,7 +89,9 @@ MassProperties MovedSecondMoment(const MassProperties& m, const DVec3& from, con
   // J_to = J_from - m d^T - d m^T + M d d^T, with m the first moment about `from`, d = to - from.
   const DVec3 first = m.moment - m.measure * from, d = to - from;
   MassProperties out = m;
-  out.second = m.second + m.measure * Outer(d) - (Outer(first + d) - Outer(first) - Outer(d));
+  // (The cross term directly: first and d differ in size by the mass, so a difference of
+  // outer products of their sum loses one of them at a large or a tiny mass.)
+  out.second = m.second + m.measure * Outer(d) - SymmetricProduct(first, d);
   return out;
 }
 
