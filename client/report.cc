@@ -120,6 +120,9 @@ std::string FidelityJson(const FidelityFigures& f) {
                       ", \"max_field_change\": ", JsonNumber(f.max_field_change),
                       ", \"inertia_change\": ", JsonNumber(f.inertia_change),
                       ", \"output_crossings\": ", CrossingsJson(f.output_crossings),
+                      ", \"coordinates\": {\"magnitude\": ", JsonNumber(f.coordinates.magnitude),
+                      ", \"spacing\": ", JsonNumber(f.coordinates.spacing),
+                      ", \"diagonal\": ", JsonNumber(f.coordinates.diagonal), "}",
                       ",\n    \"input_mass\": ", MassJson(f.input_mass),
                       ",\n    \"output_mass\": ", MassJson(f.output_mass), "}");
 }
@@ -179,6 +182,19 @@ std::string CrossingsWarning(const SoupCrossings& c, bool allowed) {
       allowed ? "--allow-self-intersections let the run make crossings"
               : "the input's own crossings, kept (the simplification makes none)",
       "; a mesher such as tetgen refuses it (a finer export of the part avoids it)\n");
+}
+
+// Positions are 32-bit floats: a part far from the origin (an assembly's global coordinates) lost
+// what its file had finer than their spacing there when it was read, silently but for what
+// repair then finds (points that became one, facets that became degenerate).
+std::string CoarseCoordinatesWarning(const CoordinatePrecision& c) {
+  if (c.relative_spacing() < kCoarseCoordinates) return "";
+  return absl::StrFormat(
+      "warning:  IN lies far from the origin (coordinates up to %.4g; the part is %.4g across): "
+      "femsimp keeps positions as 32-bit floats, which there are %.3g apart (%.2g%% of the "
+      "part), so finer detail of the file was rounded away when it was read; translate the part "
+      "near the origin to keep it\n",
+      c.magnitude, c.diagonal, c.spacing, 100 * c.relative_spacing());
 }
 
 // A solid's mean thickness against the tolerance. Each side of a wall may move by the
@@ -242,6 +258,7 @@ FidelityFigures FidelityFigures::Of(const SimplifyResult& r) {
   f.output_mass = r.output_mass;
   f.inertia_change = r.inertia_change;
   f.output_crossings = r.output_crossings;
+  f.coordinates = r.coordinates;
   return f;
 }
 
@@ -311,6 +328,7 @@ std::string Summary(const RunReport& r) {
       r.input_vertices, r.output_vertices, pct(r.output_vertices, r.input_vertices), r.input_faces,
       r.output_faces, pct(r.output_faces, r.input_faces), r.passes.size(), why);
   for (const std::string& w : r.input_warnings) absl::StrAppend(&s, "warning:  ", w, "\n");
+  absl::StrAppend(&s, CoarseCoordinatesWarning(r.fidelity.coordinates));
   absl::StrAppend(&s, RepairSummary(r.repair, r.repair_details ? r.repair.records.size()
                                                                : kSummaryRepairRecords));
   const FidelityFigures& f = r.fidelity;

@@ -22,6 +22,7 @@ struct FidelityFigures {
   MassSummary input_mass, output_mass;
   double inertia_change = 0.0;
   SoupCrossings output_crossings;
+  CoordinatePrecision coordinates;
   static FidelityFigures Of(const SimplifyResult& r);
 };
 

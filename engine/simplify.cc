@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <optional>
 #include <vector>
@@ -49,6 +50,17 @@ Bounds BoundsOf(const Mesh& mesh) {
     hi = {std::max(hi.x, double(q.x)), std::max(hi.y, double(q.y)), std::max(hi.z, double(q.z))};
   }
   return b;
+}
+
+CoordinatePrecision PrecisionOf(const Bounds& b) {
+  CoordinatePrecision p;
+  if (!(b.lo.x <= b.hi.x)) return p;  // no live vertex
+  for (const double x : {b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y, b.hi.z})
+    p.magnitude = std::max(p.magnitude, std::fabs(x));
+  const float m = static_cast<float>(p.magnitude);  // a coordinate: exact
+  p.spacing = double(std::nextafter(m, std::numeric_limits<float>::infinity())) - double(m);
+  p.diagonal = b.diagonal();
+  return p;
 }
 
 // The tolerance that applies, as a float no larger than it (the bounds are stored as floats).
@@ -155,6 +167,7 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
   result.corner_vertices = features.corner_vertices;
   const Bounds bounds = BoundsOf(mesh);
   const double diagonal = bounds.diagonal();
+  result.coordinates = PrecisionOf(bounds);
   RuleSetup setup;
   setup.cos_feature = std::cos(options.feature_angle_deg * std::numbers::pi / 180.0);
   setup.tolerance = EffectiveTolerance(options, diagonal, &result.tolerance_abs);

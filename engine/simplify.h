@@ -185,6 +185,19 @@ struct PassStats {
 enum class StopReason { kTargetReached, kNoProgress, kMaxPasses, kCancelled };
 const char* StopReasonName(StopReason r);
 
+// Where the input lies, for the precision its positions keep: they are 32-bit floats, which far
+// from the origin are far apart, and what a file had finer than their spacing there was rounded
+// away when it was read (distinct points became one, facets between them degenerate).
+struct CoordinatePrecision {
+  double magnitude = 0.0;  // the largest coordinate magnitude of the input
+  double spacing = 0.0;    // the spacing of floats at that magnitude
+  double diagonal = 0.0;   // the input's bounding-box diagonal
+  double relative_spacing() const { return diagonal > 0.0 ? spacing / diagonal : 0.0; }
+};
+// From here on a summary warns: the spacing is 1e-4 of the part's size, a part some 800 to 1,700
+// of its diagonals from the origin.
+inline constexpr double kCoarseCoordinates = 1e-4;
+
 struct SimplifyResult {
   uint64_t input_vertices = 0, input_faces = 0;
   uint64_t output_vertices = 0, output_faces = 0;
@@ -215,6 +228,7 @@ struct SimplifyResult {
   // not engine time, and the output soup is what a mesher reads, so the callers of OutputMesh
   // (the CLI, the server) fill it from the soup they write.
   SoupCrossings output_crossings;
+  CoordinatePrecision coordinates;
 };
 
 struct SimplifyControl {

@@ -304,6 +304,10 @@ void FidelityToProto(const SimplifyResult& r, v1::Result* out) {
     crossings->set_face_b(r.output_crossings.face_b);
     for (double x : r.output_crossings.at) crossings->add_at(x);
   }
+  v1::CoordinatePrecision* coordinates = out->mutable_coordinates();
+  coordinates->set_magnitude(r.coordinates.magnitude);
+  coordinates->set_spacing(r.coordinates.spacing);
+  coordinates->set_diagonal(r.coordinates.diagonal);
 }
 
 void FidelityFromProto(const v1::Result& in, SimplifyResult* out) {
@@ -323,6 +327,9 @@ void FidelityFromProto(const v1::Result& in, SimplifyResult* out) {
   out->output_crossings.face_b = crossings.face_b();
   for (int i = 0; i < 3 && i < crossings.at_size(); ++i)
     out->output_crossings.at[i] = crossings.at(i);
+  out->coordinates.magnitude = in.coordinates().magnitude();
+  out->coordinates.spacing = in.coordinates().spacing();
+  out->coordinates.diagonal = in.coordinates().diagonal();
 }
 
 absl::Status CheckFieldNames(const google::protobuf::RepeatedPtrField<std::string>& names,

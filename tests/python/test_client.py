@@ -62,6 +62,20 @@ def test_an_output_that_crosses_itself_warns(client):
     assert clean.result.output_crossings.pairs == 0
 
 
+def test_a_part_far_from_the_origin_warns(client):
+    # An assembly's global coordinates: 2^16 from the origin, floats are 2^-7 apart.
+    points, triangles, _ = box_surface(6)
+    with pytest.warns(femsimp.FemsimpWarning,
+                      match=r"far from the origin \(coordinates up to 6\.554e\+04; the part is "
+                            r"1\.732 across\): .* 0\.00781 apart \(0\.45% of the part\)"):
+        out = client.run((points + [65536.0, 0, 0], triangles), ratio=0.5)
+    assert out.result.coordinates.spacing == 2.0 ** -7
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", femsimp.FemsimpWarning)
+        near = client.run((points + [64.0, 0, 0], triangles), ratio=0.5)
+    assert near.result.coordinates.spacing == 2.0 ** -17
+
+
 def test_meshio_in_meshio_out(client):
     points, triangles = sphere_surface(30)
     out = client.simplify(meshio.Mesh(points, [("triangle", triangles)]), ratio=0.3)

@@ -281,6 +281,30 @@ TEST_F(CliRepairTest, ServerStrictModeIsRefusedByNameAndSeamsAreKept) {
   ASSERT_EQ(Run({WriteSoup("hinge.off", hinge), Path("out.off")}), cli::kExitOk) << err_;
 }
 
+// A part in global coordinates far from the origin: the engine reports where it lies, and the
+// summary (local and through the server) warns that its floats there are coarse; the same part
+// near the origin gets no warning.
+TEST_F(CliRepairTest, APartFarFromTheOriginIsWarnedOfLocallyAndByTheServer) {
+  RawMesh box = testing::MakeBox({8, 6, 4}, {4, 3, 2});
+  for (size_t i = 0; i < box.positions.size(); i += 3) box.positions[i] += 65536.0f;  // 2^16
+  const std::string far = WriteSoup("far.off", box);
+  testing::InProcessServer s;
+  for (const bool remote : {false, true}) {
+    std::vector<std::string> args = {far, Path("out.off"), "--stats-json", Path("s.json")};
+    if (remote) args.insert(args.end(), {"--server", s.address()});
+    ASSERT_EQ(Run(args), cli::kExitOk) << err_;
+    // Floats in [2^16, 2^17) are 2^-7 apart; the box is sqrt(116) across.
+    EXPECT_HAS(out_,
+               "warning:  IN lies far from the origin (coordinates up to 6.554e+04; the "
+               "part is 10.77 across): femsimp keeps positions as 32-bit floats, which "
+               "there are 0.00781 apart (0.073% of the part)");
+    EXPECT_HAS(testing::ReadFileBytes(Path("s.json")),
+               "\"coordinates\": {\"magnitude\": 65544, \"spacing\": 0.0078125, ");
+  }
+  ASSERT_EQ(Run({input_, Path("out.off")}), cli::kExitOk) << err_;
+  EXPECT_EQ(out_.find("far from the origin"), std::string::npos) << out_;
+}
+
 // Two boxes through each other in one file (a thin wall exported with facets as large as the
 // part crosses itself alike): repair cannot untangle them, the simplification keeps them and
 // makes no more, and the summary, --stats-json and the server's Result say where OUT crosses

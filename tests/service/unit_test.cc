@@ -280,6 +280,7 @@ TEST(Wire, FidelityFiguresRoundTrip) {
   r.output_mass.principal_axes[1] = {0, 0, -1};
   r.inertia_change = 0.004;
   r.output_crossings = {.pairs = 8, .face_a = 12, .face_b = 57, .at = {1.5, -2.25, 3}};
+  r.coordinates = {.magnitude = 3e6, .spacing = 0.25, .diagonal = 53.5};
   v1::Result m;
   wire::FidelityToProto(r, &m);
   SimplifyResult back;
@@ -304,6 +305,9 @@ TEST(Wire, FidelityFiguresRoundTrip) {
   EXPECT_EQ(back.output_crossings.face_a, 12u);
   EXPECT_EQ(back.output_crossings.face_b, 57u);
   EXPECT_EQ(back.output_crossings.at, (std::array<double, 3>{1.5, -2.25, 3}));
+  EXPECT_EQ(back.coordinates.magnitude, 3e6);
+  EXPECT_EQ(back.coordinates.spacing, 0.25);
+  EXPECT_EQ(back.coordinates.diagonal, 53.5);
 }
 
 // A client's label, or a file name in a message, must not forge a log line or reach the
@@ -387,6 +391,26 @@ TEST(Report, SummaryWarnsWhereTheOutputIntersectsItself) {
   EXPECT_NE(cli::ReportJson(r).find("\"output_crossings\": {\"pairs\": 1, \"faces\": [12, 57], "
                                     "\"at\": [1.5, -2, 3]}"),
             std::string::npos);
+}
+
+// A part far from the origin lost the detail finer than the floats' spacing there when it was
+// read: the summary says so from 1e-4 of the part's size on, and not below.
+TEST(Report, SummaryWarnsOfAPartFarFromTheOrigin) {
+  cli::RunReport r;
+  EXPECT_EQ(cli::Summary(r).find("far from the origin"), std::string::npos);
+  r.fidelity.coordinates = {.magnitude = 3e6, .spacing = 0.25, .diagonal = 53.125};
+  const std::string s = cli::Summary(r);
+  EXPECT_NE(s.find("warning:  IN lies far from the origin (coordinates up to 3e+06; the part is "
+                   "53.12 across): femsimp keeps positions as 32-bit floats, which there are 0.25 "
+                   "apart (0.47% of the part), so finer detail of the file was rounded away when "
+                   "it was read; translate the part near the origin to keep it"),
+            std::string::npos)
+      << s;
+  EXPECT_NE(cli::ReportJson(r).find("\"coordinates\": {\"magnitude\": 3000000, \"spacing\": "
+                                    "0.25, \"diagonal\": 53.125}"),
+            std::string::npos);
+  r.fidelity.coordinates = {.magnitude = 4096, .spacing = 0x1p-12, .diagonal = 10};
+  EXPECT_EQ(cli::Summary(r).find("far from the origin"), std::string::npos);
 }
 
 // The remote client's progress line: a bar toward the target, none without one (a tolerance
