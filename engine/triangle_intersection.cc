@@ -178,17 +178,14 @@ P2 Minus(const P2& a, const P2& b) { return {a.x - b.x, a.y - b.y}; }
 double Area2(const P2 t[3]) { return Cross2(Minus(t[1], t[0]), Minus(t[2], t[0])); }
 
 // A line along an edge of s (2D, twice its signed area s_area2) with s on one side and every
-// corner of o that the edge does not share at least margin / |edge| beyond it on the other.
-bool AnEdgeSeparates(const P2 s[3], const uint32_t s_id[3], double s_area2, const P2 o[3],
-                     const uint32_t o_id[3], double margin) {
+// corner of o at least margin / |edge| beyond it on the other.
+bool AnEdgeSeparates(const P2 s[3], double s_area2, const P2 o[3], double margin) {
   const double inward = s_area2 > 0 ? 1.0 : -1.0;
   for (int k = 0; k < 3; ++k) {
-    const int l = (k + 1) % 3;
-    const P2 edge = Minus(s[l], s[k]);
+    const P2 edge = Minus(s[(k + 1) % 3], s[k]);
     bool separates = true;
     for (int i = 0; i < 3 && separates; ++i)
-      if (o_id[i] != s_id[k] && o_id[i] != s_id[l])
-        separates = inward * Cross2(edge, Minus(o[i], s[k])) <= -margin;
+      separates = inward * Cross2(edge, Minus(o[i], s[k])) <= -margin;
     if (separates) return true;
   }
   return false;
@@ -197,14 +194,14 @@ bool AnEdgeSeparates(const P2 s[3], const uint32_t s_id[3], double s_area2, cons
 // How clear ClearlyApartInTheirPlane wants it, relative to the longest edge L of the two.
 constexpr double kClearlyApart = 1e-3;
 
-// Triangles whose corners all lie within the near-touch band of each other's plane (a flat
-// region: most pairs the rule tests on a CAD part), separated in that plane by a line along an
-// edge of one, clearly: the other's corners off the line at least kClearlyApart·L beyond it,
-// and both triangles at least as thick. Then the two are more than kClearlyApart²·L/8 apart
-// beyond the corners they share, and tilted from each other by less than 1e-9: a gap that no
-// sign the plain tests take (each zero only within 1e-12 of its lengths) can close, so they
-// would answer "apart" too, at several times this cost. (A projection never separates what
-// meets, so this is sound whatever the plane's accuracy.)
+// Triangles that share no corner and whose corners all lie within the near-touch band of each
+// other's plane (a flat region: most pairs the rule tests on a CAD part), separated in that
+// plane by a line along an edge of one, clearly: the other's corners at least kClearlyApart·L
+// beyond it, and both triangles at least as thick. Then the two are more than kClearlyApart²·L/8
+// apart (beyond their shared corner, in the form below that shares one), and tilted from each other
+// by less than 1e-9: a gap that no sign the plain tests take (each zero only within 1e-12 of its
+// lengths) can close, so they would answer "apart" too, at several times this cost. (A projection
+// never separates what meets, so this is sound whatever the plane's accuracy.)
 bool ClearlyApartInTheirPlane(const PreparedTriangle& a, const PreparedTriangle& b) {
   const Projection flat(a.normal);
   P2 pa[3], pb[3];
@@ -220,8 +217,7 @@ bool ClearlyApartInTheirPlane(const PreparedTriangle& a, const PreparedTriangle&
   const double margin = kClearlyApart * longest2;
   const double area_a = Area2(pa), area_b = Area2(pb);
   if (!(std::fabs(area_a) > margin && std::fabs(area_b) > margin)) return false;
-  return AnEdgeSeparates(pa, a.t.id, area_a, pb, b.t.id, margin) ||
-         AnEdgeSeparates(pb, b.t.id, area_b, pa, a.t.id, margin);
+  return AnEdgeSeparates(pa, area_a, pb, margin) || AnEdgeSeparates(pb, area_b, pa, margin);
 }
 
 // ClearlyApartInTheirPlane for triangles that share exactly the corner a.p[i] = b.p[j]: only a
