@@ -106,7 +106,9 @@ struct CollapseProposal {
   bool cells_for_star = false;  // held over the box of the star onto cells_vd
   uint32_t cells_vd = kNone;
   // The faces in those cells but outside V's fan that some new triangle of any direction could
-  // meet (by their boxes), as they are while the cells are held, and their ids.
+  // meet (by their boxes), as they are while the cells are held, and their ids; read by the
+  // first direction that needs them (nearby_read).
+  bool nearby_read = false;
   std::vector<uint32_t> nearby_faces;
   std::vector<PreparedTriangle> nearby;
   // Compound collapses (engine/seam_collapse.h): faces the compound's other collapses rewrite;

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "engine/face_grid.h"
+#include "engine/planar_retile.h"
 #include "engine/rule.h"
 
 namespace femsimp {
@@ -30,6 +31,10 @@ class SelfIntersectionRule final : public CollapseRule {
     if (!p.cells_acquired) {
       if (Verdict v = HoldNeighbourhood(p); v != Verdict::kPass) return v;
     }
+    // Inside a flat face the new triangles cover what the old ones did, and nothing more.
+    if (!star && p.also_replaced.empty() && RetilesTheFanInItsPlane(fan, p.target))
+      return Verdict::kPass;
+    if (!p.nearby_read) ReadNearby(p);
     PreparedTriangle fresh[kMaxStar];
     int count = 0;
     if (star) {
@@ -98,24 +103,37 @@ class SelfIntersectionRule final : public CollapseRule {
   }
 
  private:
-  // Holds the cells over V's fan (V and its one-ring: every direction's new triangles lie in
-  // its box), or for a full-edge collapse over the star's box (P stays inside it), and reads
-  // the faces there once for all directions (or positions of P): those whose boxes could
-  // overlap a new triangle's.
-  Verdict HoldNeighbourhood(CollapseProposal& p) const {
+  // The box of V's fan (V and its one-ring: every direction's new triangles lie in it), or for
+  // a full-edge collapse the star's box (P stays inside it); `points` gets the fan's points.
+  static FaceGrid::Box NeighbourhoodBox(const CollapseProposal& p, DVec3* points) {
     const Ring& fan = *p.fan;
-    const EdgeStar* star = p.star;
-    DVec3 points[kMaxRing + 2];
     points[0] = ToD(fan.center_pos);
     for (int i = 0; i < fan.neighbours(); ++i) points[i + 1] = ToD(fan.pos[i]);
-    const FaceGrid::Box box = star != nullptr ? FaceGrid::Box{star->lo, star->hi}
-                                              : FaceGrid::BoxOf(points, fan.neighbours() + 1);
-    const FaceGrid::Hold hold = grid_->Acquire(box, &p.held_cells);
+    return p.star != nullptr ? FaceGrid::Box{p.star->lo, p.star->hi}
+                             : FaceGrid::BoxOf(points, fan.neighbours() + 1);
+  }
+
+  // Holds the cells over the neighbourhood's box: the commit moves the fan's faces within them.
+  Verdict HoldNeighbourhood(CollapseProposal& p) const {
+    DVec3 points[kMaxRing + 2];
+    const FaceGrid::Hold hold = grid_->Acquire(NeighbourhoodBox(p, points), &p.held_cells);
     if (hold == FaceGrid::Hold::kBusy) return Verdict::kConflict;
     if (hold == FaceGrid::Hold::kFull) return Verdict::kReject;  // cannot prove it safe
     p.cells_acquired = true;
-    p.cells_for_star = star != nullptr;
-    p.cells_vd = star != nullptr ? star->vd_id : kNone;
+    p.nearby_read = false;
+    p.cells_for_star = p.star != nullptr;
+    p.cells_vd = p.star != nullptr ? p.star->vd_id : kNone;
+    return Verdict::kPass;
+  }
+
+  // Reads the faces in the held cells once for all directions (or positions of P): those whose
+  // boxes could overlap a new triangle's.
+  void ReadNearby(CollapseProposal& p) const {
+    const Ring& fan = *p.fan;
+    const EdgeStar* star = p.star;
+    DVec3 points[kMaxRing + 2];
+    const FaceGrid::Box box = NeighbourhoodBox(p, points);
+    p.nearby_read = true;
     const DVec3 corners[2] = {box.lo, box.hi};
     const TriangleBox reach = star != nullptr ? NewTrianglesReach(corners, 2)
                                               : NewTrianglesReach(points + 1, fan.neighbours());
@@ -152,7 +170,6 @@ class SelfIntersectionRule final : public CollapseRule {
       }
     }
     p.nearby_faces.resize(kept);
-    return Verdict::kPass;
   }
 
   // A box that holds the (widened) box of every new triangle of every direction: they use the
