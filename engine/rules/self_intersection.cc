@@ -14,6 +14,8 @@ namespace femsimp {
 namespace {
 
 constexpr uint32_t kCyclesPerTriangleTest = 60;
+// The flat-face shortcut: a compare per coordinate and two 2D orientations per fan face.
+constexpr uint32_t kCyclesPerPlanarFace = 20;
 
 class SelfIntersectionRule final : public CollapseRule {
  public:
@@ -32,8 +34,10 @@ class SelfIntersectionRule final : public CollapseRule {
       if (Verdict v = HoldNeighbourhood(p); v != Verdict::kPass) return v;
     }
     // Inside a flat face the new triangles cover what the old ones did, and nothing more.
-    if (!star && p.also_replaced.empty() && RetilesTheFanInItsPlane(fan, p.target))
-      return Verdict::kPass;
+    if (!star && p.also_replaced.empty()) {
+      p.cycles += kCyclesPerPlanarFace * fan.faces;
+      if (RetilesTheFanInItsPlane(fan, p.target)) return Verdict::kPass;
+    }
     if (!p.nearby_read) ReadNearby(p);
     PreparedTriangle fresh[kMaxStar];
     int count = 0;
