@@ -22,13 +22,14 @@ int CertainOrientation(const P2& a, const P2& b, const P2& c) {
 }
 
 // The axis whose coordinate V and every ring point share exactly, or -1.
-int SharedAxis(const Ring& fan) {
+int SharedAxis(const Ring& fan, int* tests) {
   const float c[3] = {fan.center_pos.x, fan.center_pos.y, fan.center_pos.z};
   for (int a = 0; a < 3; ++a) {
     bool shared = true;
     for (int i = 0; i < fan.faces && shared; ++i) {
       const float p[3] = {fan.pos[i].x, fan.pos[i].y, fan.pos[i].z};
       shared = p[a] == c[a];
+      ++*tests;
     }
     if (shared) return a;
   }
@@ -37,10 +38,12 @@ int SharedAxis(const Ring& fan) {
 
 }  // namespace
 
-bool RetilesTheFanInItsPlane(const Ring& fan, int target) {
+bool RetilesTheFanInItsPlane(const Ring& fan, int target, int* tests) {
+  int ignored = 0;
+  if (tests == nullptr) tests = &ignored;
   const int n = fan.faces;
   if (fan.boundary || n < 3 || target < 0 || target >= n) return false;
-  const int axis = SharedAxis(fan);
+  const int axis = SharedAxis(fan, tests);
   if (axis < 0) return false;
   const auto flat = [axis](const Vec3& p) {
     const double q[3] = {p.x, p.y, p.z};
@@ -59,6 +62,7 @@ bool RetilesTheFanInItsPlane(const Ring& fan, int target) {
   for (int i = 0; i < n; ++i) {
     const P2& p = ring[i];
     const P2& q = ring[(i + 1) % n];
+    ++*tests;
     if (CertainOrientation(c, p, q) != sign) return false;
     crossings += sign > 0 ? (p.v <= c.v && q.v > c.v) : (p.v > c.v && q.v <= c.v);
   }
@@ -68,6 +72,7 @@ bool RetilesTheFanInItsPlane(const Ring& fan, int target) {
   for (int f = 0; f < n; ++f) {
     const int g = (f + 1) % n;
     if (f == target || g == target) continue;
+    ++*tests;
     if (CertainOrientation(d, ring[f], ring[g]) != sign) return false;
   }
   return true;

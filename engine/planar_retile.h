@@ -21,6 +21,8 @@ namespace femsimp {
 // outside (the winding number of the ring around a point is their count there): they meet
 // each other only along their shared edges and at Vd, and a face outside the fan only where it
 // meets the polygon, that is, where it met an old triangle. False also means "not shown".
-bool RetilesTheFanInItsPlane(const Ring& fan, int target);
+// *tests (when given) counts the coordinate compares and orientation tests made (the cell back
+// end's cycle model).
+bool RetilesTheFanInItsPlane(const Ring& fan, int target, int* tests = nullptr);
 
 }  // namespace femsimp

@@ -14,8 +14,8 @@ namespace femsimp {
 namespace {
 
 constexpr uint32_t kCyclesPerTriangleTest = 60;
-// The flat-face shortcut: a compare per coordinate and two 2D orientations per fan face.
-constexpr uint32_t kCyclesPerPlanarFace = 20;
+// The flat-face shortcut, per coordinate compare or 2D orientation test.
+constexpr uint32_t kCyclesPerPlanarTest = 6;
 
 class SelfIntersectionRule final : public CollapseRule {
  public:
@@ -35,8 +35,10 @@ class SelfIntersectionRule final : public CollapseRule {
     }
     // Inside a flat face the new triangles cover what the old ones did, and nothing more.
     if (!star && p.also_replaced.empty()) {
-      p.cycles += kCyclesPerPlanarFace * fan.faces;
-      if (RetilesTheFanInItsPlane(fan, p.target)) return Verdict::kPass;
+      int planar_tests = 0;
+      const bool retiles = RetilesTheFanInItsPlane(fan, p.target, &planar_tests);
+      p.cycles += kCyclesPerPlanarTest * planar_tests;
+      if (retiles) return Verdict::kPass;
     }
     if (!p.nearby_read) ReadNearby(p);
     PreparedTriangle fresh[kMaxStar];

@@ -41,6 +41,11 @@ TEST(RetilesTheFanInItsPlane, ConvexRingInEveryDirectionAndEitherOrientation) {
   const Vec3 centre{0, 0, 5};
   for (int target = 0; target < 6; ++target)
     EXPECT_TRUE(RetilesTheFanInItsPlane(FanOf(centre, ring), target)) << target;
+  // Work for the cell back end's cycle model: 9 coordinate compares (x fails at once, y at the
+  // second point, z holds for all six), 6 old and 4 new orientations.
+  int tests = 0;
+  EXPECT_TRUE(RetilesTheFanInItsPlane(FanOf(centre, ring), 0, &tests));
+  EXPECT_EQ(tests, 19);
   std::reverse(ring.begin(), ring.end());
   for (int target = 0; target < 6; ++target)
     EXPECT_TRUE(RetilesTheFanInItsPlane(FanOf(centre, ring), target)) << target;
