@@ -737,6 +737,9 @@ absl::Status ParsePly(absl::string_view data, Reading* out) {
       if (groups) mesh.face_groups.reserve(expected);
       for (FaceField& f : mesh.face_fields) f.values.reserve(expected);
     }
+    // An element of no property has records of no data, whatever its count (a fuzzed header
+    // announced 3e17 of them: walking them read nothing and never ended).
+    if (e.props.empty()) continue;
     size_t i = 0;
     if (!ascii && (is_vertex || is_face))
       i = ReadPlyBinaryRecords(e, role, is_vertex, values, mesh);

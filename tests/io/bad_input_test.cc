@@ -128,6 +128,31 @@ TEST_F(BadInputTest, TruncatedPly) {
   ExpectReadError(Truncate(ascii, 4), kInvalid, "the data ends in face 3");
 }
 
+// An element without properties holds no data, however many the header announces: it is
+// skipped at once (the fuzzer found a header announcing 3e17 of them, which hung the reader).
+TEST_F(BadInputTest, PlyElementWithoutPropertiesHoldsNoData) {
+  for (const std::string format : {"ascii", "binary_little_endian"}) {
+    std::string data = "ply\nformat " + format +
+                       " 1.0\nelement marker 333333333333956782\nelement vertex 3\n"
+                       "property float x\nproperty float y\nproperty float z\nelement face 1\n"
+                       "property list uchar int vertex_indices\nend_header\n";
+    if (format == "ascii") {
+      data += "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    } else {
+      const float xyz[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+      data.append(reinterpret_cast<const char*>(xyz), sizeof xyz);
+      const uint8_t n = 3;
+      const int32_t corners[3] = {0, 1, 2};
+      data.append(reinterpret_cast<const char*>(&n), 1);
+      data.append(reinterpret_cast<const char*>(corners), sizeof corners);
+    }
+    absl::StatusOr<RawMesh> m = ReadMeshFile(Write("marker_" + format + ".ply", data));
+    ASSERT_TRUE(m.ok()) << format << ": " << m.status();
+    EXPECT_EQ(m->num_vertices(), 3u) << format;
+    EXPECT_EQ(m->num_faces(), 1u) << format;
+  }
+}
+
 // "OFF BINARY" as OpenMesh writes it: little-endian counts, float points, int faces.
 std::string BinaryOff(const RawMesh& m) {
   std::string s = "OFF BINARY\n";
