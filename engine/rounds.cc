@@ -21,11 +21,13 @@ constexpr size_t kLargestWindowShare = 32;  // and short rounds answer a cancel 
 constexpr size_t kMinWindow = 256;
 // Fans read ahead of the one being read (NativePort::PrefetchVertex, PrefetchFan).
 constexpr size_t kPrefetchAhead = 4;
-// ReadFans takes the window in chunks of at most this many candidates (a cancel is polled per
-// chunk).
+// ReadFansAndPick takes the window in chunks of at most this many candidates (a cancel is
+// polled per chunk).
 constexpr size_t kFanChunk = 256;
 // The face index's moves are shared out in chunks of at most this many.
 constexpr size_t kMoveChunk = 256;
+// PickWinners' table of cells starts with this many slots (a power of two) and doubles as needed.
+constexpr size_t kFirstPickCells = 4096;
 
 // Boxes are widened by this much relative to their coordinates, so that two winners' new
 // triangles are never closer than the intersection test's own near-touching margin.
@@ -55,7 +57,9 @@ RoundScheduler::RoundScheduler(Mesh& mesh, WorkerPool& pool, FaceGrid* grid, con
       fan_shares_(pool.size()),
       move_shares_(pool.size()) {}
 
-absl::StatusOr<uint64_t> RoundScheduler::ReadFans(const RemovalPhase& phase) {
+absl::StatusOr<uint64_t> RoundScheduler::ReadFansAndPick(const RemovalPhase& phase, int64_t room,
+                                                         size_t* won) {
+  *won = 0;
   const size_t m = window_.size();
   box_.resize(m);
   live_.assign(m, 0);
@@ -130,12 +134,13 @@ absl::StatusOr<uint64_t> RoundScheduler::ReadFans(const RemovalPhase& phase) {
   };
   // Context c reads the c-th share of the window (in vertex order: the winners among them are
   // its share of the removal run too, so their fans are still in its cache), in chunks from the
-  // front. The last round's face index moves are shared too: context 0 starts on them, the
-  // others join once their fans are read (the fan reads never look at the index), and then
-  // every context takes what is left of the others' fans.
+  // front, then what is left of the others'. The context that reads the last fan picks the
+  // winners, while the others apply the last round's face index moves: neither the fan reads nor
+  // the pick look at the index, and the pick is the round's one serial step.
   const size_t moves = index_updates_pending_ && !phase.Stopped() ? grid_->MovesOfRound() : 0;
   move_shares_.Reset(moves);
   fan_shares_.Reset(m);
+  std::atomic<size_t> fans_read{0};
   const int n = pool_.size();
   pool_.Run([&](int c) {
     NativePort port(mesh_);
@@ -152,18 +157,16 @@ absl::StatusOr<uint64_t> RoundScheduler::ReadFans(const RemovalPhase& phase) {
       kept.fetch_add(kept_here, std::memory_order_relaxed);
     };
     size_t begin, end;
-    if (c != 0)
-      while (fan_shares_.TakeOwn(c, kFanChunk, &begin, &end)) {
-        if (phase.Stopped() || phase.PollCancelled()) return;
-        read_fans(begin, end);
-      }
-    while (move_shares_.Next(c, kMoveChunk, &begin, &end)) {
-      if (phase.Stopped() || phase.PollCancelled()) return;
-      grid_->ApplyMoves(begin, end, /*shared=*/n > 1);
-    }
     while (fan_shares_.Next(c, kFanChunk, &begin, &end)) {
       if (phase.Stopped() || phase.PollCancelled()) return;
       read_fans(begin, end);
+      // Release: the boxes read here; acquire: the others' (the pick reads them all).
+      if (fans_read.fetch_add(end - begin, std::memory_order_acq_rel) + (end - begin) == m)
+        *won = PickWinners(phase, room);
+    }
+    while (move_shares_.Next(c, kMoveChunk, &begin, &end)) {
+      if (phase.Stopped() || phase.PollCancelled()) return;
+      grid_->ApplyMoves(begin, end, /*shared=*/n > 1);
     }
   });
   FinishIndexUpdates(phase, /*applied=*/true);
@@ -218,20 +221,51 @@ size_t RoundScheduler::PickWinners(const RemovalPhase& phase, int64_t room) {
   won_.assign(m, 0);
   if (extent_.empty()) return 0;
   std::nth_element(extent_.begin(), extent_.begin() + extent_.size() / 2, extent_.end());
-  const double cell = std::max(2.0 * extent_[extent_.size() / 2], 1e-300);
+  // Any cell size finds every overlap (boxes that overlap or touch share a cell, the cell of a
+  // coordinate being monotone in it), so the product with the reciprocal serves as well as
+  // the quotient.
+  const double per_cell = 1.0 / std::max(2.0 * extent_[extent_.size() / 2], 1e-300);
   const auto range = [&](const FaceGrid::Box& b, int64_t lo[3], int64_t hi[3]) {
     const double l[3] = {b.lo.x - origin.x, b.lo.y - origin.y, b.lo.z - origin.z};
     const double h[3] = {b.hi.x - origin.x, b.hi.y - origin.y, b.hi.z - origin.z};
     int64_t count = 1;
     for (int a = 0; a < 3; ++a) {
-      lo[a] = static_cast<int64_t>(std::floor(l[a] / cell));
-      hi[a] = static_cast<int64_t>(std::floor(std::min(h[a] / cell, 1e15)));
+      // Both are at least 0 (the origin is the least corner), where truncation floors.
+      lo[a] = static_cast<int64_t>(std::min(l[a] * per_cell, 1e15));
+      hi[a] = static_cast<int64_t>(std::min(h[a] * per_cell, 1e15));
       count *= hi[a] - lo[a] + 1;
       if (count > kMaxCells) return false;
     }
     return true;
   };
-  cell_head_.clear();
+  // The table keeps its slots from round to round (clearing a hash map of this size frees it):
+  // a slot is taken in this pick when it carries this pick's stamp.
+  if (++pick_stamp_ == 0) {
+    for (PickCell& cell : pick_cells_) cell.stamp = 0;
+    pick_stamp_ = 1;
+  }
+  if (pick_cells_.empty()) pick_cells_.resize(kFirstPickCells);
+  size_t taken = 0;
+  const auto slot_of = [&](uint64_t key) {
+    const size_t mask = pick_cells_.size() - 1;
+    size_t i = static_cast<size_t>((key * 0x9E3779B97F4A7C15ULL) >> 32) & mask;
+    while (pick_cells_[i].stamp == pick_stamp_ && pick_cells_[i].key != key) i = (i + 1) & mask;
+    return i;
+  };
+  const auto take = [&](uint64_t key) -> PickCell& {
+    size_t i = slot_of(key);
+    if (pick_cells_[i].stamp == pick_stamp_) return pick_cells_[i];
+    if (2 * (taken + 1) > pick_cells_.size()) {  // at most half full: probes stay short
+      std::vector<PickCell> old(2 * pick_cells_.size());
+      old.swap(pick_cells_);
+      for (const PickCell& cell : old)
+        if (cell.stamp == pick_stamp_) pick_cells_[slot_of(cell.key)] = cell;
+      i = slot_of(key);
+    }
+    ++taken;
+    pick_cells_[i] = {key, pick_stamp_, kNone};
+    return pick_cells_[i];
+  };
   listed_.clear();  // (winner, next listing in the same cell)
   big_.clear();
   size_t winners = 0;
@@ -249,9 +283,9 @@ size_t RoundScheduler::PickWinners(const RemovalPhase& phase, int64_t room) {
       for (int64_t x = lo[0]; x <= hi[0] && !blocked; ++x)
         for (int64_t y = lo[1]; y <= hi[1] && !blocked; ++y)
           for (int64_t z = lo[2]; z <= hi[2] && !blocked; ++z) {
-            const auto it = cell_head_.find(CellKey(x, y, z));
-            for (uint32_t e = it == cell_head_.end() ? kNone : it->second; e != kNone && !blocked;
-                 e = listed_[e].second)
+            const PickCell& cell = pick_cells_[slot_of(CellKey(x, y, z))];
+            if (cell.stamp != pick_stamp_) continue;
+            for (uint32_t e = cell.head; e != kNone && !blocked; e = listed_[e].second)
               blocked = Overlap(box, box_[listed_[e].first]);
           }
     }
@@ -266,9 +300,9 @@ size_t RoundScheduler::PickWinners(const RemovalPhase& phase, int64_t room) {
     for (int64_t x = lo[0]; x <= hi[0]; ++x)
       for (int64_t y = lo[1]; y <= hi[1]; ++y)
         for (int64_t z = lo[2]; z <= hi[2]; ++z) {
-          auto [it, fresh] = cell_head_.try_emplace(CellKey(x, y, z), kNone);
-          listed_.emplace_back(k, it->second);
-          it->second = static_cast<uint32_t>(listed_.size() - 1);
+          PickCell& cell = take(CellKey(x, y, z));
+          listed_.emplace_back(k, cell.head);
+          cell.head = static_cast<uint32_t>(listed_.size() - 1);
         }
   }
   return winners;
@@ -309,13 +343,12 @@ absl::Status RoundScheduler::RunPass(RemovalBackend& backend, const RemovalPhase
     if (room <= 0) break;
     const auto start = std::chrono::steady_clock::now();
     ++round_;
-    absl::StatusOr<uint64_t> kept = ReadFans(phase);
+    size_t won = 0;
+    absl::StatusOr<uint64_t> kept = ReadFansAndPick(phase, room, &won);
     if (!kept.ok()) return kept.status();
     stats.boxes_kept += *kept;
     if (phase.Stopped()) break;
     const size_t live = static_cast<size_t>(std::count(live_.begin(), live_.end(), 1));
-    const size_t won = PickWinners(phase, room);
-    if (phase.Stopped()) break;
     if (2 * won < live)
       window_size = std::max(kMinWindow, window_size / 2);
     else if (5 * won > 4 * live)
@@ -332,8 +365,8 @@ absl::Status RoundScheduler::RunPass(RemovalBackend& backend, const RemovalPhase
           loser_nbrs.resize(loser_nbr_counts.size() * kMaxRing);
         }
       }
-    // Their outcomes do not depend on the order they run in: by vertex number (as ReadFans read
-    // them), for locality.
+    // Their outcomes do not depend on the order they run in: by vertex number (as ReadFansAndPick
+    // read them), for locality.
     winners.clear();
     ranks.clear();
     winner_boxes.clear();

@@ -22,8 +22,8 @@
 //      collapse writes only quadwords of faces with two vertices in its locked set), so each
 //      outcome is the one it would have against the mesh at the start of the round. Their new
 //      triangles lie in disjoint boxes, so they cannot meet each other; the face index is read
-//      only, its updates applied after the round in face order (FaceGrid::BeginRound), by one
-//      context while the others read the next round's fans (which never look at it). The
+//      only, its updates applied after the round (FaceGrid::BeginRound), by the contexts done
+//      with the next round's fans while one of them picks its winners (neither looks at it). The
 //      budget rules judge each winner against the round's starting totals with its change
 //      scaled by the number of winners (MechanicsLedger::BeginRound): the round's total change
 //      is then the mean of points within the budget, which is within it (the budgets are
@@ -34,7 +34,6 @@
 #include <cstdint>
 #include <vector>
 
-#include "absl/container/flat_hash_map.h"
 #include "absl/status/status.h"
 #include "engine/face_grid.h"
 #include "engine/mesh.h"
@@ -58,13 +57,13 @@ class RoundScheduler {
   absl::Status RunPass(RemovalBackend& backend, const RemovalPhase& phase, PassStats& stats);
 
  private:
-  // Boxes of the window's candidates (in parallel); `live[k]` false: no longer removable. The
-  // last round's face index moves, when pending, are applied meanwhile. Returns how many
-  // boxes were kept from an earlier round; with check_kept_boxes, an error for one that a
-  // fresh read does not give.
-  absl::StatusOr<uint64_t> ReadFans(const RemovalPhase& phase);
-  // Ends the last round's face index updates, if pending; `applied`: ReadFans applied its moves
-  // (otherwise they are applied now, serially).
+  // Boxes of the window's candidates (in parallel); `live[k]` false: no longer removable. Then
+  // PickWinners on the context that read the last box (*won: its result), while the others apply
+  // the last round's face index moves, when pending. Returns how many boxes were kept from an
+  // earlier round; with check_kept_boxes, an error for one that a fresh read does not give.
+  absl::StatusOr<uint64_t> ReadFansAndPick(const RemovalPhase& phase, int64_t room, size_t* won);
+  // Ends the last round's face index updates, if pending; `applied`: ReadFansAndPick applied its
+  // moves (otherwise they are applied now, serially).
   void FinishIndexUpdates(const RemovalPhase& phase, bool applied);
   // Marks the winners in window order; returns how many.
   size_t PickWinners(const RemovalPhase& phase, int64_t room);
@@ -97,13 +96,20 @@ class RoundScheduler {
   std::vector<uint32_t> changed_;  // the round's KernelStats::changed
   std::vector<uint64_t> by_vertex_;
   bool index_updates_pending_ = false;
-  // ReadFans: each context's share of the window (in vertex order) and of the last round's face
-  // index moves, and what is left of them.
+  // ReadFansAndPick: each context's share of the window (in vertex order) and of the last
+  // round's face index moves, and what is left of them.
   WorkShares fan_shares_, move_shares_;
-  // PickWinners: box extents, the winners so far, and a hashed grid of their boxes.
+  // PickWinners: box extents, the winners so far, and a hashed grid of their boxes (a table of
+  // cells kept from pick to pick, and the listings).
   std::vector<double> extent_;
   std::vector<uint32_t> order_, big_;
-  absl::flat_hash_map<uint64_t, uint32_t> cell_head_;  // cell -> its last listing
+  struct PickCell {
+    uint64_t key = 0;
+    uint32_t stamp = 0;  // taken in the pick that has this stamp
+    uint32_t head = 0;   // the cell's last listing
+  };
+  std::vector<PickCell> pick_cells_;  // open addressing, a power of two of slots
+  uint32_t pick_stamp_ = 0;
   std::vector<std::pair<uint32_t, uint32_t>> listed_;  // (winner, previous listing in the cell)
 };
 
