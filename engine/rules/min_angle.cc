@@ -12,16 +12,29 @@
 namespace femsimp {
 namespace {
 
+// A triangle's corners a, b, c: at each, the dot product of the two edges from it and their
+// squared lengths (in the order next corner, then the one after). Each edge is subtracted once
+// and negated where a corner needs it the other way round: negation is exact, so every figure is
+// bitwise the one the two edges from the corner give.
+struct Corners {
+  double uw[3], uu[3], ww[3];
+  Corners(const DVec3& a, const DVec3& b, const DVec3& c) {
+    const DVec3 ab = b - a, bc = c - b, ca = a - c;
+    const double lab = Dot(ab, ab), lbc = Dot(bc, bc), lca = Dot(ca, ca);
+    uw[0] = -Dot(ab, ca), uu[0] = lab, ww[0] = lca;
+    uw[1] = -Dot(bc, ab), uu[1] = lbc, ww[1] = lab;
+    uw[2] = -Dot(ca, bc), uu[2] = lca, ww[2] = lbc;
+  }
+};
+
 // cos^2 of the triangle's smallest angle (its smallest angle is below 90 degrees, where a
 // larger cosine means a smaller angle); 1 for a degenerate triangle.
 double SmallestAngleCos2(const DVec3& a, const DVec3& b, const DVec3& c) {
-  const DVec3* q[3] = {&a, &b, &c};
+  const Corners t(a, b, c);
   double worst = 0.0;
   for (int k = 0; k < 3; ++k) {
-    const DVec3 u = *q[(k + 1) % 3] - *q[k], w = *q[(k + 2) % 3] - *q[k];
-    const double uu = Dot(u, u), ww = Dot(w, w), uw = Dot(u, w);
-    if (!(uu > 0.0 && ww > 0.0)) return 1.0;
-    if (uw > 0.0) worst = std::max(worst, uw * uw / (uu * ww));
+    if (!(t.uu[k] > 0.0 && t.ww[k] > 0.0)) return 1.0;
+    if (t.uw[k] > 0.0) worst = std::max(worst, t.uw[k] * t.uw[k] / (t.uu[k] * t.ww[k]));
   }
   return worst;
 }
@@ -41,13 +54,12 @@ class MinAngleRule final : public CollapseRule {
  private:
   bool MeetsThreshold(const CollapseGeometry& g) const {
     for (int i = 0; i < g.faces; ++i) {
-      const DVec3* q[3] = {&g.vd, &g.b[i], &g.c[i]};
+      const Corners t(g.vd, g.b[i], g.c[i]);
       for (int k = 0; k < 3; ++k) {
-        const DVec3 u = *q[(k + 1) % 3] - *q[k], w = *q[(k + 2) % 3] - *q[k];
-        const double uu = Dot(u, u), ww = Dot(w, w), uw = Dot(u, w);
         // cos(angle) > cos_max  <=>  angle < min_angle (min_angle < 60 degrees, so
         // cos_max > 0); compared without a square root.
-        if (uw > 0.0 && uw * uw > cos_max_ * cos_max_ * uu * ww) return false;
+        if (t.uw[k] > 0.0 && t.uw[k] * t.uw[k] > cos_max_ * cos_max_ * t.uu[k] * t.ww[k])
+          return false;
       }
     }
     return true;
@@ -55,10 +67,25 @@ class MinAngleRule final : public CollapseRule {
 
   bool MeetsThresholdOrImproves(CollapseProposal& p) const {
     const CollapseGeometry& g = p.geometry;
-    double worst_new = 0.0;
-    for (int i = 0; i < g.faces; ++i)
-      worst_new = std::max(worst_new, SmallestAngleCos2(g.vd, g.b[i], g.c[i]));
-    if (worst_new <= cos_max_ * cos_max_) return true;
+    const double threshold = cos_max_ * cos_max_;
+    double worst_new = 0.0, worst_old = -1.0;  // worst_old: not needed yet
+    for (int i = 0; i < g.faces; ++i) {
+      const double cos2 = SmallestAngleCos2(g.vd, g.b[i], g.c[i]);
+      worst_new = std::max(worst_new, cos2);
+      // A new face below the threshold and worse than every old one refuses the collapse
+      // whatever the other new faces are.
+      if (cos2 > threshold) {
+        if (worst_old < 0.0) worst_old = WorstOld(p);
+        if (cos2 > worst_old) return false;
+      }
+    }
+    if (worst_new <= threshold) return true;
+    return worst_new <= worst_old;
+  }
+
+  // cos^2 of the smallest angle of the triangles the collapse replaces.
+  static double WorstOld(CollapseProposal& p) {
+    const CollapseGeometry& g = p.geometry;
     if (p.fan_smallest_angle_cos2 < 0.0) {
       const Ring& fan = *p.fan;
       const DVec3 v = ToD(fan.center_pos);
@@ -73,7 +100,7 @@ class MinAngleRule final : public CollapseRule {
     // A full-edge collapse also replaces Vd's other faces.
     for (int i = g.fan_faces; i < g.faces; ++i)
       worst_old = std::max(worst_old, SmallestAngleCos2(g.old_apex[i], g.b[i], g.c[i]));
-    return worst_new <= worst_old;
+    return worst_old;
   }
 
   double cos_max_;  // an angle is too small when its cosine exceeds this
