@@ -312,6 +312,7 @@ void FaceGrid::ApplyMoves(size_t begin, size_t end, bool shared) {
 
 void FaceGrid::FinishRound(const Mesh& mesh) {
   for (PendingShard& shard : shards_) shard.moves.clear();
+  TrackShards();  // before a new index measures the mesh anew
   if (unlisted_.load(std::memory_order_relaxed)) Fill(LiveFaces(mesh), 2 * (mask_ + 1), {});
 }
 
@@ -462,15 +463,35 @@ FaceGrid::Listing FaceGrid::ListingIn(uint32_t f, const Span& s, int64_t x, int6
 }
 
 bool FaceGrid::Move(uint32_t f, const Box& before, const Box* after) {
+  const FaceMove move{f, after == nullptr, before, after == nullptr ? before : *after};
+  return CommitMoves({&move, 1}, 0.0, 0);
+}
+
+bool FaceGrid::CommitMoves(std::span<const FaceMove> moves, double length_change,
+                           int64_t face_change) {
   if (deferred_) {
     PendingShard& shard = shards_[ThreadShard() % kPendingShards];
     std::lock_guard<std::mutex> lock(shard.mu);
-    shard.moves.push_back({f, after == nullptr, before, after == nullptr ? before : *after});
+    shard.moves.insert(shard.moves.end(), moves.begin(), moves.end());
+    shard.length_change += length_change;
+    shard.face_change += face_change;
     return true;
   }
   bool listed = true;
-  ForEachCellOp(f, before, after, [&](const CellOp& op) { listed = Apply(op) && listed; });
+  for (const FaceMove& m : moves)
+    ForEachCellOp(m.face, m.before, m.removed ? nullptr : &m.after,
+                  [&](const CellOp& op) { listed = Apply(op) && listed; });
+  if (length_change != 0.0 || face_change != 0) Track(length_change, face_change);
   return listed;
+}
+
+void FaceGrid::TrackShards() {
+  for (PendingShard& shard : shards_) {
+    if (shard.length_change != 0.0 || shard.face_change != 0)
+      Track(shard.length_change, shard.face_change);
+    shard.length_change = 0.0;
+    shard.face_change = 0;
+  }
 }
 
 template <class Emit>

@@ -87,6 +87,7 @@ class FaceGrid {
   void AbandonRound() {
     deferred_ = false;
     for (PendingShard& shard : shards_) shard.moves.clear();
+    TrackShards();
   }
 
   // Calls visit(face) for every face listed in the held cells that overlap `box` (a face may
@@ -158,6 +159,16 @@ class FaceGrid {
   // cells); an empty `after` removes it. False when a cell of `after` had no room (build only).
   // `before` must be the box f was last listed with.
   bool Move(uint32_t f, const Box& before, const Box* after);
+  // One face's move, for CommitMoves: from `before` to `after`, or out of the index (removed).
+  struct FaceMove {
+    uint32_t face;
+    bool removed;
+    Box before, after;
+  };
+  // A commit's moves at once and its Track figures: in a round, recorded under one lock with
+  // the figures summed per shard until the round ends (so that contexts do not share a cache
+  // line per commit). False as Move.
+  bool CommitMoves(std::span<const FaceMove> moves, double length_change, int64_t face_change);
 
   double cell_size() const { return cell_; }
   // The largest coordinate magnitude of the live faces' corners when last measured: positions
@@ -267,11 +278,7 @@ class FaceGrid {
   std::unique_ptr<Listing[]> arena_;
   std::atomic<uint64_t> used_{0};
   // Deterministic rounds: the moves recorded while the lists are read only.
-  struct PendingMove {
-    uint32_t face;
-    bool removed;
-    Box before, after;
-  };
+  using PendingMove = FaceMove;
   bool deferred_ = false;
   // A round's commits record their moves in the shard of their thread (one lock each, on its
   // own cache line, so that contexts do not queue on one); ApplyMoves reads them in place, move
@@ -280,7 +287,11 @@ class FaceGrid {
   struct alignas(64) PendingShard {
     std::mutex mu;
     std::vector<PendingMove> moves;  // guarded by mu
+    double length_change = 0.0;      // the commits' Track figures, guarded by mu
+    int64_t face_change = 0;
   };
+  // Adds the shards' Track figures to the tracked ones, in shard order (one thread).
+  void TrackShards();
   std::array<PendingShard, kPendingShards> shards_;
   std::array<size_t, kPendingShards + 1> shard_start_{};
   std::atomic<bool> unlisted_{false};        // a move of the round found no room

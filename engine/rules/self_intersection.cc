@@ -85,22 +85,23 @@ class SelfIntersectionRule final : public CollapseRule {
     const Ring& fan = *p.fan;
     double length_change = 0;
     int64_t face_change = 0;
+    FaceGrid::FaceMove moves[kMaxRing];
     for (int f = 0; f < fan.faces; ++f) {
       const Triangle before = OldTriangle(fan, f);
-      const FaceGrid::Box old_box = FaceGrid::BoxOf(before.p, 3);
-      const uint32_t face = FaceOf(fan.out[f]);
+      FaceGrid::FaceMove& m = moves[f];
+      m.face = FaceOf(fan.out[f]);
+      m.before = m.after = FaceGrid::BoxOf(before.p, 3);
+      m.removed = p.IsDeleted(f);
       length_change -= Perimeter(before);
-      if (p.IsDeleted(f)) {
-        grid_->Move(face, old_box, nullptr);
+      if (m.removed) {
         --face_change;
       } else {
         const Triangle after = NewTriangle(p, f);
-        const FaceGrid::Box new_box = FaceGrid::BoxOf(after.p, 3);
-        grid_->Move(face, old_box, &new_box);
+        m.after = FaceGrid::BoxOf(after.p, 3);
         length_change += Perimeter(after);
       }
     }
-    grid_->Track(length_change, face_change);
+    grid_->CommitMoves({moves, static_cast<size_t>(fan.faces)}, length_change, face_change);
   }
 
   void Release(CollapseProposal& p) const override {
@@ -223,21 +224,23 @@ class SelfIntersectionRule final : public CollapseRule {
   void CommitStar(const EdgeStar& star) const {
     double length_change = 0;
     int64_t face_change = 0;
+    FaceGrid::FaceMove moves[kMaxStar];
     for (int k = 0; k < star.count; ++k) {
       const Triangle before = OldStarTriangle(star, k);
-      const FaceGrid::Box old_box = FaceGrid::BoxOf(before.p, 3);
+      FaceGrid::FaceMove& m = moves[k];
+      m.face = star.face[k];
+      m.before = m.after = FaceGrid::BoxOf(before.p, 3);
+      m.removed = !star.survives[k];
       length_change -= Perimeter(before);
-      if (!star.survives[k]) {
-        grid_->Move(star.face[k], old_box, nullptr);
+      if (m.removed) {
         --face_change;
       } else {
         const Triangle after = NewStarTriangle(star, k);
-        const FaceGrid::Box new_box = FaceGrid::BoxOf(after.p, 3);
-        grid_->Move(star.face[k], old_box, &new_box);
+        m.after = FaceGrid::BoxOf(after.p, 3);
         length_change += Perimeter(after);
       }
     }
-    grid_->Track(length_change, face_change);
+    grid_->CommitMoves({moves, static_cast<size_t>(star.count)}, length_change, face_change);
   }
 
   static bool InStar(const EdgeStar& star, uint32_t face) {
