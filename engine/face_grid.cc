@@ -303,7 +303,7 @@ void FaceGrid::ApplyMoves(size_t begin, size_t end, bool shared) {
   bool listed = true;
   for (size_t i = begin; i < end; ++i) {
     while (i >= shard_start_[k + 1]) ++k;
-    const PendingMove& m = shards_[k].moves[i - shard_start_[k]];
+    const FaceMove& m = shards_[k].moves[i - shard_start_[k]];
     ForEachCellOp(m.face, m.before, m.removed ? nullptr : &m.after,
                   [&](const CellOp& op) { listed = Apply(op, shared) && listed; });
   }

@@ -278,7 +278,6 @@ class FaceGrid {
   std::unique_ptr<Listing[]> arena_;
   std::atomic<uint64_t> used_{0};
   // Deterministic rounds: the moves recorded while the lists are read only.
-  using PendingMove = FaceMove;
   bool deferred_ = false;
   // A round's commits record their moves in the shard of their thread (one lock each, on its
   // own cache line, so that contexts do not queue on one); ApplyMoves reads them in place, move
@@ -286,8 +285,8 @@ class FaceGrid {
   static constexpr size_t kPendingShards = 16;
   struct alignas(64) PendingShard {
     std::mutex mu;
-    std::vector<PendingMove> moves;  // guarded by mu
-    double length_change = 0.0;      // the commits' Track figures, guarded by mu
+    std::vector<FaceMove> moves;  // guarded by mu
+    double length_change = 0.0;   // the commits' Track figures, guarded by mu
     int64_t face_change = 0;
   };
   // Adds the shards' Track figures to the tracked ones, in shard order (one thread).

@@ -35,10 +35,6 @@ class WorkShares {
     }
     return false;
   }
-  // From context c's own share only.
-  bool TakeOwn(int c, size_t max_chunk, size_t* begin, size_t* end) {
-    return Take(shares_[c].left, true, max_chunk, begin, end);
-  }
 
  private:
   struct alignas(64) Share {
