@@ -1,5 +1,7 @@
 #include "engine/features.h"
 
+#include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <numbers>
 
@@ -28,58 +30,89 @@ bool TurnsSharply(const Vec3& a, const Vec3& v, const Vec3& b, double cos_limit)
 }
 
 FeatureSummary MarkFeatures(Mesh& mesh, double feature_angle_deg,
-                            const std::function<bool()>& cancelled) {
-  const auto poll = [&](uint32_t i) { return i % (1u << 16) == 0 && cancelled && cancelled(); };
-  FeatureSummary summary;
+                            const std::function<bool()>& cancelled, WorkerPool* pool) {
   const double cos_limit = std::cos(feature_angle_deg * std::numbers::pi / 180.0);
   HalfEdgeQ* h = mesh.halfedges();
-  for (uint32_t e = 0; e < mesh.halfedge_capacity(); ++e) {
-    if (poll(e)) return summary;
-    if (h[e].flags & kFaceRemoved) continue;
-    const uint32_t t = h[e].twin;
-    bool feature;
-    if (t == kNone) {
-      feature = true;
-      ++summary.boundary_edges;
-    } else {
-      if (t < e) continue;  // each interior edge once
-      if (h[e].group != h[t].group) {
+  std::atomic<uint32_t>* status = mesh.status();
+  std::atomic<bool> stopped{false};
+  std::atomic<uint64_t> feature_edges{0}, boundary_edges{0}, corner_vertices{0};
+  // Chunks of kChunk items taken in turn by the pool's contexts; each polls `cancelled` first.
+  constexpr uint32_t kChunk = 1u << 16;
+  const auto run = [&](uint32_t count, const auto& body) {
+    std::atomic<uint32_t> next{0};
+    const auto work = [&](int) {
+      for (;;) {
+        const uint32_t begin = next.fetch_add(kChunk, std::memory_order_relaxed);
+        if (begin >= count || stopped.load(std::memory_order_relaxed)) return;
+        if (cancelled && cancelled()) {
+          stopped.store(true, std::memory_order_relaxed);
+          return;
+        }
+        body(begin, std::min(count, begin + kChunk));
+      }
+    };
+    if (pool == nullptr || pool->size() == 1 || count <= kChunk)
+      work(0);
+    else
+      pool->Run(work);
+    return !stopped.load();
+  };
+  // Each half-edge marks itself, so that contexts write disjoint flags; the two of an edge
+  // decide alike (both from the lower one's side), and the edge counts at the lower one.
+  const bool edges_done = run(mesh.halfedge_capacity(), [&](uint32_t begin, uint32_t end) {
+    uint64_t features = 0, boundaries = 0;
+    for (uint32_t e = begin; e < end; ++e) {
+      if (h[e].flags & kFaceRemoved) continue;
+      const uint32_t t = h[e].twin;
+      bool feature;
+      if (t == kNone) {
+        feature = true;
+        ++boundaries;
+      } else if (h[e].group != h[t].group) {
         feature = true;
       } else {
-        const DVec3 n1 = FaceNormal(mesh, FaceOf(e)), n2 = FaceNormal(mesh, FaceOf(t));
+        const DVec3 n1 = FaceNormal(mesh, FaceOf(std::min(e, t)));
+        const DVec3 n2 = FaceNormal(mesh, FaceOf(std::max(e, t)));
         feature = Dot(n1, n2) < cos_limit * Norm(n1) * Norm(n2);
       }
+      h[e].flags = (h[e].flags & ~kFeatureEdge) | (feature ? kFeatureEdge : 0u);
+      features += feature && (t == kNone || e < t);
     }
-    const uint32_t bits = feature ? kFeatureEdge : 0u;
-    h[e].flags = (h[e].flags & ~kFeatureEdge) | bits;
-    if (t != kNone) h[t].flags = (h[t].flags & ~kFeatureEdge) | bits;
-    summary.feature_edges += feature;
-  }
-  NativePort port(mesh);
-  Ring ring;
-  std::atomic<uint32_t>* status = mesh.status();
-  for (uint32_t v = 0; v < mesh.vertex_capacity(); ++v) {
-    if (poll(v)) return summary;
-    const uint32_t s = status[v].load(std::memory_order_relaxed);
-    if (s == kRemoved || mesh.IsLocked(v)) continue;  // locked: kFixed since Build, not a corner
-    if (s == kFixed) status[v].store(kRemovable, std::memory_order_relaxed);  // re-marked below
-    bool corner = GatherRing(port, v, ring) != RingResult::kOk;  // too wide: leave it alone
-    if (!corner) {
-      int count = 0, ends[2] = {0, 0};
-      for (int i = 0; i < ring.neighbours(); ++i)
-        if (ring.feature[i]) {
-          if (count < 2) ends[count] = i;
-          ++count;
-        }
-      corner = (count != 0 && count != 2) ||
-               (count == 2 &&
-                TurnsSharply(ring.pos[ends[0]], ring.center_pos, ring.pos[ends[1]], cos_limit));
+    feature_edges.fetch_add(features, std::memory_order_relaxed);
+    boundary_edges.fetch_add(boundaries, std::memory_order_relaxed);
+  });
+  FeatureSummary summary;
+  summary.feature_edges = feature_edges.load();
+  summary.boundary_edges = boundary_edges.load();
+  if (!edges_done) return summary;
+  run(mesh.vertex_capacity(), [&](uint32_t begin, uint32_t end) {
+    NativePort port(mesh);
+    Ring ring;
+    uint64_t corners = 0;
+    for (uint32_t v = begin; v < end; ++v) {
+      const uint32_t s = status[v].load(std::memory_order_relaxed);
+      if (s == kRemoved || mesh.IsLocked(v)) continue;  // locked: kFixed since Build, not a corner
+      bool corner = GatherRing(port, v, ring) != RingResult::kOk;  // too wide: leave it alone
+      if (!corner) {
+        int count = 0, ends[2] = {0, 0};
+        for (int i = 0; i < ring.neighbours(); ++i)
+          if (ring.feature[i]) {
+            if (count < 2) ends[count] = i;
+            ++count;
+          }
+        corner = (count != 0 && count != 2) ||
+                 (count == 2 &&
+                  TurnsSharply(ring.pos[ends[0]], ring.center_pos, ring.pos[ends[1]], cos_limit));
+      }
+      if (corner)
+        status[v].store(kFixed, std::memory_order_relaxed);
+      else if (s == kFixed)
+        status[v].store(kRemovable, std::memory_order_relaxed);  // marked before as a corner
+      corners += corner;
     }
-    if (corner) {
-      status[v].store(kFixed, std::memory_order_relaxed);
-      ++summary.corner_vertices;
-    }
-  }
+    corner_vertices.fetch_add(corners, std::memory_order_relaxed);
+  });
+  summary.corner_vertices = corner_vertices.load();
   return summary;
 }
 

@@ -7,6 +7,7 @@
 
 #include "engine/mesh.h"
 #include "engine/ring.h"
+#include "engine/worker_pool.h"
 
 namespace femsimp {
 
@@ -20,9 +21,11 @@ struct FeatureSummary {
 // normals differ by more than feature_angle_deg. A vertex where one or three or more feature
 // edges meet, or where its two feature edges turn by more than feature_angle_deg, is a corner.
 // `cancelled` (may be empty) is polled every 64Ki edges and vertices; once it says true the
-// marks are left half made, and the mesh must not be simplified with them.
+// marks are left half made, and the mesh must not be simplified with them. With a pool its
+// contexts share the work; the marks and counts do not depend on how many there are.
 FeatureSummary MarkFeatures(Mesh& mesh, double feature_angle_deg,
-                            const std::function<bool()>& cancelled = {});
+                            const std::function<bool()>& cancelled = {},
+                            WorkerPool* pool = nullptr);
 
 // True when the line a -> v -> b turns by more than the angle whose cosine is cos_limit.
 bool TurnsSharply(const Vec3& a, const Vec3& v, const Vec3& b, double cos_limit);

@@ -161,7 +161,8 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
 
   // Fidelity set-up (docs/FIDELITY.md): features, tolerance, mechanical reference values.
   const bool closed = IsClosed(mesh);
-  const FeatureSummary features = MarkFeatures(mesh, options.feature_angle_deg, cancelled);
+  WorkerPool pool(options.threads);
+  const FeatureSummary features = MarkFeatures(mesh, options.feature_angle_deg, cancelled, &pool);
   if (cancelled_in_setup()) return result;
   result.feature_edges = features.feature_edges;
   result.corner_vertices = features.corner_vertices;
@@ -191,7 +192,6 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
   setup.mass = &mass_before;
   setup.resultants = &fields_before;
   if (cancelled_in_setup()) return result;
-  WorkerPool pool(options.threads);
   std::optional<FaceGrid> face_grid;
   if (!options.allow_self_intersections)
     setup.face_grid = &face_grid.emplace(mesh, cancelled, &pool);
