@@ -45,11 +45,8 @@ class SpinHold {
   explicit SpinHold(std::atomic<uint32_t>* lock) : lock_(lock) {
     if (lock_ == nullptr) return;
     for (uint32_t free = 0; !lock_->compare_exchange_weak(free, 1, std::memory_order_acquire);
-         free = 0) {
-#if defined(__x86_64__) || defined(__i386__)
-      __builtin_ia32_pause();
-#endif
-    }
+         free = 0)
+      SpinPause();
   }
   ~SpinHold() {
     if (lock_ != nullptr) lock_->store(0, std::memory_order_release);
@@ -188,8 +185,6 @@ void FaceGrid::Rebuild(const Mesh& mesh, const std::function<bool()>& cancelled)
 
 void FaceGrid::Fill(const std::vector<uint32_t>& live, uint64_t min_capacity,
                     const std::function<bool()>& cancelled) {
-  // Every chunk's faces' cells in turn, as passes 1 and 3 visit them.
-  std::vector<std::vector<uint32_t>> slots((live.size() + kPollFaces - 1) / kPollFaces);
   for (uint64_t capacity = std::bit_ceil(std::max<uint64_t>(1024, min_capacity));;) {
     mask_ = capacity - 1;
     cells_ = std::make_unique<Cell[]>(capacity);
@@ -197,9 +192,7 @@ void FaceGrid::Fill(const std::vector<uint32_t>& live, uint64_t min_capacity,
     // Pass 1: claim the cells and count their listings (cells are claimed by compare-and-swap,
     // so contexts may claim them together; where each lands does not matter).
     std::atomic<bool> fits{true};
-    const bool done = ForEachChunk(live.size(), cancelled, [&](size_t k, size_t begin, size_t end) {
-      std::vector<uint32_t>& mine = slots[k];
-      mine.clear();
+    const bool done = ForEachChunk(live.size(), cancelled, [&](size_t, size_t begin, size_t end) {
       for (size_t i = begin; i < end && fits.load(std::memory_order_relaxed); ++i) {
         const Triangle t = FaceTriangle(live[i]);
         ForEachCell(RangeOf(BoxOf(t.p, 3)), [&](uint64_t key) {
@@ -209,7 +202,6 @@ void FaceGrid::Fill(const std::vector<uint32_t>& live, uint64_t min_capacity,
             return;
           }
           std::atomic_ref<uint32_t>(cells_[slot].size).fetch_add(1, std::memory_order_relaxed);
-          mine.push_back(static_cast<uint32_t>(slot));
         });
       }
     });
@@ -236,9 +228,10 @@ void FaceGrid::Fill(const std::vector<uint32_t>& live, uint64_t min_capacity,
     }
     // Pass 3: list the faces. A cell's listings come in whatever order the contexts reach it:
     // no reader depends on that order (a face comes from the first held cell its listing's
-    // corner says, and the intersection check keeps the smallest face id it meets).
-    ForEachChunk(live.size(), cancelled, [&](size_t k, size_t begin, size_t end) {
-      const uint32_t* slot = slots[k].data();
+    // corner says, and the intersection check keeps the smallest face id it meets). The cells
+    // are found again by their keys: pass 1 keeping each listing's slot for this pass cost more
+    // (its memory, a fresh page fault per 1,024 listings, copies as it grew) than the lookups.
+    ForEachChunk(live.size(), cancelled, [&](size_t, size_t begin, size_t end) {
       for (size_t i = begin; i < end; ++i) {
         const Triangle t = FaceTriangle(live[i]);
         const Span span = SpanOf(BoxOf(t.p, 3));
@@ -246,7 +239,7 @@ void FaceGrid::Fill(const std::vector<uint32_t>& live, uint64_t min_capacity,
         for (int64_t x = r.lo[0]; x <= r.hi[0]; ++x)
           for (int64_t y = r.lo[1]; y <= r.hi[1]; ++y)
             for (int64_t z = r.lo[2]; z <= r.hi[2]; ++z) {
-              Cell& cell = cells_[*slot++];
+              Cell& cell = cells_[Find(Key(x, y, z))];
               const uint32_t at =
                   std::atomic_ref<uint32_t>(cell.size).fetch_add(1, std::memory_order_relaxed);
               cell.data[at] = ListingIn(live[i], span, x, y, z);

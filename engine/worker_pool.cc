@@ -10,9 +10,7 @@ bool SpinUntil(Done done, std::chrono::microseconds limit) {
   for (int i = 1;; ++i) {
     if (done()) return true;
     if (i % 64 == 0 && std::chrono::steady_clock::now() >= until) return false;
-#if defined(__x86_64__) || defined(__i386__)
-    __builtin_ia32_pause();
-#endif
+    SpinPause();
   }
 }
 

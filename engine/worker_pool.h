@@ -18,6 +18,13 @@
 
 namespace femsimp {
 
+// A spinning context's pause between polls (lets the core's other thread run).
+inline void SpinPause() {
+#if defined(__x86_64__) || defined(__i386__)
+  __builtin_ia32_pause();
+#endif
+}
+
 class WorkerPool {
  public:
   explicit WorkerPool(int contexts);
