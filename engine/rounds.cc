@@ -63,10 +63,7 @@ absl::StatusOr<uint64_t> RoundScheduler::ReadFansAndPick(const RemovalPhase& pha
   const size_t m = window_.size();
   box_.resize(m);
   live_.assign(m, 0);
-  // Read in vertex order, for locality (the window is in cost order, scattered over the mesh).
-  by_vertex_.resize(m);  // (vertex, window entry), sorted as plain keys
-  for (uint32_t k = 0; k < m; ++k) by_vertex_[k] = uint64_t{phase.candidates[window_[k]]} << 32 | k;
-  std::sort(by_vertex_.begin(), by_vertex_.end());
+  by_vertex_.resize(m);  // (vertex, window entry), sorted as plain keys by context 0
   std::atomic<uint64_t> kept{0};
   std::atomic<uint32_t> differs{kNone};  // check_kept_boxes: a vertex whose kept box is wrong
   // A candidate's box: V and its one-ring (with full-edge collapses, the box of every star of
@@ -132,19 +129,34 @@ absl::StatusOr<uint64_t> RoundScheduler::ReadFansAndPick(const RemovalPhase& pha
     box_round_[k] = round_;
     return false;
   };
-  // Context c reads the c-th share of the window (in vertex order: the winners among them are
-  // its share of the removal run too, so their fans are still in its cache), in chunks from the
-  // front, then what is left of the others'. The context that reads the last fan picks the
-  // winners, while the others apply the last round's face index moves: neither the fan reads nor
-  // the pick look at the index, and the pick is the round's one serial step.
+  // Context 0 sorts the window in vertex order (for locality: it is in cost order, scattered
+  // over the mesh) while the others apply the last round's face index moves. Then context c
+  // reads the c-th share of the window (the winners among them are its share of the removal
+  // run too, so their fans are still in its cache), in chunks from the front, then what is left
+  // of the others'. The context that reads the last fan picks the winners, while the others
+  // apply the rest of the moves: neither the fan reads nor the pick look at the index, and the
+  // sort and the pick are the round's serial steps.
   const size_t moves = index_updates_pending_ && !phase.Stopped() ? grid_->MovesOfRound() : 0;
   move_shares_.Reset(moves);
   fan_shares_.Reset(m);
   std::atomic<size_t> fans_read{0};
+  std::atomic<bool> sorted{false};
   const int n = pool_.size();
   pool_.Run([&](int c) {
     NativePort port(mesh_);
     Ring ring, outer;
+    size_t begin, end;
+    if (c == 0) {
+      for (uint32_t k = 0; k < m; ++k)
+        by_vertex_[k] = uint64_t{phase.candidates[window_[k]]} << 32 | k;
+      std::sort(by_vertex_.begin(), by_vertex_.end());
+      sorted.store(true, std::memory_order_release);
+    } else {
+      while (!sorted.load(std::memory_order_acquire) &&
+             move_shares_.Next(c, kMoveChunk, &begin, &end))
+        grid_->ApplyMoves(begin, end, /*shared=*/true);
+      while (!sorted.load(std::memory_order_acquire)) SpinPause();
+    }
     const auto read_fans = [&](size_t begin, size_t end) {
       uint64_t kept_here = 0;
       for (size_t i = begin; i < end; ++i) {
@@ -156,7 +168,6 @@ absl::StatusOr<uint64_t> RoundScheduler::ReadFansAndPick(const RemovalPhase& pha
       }
       kept.fetch_add(kept_here, std::memory_order_relaxed);
     };
-    size_t begin, end;
     while (fan_shares_.Next(c, kFanChunk, &begin, &end)) {
       if (phase.Stopped() || phase.PollCancelled()) return;
       read_fans(begin, end);
