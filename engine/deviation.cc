@@ -10,9 +10,7 @@
 namespace femsimp {
 namespace {
 
-struct P2 {
-  double x, y;
-};
+using P2 = PlanePoint;
 P2 Sub2(P2 a, P2 b) { return {a.x - b.x, a.y - b.y}; }
 double Cross2(P2 a, P2 b) { return a.x * b.y - a.y * b.x; }
 double Orient(P2 a, P2 b, P2 c) { return Cross2(Sub2(b, a), Sub2(c, a)); }
@@ -125,87 +123,140 @@ double Displacement::Reach() const {
   return std::sqrt(x * x + y * y + z * z);
 }
 
-bool BoundDeviation(const Ring& ring, int target, int line_other, const Displacement* old_moved,
-                    double limit, Displacement* new_moved, int* work) {
+void LayOutFan(const Ring& ring, FanLayout* layout) {
   const int n = ring.neighbours();
   const int nf = ring.faces;
-  const DVec3 v = ToD(ring.center_pos);
-  DVec3 p[kMaxRing + 1];
-  for (int k = 0; k < n; ++k) p[k] = ToD(ring.pos[k]);
-  if (ring.boundary && line_other < 0) return false;  // boundary vertices slide along it only
-
-  // The layout plane: perpendicular to the fan's area-weighted normal.
+  FanLayout& l = *layout;
+  l.v = ToD(ring.center_pos);
+  for (int k = 0; k < n; ++k) l.p[k] = ToD(ring.pos[k]);
   DVec3 normal{0, 0, 0};
-  for (int f = 0; f < nf; ++f) normal += Cross(p[f] - v, p[(f + 1) % n] - v);
+  for (int f = 0; f < nf; ++f) normal += Cross(l.p[f] - l.v, l.p[(f + 1) % n] - l.v);
   const double nlen = Norm(normal);
-  if (!(nlen > 0.0)) return false;
-  DVec3 u, w;
-  PlaneBasis((1.0 / nlen) * normal, &u, &w);
-  P2 q[kMaxRing + 1];
-  double scale = 0.0;
+  l.ok = nlen > 0.0;
+  if (!l.ok) return;
+  PlaneBasis((1.0 / nlen) * normal, &l.u, &l.w);
+  l.scale = 0.0;
   for (int k = 0; k < n; ++k) {
-    q[k] = {Dot(p[k] - v, u), Dot(p[k] - v, w)};
-    scale = std::max(scale, std::sqrt(q[k].x * q[k].x + q[k].y * q[k].y));
+    l.q[k] = {Dot(l.p[k] - l.v, l.u), Dot(l.p[k] - l.v, l.w)};
+    l.scale = std::max(l.scale, std::sqrt(l.q[k].x * l.q[k].x + l.q[k].y * l.q[k].y));
   }
-  const double eps_len = 1e-9 * scale, eps_area = 1e-12 * scale * scale;
+  l.eps_len = 1e-9 * l.scale;
+  l.eps_area = 1e-12 * l.scale * l.scale;
+  l.winds_around_v = true;
+  for (int f = 0; f < nf && l.winds_around_v; ++f)
+    l.winds_around_v = Orient({0, 0}, l.q[f], l.q[(f + 1) % n]) > l.eps_area;
+}
+
+bool LayOutDirection(const Ring& ring, const FanLayout& layout, int target, int line_other,
+                     const Displacement* old_moved, double limit, DirectionLayout* d, int* work) {
+  const int n = ring.neighbours();
+  const int nf = ring.faces;
+  if (ring.boundary && line_other < 0) return false;  // boundary vertices slide along it only
+  if (!layout.ok) return false;
+  const DVec3& v = layout.v;
+  const DVec3* p = layout.p;
+  const P2* q = layout.q;
+  const double eps_area = layout.eps_area;
 
   // Where V goes: itself, or its closest point on the new feature edge (line_other, target).
-  DVec3 vp = v;
+  d->vp = v;
   if (line_other >= 0) {
-    const DVec3 a = p[line_other], d = p[target] - p[line_other];
-    const double s = Dot(v - a, d) / Dot(d, d);
+    const DVec3 a = p[line_other], e = p[target] - p[line_other];
+    const double s = Dot(v - a, e) / Dot(e, e);
     if (!(s > 1e-6 && s < 1.0 - 1e-6)) return false;  // V' would sit on a line vertex
-    vp = a + s * d;
+    d->vp = a + s * e;
   }
-  const P2 v2 = {Dot(vp - v, u), Dot(vp - v, w)};
+  const P2 v2 = {Dot(d->vp - v, layout.u), Dot(d->vp - v, layout.w)};
+  d->v2 = v2;
 
   // Old layout: fan faces with V at V', every one counter-clockwise. New layout: the surviving
   // faces with Vd for V, tiling the same polygon from Vd.
-  for (int f = 0; f < nf; ++f)
-    if (!(Orient(v2, q[f], q[(f + 1) % n]) > eps_area)) return false;
+  if (line_other < 0) {
+    if (!layout.winds_around_v) return false;
+  } else {
+    for (int f = 0; f < nf; ++f)
+      if (!(Orient(v2, q[f], q[(f + 1) % n]) > eps_area)) return false;
+  }
   const P2 qd = q[target];
-  bool survives[kMaxRing];
+  d->qd = qd;
   for (int f = 0; f < nf; ++f) {
     const int b = f, c = (f + 1) % n;
-    survives[f] = b != target && c != target;
-    if (survives[f] && !(Orient(qd, q[b], q[c]) > eps_area)) return false;
+    d->survives[f] = b != target && c != target;
+    if (d->survives[f] && !(Orient(qd, q[b], q[c]) > eps_area)) return false;
   }
 
   // The step at V', on the new face(s) holding its position.
-  DVec3 step_v[kMaxRing];
-  bool holds_v[kMaxRing];
   bool placed = false;
+  bool inside[kMaxRing];  // V' lies in the face's interior, clear of its edges
   for (int f = 0; f < nf; ++f) {
-    holds_v[f] = false;
-    if (!survives[f]) continue;
+    d->holds_v[f] = false;
+    if (!d->survives[f]) continue;
     const int b = f, c = (f + 1) % n;
     double l[3];
     Barycentric(v2, qd, q[b], q[c], Orient(qd, q[b], q[c]), l);
     if (l[0] < -1e-9 || l[1] < -1e-9 || l[2] < -1e-9) continue;
     const DVec3 at = l[0] * p[target] + l[1] * p[b] + l[2] * p[c];
-    step_v[f] = at - v;
-    holds_v[f] = true;
+    d->step_v[f] = at - v;
+    d->holds_v[f] = true;
+    inside[f] = l[0] > 1e-7 && l[1] > 1e-7 && l[2] > 1e-7;
     placed = true;
   }
   if (!placed) return false;
 
-  // Refused early when V' alone takes a new face beyond the limit. Where the layouts tile (the
-  // turns below), some old face f overlaps the face g holding V' (the old fan covers all around
-  // V'), so g's bound is at least the smaller of f's bound plus |step| and the reach of f's box
-  // shifted by the step (NewDisplacement); the least of that over the fan is a floor for g's
-  // bound. Where they do not tile, the collapse is refused anyway.
+  // Refused early when V' alone takes a new face beyond the limit. The cell of old face f and
+  // new face g holding V' has the step at V' for a corner when they overlap, and then g's bound
+  // is at least the smaller of f's bound plus |step| and the reach of f's box shifted by the
+  // step (NewDisplacement). Where the layouts tile (the turns below) some old face overlaps g
+  // (the old fan covers all around V'), so the least of that over the fan is a floor for g's
+  // bound; where V' is inside g, every old face (each has V' for a corner) overlaps g, and the
+  // most over the fan of either part is. Where they do not tile, the collapse is refused anyway.
   for (int g = 0; g < nf; ++g) {
-    if (!holds_v[g]) continue;
-    const DVec3 s = step_v[g];
+    if (!d->holds_v[g]) continue;
+    const DVec3 s = d->step_v[g];
     const double step = Norm(s);
     double floor = std::numeric_limits<double>::infinity();
-    for (int f = 0; f < nf && floor > limit; ++f)
-      floor = std::min(floor, std::min(old_moved[f].bound + step, ShiftedReach(old_moved[f], s)));
+    if (inside[g]) {
+      double plus_step = 0.0, reach = 0.0;
+      for (int f = 0; f < nf; ++f) {
+        plus_step = std::max(plus_step, old_moved[f].bound + step);
+        reach = std::max(reach, ShiftedReach(old_moved[f], s));
+      }
+      floor = std::min(plus_step, reach);
+    } else {
+      for (int f = 0; f < nf && floor > limit; ++f)
+        floor = std::min(floor, std::min(old_moved[f].bound + step, ShiftedReach(old_moved[f], s)));
+    }
     if (floor > limit) {
       *work = nf;
       return false;
     }
   }
+  return true;
+}
+
+bool BoundDeviation(const Ring& ring, int target, int line_other, const Displacement* old_moved,
+                    double limit, Displacement* new_moved, int* work) {
+  FanLayout layout;
+  LayOutFan(ring, &layout);
+  DirectionLayout direction;
+  if (!LayOutDirection(ring, layout, target, line_other, old_moved, limit, &direction, work))
+    return false;
+  return BoundDeviation(ring, layout, direction, target, old_moved, limit, new_moved, work);
+}
+
+bool BoundDeviation(const Ring& ring, const FanLayout& layout, const DirectionLayout& d, int target,
+                    const Displacement* old_moved, double limit, Displacement* new_moved,
+                    int* work) {
+  const int n = ring.neighbours();
+  const int nf = ring.faces;
+  const DVec3& v = layout.v;
+  const DVec3* p = layout.p;
+  const P2* q = layout.q;
+  const double scale = layout.scale, eps_len = layout.eps_len;
+  const P2 v2 = d.v2, qd = d.qd;
+  const bool* survives = d.survives;
+  const bool* holds_v = d.holds_v;
+  const DVec3* step_v = d.step_v;
 
   // The old layout winds once around V' (half a turn on a boundary, where V' lies on the
   // straight new boundary edge), and the new one turns around Vd as the old one did.

@@ -29,6 +29,40 @@ struct Displacement {
   double Reach() const;            // the box's farthest point from 0
 };
 
+// A point of the layout plane.
+struct PlanePoint {
+  double x, y;
+};
+
+// V's fan laid out in the plane perpendicular to its area-weighted normal: what BoundDeviation
+// needs of the fan alone, the same for every direction of one candidate, so laid out once.
+struct FanLayout {
+  bool ok = false;  // false: the fan has no normal (every direction is refused)
+  DVec3 v, u, w;    // V, and the plane's basis
+  DVec3 p[kMaxRing + 1];
+  PlanePoint q[kMaxRing + 1];  // p[k] - V in the plane
+  double scale = 0.0, eps_len = 0.0, eps_area = 0.0;
+  bool winds_around_v = false;  // every fan face counter-clockwise around V itself
+};
+void LayOutFan(const Ring& ring, FanLayout* layout);
+
+// One direction V -> nbr[target] in the fan's layout: where V goes (V'), the faces that survive,
+// and the step at V' on the new faces holding its position.
+struct DirectionLayout {
+  DVec3 vp;
+  PlanePoint v2, qd;
+  bool survives[kMaxRing];
+  bool holds_v[kMaxRing];
+  DVec3 step_v[kMaxRing];
+};
+// The refusals BoundDeviation makes before it lays the two patches over each other (the layouts
+// cannot tile, or V' alone takes a new face beyond the limit), at a fraction of its cost: false
+// exactly where those refuse (then *work counts what was tested). The kernel runs it on a
+// direction before it reads Vd's ring.
+bool LayOutDirection(const Ring& ring, const FanLayout& fan, int target, int line_other,
+                     const Displacement* old_moved, double limit, DirectionLayout* direction,
+                     int* work);
+
 // old_moved[f]: fan face f's displacement. On success fills new_moved[f] for every fan face that
 // survives (the two containing V - Vd are deleted) and returns true; returns false when the
 // layouts do not tile the link polygon (the map cannot be built: the collapse is refused).
@@ -38,6 +72,10 @@ struct Displacement {
 // model).
 bool BoundDeviation(const Ring& ring, int target, int line_other, const Displacement* old_moved,
                     double limit, Displacement* new_moved, int* work);
+// The same, the fan and the direction laid out already (LayOutDirection accepted it).
+bool BoundDeviation(const Ring& ring, const FanLayout& fan, const DirectionLayout& direction,
+                    int target, const Displacement* old_moved, double limit,
+                    Displacement* new_moved, int* work);
 
 // The same for a full-edge collapse (engine/star.h): both patches are projected onto the plane
 // perpendicular to the old star's area-weighted normal, where each must tile the link polygon

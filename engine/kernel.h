@@ -96,6 +96,9 @@ class RemovalKernel final : private NeighbourhoodReader {
         budget_(budget),
         stats_(stats) {
     if (placement_) placing_ = std::make_unique<Placing>();
+    // Serials unique across kernels: a later kernel may get an earlier one's address.
+    static std::atomic<uint64_t> kernels{0};
+    proposal_.fan_serial = kernels.fetch_add(1, std::memory_order_relaxed) << 32;
   }
 
   Outcome TryRemove(uint32_t v) {
@@ -117,6 +120,7 @@ class RemovalKernel final : private NeighbourhoodReader {
       const int i = order_[k];
       proposal_.target = i;
       proposal_.line_other = directions.LineOther(i);
+      if (CheckScreen() != Verdict::kPass) continue;
       const Verdict topology = CheckTopology(i);
       if (topology == Verdict::kStale) return GiveUp(v, Outcome::kInconsistent);
       if (topology == Verdict::kReject) continue;
@@ -162,6 +166,7 @@ class RemovalKernel final : private NeighbourhoodReader {
     if (GatherRing(port_, v, ring_) != RingResult::kOk) return FailHold(Verdict::kStale);
     if (LockNeighbours() != LockResult::kHeld) return FailHold(Verdict::kConflict);
     proposal_.fan = &ring_;
+    ++proposal_.fan_serial;
     proposal_.fan_smallest_angle_cos2 = -1.0;
     proposal_.reader = this;
     proposal_.star = nullptr;
@@ -177,6 +182,7 @@ class RemovalKernel final : private NeighbourhoodReader {
     attrs_loaded_ = false;
     proposal_.line_other = directions.LineOther(i);
     Verdict verdict = CheckShape(i);
+    if (verdict == Verdict::kPass) verdict = CheckScreen();
     if (verdict == Verdict::kPass) verdict = CheckTopology(i);
     if (verdict == Verdict::kPass) verdict = CheckFidelity();
     if (verdict != Verdict::kPass) {
@@ -220,6 +226,18 @@ class RemovalKernel final : private NeighbourhoodReader {
     return v;
   }
 
+  // The fidelity rules' early tests on V's fan (RuleStage::kScreen), before Vd's ring is read.
+  Verdict CheckScreen() {
+    if (rules_.stage(RuleStage::kScreen).empty()) return Verdict::kPass;
+    if (rules_.reads_face_attrs()) LoadFanAttrs();
+    proposal_.cycles = 0;
+    Reject refused = Reject::kCount;
+    const Verdict v = rules_.Check(RuleStage::kScreen, proposal_, &refused);
+    port_.ChargeCompute(proposal_.cycles);
+    if (v == Verdict::kReject) Note(RuleStage::kFidelity, refused);
+    return v;
+  }
+
   Outcome Count(Outcome o) {
     if (o == Outcome::kConflict) ++stats_.lock_conflicts;
     if (o == Outcome::kInconsistent) ++stats_.inconsistent;
@@ -254,6 +272,7 @@ class RemovalKernel final : private NeighbourhoodReader {
     proposal_.reader = this;
     proposal_.star = nullptr;
     if (placement_) RefreshPositions(ring_);
+    ++proposal_.fan_serial;
     return std::nullopt;
   }
 
@@ -513,15 +532,21 @@ class RemovalKernel final : private NeighbourhoodReader {
     return true;
   }
 
+  // The fan faces' side quadwords, read once per candidate.
+  void LoadFanAttrs() {
+    if (!attrs_loaded_) {
+      for (int f = 0; f < ring_.faces; ++f) fan_attr_[f] = port_.ReadFaceAttr(FaceOf(ring_.out[f]));
+      attrs_loaded_ = true;
+    }
+    proposal_.fan_attr = fan_attr_;
+  }
+
   // Runs the fidelity rules: the side quadwords of the fan are read once per candidate, and
   // the rules propose their new values and the collapse's budget delta.
   Verdict CheckFidelity() {
     const int nf = ring_.faces;
     if (rules_.reads_face_attrs()) {
-      if (!attrs_loaded_) {
-        for (int f = 0; f < nf; ++f) fan_attr_[f] = port_.ReadFaceAttr(FaceOf(ring_.out[f]));
-        attrs_loaded_ = true;
-      }
+      LoadFanAttrs();
       for (int f = 0; f < nf; ++f) proposal_.new_attr[f] = fan_attr_[f];
       if (proposal_.star != nullptr)
         for (int k = 0; k < proposal_.star->extra_faces(); ++k)

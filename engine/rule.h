@@ -7,6 +7,9 @@
 //   kDirections  once per candidate: which neighbours V may move to (or none: V is fixed);
 //   kShape       per allowed direction, on the geometry of the new triangles; the directions
 //                that pass are ranked and the rest of the stages run in rank order;
+//   kScreen      a fidelity rule's cheap early test on V's fan alone, refusing only what its
+//                kFidelity check would (so that a direction refused anyway costs no read of
+//                Vd's ring); its refusals count as fidelity refusals;
 //   kTopology    on Vd's one-ring (and, through NeighbourhoodReader, a little beyond);
 //   kFidelity    on the side data (deviation bounds, fields): proposes the new side quadwords
 //                and the collapse's change of the global budgets (CollapseProposal::delta);
@@ -79,6 +82,10 @@ class NeighbourhoodReader {
 // fidelity rules propose for the commit.
 struct CollapseProposal {
   const Ring* fan = nullptr;  // V's one-ring
+  // Changes whenever the kernel reads `fan` again, and differs between kernels: a rule may keep
+  // work on the fan alone (the same for every direction of a candidate) keyed by it. 0: unknown
+  // (nothing may be kept).
+  uint64_t fan_serial = 0;
   // cos^2 of the smallest angle of V's fan faces, for the relaxed minimum-angle rule: the same
   // for every direction of a candidate, so computed once (negative: not yet).
   double fan_smallest_angle_cos2 = -1.0;
@@ -142,6 +149,7 @@ enum class RuleStage : uint32_t {
   kTopology = 4,
   kFidelity = 8,
   kBudget = 16,
+  kScreen = 32,  // runs between kShape and kTopology (the list above)
 };
 
 // The stage bits of a rule that takes part in the given stages.
@@ -268,7 +276,7 @@ class RuleSet {
   bool WithinBudgets(const LedgerView& totals, const CollapseDelta& judged, Reject* refused) const;
 
   std::vector<std::unique_ptr<CollapseRule>> rules_;
-  std::vector<const CollapseRule*> by_stage_[5];
+  std::vector<const CollapseRule*> by_stage_[6];
   std::vector<const CollapseRule*> stateful_;
   bool reads_face_attrs_ = false;
   bool tracks_mass_ = false;

@@ -14,8 +14,8 @@ namespace femsimp {
 
 namespace {
 
-constexpr RuleStage kStages[] = {RuleStage::kDirections, RuleStage::kShape, RuleStage::kTopology,
-                                 RuleStage::kFidelity, RuleStage::kBudget};
+constexpr RuleStage kStages[] = {RuleStage::kDirections, RuleStage::kShape,    RuleStage::kScreen,
+                                 RuleStage::kTopology,   RuleStage::kFidelity, RuleStage::kBudget};
 
 }  // namespace
 

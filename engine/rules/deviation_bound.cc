@@ -15,21 +15,36 @@ class DeviationBoundRule final : public CollapseRule {
   explicit DeviationBoundRule(float tolerance)
       : tolerance_(tolerance), unit_(double(tolerance) / kBoxSteps) {}
   Reject reason() const override { return Reject::kTolerance; }
-  uint32_t stages() const override { return Stages(RuleStage::kFidelity); }
+  // kScreen: the bound's cheap refusals (DeviationFloorWithin), before the kernel reads Vd's
+  // ring for the topology rules; most refused directions stop there.
+  uint32_t stages() const override { return Stages(RuleStage::kScreen, RuleStage::kFidelity); }
   bool reads_face_attrs() const override { return true; }
   bool fan_local() const override { return true; }
 
-  Verdict Check(RuleStage, CollapseProposal& p) const override {
-    if (p.star != nullptr) return CheckStar(p);
+  Verdict Check(RuleStage stage, CollapseProposal& p) const override {
+    if (p.star != nullptr) return stage == RuleStage::kScreen ? Verdict::kPass : CheckStar(p);
     const int nf = p.fan->faces;
     // Off the stack: an SPE software thread's is small (56 KiB, engine/cell_backend.cc), and
     // 2 x 64 of these are 7 KiB. Per OS thread: the software threads of an SPE switch only
     // at DMA waits, never inside this check.
     thread_local Displacement old_moved[kMaxRing], new_moved[kMaxRing];
     for (int f = 0; f < nf; ++f) old_moved[f] = Unpack(p.fan_attr[f]);
+    Kept& kept = Layout(p);
     int work = 0;
-    const bool bounded =
-        BoundDeviation(*p.fan, p.target, p.line_other, old_moved, tolerance_, new_moved, &work);
+    // The screen lays the direction out; the fidelity check right after it reuses that.
+    const bool screened = stage == RuleStage::kFidelity && kept.direction_target == p.target;
+    if (!screened) {
+      kept.direction_target = -1;
+      if (!LayOutDirection(*p.fan, kept.fan, p.target, p.line_other, old_moved, tolerance_,
+                           &kept.direction, &work)) {
+        p.cycles += static_cast<uint32_t>(28 * work);
+        return Verdict::kReject;
+      }
+      kept.direction_target = p.target;
+    }
+    if (stage == RuleStage::kScreen) return Verdict::kPass;
+    const bool bounded = BoundDeviation(*p.fan, kept.fan, kept.direction, p.target, old_moved,
+                                        tolerance_, new_moved, &work);
     p.cycles += static_cast<uint32_t>(28 * work);
     if (!bounded) return Verdict::kReject;
     for (int f = 0; f < nf; ++f)
@@ -38,6 +53,28 @@ class DeviationBoundRule final : public CollapseRule {
   }
 
  private:
+  // V's fan laid out once per candidate (every direction and both stages share it), and the
+  // last direction the screen passed. Per OS thread like the buffers above; another SPE software
+  // thread may have laid out its own fan between two checks, which the serial tells (0: a
+  // proposal not made by a kernel, laid out every time).
+  struct Kept {
+    bool valid = false;
+    uint64_t serial = 0;
+    FanLayout fan;
+    int direction_target = -1;  // -1: none kept
+    DirectionLayout direction;
+  };
+  static Kept& Layout(const CollapseProposal& p) {
+    thread_local Kept kept;
+    if (p.fan_serial == 0 || !kept.valid || kept.serial != p.fan_serial) {
+      LayOutFan(*p.fan, &kept.fan);
+      kept.valid = true;
+      kept.serial = p.fan_serial;
+      kept.direction_target = -1;
+    }
+    return kept;
+  }
+
   // The box travels in FaceAttrQ as 16-bit multiples of unit_, rounded outwards; a box within
   // the tolerance spans at most half their range.
   static constexpr double kBoxSteps = 16384.0;

@@ -179,5 +179,119 @@ TEST(Deviation, TheRuleKeepsTheBoxAcrossCollapses) {
   EXPECT_EQ(tolerance->Check(RuleStage::kFidelity, p), Verdict::kReject);
 }
 
+const CollapseRule& ToleranceRule(const RuleSet& set) {
+  for (const CollapseRule* r : set.stage(RuleStage::kFidelity))
+    if (r->reason() == Reject::kTolerance) return *r;
+  ADD_FAILURE() << "no tolerance rule";
+  return *set.stage(RuleStage::kFidelity).front();
+}
+
+// A proposal on `fan` towards `target`, every face's bound `bound` and box up to `up` in z; with
+// `uneven`, every other face has not moved and the rest may have moved anywhere within `bound`
+// (the box a cube, in the rule's steps of `unit`).
+CollapseProposal Proposal(const Ring& fan, int target, float bound, int16_t up, FaceAttrQ* attrs,
+                          bool uneven = false, double unit = 1.0) {
+  for (int f = 0; f < fan.faces; ++f) {
+    attrs[f] = FaceAttrQ{};
+    if (uneven && f % 2 == 0) continue;
+    attrs[f].error = bound;
+    attrs[f].moved_hi[2] = up;
+    if (!uneven) continue;
+    const auto steps = static_cast<int16_t>(std::ceil(bound / unit));
+    for (int i = 0; i < 3; ++i) {
+      attrs[f].moved_lo[i] = static_cast<int16_t>(-steps);
+      attrs[f].moved_hi[i] = steps;
+    }
+  }
+  CollapseProposal p;
+  p.fan = &fan;
+  p.target = target;
+  p.fan_attr = attrs;
+  for (int f = 0; f < fan.faces; ++f) p.new_attr[f] = attrs[f];
+  return p;
+}
+
+bool SameAttrs(const CollapseProposal& a, const CollapseProposal& b) {
+  for (int f = 0; f < a.fan->faces; ++f) {
+    const FaceAttrQ &x = a.new_attr[f], &y = b.new_attr[f];
+    if (x.error != y.error) return false;
+    for (int i = 0; i < 3; ++i)
+      if (x.moved_lo[i] != y.moved_lo[i] || x.moved_hi[i] != y.moved_hi[i]) return false;
+  }
+  return true;
+}
+
+// The screen (RuleStage::kScreen) refuses only directions the fidelity check refuses, and the
+// fidelity check after it (which reuses the screen's layout) decides and proposes exactly what
+// it does alone.
+TEST(Deviation, TheScreenRefusesOnlyWhatTheCheckRefuses) {
+  RuleSetup setup;
+  setup.tolerance = 0.15f;
+  const RuleSet set = RuleSet::Build(SimplifyOptions{}, setup);
+  ASSERT_EQ(set.stage(RuleStage::kScreen).size(), 1u);
+  const CollapseRule& rule = ToleranceRule(set);
+  ASSERT_EQ(set.stage(RuleStage::kScreen).front(), &rule);
+  const double unit = 0.15 / 16384;  // the rule's box step
+  int screened = 0, passed = 0, refused_later = 0;
+  uint64_t serial = 1;
+  for (const float h : {0.0f, 0.05f, 0.1f, 0.14f, 0.2f, 0.4f}) {
+    const Ring fan = Tent(h);
+    for (const float bound : {0.0f, 0.03f, 0.1f, 0.149f}) {
+      for (const int16_t up : {int16_t{0}, int16_t{4000}, int16_t{16000}}) {
+        for (int target = 0; target < 2 * fan.neighbours(); ++target) {
+          // The second round: the floor is the least over the old faces, the bound the most.
+          const bool uneven = target >= fan.neighbours();
+          const int t = target % fan.neighbours();
+          FaceAttrQ attrs[kMaxRing], alone_attrs[kMaxRing];
+          CollapseProposal alone = Proposal(fan, t, bound, up, alone_attrs, uneven, unit);
+          const Verdict truth = rule.Check(RuleStage::kFidelity, alone);
+          CollapseProposal p = Proposal(fan, t, bound, up, attrs, uneven, unit);
+          p.fan_serial = serial++;
+          if (rule.Check(RuleStage::kScreen, p) == Verdict::kReject) {
+            EXPECT_EQ(truth, Verdict::kReject) << "h " << h << " bound " << bound;
+            ++screened;
+            continue;
+          }
+          EXPECT_EQ(rule.Check(RuleStage::kFidelity, p), truth);
+          if (truth == Verdict::kPass) {
+            EXPECT_TRUE(SameAttrs(p, alone));
+            ++passed;
+          } else {
+            ++refused_later;
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GT(screened, 0);
+  EXPECT_GT(passed, 0);
+  EXPECT_GT(refused_later, 0) << "the overlay refuses what the screen cannot tell";
+}
+
+// The rule keeps a candidate's layout per thread, keyed by the proposal's fan serial: a check
+// on another fan in between (an SPE software thread's, on the cell back end) is told apart.
+TEST(Deviation, TheRuleTellsInterleavedFansApart) {
+  RuleSetup setup;
+  setup.tolerance = 0.15f;
+  const RuleSet set = RuleSet::Build(SimplifyOptions{}, setup);
+  const CollapseRule& rule = ToleranceRule(set);
+  const Ring low = Tent(0.05f), high = Tent(0.3f);
+  FaceAttrQ a_attrs[kMaxRing], b_attrs[kMaxRing], alone_attrs[kMaxRing];
+  CollapseProposal a = Proposal(low, 0, 0.0f, 0, a_attrs);
+  CollapseProposal b = Proposal(high, 0, 0.0f, 0, b_attrs);
+  a.fan_serial = 11;
+  b.fan_serial = 12;
+  ASSERT_EQ(rule.Check(RuleStage::kScreen, a), Verdict::kPass);
+  EXPECT_EQ(rule.Check(RuleStage::kScreen, b), Verdict::kReject) << "0.3 down is beyond 0.15";
+  ASSERT_EQ(rule.Check(RuleStage::kFidelity, a), Verdict::kPass);
+  CollapseProposal alone = Proposal(low, 0, 0.0f, 0, alone_attrs);
+  ASSERT_EQ(rule.Check(RuleStage::kFidelity, alone), Verdict::kPass);
+  EXPECT_TRUE(SameAttrs(a, alone));
+  // A proposal no kernel made (serial 0) keeps nothing: judged on its own fan right after a's.
+  ASSERT_EQ(rule.Check(RuleStage::kScreen, a), Verdict::kPass);
+  CollapseProposal c = Proposal(high, 0, 0.0f, 0, b_attrs);
+  EXPECT_EQ(rule.Check(RuleStage::kFidelity, c), Verdict::kReject);
+}
+
 }  // namespace
 }  // namespace femsimp

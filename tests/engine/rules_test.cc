@@ -32,6 +32,7 @@ TEST(RuleSet, RulesFollowTheOptions) {
   EXPECT_EQ(Names(paper, RuleStage::kShape),
             Strings({"degenerate", "fold_over", "min_angle", "normal_deviation"}));
   EXPECT_EQ(Names(paper, RuleStage::kTopology), Strings({"link_condition", "valence", "feature"}));
+  EXPECT_TRUE(paper.stage(RuleStage::kScreen).empty());
   EXPECT_TRUE(paper.stage(RuleStage::kFidelity).empty());
   EXPECT_TRUE(paper.stage(RuleStage::kBudget).empty());
   EXPECT_FALSE(paper.reads_face_attrs());
@@ -62,6 +63,7 @@ TEST(RuleSet, RulesFollowTheOptions) {
   const RuleSet fidelity = RuleSet::Build(f, setup);
   EXPECT_EQ(Names(fidelity, RuleStage::kFidelity),
             Strings({"tolerance", "volume", "centroid", "field_resultant"}));
+  EXPECT_EQ(Names(fidelity, RuleStage::kScreen), Strings({"tolerance"}));
   EXPECT_EQ(Names(fidelity, RuleStage::kBudget),
             Strings({"volume", "centroid", "field_resultant"}));
   EXPECT_TRUE(fidelity.reads_face_attrs());

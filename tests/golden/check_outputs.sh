@@ -15,7 +15,9 @@
 # untried vertices to a plain pass instead of reconsidering the same candidates again. The sets
 # with a tolerance (every fe set, quadric_tolerance, fidelity_budgets, cell_1spe_fidelity)
 # changed when the deviation bound came to sum displacement boxes instead of lengths (a tighter
-# bound: more collapses pass it).
+# bound: more collapses pass it). femur's fe sets changed when the bound's cheap refusals came
+# to run before Vd's ring is read (RuleStage::kScreen): a direction refused there is not also
+# refused by a topology rule that reads beyond V's fan, so fewer refused vertices are retried.
 set -euo pipefail
 femsimp=$1 data=$2 hashes=$3 mode=${4:-check}
 declare -A option_sets=(
