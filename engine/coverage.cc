@@ -542,8 +542,8 @@ absl::Status Coverage::Audit() const {
   return absl::OkStatus();
 }
 
-bool Coverage::Judge(std::span<const DVec3> fresh_corners, CoveragePlan* plan,
-                     uint64_t* work) const {
+bool Coverage::Judge(std::span<const DVec3> fresh_corners, CoveragePlan* plan, uint64_t* work,
+                     Certify certify) const {
   const int fresh = static_cast<int>(fresh_corners.size() / 3);
   plan->given.clear();
   plan->witnesses.clear();
@@ -737,7 +737,13 @@ bool Coverage::Judge(std::span<const DVec3> fresh_corners, CoveragePlan* plan,
     plan->witness_distance_of.clear();
     plan->witness_distance.clear();
   };
+  double certified[kMaxStar];
+  const bool any_certified = certify(certified);
   for (int k = 0; k < fresh; ++k) {
+    if (any_certified && certified[k] >= 0 && certified[k] <= tolerance_) {
+      plan->reach[k] = std::max(plan->reach[k], certified[k]);
+      continue;
+    }
     const DVec3* c = &fresh_corners[3 * k];
     const DVec3 lo{std::min({c[0].x, c[1].x, c[2].x}), std::min({c[0].y, c[1].y, c[2].y}),
                    std::min({c[0].z, c[1].z, c[2].z})};

@@ -30,6 +30,7 @@
 #include <utility>
 #include <vector>
 
+#include "absl/functional/function_ref.h"
 #include "absl/status/status.h"
 #include "engine/edge_cut.h"
 #include "engine/mesh.h"
@@ -183,7 +184,13 @@ class Coverage {
   // True when (a) and (b) hold for the collapse that replaces plan->old_faces by new faces with
   // these corners; then `plan` says which new face takes which piece.
   // fresh_corners holds 3 corners per new face; plan->old_faces names the old faces.
-  bool Judge(std::span<const DVec3> fresh_corners, CoveragePlan* plan, uint64_t* work) const;
+  // certify, called once (a) holds: fills, per new face, a distance within which every point of
+  // it is known to lie of the input, and returns true, or returns false when it knows none;
+  // (b) takes a new face certified within the tolerance as it is.
+  using Certify = absl::FunctionRef<bool(double* certified)>;
+  bool Judge(
+      std::span<const DVec3> fresh_corners, CoveragePlan* plan, uint64_t* work,
+      Certify certify = [](double*) { return false; }) const;
   // The commit: the old faces drop their pieces, new face k (id plan.fresh_ids[k]) takes those
   // the plan gave it.
   void Apply(const CoveragePlan& plan);

@@ -340,6 +340,26 @@ bool BoundDeviation(const Ring& ring, const FanLayout& layout, const DirectionLa
   return true;
 }
 
+bool BoundReach(const Ring& ring, int target, int line_other, const double* old_reach,
+                double* new_reach) {
+  // Off the stack: an SPE software thread's is small (the cell back end never runs this).
+  thread_local Displacement old_moved[kMaxRing], new_moved[kMaxRing];
+  for (int f = 0; f < ring.faces; ++f) {
+    const double e = old_reach[f];
+    old_moved[f].bound = e;
+    old_moved[f].lo = {-e, -e, -e};
+    old_moved[f].hi = {e, e, e};
+  }
+  int work = 0;
+  if (!BoundDeviation(ring, target, line_other, old_moved, std::numeric_limits<double>::infinity(),
+                      new_moved, &work))
+    return false;
+  const int n = ring.neighbours();
+  for (int f = 0; f < ring.faces; ++f)
+    if (f != target && (f + 1) % n != target) new_reach[f] = new_moved[f].bound;
+  return true;
+}
+
 namespace {
 
 // A triangle of one of the two layouts: its plane corners and the surface points they lift to.

@@ -77,6 +77,15 @@ bool BoundDeviation(const Ring& ring, const FanLayout& fan, const DirectionLayou
                     int target, const Displacement* old_moved, double limit,
                     Displacement* new_moved, int* work);
 
+// Distances instead of a map: every point of old fan face f lies within old_reach[f] of some
+// set (the input, for the measured check). Then every point x of a surviving face lies within
+// new_reach[f] of it: the overlay pairs x with a point y of an old face f whose step x - y lies
+// in its cell's box, and y lies within old_reach[f] of the set, so BoundDeviation with old bound
+// old_reach[f] and the cube of that half-side for its box bounds |x - p| for p the set's point
+// nearest y. False when the overlay cannot be built.
+bool BoundReach(const Ring& ring, int target, int line_other, const double* old_reach,
+                double* new_reach);
+
 // The same for a full-edge collapse (engine/star.h): both patches are projected onto the plane
 // perpendicular to the old star's area-weighted normal, where each must tile the link polygon
 // (every triangle counter-clockwise, the angles around V, Vd and P each a full turn), points

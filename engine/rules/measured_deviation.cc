@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "engine/coverage.h"
+#include "engine/deviation.h"
 #include "engine/rule.h"
 
 namespace femsimp {
@@ -12,7 +13,8 @@ namespace {
 
 class MeasuredDeviationRule final : public CollapseRule {
  public:
-  explicit MeasuredDeviationRule(Coverage* coverage) : coverage_(coverage) {}
+  explicit MeasuredDeviationRule(Coverage* coverage, double tolerance)
+      : coverage_(coverage), tolerance_(tolerance) {}
   Reject reason() const override { return Reject::kTolerance; }
   uint32_t stages() const override { return Stages(RuleStage::kFidelity); }
   bool reads_face_attrs() const override { return true; }
@@ -58,7 +60,9 @@ class MeasuredDeviationRule final : public CollapseRule {
       }
     }
     uint64_t work = 0;
-    const bool within = coverage_->Judge({corners, size_t(3 * fresh)}, &plan, &work);
+    const bool within = coverage_->Judge(
+        {corners, size_t(3 * fresh)}, &plan, &work,
+        [&](double* certified) { return p.star == nullptr && Certify(p, certified); });
     p.cycles += static_cast<uint32_t>(std::min<uint64_t>(40 * work, 1u << 30));
     if (!within) return Verdict::kReject;
     // The measured deviation of each new face, rounded up, as its error.
@@ -85,14 +89,35 @@ class MeasuredDeviationRule final : public CollapseRule {
   }
 
  private:
+  // Part (b) for a half-edge collapse without measuring: every point of an old face lies within
+  // its error of the input (the errors this rule gave), which BoundReach carries to the new
+  // faces. certified[k]: new face k's bound (in the order the faces are given to Judge); false
+  // when the overlay cannot be built or certifies no face within the tolerance.
+  bool Certify(const CollapseProposal& p, double* certified) const {
+    const Ring& fan = *p.fan;
+    double old_reach[kMaxRing], new_reach[kMaxRing];
+    for (int f = 0; f < fan.faces; ++f) old_reach[f] = p.fan_attr[f].error;
+    if (!BoundReach(fan, p.target, p.line_other, old_reach, new_reach)) return false;
+    int k = 0;
+    bool any = false;
+    for (int f = 0; f < fan.faces; ++f) {
+      if (p.IsDeleted(f)) continue;
+      certified[k] = new_reach[f];
+      any |= certified[k] <= tolerance_;
+      ++k;
+    }
+    return any;
+  }
+
   Coverage* coverage_;
+  double tolerance_;
 };
 
 }  // namespace
 
 std::unique_ptr<CollapseRule> MakeMeasuredDeviationRule(const RuleSetup& s) {
   if (s.coverage == nullptr) return nullptr;
-  return std::make_unique<MeasuredDeviationRule>(s.coverage);
+  return std::make_unique<MeasuredDeviationRule>(s.coverage, s.tolerance);
 }
 
 }  // namespace femsimp

@@ -7,8 +7,10 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <random>
 
 #include "engine/rule.h"
+#include "engine/triangle_distance.h"
 #include "tests/support/meshes.h"
 
 namespace femsimp {
@@ -177,6 +179,57 @@ TEST(Deviation, TheRuleKeepsTheBoxAcrossCollapses) {
     p.new_attr[f] = attrs[f];
   }
   EXPECT_EQ(tolerance->Check(RuleStage::kFidelity, p), Verdict::kReject);
+}
+
+// BoundReach (the measured check's part (b) without measuring): on random fans, every sampled
+// point of a new face lies within its bound of the old patch (the set its faces are within 0
+// of), and within it less the old faces' reach when they are given one; the bound is not far
+// above the truth on a gentle fan.
+TEST(Deviation, ReachBoundsHoldOnRandomFans) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> jitter(-0.25, 0.25), height(-0.3, 0.3);
+  int checked = 0, built = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const int n = 4 + trial % 6;
+    Ring fan = testing::RegularFan(n, static_cast<float>(height(rng)));
+    for (int i = 0; i < n; ++i) {
+      const double a = 2 * std::numbers::pi * (i + jitter(rng)) / n;
+      const double r = 1.0 + jitter(rng);
+      fan.pos[i] = {static_cast<float>(r * std::cos(a)), static_cast<float>(r * std::sin(a)),
+                    static_cast<float>(0.2 * height(rng))};
+    }
+    const double extra = trial % 2 == 0 ? 0.0 : 0.05;  // a reach the old faces already have
+    double old_reach[kMaxRing], new_reach[kMaxRing];
+    for (int f = 0; f < n; ++f) old_reach[f] = extra;
+    const int target = trial % n;
+    if (!BoundReach(fan, target, -1, old_reach, new_reach)) continue;
+    ++built;
+    const DVec3 v = ToD(fan.center_pos), vd = ToD(fan.pos[target]);
+    for (int g = 0; g < n; ++g) {
+      if (g == target || (g + 1) % n == target) continue;
+      const DVec3 b = ToD(fan.pos[g]), c = ToD(fan.pos[(g + 1) % n]);
+      double worst = 0;
+      for (int i = 0; i <= 12; ++i)
+        for (int j = 0; i + j <= 12; ++j) {
+          const DVec3 x = (i / 12.0) * vd + (j / 12.0) * b + ((12 - i - j) / 12.0) * c;
+          double d2 = 1e300;
+          for (int f = 0; f < n; ++f)
+            d2 = std::min(
+                d2, SquaredDistanceToTriangle(x, v, ToD(fan.pos[f]), ToD(fan.pos[(f + 1) % n])));
+          worst = std::max(worst, std::sqrt(d2));
+        }
+      EXPECT_LE(worst + extra, new_reach[g] + 1e-9) << "trial " << trial << " face " << g;
+      ++checked;
+    }
+  }
+  EXPECT_GT(built, 100);
+  EXPECT_GT(checked, 300);
+  // A flat fan stays where it is: the bound is the old reach alone.
+  const Ring flat = testing::RegularFan(6, 0.0f);
+  double old_reach[kMaxRing], new_reach[kMaxRing];
+  for (int f = 0; f < 6; ++f) old_reach[f] = 0.01;
+  ASSERT_TRUE(BoundReach(flat, 0, -1, old_reach, new_reach));
+  for (int g = 1; g < 5; ++g) EXPECT_NEAR(new_reach[g], 0.01, 1e-6);
 }
 
 const CollapseRule& ToleranceRule(const RuleSet& set) {
