@@ -15,7 +15,7 @@ class DeviationBoundRule final : public CollapseRule {
   explicit DeviationBoundRule(float tolerance)
       : tolerance_(tolerance), unit_(double(tolerance) / kBoxSteps) {}
   Reject reason() const override { return Reject::kTolerance; }
-  // kScreen: the bound's cheap refusals (DeviationFloorWithin), before the kernel reads Vd's
+  // kScreen: the bound's cheap refusals (LayOutDirection), before the kernel reads Vd's
   // ring for the topology rules; most refused directions stop there.
   uint32_t stages() const override { return Stages(RuleStage::kScreen, RuleStage::kFidelity); }
   bool reads_face_attrs() const override { return true; }
