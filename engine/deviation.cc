@@ -19,20 +19,35 @@ double AngleAt(P2 a, P2 b, P2 c) {  // angle b-a-c
   return std::atan2(std::fabs(Cross2(u, w)), u.x * w.x + u.y * w.y);
 }
 
+// A triangle of a layout with its edges' directions and lengths, which the overlap test reads
+// for every triangle of the other layout: computed once.
+struct LaidTriangle {
+  P2 corner[3];
+  P2 edge[3];  // corner[e] -> corner[e + 1]
+  double length[3];
+  void Set(P2 a, P2 b, P2 c) {
+    corner[0] = a;
+    corner[1] = b;
+    corner[2] = c;
+    for (int e = 0; e < 3; ++e) {
+      edge[e] = Sub2(corner[(e + 1) % 3], corner[e]);
+      length[e] = std::sqrt(edge[e].x * edge[e].x + edge[e].y * edge[e].y);  // no overflow
+    }
+  }
+};
+
 // Interiors of two counter-clockwise triangles intersect (touching within eps counts, so the
 // test errs towards overlap: a larger, still valid bound).
-bool Overlap(const P2* t, const P2* u, double eps) {
-  const P2* tri[2] = {t, u};
+bool Overlap(const LaidTriangle& t, const LaidTriangle& u, double eps) {
+  const LaidTriangle* tri[2] = {&t, &u};
   for (int s = 0; s < 2; ++s) {
-    const P2* a = tri[s];
-    const P2* b = tri[1 - s];
+    const LaidTriangle& a = *tri[s];
+    const LaidTriangle& b = *tri[1 - s];
     for (int e = 0; e < 3; ++e) {
-      const P2 p = a[e], q = a[(e + 1) % 3];
-      const P2 d = Sub2(q, p);
-      const double len = std::sqrt(d.x * d.x + d.y * d.y);  // mesh coordinates: no overflow
-      // b entirely on the outer (right) side of edge p -> q separates them.
+      // b entirely on the outer (right) side of edge e separates them.
       bool separated = true;
-      for (int k = 0; k < 3 && separated; ++k) separated = Cross2(d, Sub2(b[k], p)) < -eps * len;
+      for (int k = 0; k < 3 && separated; ++k)
+        separated = Cross2(a.edge[e], Sub2(b.corner[k], a.corner[e])) < -eps * a.length[e];
       if (separated) return false;
     }
   }
@@ -296,12 +311,19 @@ bool BoundDeviation(const Ring& ring, const FanLayout& layout, const DirectionLa
                std::max({a.y, b.y, c.y})};
   };
   Box old_box[kMaxRing];
-  for (int f = 0; f < nf; ++f) old_box[f] = box(v2, q[f], q[(f + 1) % n]);
+  // Off the stack: an SPE software thread's is small (engine/cell_backend.cc); its software
+  // threads switch only at DMA waits, never inside this function.
+  thread_local LaidTriangle old_laid[kMaxRing];
+  for (int f = 0; f < nf; ++f) {
+    old_box[f] = box(v2, q[f], q[(f + 1) % n]);
+    old_laid[f].Set(v2, q[f], q[(f + 1) % n]);
+  }
   int tests = nf;
   for (int g = 0; g < nf; ++g) {
     if (!survives[g]) continue;
     const int g2 = (g + 1) % n;
-    const P2 tg[3] = {qd, q[g], q[g2]};
+    LaidTriangle tg;
+    tg.Set(qd, q[g], q[g2]);
     const Box gb = box(qd, q[g], q[g2]);
     NewDisplacement moved;
     for (int f = 0; f < nf; ++f) {
@@ -310,9 +332,8 @@ bool BoundDeviation(const Ring& ring, const FanLayout& layout, const DirectionLa
       if (fb.lo_x > gb.hi_x + eps_len || gb.lo_x > fb.hi_x + eps_len ||
           fb.lo_y > gb.hi_y + eps_len || gb.lo_y > fb.hi_y + eps_len)
         continue;  // cannot overlap
-      const P2 tf[3] = {v2, q[f], q[f2]};
       ++tests;
-      if (!Overlap(tf, tg, eps_len)) continue;
+      if (!Overlap(old_laid[f], tg, eps_len)) continue;
       StepBox cell;
       if (holds_v[g]) cell.Add(step_v[g]);
       for (int k : {f, f2})
@@ -454,13 +475,17 @@ bool BoundStarDeviation(const EdgeStar& star, const Displacement* old_moved,
       std::fabs(angle_p - full) > 1e-6)
     return false;
 
+  thread_local LaidTriangle old_laid[kMaxStar];  // off the stack, as the layouts above
+  for (int f = 0; f < star.count; ++f) old_laid[f].Set(old_t[f].q[0], old_t[f].q[1], old_t[f].q[2]);
   int tests = 0;
   for (int g = 0; g < star.count; ++g) {
     if (!star.survives[g]) continue;
+    LaidTriangle new_laid;
+    new_laid.Set(new_t[g].q[0], new_t[g].q[1], new_t[g].q[2]);
     NewDisplacement moved;
     for (int f = 0; f < star.count; ++f) {
       ++tests;
-      if (!Overlap(old_t[f].q, new_t[g].q, eps_len)) continue;
+      if (!Overlap(old_laid[f], new_laid, eps_len)) continue;
       moved.AddCell(old_moved[f], CellSteps(old_t[f], new_t[g], scale, &tests));
     }
     new_moved[g] = moved.Finish(eps_len);
