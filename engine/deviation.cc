@@ -174,14 +174,14 @@ bool LayOutDirection(const Ring& ring, const FanLayout& layout, int target, int 
   const double eps_area = layout.eps_area;
 
   // Where V goes: itself, or its closest point on the new feature edge (line_other, target).
-  d->vp = v;
+  DVec3 vp = v;
   if (line_other >= 0) {
     const DVec3 a = p[line_other], e = p[target] - p[line_other];
     const double s = Dot(v - a, e) / Dot(e, e);
     if (!(s > 1e-6 && s < 1.0 - 1e-6)) return false;  // V' would sit on a line vertex
-    d->vp = a + s * e;
+    vp = a + s * e;
   }
-  const P2 v2 = {Dot(d->vp - v, layout.u), Dot(d->vp - v, layout.w)};
+  const P2 v2 = {Dot(vp - v, layout.u), Dot(vp - v, layout.w)};
   d->v2 = v2;
 
   // Old layout: fan faces with V at V', every one counter-clockwise. New layout: the surviving

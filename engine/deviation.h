@@ -46,10 +46,9 @@ struct FanLayout {
 };
 void LayOutFan(const Ring& ring, FanLayout* layout);
 
-// One direction V -> nbr[target] in the fan's layout: where V goes (V'), the faces that survive,
-// and the step at V' on the new faces holding its position.
+// One direction V -> nbr[target] in the fan's layout: where V goes (V', v2 in the plane), the
+// faces that survive, and the step at V' on the new faces holding its position.
 struct DirectionLayout {
-  DVec3 vp;
   PlanePoint v2, qd;
   bool survives[kMaxRing];
   bool holds_v[kMaxRing];
