@@ -58,17 +58,15 @@ class DeviationBoundRule final : public CollapseRule {
   // thread may have laid out its own fan between two checks, which the serial tells (0: a
   // proposal not made by a kernel, laid out every time).
   struct Kept {
-    bool valid = false;
-    uint64_t serial = 0;
+    uint64_t serial = 0;  // 0: nothing kept
     FanLayout fan;
     int direction_target = -1;  // -1: none kept
     DirectionLayout direction;
   };
   static Kept& Layout(const CollapseProposal& p) {
     thread_local Kept kept;
-    if (p.fan_serial == 0 || !kept.valid || kept.serial != p.fan_serial) {
+    if (p.fan_serial == 0 || kept.serial != p.fan_serial) {
       LayOutFan(*p.fan, &kept.fan);
-      kept.valid = true;
       kept.serial = p.fan_serial;
       kept.direction_target = -1;
     }
