@@ -155,6 +155,7 @@ void LayOutFan(const Ring& ring, FanLayout* layout) {
     l.q[k] = {Dot(l.p[k] - l.v, l.u), Dot(l.p[k] - l.v, l.w)};
     l.scale = std::max(l.scale, std::sqrt(l.q[k].x * l.q[k].x + l.q[k].y * l.q[k].y));
   }
+  l.angle_at_v = -1.0;
   l.eps_len = 1e-9 * l.scale;
   l.eps_area = 1e-12 * l.scale * l.scale;
   l.winds_around_v = true;
@@ -275,10 +276,17 @@ bool BoundDeviation(const Ring& ring, const FanLayout& layout, const DirectionLa
 
   // The old layout winds once around V' (half a turn on a boundary, where V' lies on the
   // straight new boundary edge), and the new one turns around Vd as the old one did.
-  double angle_v = 0.0, angle_vd_old = 0.0, angle_vd_new = 0.0;
+  const auto angle_around = [&](P2 at) {
+    double sum = 0.0;
+    for (int f = 0; f < nf; ++f) sum += AngleAt(at, q[f], q[(f + 1) % n]);
+    return sum;
+  };
+  const bool at_v = v2.x == 0.0 && v2.y == 0.0;  // the same sum for every such direction
+  if (at_v && layout.angle_at_v < 0.0) layout.angle_at_v = angle_around(v2);
+  const double angle_v = at_v ? layout.angle_at_v : angle_around(v2);
+  double angle_vd_old = 0.0, angle_vd_new = 0.0;
   for (int f = 0; f < nf; ++f) {
     const int b = f, c = (f + 1) % n;
-    angle_v += AngleAt(v2, q[b], q[c]);
     if (b == target) angle_vd_old += AngleAt(q[b], q[c], v2);
     if (c == target) angle_vd_old += AngleAt(q[c], v2, q[b]);
   }

@@ -43,6 +43,9 @@ struct FanLayout {
   PlanePoint q[kMaxRing + 1];  // p[k] - V in the plane
   double scale = 0.0, eps_len = 0.0, eps_area = 0.0;
   bool winds_around_v = false;  // every fan face counter-clockwise around V itself
+  // The angles of the fan's faces at V summed, once a direction that leaves V' at V asks
+  // (every such direction's winding test sums the same; < 0: not yet).
+  mutable double angle_at_v = -1.0;
 };
 void LayOutFan(const Ring& ring, FanLayout* layout);
 

@@ -333,13 +333,15 @@ FaceGrid::Span FaceGrid::SpanOf(const Box& box) const {
   constexpr double kFar = double(int64_t{1} << 40);
   constexpr double kSteps = double(1 << kListingBits);
   for (int a = 0; a < 3; ++a) {
-    s.lo[a] = Floor(std::clamp(lo[a] / cell_ * kSteps, -kFar, kFar));
-    s.hi[a] = -Floor(std::clamp(-(hi[a] / cell_) * kSteps, -kFar, kFar));
-    // The cell of a coordinate is the floor of its units over the steps (an arithmetic shift
-    // floors). A point on a cell border belongs to both cells, so touching boxes share a cell.
+    // Scaling by a power of two is exact, so the floor of the units over the steps (an
+    // arithmetic shift floors) is the floor of the coordinate in cells.
+    const double lo_units = std::min(std::max(lo[a] / cell_ * kSteps, -kFar), kFar);
+    const double hi_units = std::min(std::max(hi[a] / cell_ * kSteps, -kFar), kFar);
+    s.lo[a] = Floor(lo_units);
+    s.hi[a] = Ceil(hi_units);
+    // A point on a cell border belongs to both cells, so touching boxes share a cell.
     s.range.lo[a] = std::clamp<int64_t>(s.lo[a] >> kListingBits, 0, kAxisLimit);
-    s.range.hi[a] =
-        std::clamp<int64_t>(Floor(std::clamp(hi[a] / cell_, -kFar, kFar)), 0, kAxisLimit);
+    s.range.hi[a] = std::clamp<int64_t>(Floor(hi_units) >> kListingBits, 0, kAxisLimit);
   }
   return s;
 }

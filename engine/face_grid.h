@@ -231,10 +231,14 @@ class FaceGrid {
   Range RangeOf(const Box& box) const { return SpanOf(box).range; }
   // Face f's listing in cell (x, y, z), for its box's span s.
   static Listing ListingIn(uint32_t f, const Span& s, int64_t x, int64_t y, int64_t z);
-  // floor(t) for t within [-2^62, 2^62] (std::floor is a library call here).
+  // floor(t) and ceil(t) for t within [-2^62, 2^62] (std::floor is a library call here).
   static int64_t Floor(double t) {
     const int64_t i = static_cast<int64_t>(t);
     return i - (static_cast<double>(i) > t);
+  }
+  static int64_t Ceil(double t) {
+    const int64_t i = static_cast<int64_t>(t);
+    return i + (static_cast<double>(i) < t);
   }
   // A span's bound relative to cell c, clamped to a listing's range (integers: exact).
   static int16_t Relative(int64_t units, int64_t c) {

@@ -57,26 +57,32 @@ FeatureSummary MarkFeatures(Mesh& mesh, double feature_angle_deg,
       pool->Run(work);
     return !stopped.load();
   };
-  // Each half-edge marks itself, so that contexts write disjoint flags; the two of an edge
-  // decide alike (both from the lower one's side), and the edge counts at the lower one.
+  // The lower half-edge of an edge decides for both halves and marks both: every flag has one
+  // writer whatever the contexts, and each edge's two normals are computed once.
   const bool edges_done = run(mesh.halfedge_capacity(), [&](uint32_t begin, uint32_t end) {
     uint64_t features = 0, boundaries = 0;
+    const auto mark = [&](uint32_t e, bool feature) {
+      h[e].flags = (h[e].flags & ~kFeatureEdge) | (feature ? kFeatureEdge : 0u);
+    };
     for (uint32_t e = begin; e < end; ++e) {
-      if (h[e].flags & kFaceRemoved) continue;
       const uint32_t t = h[e].twin;
-      bool feature;
+      // The upper half's flags may be being written by its lower half's context: not read.
+      if ((t != kNone && t < e) || (h[e].flags & kFaceRemoved)) continue;
       if (t == kNone) {
-        feature = true;
+        mark(e, true);
         ++boundaries;
-      } else if (h[e].group != h[t].group) {
-        feature = true;
-      } else {
-        const DVec3 n1 = FaceNormal(mesh, FaceOf(std::min(e, t)));
-        const DVec3 n2 = FaceNormal(mesh, FaceOf(std::max(e, t)));
+        ++features;
+        continue;
+      }
+      bool feature = h[e].group != h[t].group;
+      if (!feature) {
+        const DVec3 n1 = FaceNormal(mesh, FaceOf(e));
+        const DVec3 n2 = FaceNormal(mesh, FaceOf(t));
         feature = Dot(n1, n2) < cos_limit * Norm(n1) * Norm(n2);
       }
-      h[e].flags = (h[e].flags & ~kFeatureEdge) | (feature ? kFeatureEdge : 0u);
-      features += feature && (t == kNone || e < t);
+      mark(e, feature);
+      if (!(h[t].flags & kFaceRemoved)) mark(t, feature);
+      features += feature;
     }
     feature_edges.fetch_add(features, std::memory_order_relaxed);
     boundary_edges.fetch_add(boundaries, std::memory_order_relaxed);
