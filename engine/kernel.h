@@ -76,9 +76,10 @@ inline constexpr uint32_t kGeometryCyclesPerFace = 30;
 enum class Outcome { kRemoved, kRejected, kConflict, kInconsistent, kSkipped, kBudgetSpent };
 
 // One candidate, in named steps: lock V → read and lock its fan → the directions it may take →
-// rank them by the shape rules → for each in rank order: topology rules, fidelity rules →
-// reserve a removal → spend the budgets → commit → unlock. The rules are units (engine/rule.h);
-// the kernel owns the locking, the reads through the port and the update of the mesh.
+// rank them → for each in rank order: the rules on V's fan (shape, the fidelity screen),
+// topology rules, fidelity rules → reserve a removal → spend the budgets → commit → unlock. The
+// rules are units (engine/rule.h); the kernel owns the locking, the reads through the port and
+// the update of the mesh.
 template <class Port>
 class RemovalKernel final : private NeighbourhoodReader {
  public:
@@ -113,14 +114,14 @@ class RemovalKernel final : private NeighbourhoodReader {
     const Directions directions = AllowedDirections(ring_);
     if (directions.fixed) return Fix(v);
     refusal_ = Refusal{};
+    screen_first_ = false;
     // A full-edge collapse moves V off its place: only where V is on no line.
     const bool v_free = placement_ && !directions.on_line() && !ring_.boundary;
     const int ranked = RankDirections(directions);
     for (int k = 0; k < ranked; ++k) {
       const int i = order_[k];
-      proposal_.target = i;
       proposal_.line_other = directions.LineOther(i);
-      if (CheckScreen() != Verdict::kPass) continue;
+      if (CheckFan(i) != Verdict::kPass) continue;
       const Verdict topology = CheckTopology(i);
       if (topology == Verdict::kStale) return GiveUp(v, Outcome::kInconsistent);
       if (topology == Verdict::kReject) continue;
@@ -224,6 +225,25 @@ class RemovalKernel final : private NeighbourhoodReader {
     const Verdict v = rules_.Check(RuleStage::kShape, proposal_, &refused);
     if (v != Verdict::kPass) Note(RuleStage::kShape, refused);
     return v;
+  }
+
+  // The rules on V's fan alone for the direction V -> nbr[i]: the shape rules (which the
+  // ranking ran already unless the quadric cost ranks) and the fidelity rules' screen. A
+  // direction must pass both, so their order changes no verdict, only the work: the screen
+  // goes first once it has refused a direction the shape rules passed (where the tolerance
+  // holds V, it mostly holds every direction).
+  Verdict CheckFan(int i) {
+    proposal_.target = i;
+    if (!quadric_) return CheckScreen();
+    if (screen_first_) {
+      const Verdict screen = CheckScreen();
+      return screen == Verdict::kPass ? CheckShape(i) : screen;
+    }
+    const Verdict shape = CheckShape(i);
+    if (shape != Verdict::kPass) return shape;
+    const Verdict screen = CheckScreen();
+    screen_first_ = screen == Verdict::kReject;
+    return screen;
   }
 
   // The fidelity rules' early tests on V's fan (RuleStage::kScreen), before Vd's ring is read.
@@ -448,9 +468,10 @@ class RemovalKernel final : private NeighbourhoodReader {
     return Count(o);
   }
 
-  // Runs the shape rules on every allowed direction and ranks those that pass: the direction
-  // that bends the surface least (or, with the quadric cost, adds the least quadric error)
-  // first. Returns how many passed; order_ holds them.
+  // Ranks the allowed directions: the one that bends the surface least (the shape rules run
+  // first: its new triangles give the rank) or, with the quadric cost, adds the least quadric
+  // error (the shape rules run later, in rank order, only as far as a direction passes every
+  // rule). Returns how many are ranked; order_ holds them.
   int RankDirections(const Directions& directions) {
     if (quadric_) own_quadric_ = port_.ReadQuadric(ring_.center);
     attrs_loaded_ = false;
@@ -458,7 +479,7 @@ class RemovalKernel final : private NeighbourhoodReader {
     int passing = 0;
     for (int i = 0; i < ring_.neighbours(); ++i) {
       if (!directions.Allows(i)) continue;
-      if (CheckShape(i) != Verdict::kPass) continue;
+      if (!quadric_ && CheckShape(i) != Verdict::kPass) continue;
       const double s = quadric_ ? -QuadricError(own_quadric_, ToD(ring_.pos[i]))
                                 : proposal_.geometry.MinNormalCosine();
       int k = passing++;
@@ -738,6 +759,7 @@ class RemovalKernel final : private NeighbourhoodReader {
   Refusal refusal_;
   Reject fidelity_refused_ = Reject::kCount;  // the rule that refused the last fidelity check
   int order_[kMaxRing + 1];                   // ranked directions
+  bool screen_first_ = false;                 // CheckFan
   QuadricQ own_quadric_{};
   bool attrs_loaded_ = false;
   FaceAttrQ fan_attr_[kMaxRing];  // the fan faces' side quadwords, read once per candidate
