@@ -25,11 +25,11 @@ class DeviationBoundRule final : public CollapseRule {
     if (p.star != nullptr) return stage == RuleStage::kScreen ? Verdict::kPass : CheckStar(p);
     const int nf = p.fan->faces;
     // Off the stack: an SPE software thread's is small (56 KiB, engine/cell_backend.cc), and
-    // 2 x 64 of these are 7 KiB. Per OS thread: the software threads of an SPE switch only
-    // at DMA waits, never inside this check.
-    thread_local Displacement old_moved[kMaxRing], new_moved[kMaxRing];
-    for (int f = 0; f < nf; ++f) old_moved[f] = Unpack(p.fan_attr[f]);
+    // 64 of these are 3.5 KiB. Per OS thread: the software threads of an SPE switch only at
+    // DMA waits, never inside this check.
+    thread_local Displacement new_moved[kMaxRing];
     Kept& kept = Layout(p);
+    const Displacement* old_moved = kept.old_moved;
     int work = 0;
     // The screen lays the direction out; the fidelity check right after it reuses that.
     const bool screened = stage == RuleStage::kFidelity && kept.direction_target == p.target;
@@ -53,20 +53,23 @@ class DeviationBoundRule final : public CollapseRule {
   }
 
  private:
-  // V's fan laid out once per candidate (every direction and both stages share it), and the
-  // last direction the screen passed. Per OS thread like the buffers above; another SPE software
-  // thread may have laid out its own fan between two checks, which the serial tells (0: a
-  // proposal not made by a kernel, laid out every time).
+  // V's fan laid out and its faces' displacements unpacked once per candidate (every direction
+  // and both stages share them; the side quadwords do not change under the candidate's locks),
+  // and the last direction the screen passed. Per OS thread like the buffers above; another SPE
+  // software thread may have laid out its own fan between two checks, which the serial tells
+  // (0: a proposal not made by a kernel, laid out every time).
   struct Kept {
     uint64_t serial = 0;  // 0: nothing kept
     FanLayout fan;
+    Displacement old_moved[kMaxRing];
     int direction_target = -1;  // -1: none kept
     DirectionLayout direction;
   };
-  static Kept& Layout(const CollapseProposal& p) {
+  Kept& Layout(const CollapseProposal& p) const {
     thread_local Kept kept;
     if (p.fan_serial == 0 || kept.serial != p.fan_serial) {
       LayOutFan(*p.fan, &kept.fan);
+      for (int f = 0; f < p.fan->faces; ++f) kept.old_moved[f] = Unpack(p.fan_attr[f]);
       kept.serial = p.fan_serial;
       kept.direction_target = -1;
     }
