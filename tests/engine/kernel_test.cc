@@ -8,6 +8,8 @@
 #include "engine/kernel.h"
 #include "engine/mesh_checks.h"
 #include "engine/port.h"
+#include "engine/quadric.h"
+#include "engine/vec.h"
 #include "tests/support/meshes.h"
 
 namespace femsimp {
@@ -213,6 +215,67 @@ TEST(Kernel, EachCollapseOnFandiskMeetsTheCriteria) {
   EXPECT_GT(h.stats.rejections[static_cast<int>(Reject::kNormalDeviation)], 0u);
   EXPECT_GT(h.stats.rejections[static_cast<int>(Reject::kMinAngle)], 0u);
   ExpectSameTopology(raw, h.mesh);
+}
+
+// With the quadric cost the shape rules and the bound's screen run only on the directions tried,
+// the screen first once it has refused one the shape rules passed (CheckFan): every collapse
+// still meets the shape criteria and keeps each surviving face's bound within the tolerance, and
+// both kinds of rule refuse.
+TEST(Kernel, TheQuadricOrderRunsEveryFanRuleOnTheDirectionItTakes) {
+  const RawMesh raw = testing::LoadTestMesh("fandisk.off");
+  ASSERT_GT(raw.num_faces(), 0u);
+  SimplifyOptions paper;  // 25 degrees, 10 degrees
+  Mesh mesh = *Mesh::Build(raw);
+  MarkFeatures(mesh, paper.feature_angle_deg);
+  mesh.EnsureFaceAttrs();
+  InitQuadrics(mesh);
+  RuleSetup setup;
+  setup.cos_feature = std::cos(paper.feature_angle_deg * std::numbers::pi / 180.0);
+  setup.tolerance = 0.02f;  // fandisk's diagonal is about 7: a tolerance that refuses often
+  const RuleSet rules = RuleSet::Build(paper, setup);
+  NativePort port(mesh);
+  RemovalBudget budget;
+  KernelStats stats;
+  const double cos_dev = std::cos(25.0 * std::numbers::pi / 180.0) - 1e-9;
+  int removed = 0;
+  for (uint32_t v = 0; v < mesh.vertex_capacity(); ++v) {
+    if (mesh.IsRemoved(v) || mesh.status()[v].load() != kRemovable) continue;
+    Ring before;
+    ASSERT_EQ(GatherRing(port, v, before), RingResult::kOk);
+    RemovalKernel<NativePort> kernel(port, rules, /*quadric=*/true, budget, stats);
+    if (kernel.TryRemove(v) != Outcome::kRemoved) continue;
+    ++removed;
+    const HalfEdgeQ* he = mesh.halfedges();
+    const VertexQ* vx = mesh.vertices();
+    for (int i = 0; i < before.faces; ++i) {
+      const uint32_t f = FaceOf(before.out[i]);
+      if (mesh.IsFaceRemoved(f)) continue;
+      DVec3 p[3];
+      for (int k = 0; k < 3; ++k)
+        p[k] = ToD(Vec3{vx[he[3 * f + k].target].x, vx[he[3 * f + k].target].y,
+                        vx[he[3 * f + k].target].z});
+      for (int k = 0; k < 3; ++k) {
+        const DVec3 u = p[(k + 1) % 3] - p[k], w = p[(k + 2) % 3] - p[k];
+        EXPECT_GE(std::acos(Dot(u, w) / (Norm(u) * Norm(w))) * 180.0 / std::numbers::pi,
+                  10.0 - 1e-4)
+            << "face " << f << " after removing " << v;
+      }
+      const DVec3 n_old =
+          Cross(ToD(before.pos[i]) - ToD(before.center_pos),
+                ToD(before.pos[(i + 1) % before.neighbours()]) - ToD(before.center_pos));
+      const DVec3 n_new = Cross(p[1] - p[0], p[2] - p[0]);
+      EXPECT_GE(Dot(n_old, n_new) / (Norm(n_old) * Norm(n_new)), cos_dev)
+          << "face " << f << " after removing " << v;
+      EXPECT_LE(mesh.face_attrs()[f].error, setup.tolerance) << "face " << f;
+    }
+  }
+  EXPECT_GT(removed, 500);
+  EXPECT_GT(stats.rejections[static_cast<int>(Reject::kTolerance)], 0u);
+  EXPECT_GT(stats.rejections[static_cast<int>(Reject::kMinAngle)] +
+                stats.rejections[static_cast<int>(Reject::kNormalDeviation)],
+            0u);
+  ASSERT_EQ(HalfEdgeInvariantViolation(mesh), "");
+  ExpectSameTopology(raw, mesh);
 }
 
 // A commit changes the fans of the vertices it locked: with requeue_changed, those refused
