@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "engine/coverage.h"
+#include "engine/fan_separation.h"
 #include "engine/mechanics.h"
 #include "engine/quadword.h"
 #include "engine/ring.h"
@@ -118,6 +119,11 @@ struct CollapseProposal {
   bool nearby_read = false;
   std::vector<uint32_t> nearby_faces;
   std::vector<PreparedTriangle> nearby;
+  // When V's ring is convex seen along its fan's normal (engine/fan_separation.h), the faces
+  // shown beside it are left out of `nearby`; a direction the certificate does not cover reads
+  // them again (nearby_separated false). Kept on the heap: the kernel's stack is the SPE's.
+  std::unique_ptr<FanSeparation> separation;
+  bool nearby_separated = false;
   // Compound collapses (engine/seam_collapse.h): faces the compound's other collapses rewrite;
   // the compound tests its new triangles against each other itself.
   std::span<const uint32_t> also_replaced;

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "engine/face_grid.h"
+#include "engine/fan_separation.h"
 #include "engine/planar_retile.h"
 #include "engine/rule.h"
 
@@ -40,7 +41,10 @@ class SelfIntersectionRule final : public CollapseRule {
       p.cycles += kCyclesPerPlanarTest * planar_tests;
       if (retiles) return Verdict::kPass;
     }
-    if (!p.nearby_read) ReadNearby(p);
+    if (!p.nearby_read) ReadNearby(p, /*separate=*/!star && p.also_replaced.empty());
+    // The faces left out are apart from the new triangles only where these are one to one
+    // seen along the fan's normal.
+    if (p.nearby_separated && !p.separation->Covers(p.target)) ReadNearby(p, false);
     PreparedTriangle fresh[kMaxStar];
     int count = 0;
     if (star) {
@@ -134,13 +138,21 @@ class SelfIntersectionRule final : public CollapseRule {
   }
 
   // Reads the faces in the held cells once for all directions (or positions of P): those whose
-  // boxes could overlap a new triangle's.
-  void ReadNearby(CollapseProposal& p) const {
+  // boxes could overlap a new triangle's, but for those shown beside V's fan when `separate`.
+  void ReadNearby(CollapseProposal& p, bool separate) const {
     const Ring& fan = *p.fan;
     const EdgeStar* star = p.star;
     DVec3 points[kMaxRing + 2];
     const FaceGrid::Box box = NeighbourhoodBox(p, points);
     p.nearby_read = true;
+    p.nearby_separated = false;
+    if (separate) {
+      uint32_t ids[kMaxRing];
+      for (int i = 0; i < fan.faces; ++i) ids[i] = grid_->PointId(fan.nbr[i]);
+      if (p.separation == nullptr) p.separation = std::make_unique<FanSeparation>();
+      p.nearby_separated = p.separation->Prepare(fan, ids);
+      p.cycles += kCyclesPerPlanarTest * 2 * fan.faces;
+    }
     const DVec3 corners[2] = {box.lo, box.hi};
     const TriangleBox reach = star != nullptr ? NewTrianglesReach(corners, 2)
                                               : NewTrianglesReach(points + 1, fan.neighbours());
@@ -168,8 +180,11 @@ class SelfIntersectionRule final : public CollapseRule {
     });
     for (uint32_t g : p.nearby_faces) grid_->PrefetchCorners(g);
     size_t kept = 0;
+    int planar_tests = 0;
     for (uint32_t g : p.nearby_faces) {
-      p.nearby.emplace_back(grid_->FaceTriangle(g));
+      const Triangle t = grid_->FaceTriangle(g);
+      if (p.nearby_separated && p.separation->Apart(t, &planar_tests)) continue;
+      p.nearby.emplace_back(t);
       if (p.nearby.back().box.Overlaps(reach)) {
         p.nearby_faces[kept++] = g;
       } else {
@@ -177,6 +192,7 @@ class SelfIntersectionRule final : public CollapseRule {
       }
     }
     p.nearby_faces.resize(kept);
+    p.cycles += kCyclesPerPlanarTest * planar_tests;
   }
 
   // A box that holds the (widened) box of every new triangle of every direction: they use the
