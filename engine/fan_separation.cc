@@ -47,21 +47,44 @@ bool FanSeparation::Prepare(const Ring& fan, const uint32_t* ids) {
     high_ = std::max(high_, h);
     extent_ = std::max(extent_, MaxAbs(q[i]));
   }
-  // Every corner of the ring turns left, and every triangle (V, nbr[i], nbr[i + 1]) is
-  // counter-clockwise, clearly; and the ring crosses the ray from V along e1 once: it winds
-  // once around V (its angle around V grows by less than half a turn a step), so it is convex.
-  int crossings = 0;
+  // Every triangle (V, nbr[i], nbr[i + 1]) is clearly counter-clockwise and the ring crosses
+  // the ray from V along e1 once: it winds once around V (its angle around V grows by less than
+  // half a turn a step), a simple polygon star-shaped around V.
+  int crossings = 0, lowest = 0;
   for (int i = 0; i < k; ++i) {
-    const Flat& a = ring_[(i + k - 1) % k];
     const Flat& b = ring_[i];
     const Flat& c = ring_[(i + 1) % k];
-    const double ux = b.x - a.x, uy = b.y - a.y, wx = c.x - b.x, wy = c.y - b.y;
-    if (!ClearlyLeft(Cross2(ux, uy, wx, wy), ux * ux + uy * uy, wx * wx + wy * wy)) return false;
     if (!ClearlyLeft(Cross2(b.x, b.y, c.x, c.y), b.x * b.x + b.y * b.y, c.x * c.x + c.y * c.y))
       return false;
     crossings += b.y < 0 && c.y >= 0;
+    if (b.y < ring_[lowest].y || (b.y == ring_[lowest].y && b.x < ring_[lowest].x)) lowest = i;
   }
-  return crossings == 1;
+  if (crossings != 1) return false;
+  // Its convex hull: a Graham scan in the ring's order (by angle around V, inside the hull) from
+  // its lowest corner (on the hull). A corner that does not turn left is dropped.
+  const auto turn = [this](int a, int b, int c) {
+    return Cross2(ring_[b].x - ring_[a].x, ring_[b].y - ring_[a].y, ring_[c].x - ring_[b].x,
+                  ring_[c].y - ring_[b].y);
+  };
+  hull_size_ = 0;
+  for (int m = 0; m <= k; ++m) {
+    const int i = (lowest + m) % k;
+    while (hull_size_ >= 2 && turn(hull_[hull_size_ - 2], hull_[hull_size_ - 1], i) <= 0)
+      --hull_size_;
+    if (m < k) hull_[hull_size_++] = i;
+  }
+  if (hull_size_ < 3) return false;
+  // Every hull corner turns left clearly; the sides and corner angles below are the hull's.
+  for (int i = 0; i < k; ++i) hull_at_[i] = -1;
+  for (int m = 0; m < hull_size_; ++m) {
+    const int a = hull_[(m + hull_size_ - 1) % hull_size_], b = hull_[m];
+    const int c = hull_[(m + 1) % hull_size_];
+    const Flat u{ring_[b].x - ring_[a].x, ring_[b].y - ring_[a].y};
+    const Flat w{ring_[c].x - ring_[b].x, ring_[c].y - ring_[b].y};
+    if (!ClearlyLeft(turn(a, b, c), u.x * u.x + u.y * u.y, w.x * w.x + w.y * w.y)) return false;
+    hull_at_[b] = m;
+  }
+  return true;
 }
 
 bool FanSeparation::Covers(int target) const {
@@ -80,11 +103,14 @@ bool FanSeparation::Covers(int target) const {
 // F's corners other than ring corner r, a and b: the angle of P at r and the angle of F there
 // (both convex) meet only at r, clearly: each side of either lies clearly outside the other.
 bool FanSeparation::ConeApart(int r, const Flat& a, const Flat& b, int* tests) const {
-  const int k = corners_;
   const Flat& o = ring_[r];
-  // P's angle runs counter-clockwise from the side to nbr[r + 1] to the side to nbr[r - 1].
-  const Flat u1{ring_[(r + 1) % k].x - o.x, ring_[(r + 1) % k].y - o.y};
-  const Flat u2{ring_[(r + k - 1) % k].x - o.x, ring_[(r + k - 1) % k].y - o.y};
+  // The hull's angle at r runs counter-clockwise from its side to the next hull corner to its
+  // side to the one before.
+  const int m = hull_at_[r];
+  const Flat& next = ring_[hull_[(m + 1) % hull_size_]];
+  const Flat& before = ring_[hull_[(m + hull_size_ - 1) % hull_size_]];
+  const Flat u1{next.x - o.x, next.y - o.y};
+  const Flat u2{before.x - o.x, before.y - o.y};
   Flat w1{a.x - o.x, a.y - o.y}, w2{b.x - o.x, b.y - o.y};
   const auto length2 = [](const Flat& v) { return v.x * v.x + v.y * v.y; };
   const auto cross = [](const Flat& v, const Flat& w) { return Cross2(v.x, v.y, w.x, w.y); };
@@ -102,12 +128,11 @@ bool FanSeparation::ConeApart(int r, const Flat& a, const Flat& b, int* tests) c
   return outside(w1, u1, u2) && outside(w2, u1, u2) && outside(u1, w1, w2) && outside(u2, w1, w2);
 }
 
-// All of f strictly right of one side of P.
+// All of f strictly right of one side of the hull.
 bool FanSeparation::BeyondASide(const Flat f[3], int* tests) const {
-  const int k = corners_;
-  for (int i = 0; i < k; ++i) {
-    const Flat& a = ring_[i];
-    const Flat& b = ring_[(i + 1) % k];
+  for (int m = 0; m < hull_size_; ++m) {
+    const Flat& a = ring_[hull_[m]];
+    const Flat& b = ring_[hull_[(m + 1) % hull_size_]];
     const double ux = b.x - a.x, uy = b.y - a.y, uu = ux * ux + uy * uy;
     bool beyond = true;
     for (int c = 0; c < 3 && beyond; ++c) {
@@ -151,13 +176,16 @@ bool FanSeparation::Apart(const Triangle& face, int* tests) const {
   }
   if (shared == 1) {
     const int c = at[0] >= 0 ? 0 : (at[1] >= 0 ? 1 : 2);
+    if (hull_at_[at[c]] < 0) return false;  // a corner inside the hull
     return ConeApart(at[c], f[(c + 1) % 3], f[(c + 2) % 3], tests);
   }
   if (shared == 2) {
     const int c = at[0] < 0 ? 0 : (at[1] < 0 ? 1 : 2);  // the corner off the ring
     int i = at[(c + 1) % 3], j = at[(c + 2) % 3];
     if ((j + 1) % k == i) std::swap(i, j);
-    if ((i + 1) % k != j) return false;  // not a side of P
+    // A side of the ring that is a side of the hull.
+    if ((i + 1) % k != j || hull_at_[i] < 0 || hull_[(hull_at_[i] + 1) % hull_size_] != j)
+      return false;
     const Flat& a = ring_[i];
     const Flat& b = ring_[j];
     const double ux = b.x - a.x, uy = b.y - a.y, wx = f[c].x - a.x, wy = f[c].y - a.y;

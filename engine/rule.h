@@ -119,9 +119,10 @@ struct CollapseProposal {
   bool nearby_read = false;
   std::vector<uint32_t> nearby_faces;
   std::vector<PreparedTriangle> nearby;
-  // When V's ring is convex seen along its fan's normal (engine/fan_separation.h), the faces
-  // shown beside it are left out of `nearby`; a direction the certificate does not cover reads
-  // them again (nearby_separated false). Kept on the heap: the kernel's stack is the SPE's.
+  // When V's ring winds once around it seen along its fan's normal and the first direction's
+  // new triangles turn its way (engine/fan_separation.h), the faces shown beside it are left out
+  // of `nearby`; a later direction the certificate does not cover reads them again
+  // (nearby_separated false). Kept on the heap: the kernel's stack is the SPE's.
   std::unique_ptr<FanSeparation> separation;
   bool nearby_separated = false;
   // Compound collapses (engine/seam_collapse.h): faces the compound's other collapses rewrite;

@@ -150,7 +150,7 @@ class SelfIntersectionRule final : public CollapseRule {
       uint32_t ids[kMaxRing];
       for (int i = 0; i < fan.faces; ++i) ids[i] = grid_->PointId(fan.nbr[i]);
       if (p.separation == nullptr) p.separation = std::make_unique<FanSeparation>();
-      p.nearby_separated = p.separation->Prepare(fan, ids);
+      p.nearby_separated = p.separation->Prepare(fan, ids) && p.separation->Covers(p.target);
       p.cycles += kCyclesPerPlanarTest * 2 * fan.faces;
     }
     const DVec3 corners[2] = {box.lo, box.hi};

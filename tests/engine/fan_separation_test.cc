@@ -66,12 +66,33 @@ Frame RandomFrame(std::mt19937& rng) {
   return {u, Cross(w, u), w};
 }
 
-TEST(FanSeparation, ConcaveOrBoundaryRingsAreNotShown) {
+TEST(FanSeparation, DentedRingsUseTheirHullAndOpenOrTwistedOnesAreNotShown) {
   FanSeparation s;
-  // A ring with a dent at corner 2 (it turns right there).
-  Ring dented =
+  // A ring with a dent at corner 2: its hull leaves that corner out.
+  const Ring dented =
       FanOf({0, 0, 0}, {{2, 0, 0}, {1, 1, 0}, {0, 0.3, 0}, {-1, 1, 0}, {-2, 0, 0}, {0, -2, 0}});
-  EXPECT_FALSE(Prepare(s, dented));
+  ASSERT_TRUE(Prepare(s, dented));
+  EXPECT_TRUE(s.Covers(5));   // from (0, -2) every new triangle turns the ring's way
+  EXPECT_FALSE(s.Covers(0));  // from (2, 0) the one past the dent turns back
+  int tests = 0;
+  // Above the dent, touching its corner, and across a side of the dent: not shown (they reach
+  // into the hull); beyond the hull's side (1, 1) - (-1, 1): shown.
+  EXPECT_FALSE(s.Apart(
+      Triangle{{At(dented, 2), {-0.2, 0.8, 0}, {0.2, 0.8, 0}}, {3, kOther, kOther + 1}}, &tests));
+  EXPECT_FALSE(
+      s.Apart(Triangle{{At(dented, 2), At(dented, 1), {0.5, 1.5, 0}}, {3, 2, kOther}}, &tests));
+  EXPECT_TRUE(s.Apart(
+      Triangle{{{-1, 1.5, 0}, {1, 1.5, 0}, {0, 2, 0}}, {kOther, kOther + 1, kOther + 2}}, &tests));
+  // At a hull corner, opening away from the hull: shown.
+  EXPECT_TRUE(
+      s.Apart(Triangle{{At(dented, 0), {3, -1, 0}, {3, 1, 0}}, {1, kOther, kOther + 1}}, &tests));
+  // The ring winds around V twice (a pentagram): not shown.
+  std::vector<DVec3> star;
+  for (int i = 0; i < 5; ++i) {
+    const double a = 4 * std::numbers::pi * i / 5;
+    star.push_back({std::cos(a), std::sin(a), 0});
+  }
+  EXPECT_FALSE(Prepare(s, FanOf({0, 0, 0}, star)));
   Ring square = FanOf({0, 0, 0}, {{1, 0, 0}, {0, 1, 0}, {-1, 0, 0}, {0, -1, 0}});
   EXPECT_TRUE(Prepare(s, square));
   square.boundary = true;
