@@ -6,6 +6,8 @@
 namespace femsimp {
 namespace {
 
+constexpr double kSeparationMargin = 1e-8;
+
 double Cross2(double ax, double ay, double bx, double by) { return ax * by - ay * bx; }
 
 // c = Cross2(a, b) is clearly positive: beyond kSeparationMargin of |a| |b|.
@@ -84,6 +86,17 @@ bool FanSeparation::Prepare(const Ring& fan, const uint32_t* ids) {
     if (!ClearlyLeft(turn(a, b, c), u.x * u.x + u.y * u.y, w.x * w.x + w.y * w.y)) return false;
     hull_at_[b] = m;
   }
+  // And holds the corners it left out (dents: rare), none clearly beyond a side.
+  for (int i = 0; i < k; ++i) {
+    if (hull_at_[i] >= 0) continue;
+    for (int m = 0; m < hull_size_; ++m) {
+      const int a = hull_[m], b = hull_[(m + 1) % hull_size_];
+      const Flat u{ring_[b].x - ring_[a].x, ring_[b].y - ring_[a].y};
+      const Flat w{ring_[i].x - ring_[a].x, ring_[i].y - ring_[a].y};
+      if (ClearlyLeft(-Cross2(u.x, u.y, w.x, w.y), u.x * u.x + u.y * u.y, w.x * w.x + w.y * w.y))
+        return false;
+    }
+  }
   return true;
 }
 
@@ -100,8 +113,8 @@ bool FanSeparation::Covers(int target) const {
   return true;
 }
 
-// F's corners other than ring corner r, a and b: the angle of P at r and the angle of F there
-// (both convex) meet only at r, clearly: each side of either lies clearly outside the other.
+// F's corners other than ring corner r, a and b: the hull's angle at r and F's angle there (both
+// convex) meet only at r, clearly: each side of either lies clearly outside the other.
 bool FanSeparation::ConeApart(int r, const Flat& a, const Flat& b, int* tests) const {
   const Flat& o = ring_[r];
   // The hull's angle at r runs counter-clockwise from its side to the next hull corner to its

@@ -17,11 +17,12 @@
 //     only as its corner;
 //   - F shares a side of P that is a side of H: its third corner lies strictly beyond that
 //     side's line.
-// "Strictly" means by a relative margin (kSeparationMargin) far above the rounding of these
-// figures and above the near-touch band of the triangle test (engine/triangle_intersection.h,
-// 1e-12 of the lengths), so a face shown apart is one that test finds apart too: leaving it out
-// of the test changes no verdict (tests/engine/fan_separation_test.cc checks that on random
-// fans). A false answer means "not shown": the face is tested as before.
+// "Strictly" means by a relative margin (1e-8) far above the rounding of these figures and above
+// the near-touch band of the triangle test (engine/triangle_intersection.h, 1e-12 of the
+// lengths). That test is conservative near degenerate pairs, so a face shown apart here can be
+// one it would call meeting (docs/FIDELITY.md § 9: such pairs are apart by CGAL's exact
+// predicates); tests/engine/fan_separation_test.cc checks on random fans that no face shown
+// apart meets a new triangle. A false answer means "not shown": the face is tested as before.
 #pragma once
 
 #include <cstdint>
@@ -31,8 +32,6 @@
 #include "engine/vec.h"
 
 namespace femsimp {
-
-inline constexpr double kSeparationMargin = 1e-8;
 
 class FanSeparation {
  public:

@@ -41,10 +41,12 @@ class SelfIntersectionRule final : public CollapseRule {
       p.cycles += kCyclesPerPlanarTest * planar_tests;
       if (retiles) return Verdict::kPass;
     }
-    if (!p.nearby_read) ReadNearby(p, /*separate=*/!star && p.also_replaced.empty());
-    // The faces left out are apart from the new triangles only where these are one to one
-    // seen along the fan's normal.
-    if (p.nearby_separated && !p.separation->Covers(p.target)) ReadNearby(p, false);
+    // The faces left out are apart from the new triangles only where these are one to one seen
+    // along the fan's normal: a later direction that is not reads them all.
+    if (!p.nearby_read)
+      ReadNearby(p, /*separate=*/!star && p.also_replaced.empty());
+    else if (p.nearby_separated && !p.separation->Covers(p.target))
+      ReadNearby(p, false);
     PreparedTriangle fresh[kMaxStar];
     int count = 0;
     if (star) {
