@@ -335,27 +335,40 @@ void Coverage::GridWitnesses(const DVec3& lo, const DVec3& hi, CoveragePlan* pla
       }
   std::sort(plan->found.begin(), plan->found.end());
   plan->found.erase(std::unique(plan->found.begin(), plan->found.end()), plan->found.end());
-  Witnesses(lo, hi, plan->found, plan);
+  WidenedBoxes(plan->found, &plan->found_box);
+  Witnesses(lo, hi, plan->found, plan->found_box, plan);
+}
+
+void Coverage::WidenedBoxes(std::span<const uint32_t> triangles,
+                            std::vector<CoveragePlan::Box>* boxes) const {
+  boxes->resize(triangles.size());
+  for (size_t i = 0; i < triangles.size(); ++i) {
+    const Vec3* t = &input_[3 * size_t{triangles[i]}];
+    (*boxes)[i] = {{std::min({t[0].x, t[1].x, t[2].x}) - tolerance_,
+                    std::min({t[0].y, t[1].y, t[2].y}) - tolerance_,
+                    std::min({t[0].z, t[1].z, t[2].z}) - tolerance_},
+                   {std::max({t[0].x, t[1].x, t[2].x}) + tolerance_,
+                    std::max({t[0].y, t[1].y, t[2].y}) + tolerance_,
+                    std::max({t[0].z, t[1].z, t[2].z}) + tolerance_}};
+  }
 }
 
 void Coverage::Witnesses(const DVec3& lo, const DVec3& hi, std::span<const uint32_t> triangles,
-                         CoveragePlan* plan) const {
+                         std::span<const CoveragePlan::Box> boxes, CoveragePlan* plan) const {
   plan->witnesses.clear();
-  for (uint32_t f : triangles) {
-    const Vec3* t = &input_[3 * size_t{f}];
+  for (size_t i = 0; i < triangles.size(); ++i) {
+    const CoveragePlan::Box& b = boxes[i];
+    if (b.hi.x < lo.x || b.lo.x > hi.x || b.hi.y < lo.y || b.lo.y > hi.y || b.hi.z < lo.z ||
+        b.lo.z > hi.z)
+      continue;
+    const uint32_t f = triangles[i];
     CoveragePlan::Witness w;
     w.triangle = f;
-    w.lo = {std::min({t[0].x, t[1].x, t[2].x}) - tolerance_,
-            std::min({t[0].y, t[1].y, t[2].y}) - tolerance_,
-            std::min({t[0].z, t[1].z, t[2].z}) - tolerance_};
-    w.hi = {std::max({t[0].x, t[1].x, t[2].x}) + tolerance_,
-            std::max({t[0].y, t[1].y, t[2].y}) + tolerance_,
-            std::max({t[0].z, t[1].z, t[2].z}) + tolerance_};
-    if (w.hi.x < lo.x || w.lo.x > hi.x || w.hi.y < lo.y || w.lo.y > hi.y || w.hi.z < lo.z ||
-        w.lo.z > hi.z)
-      continue;
+    w.lo = b.lo;
+    w.hi = b.hi;
     uint32_t& slot = plan->witness_distance_slot[f];
     if (slot == kNone) {
+      const Vec3* t = &input_[3 * size_t{f}];
       const DVec3 corners[3] = {ToD(t[0]), ToD(t[1]), ToD(t[2])};
       slot = static_cast<uint32_t>(plan->witness_distance.size());
       plan->witness_distance.emplace_back(corners);
@@ -739,17 +752,22 @@ bool Coverage::Judge(std::span<const DVec3> fresh_corners, CoveragePlan* plan, u
   };
   double certified[kMaxStar];
   const bool any_certified = certify(certified);
+  bool under_boxed = false;  // plan->under_box made (once: every new face looks at them)
   for (int k = 0; k < fresh; ++k) {
     if (any_certified && certified[k] >= 0 && certified[k] <= tolerance_) {
       plan->reach[k] = std::max(plan->reach[k], certified[k]);
       continue;
+    }
+    if (!under_boxed) {
+      WidenedBoxes(plan->under, &plan->under_box);
+      under_boxed = true;
     }
     const DVec3* c = &fresh_corners[3 * k];
     const DVec3 lo{std::min({c[0].x, c[1].x, c[2].x}), std::min({c[0].y, c[1].y, c[2].y}),
                    std::min({c[0].z, c[1].z, c[2].z})};
     const DVec3 hi{std::max({c[0].x, c[1].x, c[2].x}), std::max({c[0].y, c[1].y, c[2].y}),
                    std::max({c[0].z, c[1].z, c[2].z})};
-    Witnesses(lo, hi, plan->under, plan);
+    Witnesses(lo, hi, plan->under, plan->under_box, plan);
     double reach = Within(c, plan, &looked);
     if (reach < 0 && looked <= kMaxWork) {
       GridWitnesses(lo, hi, plan);

@@ -109,6 +109,11 @@ struct CoveragePlan {
   // Scratch, kept with the plan so that its capacity stays.
   std::vector<Part> pieces;
   std::vector<uint64_t> keys;
+  struct Box {
+    DVec3 lo, hi;
+  };
+  // The widened boxes of `under` and `found`, one per triangle, in their order.
+  std::vector<Box> under_box, found_box;
   struct Witness {
     uint32_t triangle;
     DVec3 lo, hi;       // its box, widened by the tolerance
@@ -239,10 +244,13 @@ class Coverage {
   // The most input triangles one shadow certificate looks at.
   static constexpr size_t kMaxShade = 4096;
 
-  // The triangles (ids, each once) whose boxes, widened by the tolerance, meet the box
-  // [lo, hi], into plan->witnesses (with their widened boxes).
+  // The boxes of `triangles`, widened by the tolerance.
+  void WidenedBoxes(std::span<const uint32_t> triangles,
+                    std::vector<CoveragePlan::Box>* boxes) const;
+  // The triangles (ids, each once; `boxes` their widened boxes) whose widened boxes meet the
+  // box [lo, hi], into plan->witnesses (with their widened boxes).
   void Witnesses(const DVec3& lo, const DVec3& hi, std::span<const uint32_t> triangles,
-                 CoveragePlan* plan) const;
+                 std::span<const CoveragePlan::Box> boxes, CoveragePlan* plan) const;
   // The same for every input triangle (from the grid).
   void GridWitnesses(const DVec3& lo, const DVec3& hi, CoveragePlan* plan) const;
   void IndexInput();

@@ -142,46 +142,60 @@ double Coverage::WithinShadow(const DVec3* c, std::span<const uint32_t> seeds, C
   std::vector<uint32_t>& slot = plan->shade_slot;
   if (slot.size() != whole_.size()) slot.assign(whole_.size(), kNone);
   shade.clear();
-  // The index of triangle t in `shade`, judged the first time it is seen.
-  const auto visit = [&](uint32_t t) -> size_t {
-    if (slot[t] != kNone) return slot[t];
+  // Judges triangle t (not yet in `shade`) and returns its index there. The tests are ordered
+  // cheapest and most selective first: only a member's height is read later, so a triangle
+  // whose shadow misses R's box costs its shadow only.
+  const auto judge = [&](uint32_t t) -> uint32_t {
     CoveragePlan::Shade s{t, false, 0, {}};
     const Vec3* p = &input_[3 * size_t{t}];
-    double heights[3];
+    DVec3 d[3];
     for (int k = 0; k < 3; ++k) {
-      const DVec3 q = ToD(p[k]);
-      heights[k] = Dot(n, q - c[0]);
-      s.height = std::max(s.height, std::fabs(heights[k]));
-      s.xy[k] = flat(q);
+      d[k] = ToD(p[k]) - c[0];
+      s.xy[k] = Flat{Dot(u, d[k]), Dot(w, d[k])};
     }
-    // Facing R's way by more than rounding: twice the area above the slack times the perimeter,
-    // which the sum of the sides' |dx| + |dy| bounds from above (the square roots only near it).
-    const double turn = Turn(s.xy[0], s.xy[1], s.xy[2]);
-    double manhattan = 0;
-    for (int k = 0; k < 3; ++k)
-      manhattan +=
-          std::fabs(s.xy[(k + 1) % 3].x - s.xy[k].x) + std::fabs(s.xy[(k + 1) % 3].y - s.xy[k].y);
-    bool ok = turn > slack * manhattan ||
-              (turn > 0 && turn > slack * (Length(s.xy[0], s.xy[1]) + Length(s.xy[1], s.xy[2]) +
-                                           Length(s.xy[2], s.xy[0])));
-    if (ok) {  // a triangle whose shadow misses R's box adds nothing (its edges are tested)
-      ok = std::max({s.xy[0].x, s.xy[1].x, s.xy[2].x}) >= lo.x &&
-           std::min({s.xy[0].x, s.xy[1].x, s.xy[2].x}) <= hi.x &&
-           std::max({s.xy[0].y, s.xy[1].y, s.xy[2].y}) >= lo.y &&
-           std::min({s.xy[0].y, s.xy[1].y, s.xy[2].y}) <= hi.y;
+    // A triangle whose shadow misses R's box adds nothing (its edges are tested).
+    bool ok = std::max({s.xy[0].x, s.xy[1].x, s.xy[2].x}) >= lo.x &&
+              std::min({s.xy[0].x, s.xy[1].x, s.xy[2].x}) <= hi.x &&
+              std::max({s.xy[0].y, s.xy[1].y, s.xy[2].y}) >= lo.y &&
+              std::min({s.xy[0].y, s.xy[1].y, s.xy[2].y}) <= hi.y;
+    if (ok) {
+      // Facing R's way by more than rounding: twice the area above the slack times the
+      // perimeter, which the sum of the sides' |dx| + |dy| bounds from above (the square roots
+      // only near it).
+      const double turn = Turn(s.xy[0], s.xy[1], s.xy[2]);
+      double manhattan = 0;
+      for (int k = 0; k < 3; ++k)
+        manhattan +=
+            std::fabs(s.xy[(k + 1) % 3].x - s.xy[k].x) + std::fabs(s.xy[(k + 1) % 3].y - s.xy[k].y);
+      ok = turn > slack * manhattan ||
+           (turn > 0 && turn > slack * (Length(s.xy[0], s.xy[1]) + Length(s.xy[1], s.xy[2]) +
+                                        Length(s.xy[2], s.xy[0])));
     }
-    if (ok && s.height > height_limit) {
-      // Only its part over R must lie in the slab (the points of S the certificate uses are
-      // under R): a triangle that crosses R's border may rise beyond it outside. The clipped
-      // heights are interpolations: a relative margin covers their rounding.
-      const double over_r = ClippedHeight(s.xy, heights, outset);
-      ok = over_r >= 0 && over_r + 1e-12 * s.height <= height_limit;
-      if (ok) s.height = over_r + 1e-12 * s.height;
+    if (ok) {
+      double heights[3];
+      for (int k = 0; k < 3; ++k) {
+        heights[k] = Dot(n, d[k]);
+        s.height = std::max(s.height, std::fabs(heights[k]));
+      }
+      if (s.height > height_limit) {
+        // Only its part over R must lie in the slab (the points of S the certificate uses are
+        // under R): a triangle that crosses R's border may rise beyond it outside. The clipped
+        // heights are interpolations: a relative margin covers their rounding.
+        const double over_r = ClippedHeight(s.xy, heights, outset);
+        ok = over_r >= 0 && over_r + 1e-12 * s.height <= height_limit;
+        if (ok) s.height = over_r + 1e-12 * s.height;
+      }
     }
     s.member = ok;
-    slot[t] = static_cast<uint32_t>(shade.size());
+    const uint32_t at = static_cast<uint32_t>(shade.size());
+    slot[t] = at;
     shade.push_back(s);
-    return shade.size() - 1;
+    return at;
+  };
+  // The index of triangle t in `shade`, judged the first time it is seen.
+  const auto visit = [&](uint32_t t) -> uint32_t {
+    const uint32_t at = slot[t];
+    return at != kNone ? at : judge(t);
   };
 
   // S grows from the seeds across shared edges; an edge with one side in S ends its shadow.
