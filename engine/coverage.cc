@@ -58,8 +58,17 @@ bool PointIn(const DVec3& q, const DVec3& lo, const DVec3& hi) {
   return q.x >= lo.x && q.x <= hi.x && q.y >= lo.y && q.y <= hi.y && q.z >= lo.z && q.z <= hi.z;
 }
 
-bool CornersIn(const DVec3* c, const DVec3& lo, const DVec3& hi) {
-  return PointIn(c[0], lo, hi) && PointIn(c[1], lo, hi) && PointIn(c[2], lo, hi);
+// The box of three corners: all three lie in a box when it does (min and max are exact).
+CoveragePlan::Box CornerBox(const DVec3* c) {
+  return {{std::min({c[0].x, c[1].x, c[2].x}), std::min({c[0].y, c[1].y, c[2].y}),
+           std::min({c[0].z, c[1].z, c[2].z})},
+          {std::max({c[0].x, c[1].x, c[2].x}), std::max({c[0].y, c[1].y, c[2].y}),
+           std::max({c[0].z, c[1].z, c[2].z})}};
+}
+
+bool BoxIn(const CoveragePlan::Box& b, const DVec3& lo, const DVec3& hi) {
+  return b.lo.x >= lo.x && b.hi.x <= hi.x && b.lo.y >= lo.y && b.hi.y <= hi.y && b.lo.z >= lo.z &&
+         b.hi.z <= hi.z;
 }
 
 // The squared distances of a piece's first corners to one holder, already computed.
@@ -454,13 +463,13 @@ void Coverage::FindHolderPairs(int fresh, CoveragePlan* plan) const {
     }
 }
 
-int Coverage::TakeByPair(const DVec3* c, const TriangleDistance* to, CoveragePlan* plan,
-                         int* last_pair, double* reach) const {
+int Coverage::TakeByPair(const DVec3* c, const CoveragePlan::Box& c_box, const TriangleDistance* to,
+                         CoveragePlan* plan, int* last_pair, double* reach) const {
   const int pairs = static_cast<int>(plan->holder_pairs.size());
   for (int n = 0; n < pairs; ++n) {
     const int i = (*last_pair + n) % pairs;
     const CoveragePlan::HolderPair& pair = plan->holder_pairs[i];
-    if (!CornersIn(c, pair.lo, pair.hi)) continue;
+    if (!BoxIn(c_box, pair.lo, pair.hi)) continue;
     const auto known = [plan](int k) {
       return KnownDistances{&plan->known[3 * size_t(k)], plan->known_count[k]};
     };
@@ -680,6 +689,7 @@ bool Coverage::Judge(std::span<const DVec3> fresh_corners, CoveragePlan* plan, u
     plan->pieces.pop_back();
     const Piece piece = part.piece;
     const DVec3* corners = part.corners;
+    const CoveragePlan::Box corners_box = CornerBox(corners);
     int taker = -1;
     double worst = 0;
     // Each holder's distances, kept for the pairs' test: a piece no holder takes alone has had
@@ -687,7 +697,7 @@ bool Coverage::Judge(std::span<const DVec3> fresh_corners, CoveragePlan* plan, u
     for (int n = 0; n < holders && taker < 0; ++n) {
       const int k = (last + n) % holders;
       plan->known_count[k] = 0;
-      if (!CornersIn(corners, box[2 * k], box[2 * k + 1])) continue;
+      if (!BoxIn(corners_box, box[2 * k], box[2 * k + 1])) continue;
       worst = 0;
       for (int q = 0; q < 3 && worst <= tolerance2_; ++q) {
         const double d = to[k](corners[q]);
@@ -707,7 +717,7 @@ bool Coverage::Judge(std::span<const DVec3> fresh_corners, CoveragePlan* plan, u
     // bent patch needs no cutting down to the tolerance's size along it.
     if (!plan->holder_pairs_found) FindHolderPairs(fresh, plan);
     double pair_reach = 0;
-    const int pair = TakeByPair(corners, to, plan, &last_pair, &pair_reach);
+    const int pair = TakeByPair(corners, corners_box, to, plan, &last_pair, &pair_reach);
     if (pair >= 0) {
       const CoveragePlan::HolderPair& p = plan->holder_pairs[pair];
       plan->given.push_back({static_cast<uint32_t>(p.k), static_cast<uint32_t>(p.j), piece});

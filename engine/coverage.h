@@ -222,10 +222,10 @@ class Coverage {
   }
   // The holders across an edge from each other (one of them new), into plan->holder_pairs.
   void FindHolderPairs(int fresh, CoveragePlan* plan) const;
-  // The piece with corners c taken by one of plan->holder_pairs whole: its index, and in
-  // *reach the largest distance certified, or -1. to: the holders' distances.
-  int TakeByPair(const DVec3* c, const TriangleDistance* to, CoveragePlan* plan, int* last_pair,
-                 double* reach) const;
+  // The piece with corners c (c_box their box) taken by one of plan->holder_pairs whole: its
+  // index, and in *reach the largest distance certified, or -1. to: the holders' distances.
+  int TakeByPair(const DVec3* c, const CoveragePlan::Box& c_box, const TriangleDistance* to,
+                 CoveragePlan* plan, int* last_pair, double* reach) const;
   // (b) for the new face with corners p[0..2], against plan->witnesses: its certified reach,
   // or a negative number when some part is not within the tolerance.
   double Within(const DVec3* p, CoveragePlan* plan, uint64_t* work) const;
