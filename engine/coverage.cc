@@ -773,10 +773,7 @@ bool Coverage::Judge(std::span<const DVec3> fresh_corners, CoveragePlan* plan, u
       under_boxed = true;
     }
     const DVec3* c = &fresh_corners[3 * k];
-    const DVec3 lo{std::min({c[0].x, c[1].x, c[2].x}), std::min({c[0].y, c[1].y, c[2].y}),
-                   std::min({c[0].z, c[1].z, c[2].z})};
-    const DVec3 hi{std::max({c[0].x, c[1].x, c[2].x}), std::max({c[0].y, c[1].y, c[2].y}),
-                   std::max({c[0].z, c[1].z, c[2].z})};
+    const auto [lo, hi] = CornerBox(c);
     Witnesses(lo, hi, plan->under, plan->under_box, plan);
     double reach = Within(c, plan, &looked);
     if (reach < 0 && looked <= kMaxWork) {
