@@ -17,6 +17,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
+#include "engine/coordinate_precision.h"
 #include "engine/id_index.h"
 #include "engine/union_find.h"
 
@@ -124,7 +125,11 @@ class Repairer {
   }
 
   absl::Status CheckInput() const;
+  // The box of the vertices some facet uses (lo > hi: none).
+  void ReferencedBox(double lo[3], double hi[3]) const;
   void Weld();
+  // Why every facet may have become degenerate: coordinates too coarse where the part lies.
+  std::string RoundedAwayNote() const;
   void FilterFacets();
   void CloseTJunctions();
   void BuildEdges();
@@ -224,14 +229,8 @@ void Repairer::Weld() {
   RepairReport& report = result_.report;
   rep_.resize(nv_);
   for (uint32_t v = 0; v < nv_; ++v) rep_[v] = v;
-  double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-  for (uint32_t v = 0; v < nv_; ++v) {
-    if (first_facet_[v] == kNoIndex) continue;
-    for (int k = 0; k < 3; ++k) {
-      lo[k] = std::min(lo[k], double(Pos(v)[k]));
-      hi[k] = std::max(hi[k], double(Pos(v)[k]));
-    }
-  }
+  double lo[3], hi[3];
+  ReferencedBox(lo, hi);
   report.diagonal =
       std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
                 (hi[2] - lo[2]) * (hi[2] - lo[2]));
@@ -1248,6 +1247,33 @@ absl::Status Repairer::StrictError() const {
   return absl::InvalidArgumentError(message + details);
 }
 
+void Repairer::ReferencedBox(double lo[3], double hi[3]) const {
+  for (int k = 0; k < 3; ++k) {
+    lo[k] = HUGE_VAL;
+    hi[k] = -HUGE_VAL;
+  }
+  for (uint32_t v = 0; v < nv_; ++v) {
+    if (first_facet_[v] == kNoIndex) continue;
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = std::min(lo[k], double(Pos(v)[k]));
+      hi[k] = std::max(hi[k], double(Pos(v)[k]));
+    }
+  }
+}
+
+std::string Repairer::RoundedAwayNote() const {
+  double lo[3], hi[3];
+  ReferencedBox(lo, hi);
+  const CoordinatePrecision p = PrecisionOfBox(lo, hi);
+  if (!p.coarse()) return "";
+  return absl::StrFormat(
+      ", likely because the part lies far from the origin for its size: its coordinates reach "
+      "%.6g, where 32-bit floats (how femsimp keeps positions) are %.3g apart, and the part "
+      "measures %.3g across as read, so the file's detail was rounded away when it was read; "
+      "translate the part near the origin",
+      p.magnitude, p.spacing, p.diagonal);
+}
+
 absl::StatusOr<RepairResult> Repairer::Run(RawMesh& mesh) {
   nv_ = in_.num_vertices();
   nf_ = in_.num_faces();
@@ -1262,7 +1288,8 @@ absl::StatusOr<RepairResult> Repairer::Run(RawMesh& mesh) {
   FilterFacets();
   if (kept_.empty())
     return absl::InvalidArgumentError(absl::StrCat("mesh is empty after repair: all ", nf_,
-                                                   " facets were degenerate or duplicates"));
+                                                   " facets were degenerate or duplicates",
+                                                   RoundedAwayNote()));
   if (!strict_) CloseTJunctions();
   BuildEdges();
   // A split can leave a facet's other open edge for the next call: a triangle has three.

@@ -53,14 +53,8 @@ Bounds BoundsOf(const Mesh& mesh) {
 }
 
 CoordinatePrecision PrecisionOf(const Bounds& b) {
-  CoordinatePrecision p;
-  if (!(b.lo.x <= b.hi.x)) return p;  // no live vertex
-  for (const double x : {b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y, b.hi.z})
-    p.magnitude = std::max(p.magnitude, std::fabs(x));
-  const float m = static_cast<float>(p.magnitude);  // a coordinate: exact
-  p.spacing = double(std::nextafter(m, std::numeric_limits<float>::infinity())) - double(m);
-  p.diagonal = b.diagonal();
-  return p;
+  const double lo[3] = {b.lo.x, b.lo.y, b.lo.z}, hi[3] = {b.hi.x, b.hi.y, b.hi.z};
+  return PrecisionOfBox(lo, hi);
 }
 
 // The tolerance that applies, as a float no larger than it (the bounds are stored as floats).

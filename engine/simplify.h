@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "absl/status/statusor.h"
+#include "engine/coordinate_precision.h"
 #include "engine/crossings.h"
 #include "engine/inertia.h"
 #include "engine/mesh.h"
@@ -184,19 +185,6 @@ struct PassStats {
 
 enum class StopReason { kTargetReached, kNoProgress, kMaxPasses, kCancelled };
 const char* StopReasonName(StopReason r);
-
-// Where the input lies, for the precision its positions keep: they are 32-bit floats, which far
-// from the origin are far apart, and what a file had finer than their spacing there was rounded
-// away when it was read (distinct points became one, facets between them degenerate).
-struct CoordinatePrecision {
-  double magnitude = 0.0;  // the largest coordinate magnitude of the input
-  double spacing = 0.0;    // the spacing of floats at that magnitude
-  double diagonal = 0.0;   // the input's bounding-box diagonal
-  double relative_spacing() const { return diagonal > 0.0 ? spacing / diagonal : 0.0; }
-};
-// From here on a summary warns: the spacing is 1e-4 of the part's size, a part some 800 to 1,700
-// of its diagonals from the origin.
-inline constexpr double kCoarseCoordinates = 1e-4;
 
 struct SimplifyResult {
   uint64_t input_vertices = 0, input_faces = 0;

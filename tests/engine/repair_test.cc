@@ -712,6 +712,31 @@ TEST(Repair, UnrepairableInputIsRefusedWithEveryProblem) {
   r = RepairMesh(all_degenerate, {});
   ASSERT_FALSE(r.ok());
   EXPECT_HAS(std::string(r.status().message()), "empty after repair");
+  // Collinear points near the origin: nothing was rounded away, so no word of it.
+  EXPECT_EQ(std::string(r.status().message()).find("far from the origin"), std::string::npos)
+      << r.status().message();
+}
+
+// A part placed far from the origin for its size (an assembly's global coordinates) loses its
+// detail to the 32-bit positions when it is read; where nothing is left, the error says why and
+// what to do instead of only that every facet was degenerate.
+TEST(Repair, EmptyBecauseRoundedAwayFarFromTheOrigin) {
+  RawMesh far = testing::LoadTestMesh("fandisk.off");  // about 0.1 across
+  for (size_t i = 0; i < far.positions.size(); ++i)
+    if (i % 3 != 2) far.positions[i] += 1e7f;  // floats there are 1 apart
+  for (const RepairMode mode : {RepairMode::kOn, RepairMode::kOff}) {
+    RawMesh m = far;
+    RepairOptions options;
+    options.mode = mode;
+    absl::StatusOr<RepairResult> r = RepairMesh(m, options);
+    ASSERT_FALSE(r.ok());
+    const std::string message(r.status().message());
+    EXPECT_HAS(message, "empty after repair");
+    EXPECT_HAS(message,
+               "far from the origin for its size: its coordinates reach 1e+07, where "
+               "32-bit floats (how femsimp keeps positions) are 1 apart");
+    EXPECT_HAS(message, "translate the part near the origin");
+  }
 }
 
 // Facets a CAD export dropped: a surface closed but for small holes is closed again.
