@@ -21,6 +21,7 @@
 #include "absl/strings/str_join.h"
 #include "engine/id_index.h"
 #include "engine/io/msh.h"
+#include "engine/io/polygons.h"
 #include "engine/io/reader_util.h"
 
 namespace femsimp {
@@ -33,13 +34,12 @@ using io_internal::ParseDouble;
 using io_internal::ParseFloat;
 using io_internal::ParseInt;
 
-constexpr absl::string_view kTrianglesOnly = "femsimp accepts triangles only; triangulate first";
-
 // What a reader hands on: the soup, and for OBJ and ASCII STL the line of each face, for the
 // messages of the check that follows the parse.
 struct Reading {
   ParsedMeshFile file;
   std::vector<size_t> face_lines;
+  std::vector<PolygonFace> polygons;  // faces of more corners than three, cut after the parse
 };
 
 // Splits text into lines, counting them from 1; strips a trailing '\r'.
@@ -114,8 +114,18 @@ absl::Status OutOfRange(size_t face, absl::string_view where, int64_t index, int
              " vertices");
 }
 
+// A face of 3 to kMaxPolygonCorners corners is read (polygons.h); others are refused.
+bool Readable(int64_t corners) { return corners >= 3 && corners <= int64_t{kMaxPolygonCorners}; }
+
 absl::Status Polygon(size_t face, size_t corners, absl::string_view where) {
-  return Bad("face ", face, where, " has ", corners, " vertices: ", kTrianglesOnly);
+  if (corners < 3) return Bad("face ", face, where, " has ", corners, " vertices: a face needs 3");
+  return Bad("face ", face, where, " has ", corners, " vertices: femsimp cuts polygons of up to ",
+             kMaxPolygonCorners, " corners into triangles; triangulate this one first");
+}
+
+// Notes a face of more than three corners for TriangulatePolygons.
+void NotePolygon(size_t face, int64_t corners, Reading* out) {
+  if (corners > 3) out->polygons.push_back({face, uint32_t(corners)});
 }
 
 // ---------------------------------------------------------------------------------- OFF
@@ -161,16 +171,17 @@ absl::Status ParseOffBinary(absl::string_view rest, absl::string_view key, Readi
     if (p + 4 > rest.data() + rest.size())
       return Bad("binary OFF truncated: the file ends inside face ", f, where());
     const int32_t n = LoadBytes<int32_t>(p, swap);
-    if (n != 3) return Polygon(f, size_t(std::max(n, 0)), where());
-    if (p + 16 > rest.data() + rest.size())
+    if (!Readable(n)) return Polygon(f, size_t(std::max(n, 0)), where());
+    if (size_t(rest.data() + rest.size() - p) < 4 + 4 * size_t(n))
       return Bad("binary OFF truncated: the file ends inside face ", f, where());
-    for (int i = 1; i <= 3; ++i) {
+    NotePolygon(f, n, out);
+    for (int i = 1; i <= n; ++i) {
       const int32_t idx = LoadBytes<int32_t>(p + 4 * i, swap);
       if (idx < 0) return Bad("face ", f, where(), " has a negative vertex index ", idx);
       if (uint32_t(idx) >= nv) return OutOfRange(f, where(), uint32_t(idx), nv);
       mesh.triangles.push_back(uint32_t(idx));
     }
-    p += 16;
+    p += 4 + 4 * size_t(n);
   }
   return absl::OkStatus();
 }
@@ -217,9 +228,11 @@ absl::Status ParseOff(absl::string_view data, Reading* out) {
     int64_t n;
     if (!ParseInt(tok[0], &n))
       return Bad("face ", f, where(), ": cannot parse '", tok[0], "' as a vertex count");
-    if (n != 3) return Polygon(f, size_t(std::max<int64_t>(n, 0)), where());
-    if (tok.size() < 4) return Bad("face ", f, where(), ": expected 3 vertex indices");
-    for (size_t i = 1; i <= 3; ++i) {
+    if (!Readable(n)) return Polygon(f, size_t(std::max<int64_t>(n, 0)), where());
+    if (tok.size() < size_t(n) + 1)
+      return Bad("face ", f, where(), ": expected ", n, " vertex indices");
+    NotePolygon(f, n, out);
+    for (size_t i = 1; i <= size_t(n); ++i) {
       int64_t idx;
       if (!ParseInt(tok[i], &idx))
         return Bad("face ", f, where(), ": cannot parse '", tok[i], "' as a vertex index");
@@ -275,8 +288,10 @@ absl::Status ParseObj(absl::string_view data, Reading* out) {
       out->face_lines.push_back(lines.number());
       face_group_index.push_back(group);
       const auto where = [&] { return absl::StrCat(" (line ", lines.number(), ")"); };
-      if (tok.size() != 4) return Polygon(f, tok.size() - 1, where());
-      for (int i = 1; i <= 3; ++i) {
+      const int64_t n = int64_t(tok.size()) - 1;
+      if (!Readable(n)) return Polygon(f, size_t(n), where());
+      NotePolygon(f, n, out);
+      for (int64_t i = 1; i <= n; ++i) {
         int64_t idx;
         absl::string_view t = tok[i].substr(0, tok[i].find('/'));
         if (!ParseInt(t, &idx) || idx == 0)
@@ -785,7 +800,8 @@ absl::Status ParsePly(absl::string_view data, Reading* out) {
         if (!(n >= 0 && n <= 1e9))  // also keeps the size_t conversion below defined
           return Bad(e.name, " ", i, where(), ": bad list length ", n);
         const bool indices = role[k] == kPlyCorners;
-        if (indices && n != 3) return Polygon(i, size_t(n), where());
+        if (indices && !Readable(int64_t(n))) return Polygon(i, size_t(n), where());
+        if (indices) NotePolygon(i, int64_t(n), out);
         for (size_t c = 0; c < size_t(n); ++c) {
           if (!values.Next(p.type, &v)) return fail();
           if (!indices) continue;
@@ -834,6 +850,13 @@ absl::StatusOr<ParsedMeshFile> ParseMeshFile(absl::string_view ext, absl::string
     s = ParseMsh(data, &parsed.file);
   } else {
     s = Bad("no reader for extension '", ext, "'");
+  }
+  // Polygons are cut once every position is known (OBJ faces may name later vertices); the cut
+  // checks their corners' range itself, by face.
+  if (s.ok() && !parsed.polygons.empty()) {
+    std::string summary;
+    s = TriangulatePolygons(parsed.polygons, &parsed.file.mesh, &parsed.face_lines, &summary);
+    if (s.ok()) parsed.file.warnings.push_back(std::move(summary));
   }
   if (s.ok()) s = CheckIndicesInRange(parsed);
   if (!s.ok()) return s;

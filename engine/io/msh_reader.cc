@@ -17,6 +17,7 @@
 #include "absl/strings/str_split.h"
 #include "absl/strings/strip.h"
 #include "engine/io/msh.h"
+#include "engine/io/polygons.h"
 #include "engine/io/reader_util.h"
 
 namespace femsimp {
@@ -91,7 +92,7 @@ constexpr ElementType kElementTypes[] = {
     {129, 53, kPyramid},     {130, 61, kPyramid},     {131, 69, kPyramid},
     {132, 1, kPyramid},      {137, 16, kTetrahedron}};
 
-constexpr int kTriangleType = 2;
+constexpr int kTriangleType = 2, kQuadrangleType = 3;  // first order: 3 and 4 nodes
 
 const ElementType* FindType(int64_t type) {
   const auto it = std::lower_bound(std::begin(kElementTypes), std::end(kElementTypes), type,
@@ -514,7 +515,8 @@ class MshReader {
   // The element's nodes (after its tag), as a face when it is a triangle.
   absl::Status ReadElementNodes(const ElementType& type, int64_t element, size_t at,
                                 uint32_t group) {
-    if (type.type != kTriangleType) {
+    const bool quadrangle = type.type == kQuadrangleType;
+    if (type.type != kTriangleType && !quadrangle) {
       ++left_out_[type.type];
       if (binary_) return Skip(type.nodes * (v4_ ? size_bytes_ : 4));
       absl::string_view t;
@@ -522,7 +524,9 @@ class MshReader {
         if (!Token(&t)) return Truncated();
       return absl::OkStatus();
     }
-    for (int k = 0; k < 3; ++k) {
+    // A quadrangle is cut into two triangles once the nodes are numbered (polygons.h).
+    if (quadrangle) polygons_.push_back({groups_.size(), 4});
+    for (int k = 0; k < type.nodes; ++k) {
       int64_t tag;
       if (absl::Status s = Integer(v4_ ? Kind::kSize : Kind::kInt, "a node tag", &tag); !s.ok())
         return s;
@@ -636,9 +640,11 @@ class MshReader {
     std::vector<std::string> parts;
     for (const auto& [type, n] : left) parts.push_back(CountOf(n, *FindType(type)));
     if (triangles_.empty() && !parts.empty())
-      return Bad("no 3-node triangles (element type 2) in the file, only ",
-                 absl::StrJoin(parts, ", "),
-                 ": femsimp simplifies surface triangulations (save the boundary's triangles)");
+      return Bad(
+          "no 3-node triangles or 4-node quadrangles (element types 2 and 3) in the file, "
+          "only ",
+          absl::StrJoin(parts, ", "),
+          ": femsimp simplifies surface meshes (save the boundary's triangles)");
 
     // Only the nodes of triangles, in file order.
     std::vector<uint32_t> index(nodes_.size() / 3, ~0u);
@@ -653,6 +659,12 @@ class MshReader {
     mesh.triangles.reserve(triangles_.size());
     for (uint32_t v : triangles_) mesh.triangles.push_back(index[v]);
     mesh.face_groups = std::move(groups_);
+    if (!polygons_.empty()) {
+      std::string summary;
+      if (absl::Status s = TriangulatePolygons(polygons_, &mesh, nullptr, &summary); !s.ok())
+        return s;
+      out_->warnings.push_back("msh: " + summary);
+    }
     if (!HasFaceGroups(mesh)) mesh.face_groups.clear();
 
     if (unused > 0)
@@ -682,8 +694,9 @@ class MshReader {
   absl::flat_hash_map<int64_t, uint32_t> surface_group_;
   size_t surfaces_in_several_groups_ = 0;
   std::vector<float> nodes_;
-  std::vector<uint32_t> triangles_, groups_;
-  std::map<int, uint64_t> left_out_;  // element type -> count
+  std::vector<uint32_t> triangles_, groups_;  // the corners of every face, and its group
+  std::vector<PolygonFace> polygons_;         // the faces of four corners
+  std::map<int, uint64_t> left_out_;          // element type -> count
   std::map<std::string, uint64_t> data_sections_;
 };
 

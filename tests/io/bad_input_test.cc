@@ -13,6 +13,7 @@
 #include <sstream>
 #include <string>
 
+#include "absl/strings/str_cat.h"
 #include "engine/io/mesh_io.h"
 #include "engine/mesh.h"
 #include "gtest/gtest.h"
@@ -59,7 +60,6 @@ class BadInputTest : public testing::TempDirTest {
 
 constexpr auto kInvalid = absl::StatusCode::kInvalidArgument;
 const std::vector<std::string> kSquare = {"0 0 0", "1 0 0", "1 1 0", "0 1 0"};
-constexpr char kTriangles[] = "femsimp accepts triangles only; triangulate first";
 
 // ------------------------------------------------------------------------- file level
 
@@ -193,20 +193,25 @@ TEST_F(BadInputTest, UnparsableNumber) {
                   "face 0 (line 4): invalid vertex index 'x'");
 }
 
-TEST_F(BadInputTest, QuadFace) {
-  const std::string message = std::string("face 1 (line 8) has 4 vertices: ") + kTriangles;
-  ExpectReadError(Off("q.off", kSquare, {"3 0 1 2", "4 0 1 2 3"}), kInvalid, message);
-  ExpectReadError(Write("q.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\n\n\nf 1 2 3 4\n"),
-                  kInvalid, message);
+// Polygons of 4 to 64 corners are cut into triangles (tests/io/polygons_test.cc); a face of fewer
+// corners, or of more, is refused by face and line.
+TEST_F(BadInputTest, FaceOfTooFewOrTooManyCorners) {
+  ExpectReadError(Off("two.off", kSquare, {"3 0 1 2", "2 0 1"}), kInvalid,
+                  "face 1 (line 8) has 2 vertices: a face needs 3");
+  // OpenMesh's OBJ reader would drop a two-corner face silently.
+  ExpectReadError(Write("two.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2\n"), kInvalid,
+                  "face 0 (line 4) has 2 vertices: a face needs 3");
+  std::string ring = "f";
+  for (int i = 1; i <= 65; ++i) absl::StrAppend(&ring, " ", 1 + i % 4);
+  ExpectReadError(Write("ring.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n" + ring + "\n"), kInvalid,
+                  "face 0 (line 5) has 65 vertices: femsimp cuts polygons of up to 64 corners "
+                  "into triangles; triangulate this one first");
   ExpectReadError(Write("q.ply",
                         "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\n"
                         "property float y\nproperty float z\nelement face 1\n"
                         "property list uchar int vertex_indices\nend_header\n"
-                        "0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n"),
-                  kInvalid, std::string("has 4 vertices: ") + kTriangles);
-  // OpenMesh's OBJ reader would drop a two-corner face silently.
-  ExpectReadError(Write("two.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2\n"), kInvalid,
-                  "face 0 (line 4) has 2 vertices");
+                        "0 0 0\n1 0 0\n1 1 0\n0 1 0\n1 0\n"),
+                  kInvalid, "has 1 vertices: a face needs 3");
 }
 
 TEST_F(BadInputTest, NonFiniteCoordinate) {

@@ -112,8 +112,8 @@ TEST_F(FastPathTest, BinaryPlyRecordItDoesNotTakeIsRefusedInTheGeneralWords) {
   // Vertices take 48 bytes, a face 21 (count, 3 corners, group, load): face 2 starts at byte 90;
   // the general loop names the byte after the value it refuses.
   const auto at = [](size_t byte) { return absl::StrCat("face 2 (byte ", byte, " of the body)"); };
-  EXPECT_NE(spoil("quad.ply", [](uint8_t& n, int32_t*, int32_t&, float&) { n = 4; })
-                .find(at(91) + " has 4 vertices"),
+  EXPECT_NE(spoil("edge.ply", [](uint8_t& n, int32_t*, int32_t&, float&) { n = 2; })
+                .find(at(91) + " has 2 vertices"),
             std::string::npos);
   EXPECT_NE(spoil("neg.ply", [](uint8_t&, int32_t* c, int32_t&, float&) { c[1] = -1; })
                 .find(at(99) + " has a negative vertex index -1"),

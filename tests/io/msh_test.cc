@@ -501,7 +501,8 @@ TEST_F(MshTest, UnreadableFilesNameTheLineOrByte) {
   ExpectError("no triangles",
               "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 0 1 0\n"
               "4 0 0 1\n$EndNodes\n$Elements\n1\n1 4 0 1 2 3 4\n$EndElements\n",
-              "no 3-node triangles (element type 2) in the file, only 1 tetrahedron");
+              "no 3-node triangles or 4-node quadrangles (element types 2 and 3) in the file, only "
+              "1 tetrahedron");
 }
 
 }  // namespace
