@@ -4,8 +4,10 @@
 // which format holds what).
 //
 // A reader refuses what makes the file unreadable, and says where: a number it cannot parse, a
-// coordinate that is not a finite float, a face that is not a triangle, a negative vertex index
-// or one beyond the file's vertices, a file that ends before its header says. Geometric and
+// coordinate that is not a finite float, a face of fewer than 3 or more than kMaxPolygonCorners
+// corners, a negative vertex index or one beyond the file's vertices, a file that ends before its
+// header says. Faces of 4 to kMaxPolygonCorners corners are cut into triangles (polygons.h) and
+// the warnings say how many. Geometric and
 // topological defects (degenerate, duplicate, flipped or non-manifold faces) are not the
 // reader's business: they reach the soup as they are, for the repair stage (engine/repair.h) or,
 // with repair off, for validation (Mesh::Build, engine/mesh_checks.h) to report.
