@@ -42,8 +42,8 @@ double Volume(const RawMesh& m) {
 
 constexpr char kCubeVertices[] = "0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n";
 
-// A cube of six quads, outward: the same closed solid from OBJ, OFF and PLY.
-TEST(Polygons, QuadCubeInEveryTextFormat) {
+// A cube of six quads, outward: the same closed solid from OBJ, OFF (text and binary), PLY and MSH.
+TEST(Polygons, QuadCubeInEveryFormatWithPolygons) {
   const std::string quads[6] = {"0 3 2 1", "4 5 6 7", "0 1 5 4", "1 2 6 5", "2 3 7 6", "3 0 4 7"};
   std::string obj, off = "OFF\n8 6 0\n" + std::string(kCubeVertices), ply;
   for (const char* line : {"0 0 0", "1 0 0", "1 1 0", "0 1 0", "0 0 1", "1 0 1", "1 1 1", "0 1 1"})
@@ -75,8 +75,24 @@ TEST(Polygons, QuadCubeInEveryTextFormat) {
     msh += "\n";
   }
   msh += "$EndElements\n";
+  // Binary OFF (little-endian, as OpenMesh writes it): counts, floats, then per face its corner
+  // count and corners.
+  std::string binary = "OFF BINARY\n";
+  const auto put = [&binary](auto x) {
+    binary.append(reinterpret_cast<const char*>(&x), sizeof x);
+  };
+  for (const int32_t n : {8, 6, 0}) put(n);
+  for (int i = 0; i < 8; ++i)
+    for (const float x : {float(i == 1 || i == 2 || i == 5 || i == 6),
+                          float(i == 2 || i == 3 || i == 6 || i == 7), float(i >= 4)})
+      put(x);
+  for (const std::string& q : quads) {
+    put(int32_t{4});
+    for (const char c : q)
+      if (c != ' ') put(int32_t(c - '0'));
+  }
   for (const auto& [ext, data] :
-       {std::pair{".obj", obj}, {".off", off}, {".ply", ply}, {".msh", msh}}) {
+       {std::pair{".obj", obj}, {".off", off}, {".off", binary}, {".ply", ply}, {".msh", msh}}) {
     SCOPED_TRACE(ext);
     const ParsedMeshFile file = Parse(ext, data);
     EXPECT_EQ(file.mesh.num_faces(), 12u);
