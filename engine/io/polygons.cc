@@ -117,6 +117,9 @@ absl::Status TriangulatePolygons(const std::vector<PolygonFace>& polygons, RawMe
     const bool polygon = next < polygons.size() && polygons[next].face == face;
     const uint32_t n = polygon ? polygons[next].corners : 3;
     if (polygon) ++next;
+    if (n < 3 || n > kMaxPolygonCorners || at + n > corners.size())
+      return absl::InternalError(absl::StrCat("polygons: face ", face, " of ", n,
+                                              " corners does not fit the corner list"));
     for (uint32_t c = 0; c < n; ++c)
       if (corners[at + c] >= nv)
         return absl::InvalidArgumentError(absl::StrCat(
