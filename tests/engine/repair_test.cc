@@ -55,19 +55,6 @@ void NumberFacets(RawMesh& m) {
   }
 }
 
-double SignedVolume(const RawMesh& m) {
-  double v = 0;
-  for (size_t f = 0; f < m.num_faces(); ++f) {
-    const float* p[3];
-    for (int i = 0; i < 3; ++i) p[i] = &m.positions[3 * m.triangles[3 * f + i]];
-    v += (p[0][0] * (double(p[1][1]) * p[2][2] - double(p[1][2]) * p[2][1]) -
-          p[0][1] * (double(p[1][0]) * p[2][2] - double(p[1][2]) * p[2][0]) +
-          p[0][2] * (double(p[1][0]) * p[2][1] - double(p[1][1]) * p[2][0])) /
-         6;
-  }
-  return v;
-}
-
 void Flip(RawMesh& m, size_t f) { std::swap(m.triangles[3 * f + 1], m.triangles[3 * f + 2]); }
 
 void AppendFacet(RawMesh& m, std::initializer_list<uint32_t> t) {
@@ -159,7 +146,7 @@ TEST(Repair, InsideOutComponentIsTurnedOutward) {
   ExpectBuilds(m);  // consistent, only inside out
   RepairResult r = Repair(m);
   ExpectSameMesh(m, clean);
-  EXPECT_GT(SignedVolume(m), 1.99);
+  EXPECT_GT(testing::SignedVolume(m), 1.99);
   EXPECT_EQ(r.report.count(RepairKind::kReversedComponent), 1u);
   EXPECT_EQ(r.report.count(RepairKind::kFlippedFacet), 12u);
   EXPECT_HAS(Records(r.report, RepairKind::kReversedComponent), "inside-out component (facet 12)");
@@ -257,7 +244,7 @@ void ExpectClosedCube(const RawMesh& m) {
   EXPECT_EQ(topology.boundary_edges, 0);
   EXPECT_EQ(topology.components, 1);
   EXPECT_EQ(topology.euler(), TopologyOf(Cube()).euler());
-  EXPECT_NEAR(SignedVolume(m), 1.0, 1e-6);
+  EXPECT_NEAR(testing::SignedVolume(m), 1.0, 1e-6);
 }
 
 // Strict mode accepts `m` (nothing Mesh::Build refuses) and changes nothing.
@@ -568,7 +555,7 @@ TEST(Repair, NonManifoldVertexIsSplit) {
   EXPECT_EQ(m.num_vertices(), 16u);
   EXPECT_EQ(r.vertex_origin.back(), 7u);
   EXPECT_EQ(TopologyOf(m).components, 2);
-  EXPECT_NEAR(SignedVolume(m), 2, 1e-6);
+  EXPECT_NEAR(testing::SignedVolume(m), 2, 1e-6);
 }
 
 // Two unit cubes side by side whose common square x = 1 is one wall of two facets (in the first
@@ -813,7 +800,8 @@ TEST(Repair, FandiskHolesAreFilledAsMostFacetsAroundThemTurn) {
   EXPECT_EQ(r.report.count(RepairKind::kFilledHole), 2u) << r.report.Details();
   EXPECT_EQ(r.report.count(RepairKind::kFlippedFacet), 1u) << r.report.Details();
   EXPECT_EQ(m.num_faces(), clean.num_faces());
-  EXPECT_NEAR(SignedVolume(m), SignedVolume(clean), 1e-4 * std::abs(SignedVolume(clean)));
+  EXPECT_NEAR(testing::SignedVolume(m), testing::SignedVolume(clean),
+              1e-4 * std::abs(testing::SignedVolume(clean)));
 }
 
 TEST(Repair, FandiskWithFlippedAndDuplicatedFacets) {

@@ -9,6 +9,7 @@
 #include "engine/io/mesh_readers.h"
 #include "engine/io/polygons.h"
 #include "gtest/gtest.h"
+#include "tests/support/meshes.h"
 
 namespace femsimp {
 namespace {
@@ -19,25 +20,12 @@ ParsedMeshFile Parse(const std::string& ext, const std::string& data) {
   return parsed.ok() ? *std::move(parsed) : ParsedMeshFile{};
 }
 
-// Twice the signed area of each triangle projected on z, and their sum.
+// Twice the signed area of triangle f projected on z.
 double TwiceAreaZ(const RawMesh& m, size_t f) {
   const float* a = &m.positions[3 * size_t(m.triangles[3 * f])];
   const float* b = &m.positions[3 * size_t(m.triangles[3 * f + 1])];
   const float* c = &m.positions[3 * size_t(m.triangles[3 * f + 2])];
   return double(b[0] - a[0]) * (c[1] - a[1]) - double(b[1] - a[1]) * (c[0] - a[0]);
-}
-
-double Volume(const RawMesh& m) {
-  double v = 0;
-  for (size_t f = 0; f < m.num_faces(); ++f) {
-    const float* p[3];
-    for (int i = 0; i < 3; ++i) p[i] = &m.positions[3 * size_t(m.triangles[3 * f + i])];
-    v += (p[0][0] * (double(p[1][1]) * p[2][2] - double(p[1][2]) * p[2][1]) -
-          p[0][1] * (double(p[1][0]) * p[2][2] - double(p[1][2]) * p[2][0]) +
-          p[0][2] * (double(p[1][0]) * p[2][1] - double(p[1][1]) * p[2][0])) /
-         6;
-  }
-  return v;
 }
 
 constexpr char kCubeVertices[] = "0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n";
@@ -96,7 +84,8 @@ TEST(Polygons, QuadCubeInEveryFormatWithPolygons) {
     SCOPED_TRACE(ext);
     const ParsedMeshFile file = Parse(ext, data);
     EXPECT_EQ(file.mesh.num_faces(), 12u);
-    EXPECT_NEAR(Volume(file.mesh), 1.0, 1e-12);  // every triangle keeps its quad's winding
+    EXPECT_NEAR(testing::SignedVolume(file.mesh), 1.0,
+                1e-12);  // every triangle keeps its quad's winding
     ASSERT_EQ(file.warnings.size(), 1u);
     EXPECT_EQ(
         file.warnings[0],

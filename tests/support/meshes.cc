@@ -204,6 +204,19 @@ SimplifyRun SimplifyCheckedWith(const RawMesh& input, const SimplifyOptions& opt
   return run;
 }
 
+double SignedVolume(const RawMesh& m) {
+  double v = 0;
+  for (size_t f = 0; f < m.num_faces(); ++f) {
+    const float* p[3];
+    for (int i = 0; i < 3; ++i) p[i] = &m.positions[3 * m.triangles[3 * f + i]];
+    v += (p[0][0] * (double(p[1][1]) * p[2][2] - double(p[1][2]) * p[2][1]) -
+          p[0][1] * (double(p[1][0]) * p[2][2] - double(p[1][2]) * p[2][0]) +
+          p[0][2] * (double(p[1][0]) * p[2][1] - double(p[1][1]) * p[2][0])) /
+         6;
+  }
+  return v;
+}
+
 double MinAngleDegrees(const RawMesh& mesh, size_t face) {
   double p[3][3];
   for (int i = 0; i < 3; ++i)

@@ -75,6 +75,9 @@ std::function<bool()> CancelOnceRemoving(const Mesh& mesh);
 // Smallest interior angle (degrees) of a triangle of the soup.
 double MinAngleDegrees(const RawMesh& mesh, size_t face);
 
+// Volume the soup's triangles enclose, signed (positive when they face outward).
+double SignedVolume(const RawMesh& mesh);
+
 // Distance from p to triangle abc (Ericson, Real-Time Collision Detection, 5.1.5).
 double PointTriangleDistance(const DVec3& p, const DVec3& a, const DVec3& b, const DVec3& c);
 
