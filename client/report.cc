@@ -119,6 +119,8 @@ std::string FidelityJson(const FidelityFigures& f) {
                       ", \"centroid_shift\": ", JsonNumber(f.centroid_shift),
                       ", \"max_field_change\": ", JsonNumber(f.max_field_change),
                       ", \"inertia_change\": ", JsonNumber(f.inertia_change),
+                      ", \"wall_limited_share\": ", JsonNumber(f.wall_limited_share),
+                      ", \"thinnest_wall\": ", JsonNumber(f.thinnest_wall),
                       ", \"output_crossings\": ", CrossingsJson(f.output_crossings),
                       ", \"coordinates\": {\"magnitude\": ", JsonNumber(f.coordinates.magnitude),
                       ", \"spacing\": ", JsonNumber(f.coordinates.spacing),
@@ -200,20 +202,27 @@ std::string CoarseCoordinatesWarning(const CoordinatePrecision& c) {
 // A solid's mean thickness against the tolerance. Each side of a wall may move by the
 // tolerance, so where the tolerance reaches half the thickness a wall may lose or double all of
 // it; the mass budgets hold totals, not a wall's local thickness, and its stiffness follows that
-// (docs/FIDELITY.md § 5).
+// (docs/FIDELITY.md § 5). The wall rule holds it, face by face: then the line says where it
+// lowered the tolerance instead of warning.
 std::string WallLines(const FidelityFigures& f) {
   const double thickness = MeanThickness(f.input_mass);
   if (thickness <= 0.0 || f.tolerance_abs <= 0.0) return "";
   const double share = f.tolerance_abs / thickness;
-  std::string s =
-      absl::StrFormat("walls:    mean thickness 2V/A %.4g; the tolerance is %.0f%% of it\n",
-                      thickness, 100 * share);
+  std::string s = absl::StrFormat(
+      "walls:    mean thickness 2V/A %.4g; the tolerance is %.0f%% of it", thickness, 100 * share);
+  if (f.thinnest_wall > 0.0)
+    return absl::StrCat(
+        s, absl::StrFormat("; the wall rule lowered it on %.1f%% of the surface (thinnest wall "
+                           "%.4g)\n",
+                           100 * f.wall_limited_share, f.thinnest_wall));
+  absl::StrAppend(&s, "\n");
   if (share >= kThinWallShare)
     absl::StrAppend(&s, absl::StrFormat("warning:  the tolerance is %.0f%% of the mean wall "
                                         "thickness: a wall may thin or thicken by up to twice "
                                         "the tolerance, which the mass budgets do not hold, and "
-                                        "its stiffness with it (femsimp check measures it; a "
-                                        "smaller --tolerance-relative keeps it)\n",
+                                        "its stiffness with it (femsimp check measures it; "
+                                        "--max-wall-share 0.2 or a smaller --tolerance-relative "
+                                        "keeps it)\n",
                                         100 * share));
   return s;
 }
@@ -257,6 +266,8 @@ FidelityFigures FidelityFigures::Of(const SimplifyResult& r) {
   f.input_mass = r.input_mass;
   f.output_mass = r.output_mass;
   f.inertia_change = r.inertia_change;
+  f.wall_limited_share = r.wall_limited_share;
+  f.thinnest_wall = r.thinnest_wall;
   f.output_crossings = r.output_crossings;
   f.coordinates = r.coordinates;
   return f;

@@ -21,6 +21,7 @@ struct FidelityFigures {
   double volume_change = 0.0, centroid_shift = 0.0, max_field_change = 0.0;
   MassSummary input_mass, output_mass;
   double inertia_change = 0.0;
+  double wall_limited_share = 0.0, thinnest_wall = 0.0;  // the wall rule's set-up
   SoupCrossings output_crossings;
   CoordinatePrecision coordinates;
   static FidelityFigures Of(const SimplifyResult& r);

@@ -95,6 +95,7 @@ struct NewDisplacement {
   bool any = false;
   void AddCell(const Displacement& old, const StepBox& cell) {
     if (cell.empty) return;  // the triangles only touch: their points lie in other cells too
+    d.limit = std::min(d.limit, old.limit);
     const DVec3 lo = old.lo + cell.lo, hi = old.hi + cell.hi;
     if (!any) {
       d.lo = lo;

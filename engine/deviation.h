@@ -16,6 +16,8 @@
 // one-ring, so it runs in parallel.
 #pragma once
 
+#include <limits>
+
 #include "engine/ring.h"
 #include "engine/star.h"
 #include "engine/vec.h"
@@ -26,7 +28,10 @@ namespace femsimp {
 struct Displacement {
   double bound = 0.0;              // |phi(p) - p| <= bound
   DVec3 lo{0, 0, 0}, hi{0, 0, 0};  // phi(p) - p lies in [lo, hi]
-  double Reach() const;            // the box's farthest point from 0
+  // The smallest tolerance of its own that one of those points p has (the wall rule's,
+  // engine/rules/wall_share.cc): a new face takes the least of the old faces it overlaps.
+  double limit = std::numeric_limits<double>::infinity();
+  double Reach() const;  // the box's farthest point from 0
 };
 
 // A point of the layout plane.

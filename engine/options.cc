@@ -70,6 +70,17 @@ absl::Status ValidateOptions(const SimplifyOptions& o) {
   // The rules between options.
   if (o.ratio > 0.0 && o.target_vertices > 0)
     return absl::InvalidArgumentError("give either ratio or target_vertices, not both");
+  if (o.max_wall_share > 0.0) {
+    if (!(o.tolerance > 0.0) && !(o.tolerance_relative > 0.0))
+      return absl::InvalidArgumentError(
+          "max_wall_share limits the tolerance where walls are thin: give a tolerance "
+          "(tolerance or tolerance_relative) too");
+    if (o.deviation_check == DeviationCheck::kMeasured)
+      return absl::InvalidArgumentError(
+          "max_wall_share gives each face its own tolerance, which deviation_check = measured "
+          "does not keep (it judges the whole input against one): use deviation_check = mapped "
+          "with it, or a smaller tolerance");
+  }
   if (o.backend == Backend::kCell) {
     if (o.deviation_check == DeviationCheck::kMeasured)
       return absl::InvalidArgumentError(

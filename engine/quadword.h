@@ -30,13 +30,14 @@ inline constexpr uint32_t kFeatureEdge = 2u;
 // Side data per face (two quadwords), present when a tolerance or face fields are asked for:
 // how far the face's points moved from the original surface (docs/FIDELITY.md: a bound on the
 // length, and a box holding the displacement vectors in 16-bit steps of the run's tolerance /
-// 2^14) and the face's field values. Guarded like the face's half-edges.
+// 2^14), the face's field values, and the face's own tolerance under the wall rule
+// (engine/rules/wall_share.cc; 0: none, the run's). Guarded like the face's half-edges.
 struct alignas(16) FaceAttrQ {
   float error;
   float field[3];
   int16_t moved_lo[3];
   int16_t moved_hi[3];
-  uint32_t reserved;
+  float limit;
 };
 
 // Side data per vertex for the quadric cost: the Garland-Heckbert quadric (upper triangle of the

@@ -21,6 +21,7 @@
 #include "engine/rule.h"
 #include "engine/seam_collapse.h"
 #include "engine/selection.h"
+#include "engine/wall_thickness.h"
 #include "engine/worker_pool.h"
 
 namespace femsimp {
@@ -186,6 +187,14 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
   setup.mass = &mass_before;
   setup.resultants = &fields_before;
   if (cancelled_in_setup()) return result;
+  if (options.max_wall_share > 0.0 && closed && setup.tolerance > 0.0f &&
+      options.deviation_check == DeviationCheck::kMapped) {
+    const std::optional<WallLimits> walls = SetWallLimits(
+        mesh, options.max_wall_share, setup.tolerance, measured.measure > 0.0, &pool, cancelled);
+    if (cancelled_in_setup()) return result;  // walls is empty only when cancelled
+    result.wall_limited_share = walls->limited_area_share;
+    result.thinnest_wall = walls->thinnest == kNoWall ? 0.0 : walls->thinnest;
+  }
   std::optional<FaceGrid> face_grid;
   if (!options.allow_self_intersections)
     setup.face_grid = &face_grid.emplace(mesh, cancelled, &pool);

@@ -106,6 +106,9 @@ struct SimplifyOptions {
   // Relative change allowed of each principal moment of inertia (of the solid, or of the
   // surface of an open mesh).
   double max_inertia_change = 0.0;
+  // Closed parts: each face's tolerance at most this share of the wall thickness under it
+  // (engine/wall_thickness.h, engine/rules/wall_share.cc); needs the mapped deviation check.
+  double max_wall_share = 0.0;
   // Relative change allowed of each face field's resultant per group, measured against the
   // group's total absolute load (sum of |value| * area). Applies when the mesh has fields.
   double max_field_change = 0.01;
@@ -212,6 +215,10 @@ struct SimplifyResult {
   // principal moment of inertia.
   MassSummary input_mass, output_mass;
   double inertia_change = 0.0;
+  // The wall rule (max_wall_share), when on: the share of the input's area whose tolerance the
+  // walls lowered, and the thinnest wall measured (0: the rule was off or met no wall).
+  double wall_limited_share = 0.0;
+  double thinnest_wall = 0.0;
   // Face pairs of the output that cross each other (engine/crossings.h). Not Simplify's: it is
   // not engine time, and the output soup is what a mesher reads, so the callers of OutputMesh
   // (the CLI, the server) fill it from the soup they write.

@@ -297,6 +297,8 @@ void FidelityToProto(const SimplifyResult& r, v1::Result* out) {
   MassToProto(r.input_mass, out->mutable_input_mass());
   MassToProto(r.output_mass, out->mutable_output_mass());
   out->set_inertia_change(r.inertia_change);
+  out->set_wall_limited_share(r.wall_limited_share);
+  out->set_thinnest_wall(r.thinnest_wall);
   v1::OutputCrossings* crossings = out->mutable_output_crossings();
   crossings->set_pairs(r.output_crossings.pairs);
   if (r.output_crossings.pairs > 0) {
@@ -321,6 +323,8 @@ void FidelityFromProto(const v1::Result& in, SimplifyResult* out) {
   out->input_mass = MassFromProto(in.input_mass());
   out->output_mass = MassFromProto(in.output_mass());
   out->inertia_change = in.inertia_change();
+  out->wall_limited_share = in.wall_limited_share();
+  out->thinnest_wall = in.thinnest_wall();
   const v1::OutputCrossings& crossings = in.output_crossings();
   out->output_crossings.pairs = crossings.pairs();
   out->output_crossings.face_a = crossings.face_a();

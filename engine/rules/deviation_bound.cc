@@ -1,6 +1,7 @@
 // The guaranteed deviation bound (docs/FIDELITY.md, engine/deviation.h): every surviving fan
 // face's bound after the collapse stays within the tolerance. Proposes the new bounds and
-// displacement boxes.
+// displacement boxes, and the faces' own tolerances (FaceAttrQ::limit) that the map carries for
+// the wall rule.
 #include <algorithm>
 #include <cmath>
 
@@ -85,6 +86,7 @@ class DeviationBoundRule final : public CollapseRule {
     d.bound = a.error;
     d.lo = {a.moved_lo[0] * unit_, a.moved_lo[1] * unit_, a.moved_lo[2] * unit_};
     d.hi = {a.moved_hi[0] * unit_, a.moved_hi[1] * unit_, a.moved_hi[2] * unit_};
+    if (a.limit > 0.0f) d.limit = a.limit;
     return d;
   }
 
@@ -93,6 +95,7 @@ class DeviationBoundRule final : public CollapseRule {
     const float bound = std::nextafter(static_cast<float>(d.bound), 1e30f);  // never below
     if (!(bound <= tolerance_)) return false;
     a->error = bound;
+    a->limit = std::isinf(d.limit) ? 0.0f : static_cast<float>(d.limit);  // a least of floats
     const double lo[3] = {d.lo.x, d.lo.y, d.lo.z}, hi[3] = {d.hi.x, d.hi.y, d.hi.z};
     for (int i = 0; i < 3; ++i) {
       a->moved_lo[i] =

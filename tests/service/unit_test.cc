@@ -279,6 +279,8 @@ TEST(Wire, FidelityFiguresRoundTrip) {
   r.output_mass.principal_moments[2] = 7.25;
   r.output_mass.principal_axes[1] = {0, 0, -1};
   r.inertia_change = 0.004;
+  r.wall_limited_share = 0.375;
+  r.thinnest_wall = 0.0625;
   r.output_crossings = {.pairs = 8, .face_a = 12, .face_b = 57, .at = {1.5, -2.25, 3}};
   r.coordinates = {.magnitude = 3e6, .spacing = 0.25, .diagonal = 53.5};
   v1::Result m;
@@ -301,6 +303,8 @@ TEST(Wire, FidelityFiguresRoundTrip) {
   EXPECT_EQ(back.output_mass.principal_axes[1].z, -1);
   EXPECT_EQ(back.output_mass.principal_axes[0].x, 1);
   EXPECT_EQ(back.inertia_change, 0.004);
+  EXPECT_EQ(back.wall_limited_share, 0.375);
+  EXPECT_EQ(back.thinnest_wall, 0.0625);
   EXPECT_EQ(back.output_crossings.pairs, 8u);
   EXPECT_EQ(back.output_crossings.face_a, 12u);
   EXPECT_EQ(back.output_crossings.face_b, 57u);
@@ -363,6 +367,16 @@ TEST(Report, SummaryWarnsWhereTheToleranceReachesHalfTheWall) {
   s = cli::Summary(r);
   EXPECT_NE(s.find("warning:  the tolerance is 50% of the mean wall thickness"), std::string::npos)
       << s;
+  // With the wall rule on, the line says where it lowered the tolerance instead of warning.
+  r.fidelity.thinnest_wall = 0.25;
+  r.fidelity.wall_limited_share = 0.125;
+  s = cli::Summary(r);
+  EXPECT_NE(s.find("walls:    mean thickness 2V/A 2; the tolerance is 50% of it; the wall rule "
+                   "lowered it on 12.5% of the surface (thinnest wall 0.25)"),
+            std::string::npos)
+      << s;
+  EXPECT_EQ(s.find("warning:"), std::string::npos) << s;
+  r.fidelity.thinnest_wall = 0.0;
   r.fidelity.tolerance_abs = 0.0;
   EXPECT_EQ(cli::Summary(r).find("walls:"), std::string::npos);
   r.fidelity.tolerance_abs = 1.0;
@@ -703,6 +717,7 @@ TEST(Report, JsonHasEveryField) {
                           "\"input_mass\"",
                           "\"mean_thickness\"",
                           "\"inertia_change\"",
+                          "\"wall_limited_share\"",
                           "\"output_crossings\": {\"pairs\": 0}",
                           "\"tolerance_relative\"",
                           "\"feature_angle_deg\"",

@@ -94,6 +94,28 @@ RawMesh MakeTorus(int n, int m, double R, double r) {
   return mesh;
 }
 
+RawMesh ShellBesideSolidTorus() {
+  const auto outward = [](double r, bool reversed) {
+    RawMesh t = MakeTorus(96, 40, 3.0, r);
+    if ((SignedVolume(t) < 0) != reversed)
+      for (size_t f = 0; f < t.num_faces(); ++f)
+        std::swap(t.triangles[3 * f + 1], t.triangles[3 * f + 2]);
+    return t;
+  };
+  RawMesh out;
+  const auto append = [&out](const RawMesh& part, float dx, uint32_t group) {
+    const uint32_t base = static_cast<uint32_t>(out.num_vertices());
+    for (size_t i = 0; i < part.positions.size(); ++i)
+      out.positions.push_back(part.positions[i] + (i % 3 == 0 ? dx : 0.0f));
+    for (uint32_t v : part.triangles) out.triangles.push_back(base + v);
+    out.face_groups.insert(out.face_groups.end(), part.num_faces(), group);
+  };
+  append(outward(1.0, false), 0.0f, 1);
+  append(outward(0.9, true), 0.0f, 1);  // the shell's inner side faces into the hollow
+  append(outward(1.0, false), 10.0f, 2);
+  return out;
+}
+
 RawMesh MakeBox(const std::array<double, 3>& size, const std::array<int, 3>& cells) {
   RawMesh mesh;
   std::map<std::array<int, 3>, uint32_t> ids;  // grid point -> vertex, shared by the sides

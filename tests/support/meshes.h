@@ -35,6 +35,12 @@ RawMesh MakeBox(const std::array<double, 3>& size, const std::array<int, 3>& cel
 // Closed torus of n * m vertices and 2nm faces (a valid closed 2-manifold), radii R and r.
 RawMesh MakeTorus(int n, int m, double R = 3.0, double r = 1.0);
 
+// Walls of two thicknesses in one closed mesh, for the wall rule: a torus shell 0.1 thick (tube
+// radii 1 and 0.9 around a ring of radius 3, centred at the origin) beside a solid torus (tube
+// radius 1, 2 across) centred at x = 10, 96 x 40 vertices each, facing out of the solid; face
+// group 1 for the shell, 2 for the solid torus.
+RawMesh ShellBesideSolidTorus();
+
 // A torus (MakeTorus(n, m)) as a careless export writes it, for the repair stage end to end:
 // facets 3 and 10 flipped; a crack: the faces of the last ring (i = n - 1) use their own copies
 // of ring 0's m vertices (same coordinates, appended); then a copy of facet 0 (a duplicate) and a
