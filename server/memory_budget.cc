@@ -24,6 +24,7 @@ uint64_t EstimateJobBytes(uint64_t vertices, uint64_t faces, const SimplifyOptio
   if (options.backend == Backend::kCell)
     bytes += uint64_t(options.cell.spes) * uint64_t(options.cell.local_store_kib) * 1024 +
              kCellBytesPerVertex * vertices;
+  if (options.max_wall_share > 0.0) bytes += kWallBytesPerFace * faces;
   return bytes;
 }
 

@@ -27,6 +27,11 @@ inline constexpr uint64_t kJobBaseBytes = uint64_t{4} << 20;
 inline constexpr uint64_t kBytesPerVertex = 64;
 inline constexpr uint64_t kBytesPerFace = 256;
 inline constexpr uint64_t kCellBytesPerVertex = 24;
+// The wall rule's set-up (max_wall_share > 0, engine/wall_thickness.h) holds a copy of every
+// face's corners (80 bytes), its hierarchy's nodes (about one per two faces, 56 bytes each) and
+// a thickness per face: 112 bytes per face by its sizes (measured: knob_fine's peak grew by 52
+// per face, the hierarchy freed before the run's own peak).
+inline constexpr uint64_t kWallBytesPerFace = 112;
 uint64_t EstimateJobBytes(uint64_t vertices, uint64_t faces, const SimplifyOptions& options);
 
 // The memory this process may use: the smaller of the physical memory and the cgroup's limit

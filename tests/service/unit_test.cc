@@ -768,6 +768,9 @@ TEST(MemoryBudget, EstimateGrowsWithTheDeclaredSizeAndTheCellLocalStores) {
   cell.cell.local_store_kib = 256;
   EXPECT_EQ(server::EstimateJobBytes(1000, 2000, cell),
             small + 8 * 256 * 1024 + 1000 * server::kCellBytesPerVertex);
+  SimplifyOptions walls;
+  walls.max_wall_share = 0.2;
+  EXPECT_EQ(server::EstimateJobBytes(1000, 2000, walls), small + 2000 * server::kWallBytesPerFace);
 }
 
 TEST(MemoryBudget, DefaultIsThreeQuartersOfTheMemoryTheServerMayUse) {
