@@ -11,21 +11,23 @@
 namespace femsimp {
 namespace {
 
+void FaceCorners(const Mesh& mesh, uint32_t f, DVec3* p) {
+  for (int k = 0; k < 3; ++k) {
+    const VertexQ& q = mesh.vertices()[mesh.halfedges()[3 * f + k].target];
+    p[k] = {q.x, q.y, q.z};
+  }
+}
+
 // A bounding-volume hierarchy over the live faces, for nearest-hit ray queries. Built once, read
 // by every context.
 class FaceTree {
  public:
   explicit FaceTree(const Mesh& mesh) {
-    const HalfEdgeQ* h = mesh.halfedges();
-    const VertexQ* v = mesh.vertices();
     for (uint32_t f = 0; f < mesh.face_capacity(); ++f) {
       if (mesh.IsFaceRemoved(f)) continue;
       Triangle t;
       t.face = f;
-      for (int k = 0; k < 3; ++k) {
-        const VertexQ& p = v[h[3 * f + k].target];
-        t.p[k] = {p.x, p.y, p.z};
-      }
+      FaceCorners(mesh, f, t.p);
       triangles_.push_back(t);
     }
     if (triangles_.empty()) return;
@@ -159,14 +161,9 @@ std::vector<float> WallThickness(const Mesh& mesh, bool outward, WorkerPool* poo
   const FaceTree tree(mesh);
   const uint32_t faces = mesh.face_capacity();
   std::vector<float> thickness(faces, kNoWall);
-  const HalfEdgeQ* h = mesh.halfedges();
-  const VertexQ* v = mesh.vertices();
   const auto measure = [&](uint32_t f) {
     DVec3 p[3];
-    for (int k = 0; k < 3; ++k) {
-      const VertexQ& q = v[h[3 * f + k].target];
-      p[k] = {q.x, q.y, q.z};
-    }
+    FaceCorners(mesh, f, p);
     const DVec3 n = Cross(p[1] - p[0], p[2] - p[0]);
     const double length = Norm(n);
     if (!(length > 0.0)) return kNoWall;
@@ -205,8 +202,6 @@ std::optional<WallLimits> SetWallLimits(Mesh& mesh, double share, float toleranc
   const std::vector<float> thickness = WallThickness(mesh, outward, pool, cancelled);
   if (thickness.empty() && mesh.face_capacity() > 0) return std::nullopt;
   FaceAttrQ* attrs = mesh.face_attrs();
-  const HalfEdgeQ* h = mesh.halfedges();
-  const VertexQ* v = mesh.vertices();
   WallLimits limits;
   double area = 0.0, limited = 0.0;
   for (uint32_t f = 0; f < mesh.face_capacity(); ++f) {
@@ -217,8 +212,7 @@ std::optional<WallLimits> SetWallLimits(Mesh& mesh, double share, float toleranc
     attrs[f].limit = std::min(tolerance, wall);
     limits.thinnest = std::min<double>(limits.thinnest, thickness[f]);
     DVec3 p[3];
-    for (int k = 0; k < 3; ++k)
-      p[k] = ToD({v[h[3 * f + k].target].x, v[h[3 * f + k].target].y, v[h[3 * f + k].target].z});
+    FaceCorners(mesh, f, p);
     const double a = Norm(Cross(p[1] - p[0], p[2] - p[0]));
     area += a;
     if (wall < tolerance) limited += a;
