@@ -34,28 +34,11 @@ FeatureSummary MarkFeatures(Mesh& mesh, double feature_angle_deg,
   const double cos_limit = std::cos(feature_angle_deg * std::numbers::pi / 180.0);
   HalfEdgeQ* h = mesh.halfedges();
   std::atomic<uint32_t>* status = mesh.status();
-  std::atomic<bool> stopped{false};
   std::atomic<uint64_t> feature_edges{0}, boundary_edges{0}, corner_vertices{0};
   // Chunks of kChunk items taken in turn by the pool's contexts; each polls `cancelled` first.
   constexpr uint32_t kChunk = 1u << 16;
   const auto run = [&](uint32_t count, const auto& body) {
-    std::atomic<uint32_t> next{0};
-    const auto work = [&](int) {
-      for (;;) {
-        const uint32_t begin = next.fetch_add(kChunk, std::memory_order_relaxed);
-        if (begin >= count || stopped.load(std::memory_order_relaxed)) return;
-        if (cancelled && cancelled()) {
-          stopped.store(true, std::memory_order_relaxed);
-          return;
-        }
-        body(begin, std::min(count, begin + kChunk));
-      }
-    };
-    if (pool == nullptr || pool->size() == 1 || count <= kChunk)
-      work(0);
-    else
-      pool->Run(work);
-    return !stopped.load();
+    return RunChunked(pool, count, kChunk, cancelled, body);
   };
   // The lower half-edge of an edge decides for both halves and marks both: every flag has one
   // writer whatever the contexts, and each edge's two normals are computed once.

@@ -174,26 +174,11 @@ std::vector<float> WallThickness(const Mesh& mesh, bool outward, WorkerPool* poo
     return std::isinf(t) ? kNoWall : static_cast<float>(t);
   };
 
-  constexpr uint32_t kChunk = 4096;
-  std::atomic<uint32_t> next{0};
-  std::atomic<bool> stopped{false};
-  const auto work = [&](int) {
-    for (;;) {
-      const uint32_t begin = next.fetch_add(kChunk, std::memory_order_relaxed);
-      if (begin >= faces || stopped.load(std::memory_order_relaxed)) return;
-      if (cancelled && cancelled()) {
-        stopped.store(true, std::memory_order_relaxed);
-        return;
-      }
-      for (uint32_t f = begin; f < std::min(faces, begin + kChunk); ++f)
-        if (!mesh.IsFaceRemoved(f)) thickness[f] = measure(f);
-    }
-  };
-  if (pool == nullptr || pool->size() == 1 || faces <= kChunk)
-    work(0);
-  else
-    pool->Run(work);
-  if (stopped.load()) return {};
+  const bool done = RunChunked(pool, faces, 4096, cancelled, [&](uint32_t begin, uint32_t end) {
+    for (uint32_t f = begin; f < end; ++f)
+      if (!mesh.IsFaceRemoved(f)) thickness[f] = measure(f);
+  });
+  if (!done) return {};
   return thickness;
 }
 

@@ -55,4 +55,31 @@ class WorkerPool {
   bool quit_ = false;
 };
 
+// Runs body(begin, end) over [0, count) in chunks of `chunk` items that the pool's contexts take
+// in turn (on the caller alone without a pool, with one context, or for a single chunk); each
+// chunk polls `cancelled` (may be empty) first, and once it says true the rest is left undone and
+// the call returns false.
+template <class Body>
+bool RunChunked(WorkerPool* pool, uint32_t count, uint32_t chunk,
+                const std::function<bool()>& cancelled, const Body& body) {
+  std::atomic<uint32_t> next{0};
+  std::atomic<bool> stopped{false};
+  const auto work = [&](int) {
+    for (;;) {
+      const uint32_t begin = next.fetch_add(chunk, std::memory_order_relaxed);
+      if (begin >= count || stopped.load(std::memory_order_relaxed)) return;
+      if (cancelled && cancelled()) {
+        stopped.store(true, std::memory_order_relaxed);
+        return;
+      }
+      body(begin, count - begin < chunk ? count : begin + chunk);
+    }
+  };
+  if (pool == nullptr || pool->size() == 1 || count <= chunk)
+    work(0);
+  else
+    pool->Run(work);
+  return !stopped.load();
+}
+
 }  // namespace femsimp
