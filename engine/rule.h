@@ -183,6 +183,8 @@ struct RuleSetup {
   const FieldResultants* resultants = nullptr;
   // The face index of the self-intersection rule, when it is on.
   class FaceGrid* face_grid = nullptr;
+  // Every face carries its own tolerance (FaceAttrQ::limit): the wall rule's set-up ran.
+  bool wall_limits = false;
   // The input's pieces (engine/coverage.h), when the tolerance is measured.
   Coverage* coverage = nullptr;
 };

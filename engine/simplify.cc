@@ -194,6 +194,7 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
     if (cancelled_in_setup()) return result;  // walls is empty only when cancelled
     result.wall_limited_share = walls->limited_area_share;
     result.thinnest_wall = walls->thinnest == kNoWall ? 0.0 : walls->thinnest;
+    setup.wall_limits = true;
   }
   std::optional<FaceGrid> face_grid;
   if (!options.allow_self_intersections)

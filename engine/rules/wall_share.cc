@@ -40,13 +40,11 @@ class WallShareRule final : public CollapseRule {
 
 }  // namespace
 
-// On with a mapped tolerance on a closed part (ValidateOptions refuses the option with the
-// measured check, which keeps one tolerance for the whole input); Simplify sets the faces'
-// limits before the rules are built.
-std::unique_ptr<CollapseRule> MakeWallShareRule(const SimplifyOptions& o, const RuleSetup& s) {
-  if (!(o.max_wall_share > 0.0) || !(s.tolerance > 0.0f) || !s.closed ||
-      o.deviation_check != DeviationCheck::kMapped)
-    return nullptr;
+// On where Simplify gave the faces their limits (max_wall_share with a mapped tolerance on a
+// closed part; ValidateOptions refuses the option with the measured check, which keeps one
+// tolerance for the whole input).
+std::unique_ptr<CollapseRule> MakeWallShareRule(const SimplifyOptions&, const RuleSetup& s) {
+  if (!s.wall_limits) return nullptr;
   return std::make_unique<WallShareRule>();
 }
 
