@@ -92,7 +92,7 @@ double PairWorst(const CoveragePlan::HolderPair& pair, const TriangleDistance& t
 
 }  // namespace
 
-Coverage::Coverage(Mesh& mesh, double tolerance)
+Coverage::Coverage(Mesh& mesh, double tolerance, bool face_limits)
     : mesh_(&mesh),
       input_(3 * size_t{mesh.face_capacity()}),
       across_(3 * size_t{mesh.face_capacity()}, kNone),
@@ -115,6 +115,16 @@ Coverage::Coverage(Mesh& mesh, double tolerance)
     for (int k = 0; k < 3; ++k) {
       const uint32_t twin = h[3 * f + k].twin;
       across_[3 * f + k] = twin == kNone ? kNone : FaceOf(twin);
+    }
+  }
+  if (const FaceAttrQ* attrs = mesh.face_attrs(); face_limits && attrs != nullptr) {
+    limit_.assign(mesh.face_capacity(), tolerance_);
+    limit2_.assign(mesh.face_capacity(), tolerance2_);
+    for (uint32_t f = 0; f < mesh.face_capacity(); ++f) {
+      const double own = attrs[f].limit * (1 - 1e-9);
+      if (!whole_[f] || !(attrs[f].limit > 0.0f) || !(own < tolerance_)) continue;
+      limit_[f] = own;
+      limit2_[f] = own * own;
     }
   }
   IndexInput();
@@ -194,7 +204,7 @@ void Coverage::MeasureFans(const Mesh& mesh) {
   }
 }
 
-double Coverage::WithinFan(const DVec3* c, uint32_t v) const {
+double Coverage::WithinFan(const DVec3* c, uint32_t v, double limit) const {
   const uint32_t index = fan_of_[v];
   if (index == kNone) return -1;
   const Fan& fan = fans_[index];
@@ -229,7 +239,7 @@ double Coverage::WithinFan(const DVec3* c, uint32_t v) const {
   // convex): the fan's point over the nearest shadow in it is within the slab distance plus the
   // slab's width along n, and `outside` across.
   const double reach = slab + (fan.hi - fan.lo) + outside;
-  return reach <= tolerance_ ? reach : -1;
+  return reach <= limit ? reach : -1;
 }
 
 void Coverage::FindFarCorners() {
@@ -464,7 +474,7 @@ void Coverage::FindHolderPairs(int fresh, CoveragePlan* plan) const {
 }
 
 int Coverage::TakeByPair(const DVec3* c, const CoveragePlan::Box& c_box, const TriangleDistance* to,
-                         CoveragePlan* plan, int* last_pair, double* reach) const {
+                         double limit2, CoveragePlan* plan, int* last_pair, double* reach) const {
   const int pairs = static_cast<int>(plan->holder_pairs.size());
   for (int n = 0; n < pairs; ++n) {
     const int i = (*last_pair + n) % pairs;
@@ -474,8 +484,8 @@ int Coverage::TakeByPair(const DVec3* c, const CoveragePlan::Box& c_box, const T
       return KnownDistances{&plan->known[3 * size_t(k)], plan->known_count[k]};
     };
     const double worst =
-        PairWorst(pair, to[pair.k], to[pair.j], c, tolerance2_, known(pair.k), known(pair.j));
-    if (worst <= tolerance2_) {
+        PairWorst(pair, to[pair.k], to[pair.j], c, limit2, known(pair.k), known(pair.j));
+    if (worst <= limit2) {
       *last_pair = i;
       *reach = std::sqrt(worst);
       return i;
@@ -517,9 +527,10 @@ absl::Status Coverage::Audit() const {
       }
       DVec3 c[3];
       Corners(p.piece, c);
+      const double limit2 = Limit2(p.piece.triangle);
       double worst;
       if (p.partner == kNone) {
-        worst = to_f.Corners(c, tolerance2_);
+        worst = to_f.Corners(c, limit2);
       } else {
         pairs.push_back(
             {std::min(f, p.partner), std::max(f, p.partner), p.piece.triangle, p.piece.path});
@@ -533,11 +544,11 @@ absl::Status Coverage::Audit() const {
                                                " hold ", name(p), " together but are no pair"));
           return;
         }
-        worst = PairWorst(pair, to_f, TriangleDistance(u), c, tolerance2_);
+        worst = PairWorst(pair, to_f, TriangleDistance(u), c, limit2);
       }
-      if (worst > tolerance2_) {
+      if (worst > limit2) {
         status = absl::InternalError(absl::StrCat("measured check: face ", f, " holds ", name(p),
-                                                  " farther than the tolerance"));
+                                                  " farther than its tolerance"));
         return;
       }
       area[p.piece.triangle] += Area(c);
@@ -659,7 +670,7 @@ bool Coverage::Judge(std::span<const DVec3> fresh_corners, CoveragePlan* plan, u
     for (int n = 0; n < holders && !near; ++n) {
       const int k = (last + n) % holders;
       if (!PointIn(q, box[2 * k], box[2 * k + 1])) continue;
-      if (to[k](q) <= tolerance2_) {
+      if (to[k](q) <= Limit2(static_cast<uint32_t>(at / 3))) {
         near = true;
         last = k;
       }
@@ -690,6 +701,7 @@ bool Coverage::Judge(std::span<const DVec3> fresh_corners, CoveragePlan* plan, u
     const Piece piece = part.piece;
     const DVec3* corners = part.corners;
     const CoveragePlan::Box corners_box = CornerBox(corners);
+    const double limit2 = Limit2(piece.triangle);
     int taker = -1;
     double worst = 0;
     // Each holder's distances, kept for the pairs' test: a piece no holder takes alone has had
@@ -699,13 +711,13 @@ bool Coverage::Judge(std::span<const DVec3> fresh_corners, CoveragePlan* plan, u
       plan->known_count[k] = 0;
       if (!BoxIn(corners_box, box[2 * k], box[2 * k + 1])) continue;
       worst = 0;
-      for (int q = 0; q < 3 && worst <= tolerance2_; ++q) {
+      for (int q = 0; q < 3 && worst <= limit2; ++q) {
         const double d = to[k](corners[q]);
         plan->known[3 * size_t(k) + q] = d;
         plan->known_count[k] = static_cast<uint8_t>(q + 1);
         worst = std::max(worst, d);
       }
-      if (worst <= tolerance2_) taker = k;
+      if (worst <= limit2) taker = k;
     }
     if (taker >= 0) {
       plan->given.push_back({static_cast<uint32_t>(taker), kNone, piece});
@@ -717,7 +729,7 @@ bool Coverage::Judge(std::span<const DVec3> fresh_corners, CoveragePlan* plan, u
     // bent patch needs no cutting down to the tolerance's size along it.
     if (!plan->holder_pairs_found) FindHolderPairs(fresh, plan);
     double pair_reach = 0;
-    const int pair = TakeByPair(corners, corners_box, to, plan, &last_pair, &pair_reach);
+    const int pair = TakeByPair(corners, corners_box, to, limit2, plan, &last_pair, &pair_reach);
     if (pair >= 0) {
       const CoveragePlan::HolderPair& p = plan->holder_pairs[pair];
       plan->given.push_back({static_cast<uint32_t>(p.k), static_cast<uint32_t>(p.j), piece});
@@ -731,8 +743,7 @@ bool Coverage::Judge(std::span<const DVec3> fresh_corners, CoveragePlan* plan, u
     // pass, which never fail it.
     const DVec3 centre = (1.0 / 3.0) * (corners[0] + corners[1] + corners[2]);
     bool near = false;
-    for (int n = 0; n < holders && !near; ++n)
-      near = to[(last + n) % holders](centre) <= tolerance2_;
+    for (int n = 0; n < holders && !near; ++n) near = to[(last + n) % holders](centre) <= limit2;
     if (!near) return false;
     if (piece.level() == kMaxPieceLevel) return false;
     DVec3 child[4][3];
@@ -760,11 +771,14 @@ bool Coverage::Judge(std::span<const DVec3> fresh_corners, CoveragePlan* plan, u
     plan->witness_distance_of.clear();
     plan->witness_distance.clear();
   };
+  LimitFreshFaces(fresh, plan);
   double certified[kMaxStar];
   const bool any_certified = certify(certified);
   bool under_boxed = false;  // plan->under_box made (once: every new face looks at them)
   for (int k = 0; k < fresh; ++k) {
-    if (any_certified && certified[k] >= 0 && certified[k] <= tolerance_) {
+    plan->limit = plan->fresh_limit[k];
+    plan->limit2 = plan->limit * plan->limit;
+    if (any_certified && certified[k] >= 0 && certified[k] <= plan->limit) {
       plan->reach[k] = std::max(plan->reach[k], certified[k]);
       continue;
     }
@@ -792,7 +806,28 @@ bool Coverage::Judge(std::span<const DVec3> fresh_corners, CoveragePlan* plan, u
   return true;
 }
 
-double Coverage::WithinPair(const DVec3* c, uint32_t face) const {
+void Coverage::LimitFreshFaces(int fresh, CoveragePlan* plan) const {
+  double* limit = plan->fresh_limit;
+  std::fill(limit, limit + fresh, tolerance_);
+  if (limit_.empty()) return;
+  // A new face is held to the least limit of the input it stands for; one that takes no piece
+  // (a sliver between those that do) to the least of the pieces the collapse hands out.
+  double least = tolerance_;
+  bool takes[kMaxStar] = {};
+  for (const CoveragePlan::Given& g : plan->given) {
+    const double own = limit_[g.piece.triangle];
+    least = std::min(least, own);
+    for (const uint32_t holder : {g.holder, g.partner})
+      if (holder < static_cast<uint32_t>(fresh)) {
+        limit[holder] = takes[holder] ? std::min(limit[holder], own) : own;
+        takes[holder] = true;
+      }
+  }
+  for (int k = 0; k < fresh; ++k)
+    if (!takes[k]) limit[k] = least;
+}
+
+double Coverage::WithinPair(const DVec3* c, uint32_t face, double limit2) const {
   // Input faces t1 = (a, b, c1) and t2 = (b, a, c2) across the edge ab, each within the
   // tolerance of the part's part on its side of the cut between them (engine/edge_cut.h): this
   // takes the parts that straddle an input edge whole, over a bent edge too.
@@ -815,8 +850,8 @@ double Coverage::WithinPair(const DVec3* c, uint32_t face) const {
           if (to_t1[q] < 0) to_t1[q] = to_t1_point(c[q]);
           return to_t1[q];
         },
-        [&](int q) { return to_t2_point(c[q]); }, to_t1_point, to_t2_point, tolerance2_);
-    if (worst <= tolerance2_) return std::sqrt(worst);
+        [&](int q) { return to_t2_point(c[q]); }, to_t1_point, to_t2_point, limit2);
+    if (worst <= limit2) return std::sqrt(worst);
   }
   return -1;
 }
@@ -839,8 +874,8 @@ double Coverage::WithinPart(const DVec3* c, int level, CoveragePlan* plan, uint6
   const double radius =
       std::sqrt(std::max({Dot(c[0] - centre, c[0] - centre), Dot(c[1] - centre, c[1] - centre),
                           Dot(c[2] - centre, c[2] - centre)}));
-  const double centre_limit =
-      radius < tolerance_ ? (tolerance_ - radius) * (tolerance_ - radius) : -1.0;
+  const double limit = plan->limit, limit2 = plan->limit2;
+  const double centre_limit = radius < limit ? (limit - radius) * (limit - radius) : -1.0;
   // The witnesses near this part: its children need look at no others.
   const std::vector<uint32_t>& parent = plan->near[level];
   std::vector<uint32_t>& mine = plan->near[level + 1];
@@ -873,8 +908,8 @@ double Coverage::WithinPart(const DVec3* c, int level, CoveragePlan* plan, uint6
              q.z <= w.hi.z;
     };
     if (inside(lo) && inside(hi)) {
-      const double worst = plan->DistanceTo(w).Corners(c, tolerance2_);
-      if (worst <= tolerance2_) {
+      const double worst = plan->DistanceTo(w).Corners(c, limit2);
+      if (worst <= limit2) {
         plan->last_witness = i;
         return std::sqrt(worst);
       }
@@ -892,12 +927,12 @@ double Coverage::WithinPart(const DVec3* c, int level, CoveragePlan* plan, uint6
   }
   // No witness near the centre (every input triangle within reach was looked at): a point of
   // the new face is beyond the tolerance.
-  if (nearest_centre > tolerance2_) return -1;
+  if (nearest_centre > limit2) return -1;
   if (nearest != UINT32_MAX) {
-    const double reach = WithinPair(c, nearest);
+    const double reach = WithinPair(c, nearest, limit2);
     if (reach >= 0) return reach;
     for (int k = 0; k < 3; ++k) {
-      const double fan = WithinFan(c, corner_vertex_[3 * size_t{nearest} + k]);
+      const double fan = WithinFan(c, corner_vertex_[3 * size_t{nearest} + k], limit);
       if (fan >= 0) return fan;
     }
   }

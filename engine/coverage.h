@@ -164,6 +164,10 @@ struct CoveragePlan {
   };
   std::vector<Shade> shade;
   std::vector<uint32_t> shade_slot;  // per input triangle: its index in shade, or kNone
+  // (b)'s tolerance for the new face being judged, and its square: the run's, or with the faces'
+  // own limits (the wall rule) the least limit of the pieces the face takes; per new face.
+  double limit = 0, limit2 = 0;
+  double fresh_limit[kMaxStar];
 };
 
 // The shadow certificate's clip (engine/coverage_shadow.cc): the largest |height| over the part
@@ -176,8 +180,11 @@ class Coverage {
  public:
   // The mesh's live faces as they are now are the input; each holds itself, whole. The mesh
   // is the one simplified: the faces a collapse keeps are read from it, and their errors
-  // raised where they come to hold more (Apply).
-  Coverage(Mesh& mesh, double tolerance);
+  // raised where they come to hold more (Apply). With face_limits, each input triangle keeps
+  // its face's own tolerance where that is lower (FaceAttrQ::limit, the wall rule's; 0: none):
+  // its pieces are held within it, and a new face is judged in (b) against the least limit of
+  // the pieces it takes.
+  Coverage(Mesh& mesh, double tolerance, bool face_limits = false);
 
   // The deepest subdivision of a piece, and of a new face (2^-level of its edges).
   static constexpr int kMaxPieceLevel = 12;
@@ -222,25 +229,28 @@ class Coverage {
   }
   // The holders across an edge from each other (one of them new), into plan->holder_pairs.
   void FindHolderPairs(int fresh, CoveragePlan* plan) const;
-  // The piece with corners c (c_box their box) taken by one of plan->holder_pairs whole: its
-  // index, and in *reach the largest distance certified, or -1. to: the holders' distances.
+  // The piece with corners c (c_box their box) taken by one of plan->holder_pairs whole, each
+  // side within sqrt(limit2): its index, and in *reach the largest distance certified, or -1.
+  // to: the holders' distances.
   int TakeByPair(const DVec3* c, const CoveragePlan::Box& c_box, const TriangleDistance* to,
-                 CoveragePlan* plan, int* last_pair, double* reach) const;
+                 double limit2, CoveragePlan* plan, int* last_pair, double* reach) const;
   // (b) for the new face with corners p[0..2], against plan->witnesses: its certified reach,
-  // or a negative number when some part is not within the tolerance.
+  // or a negative number when some part is not within plan->limit.
   double Within(const DVec3* p, CoveragePlan* plan, uint64_t* work) const;
-  // The part with corners c within the tolerance of input face `face` and one across an edge
-  // of it, together: its reach, or negative.
-  double WithinPair(const DVec3* c, uint32_t face) const;
+  // The part with corners c within sqrt(limit2) of input face `face` and one across an edge of
+  // it, together: its reach, or negative.
+  double WithinPair(const DVec3* c, uint32_t face, double limit2) const;
   double WithinPart(const DVec3* c, int level, CoveragePlan* plan, uint64_t* work) const;
-  // The part with corners c within the tolerance of input vertex v's fan, flat and convex seen
-  // along its normal: its reach, or negative.
-  double WithinFan(const DVec3* c, uint32_t v) const;
-  // The part with corners c within the tolerance of the input triangles straight below or above
+  // The part with corners c within `limit` of input vertex v's fan, flat and convex seen along
+  // its normal: its reach, or negative.
+  double WithinFan(const DVec3* c, uint32_t v, double limit) const;
+  // The part with corners c within plan->limit of the input triangles straight below or above
   // it (engine/coverage_shadow.cc), starting from the witnesses `seeds`: its reach, or negative.
   // Counts one work unit per 16 triangles looked at.
   double WithinShadow(const DVec3* c, std::span<const uint32_t> seeds, CoveragePlan* plan,
                       uint64_t* work) const;
+  // (b)'s tolerance per new face (plan->fresh_limit), from the pieces plan->given gives them.
+  void LimitFreshFaces(int fresh, CoveragePlan* plan) const;
   // The most input triangles one shadow certificate looks at.
   static constexpr size_t kMaxShade = 4096;
 
@@ -294,6 +304,12 @@ class Coverage {
   std::vector<uint8_t> whole_;
   double tolerance_;
   double tolerance2_;
+  // Per input triangle: its tolerance, lowered as tolerance_ is, and its square; empty when
+  // every triangle has the run's.
+  std::vector<double> limit_, limit2_;
+  double Limit2(uint32_t triangle) const {
+    return limit2_.empty() ? tolerance2_ : limit2_[triangle];
+  }
 };
 
 }  // namespace femsimp

@@ -122,7 +122,7 @@ double Coverage::WithinShadow(const DVec3* c, std::span<const uint32_t> seeds, C
   const double magnitude =
       std::max({std::fabs(c[0].x), std::fabs(c[0].y), std::fabs(c[0].z), length, Norm(e2)});
   const double slack = 1e-12 * magnitude;
-  const double height_limit = tolerance_ - slack;
+  const double height_limit = plan->limit - slack;
   const Flat lo{std::min({r[0].x, r[1].x, r[2].x}) - slack,
                 std::min({r[0].y, r[1].y, r[2].y}) - slack};
   const Flat hi{std::max({r[0].x, r[1].x, r[2].x}) + slack,
@@ -226,7 +226,7 @@ double Coverage::WithinShadow(const DVec3* c, std::span<const uint32_t> seeds, C
     }
     if (!centre_covered) return -1;
     reach += rim + slack;
-    return reach <= tolerance_ ? reach : -1;
+    return reach <= plan->limit ? reach : -1;
   };
   const double reach = walk();
   for (const CoveragePlan::Shade& s : shade) slot[s.triangle] = kNone;

@@ -75,11 +75,6 @@ absl::Status ValidateOptions(const SimplifyOptions& o) {
       return absl::InvalidArgumentError(
           "max_wall_share limits the tolerance where walls are thin: give a tolerance "
           "(tolerance or tolerance_relative) too");
-    if (o.deviation_check == DeviationCheck::kMeasured)
-      return absl::InvalidArgumentError(
-          "max_wall_share gives each face its own tolerance, which deviation_check = measured "
-          "does not keep (it judges the whole input against one): use deviation_check = mapped "
-          "with it, or a smaller tolerance");
   }
   if (o.backend == Backend::kCell) {
     if (o.deviation_check == DeviationCheck::kMeasured)

@@ -187,8 +187,7 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
   setup.mass = &mass_before;
   setup.resultants = &fields_before;
   if (cancelled_in_setup()) return result;
-  if (options.max_wall_share > 0.0 && closed && setup.tolerance > 0.0f &&
-      options.deviation_check == DeviationCheck::kMapped) {
+  if (options.max_wall_share > 0.0 && closed && setup.tolerance > 0.0f) {
     const std::optional<WallLimits> walls = SetWallLimits(
         mesh, options.max_wall_share, setup.tolerance, measured.measure > 0.0, &pool, cancelled);
     if (cancelled_in_setup()) return result;  // walls is empty only when cancelled
@@ -202,7 +201,7 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
   if (cancelled_in_setup()) return result;
   std::optional<Coverage> coverage;
   if (options.deviation_check == DeviationCheck::kMeasured && setup.tolerance > 0.0f)
-    setup.coverage = &coverage.emplace(mesh, setup.tolerance);
+    setup.coverage = &coverage.emplace(mesh, setup.tolerance, setup.wall_limits);
   const RuleSet rules = RuleSet::Build(options, setup);
 
   std::unique_ptr<VertexCost> cost;

@@ -40,11 +40,12 @@ class WallShareRule final : public CollapseRule {
 
 }  // namespace
 
-// On where Simplify gave the faces their limits (max_wall_share with a mapped tolerance on a
-// closed part; ValidateOptions refuses the option with the measured check, which keeps one
-// tolerance for the whole input).
+// On where Simplify gave the faces their limits (max_wall_share with a tolerance on a closed
+// part) and the mapped bound carries them; the measured check holds each input triangle's
+// pieces to its own limit itself (engine/coverage.h), and counts what that refuses as the
+// tolerance's.
 std::unique_ptr<CollapseRule> MakeWallShareRule(const SimplifyOptions&, const RuleSetup& s) {
-  if (!s.wall_limits) return nullptr;
+  if (!s.wall_limits || s.coverage != nullptr) return nullptr;
   return std::make_unique<WallShareRule>();
 }
 

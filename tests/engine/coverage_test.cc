@@ -178,6 +178,34 @@ TEST(Coverage, FlatteningATentIsWithinItsHeightOnly) {
   EXPECT_NEAR(held, input, 1e-9);
 }
 
+// With the faces' own tolerances (the wall rule's limits), a triangle's pieces are held to its
+// own: the tent's apex, 0.1 above the new faces, is refused by a run tolerance of 0.11 once one
+// of the six triangles at it has 0.09, and taken when all have 0.105, each new face certified
+// within that.
+TEST(Coverage, EachInputTriangleHeldWithinItsOwnLimit) {
+  const RawMesh tent = Tent(0.1f);
+  absl::StatusOr<Mesh> mesh = Mesh::Build(tent);
+  ASSERT_TRUE(mesh.ok()) << mesh.status();
+  mesh->EnsureFaceAttrs();
+  FaceAttrQ* attrs = mesh->face_attrs();
+  for (uint32_t face = 0; face < 6; ++face) attrs[face].limit = face == 3 ? 0.09f : 0.0f;
+  {
+    Coverage limited(*mesh, 0.11, /*face_limits=*/true);
+    Flattening f = Flatten(tent);
+    uint64_t work = 0;
+    EXPECT_FALSE(limited.Judge(f.corners, &f.plan, &work));
+    Coverage unlimited(*mesh, 0.11);  // the same mesh, the limits not asked for
+    Flattening g = Flatten(tent);
+    EXPECT_TRUE(unlimited.Judge(g.corners, &g.plan, &work));
+  }
+  for (uint32_t face = 0; face < 6; ++face) attrs[face].limit = 0.105f;
+  Coverage limited(*mesh, 0.11, /*face_limits=*/true);
+  Flattening f = Flatten(tent);
+  uint64_t work = 0;
+  ASSERT_TRUE(limited.Judge(f.corners, &f.plan, &work));
+  for (int k = 0; k < 4; ++k) EXPECT_LE(f.plan.reach[k], 0.105) << "new face " << k;
+}
+
 // Builds the coverage of `input` and judges the replacement `make` gives for it: whether it is
 // within the tolerance, and the largest reach of its new faces.
 struct Judged {

@@ -1,6 +1,7 @@
 // The wall rule's guarantee judged from outside the engine: on a part with a thin wall beside a
 // thick one, each region's two-sided Hausdorff distance (CGAL, tests/judge) stays within its own
-// tolerance, the thin wall's the given share of its thickness, on both back ends.
+// tolerance, the thin wall's the given share of its thickness, on both back ends and with the
+// measured check.
 #include <gtest/gtest.h>
 
 #include "engine/simplify.h"
@@ -10,7 +11,13 @@
 namespace femsimp {
 namespace {
 
-class WallJudged : public ::testing::TestWithParam<Backend> {};
+struct WallCase {
+  const char* name;
+  Backend backend;
+  DeviationCheck check;
+};
+
+class WallJudged : public ::testing::TestWithParam<WallCase> {};
 
 TEST_P(WallJudged, EachWallWithinItsOwnTolerance) {
   const RawMesh input = testing::ShellBesideSolidTorus();  // shell 0.1 thick: group 1
@@ -19,7 +26,8 @@ TEST_P(WallJudged, EachWallWithinItsOwnTolerance) {
   o.tolerance_relative = 0.0;
   o.max_volume_change = 0.0;
   o.max_wall_share = 0.2;
-  o.backend = GetParam();
+  o.backend = GetParam().backend;
+  o.deviation_check = GetParam().check;
   o.threads = 2;
   o.cell.spes = 4;
   const testing::SimplifyRun run = testing::SimplifyChecked(input, o);
@@ -41,10 +49,12 @@ TEST_P(WallJudged, EachWallWithinItsOwnTolerance) {
   EXPECT_EQ(after.nonmanifold_edges + after.boundary_edges, 0);
 }
 
-INSTANTIATE_TEST_SUITE_P(Backends, WallJudged, ::testing::Values(Backend::kNative, Backend::kCell),
-                         [](const ::testing::TestParamInfo<Backend>& info) {
-                           return info.param == Backend::kNative ? "native" : "cell";
-                         });
+INSTANTIATE_TEST_SUITE_P(
+    Backends, WallJudged,
+    ::testing::Values(WallCase{"native", Backend::kNative, DeviationCheck::kMapped},
+                      WallCase{"cell", Backend::kCell, DeviationCheck::kMapped},
+                      WallCase{"native_measured", Backend::kNative, DeviationCheck::kMeasured}),
+    [](const ::testing::TestParamInfo<WallCase>& info) { return info.param.name; });
 
 }  // namespace
 }  // namespace femsimp
