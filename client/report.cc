@@ -202,9 +202,9 @@ std::string CoarseCoordinatesWarning(const CoordinatePrecision& c) {
 // A solid's mean thickness against the tolerance. Each side of a wall may move by the
 // tolerance, so where the tolerance reaches half the thickness a wall may lose or double all of
 // it; the mass budgets hold totals, not a wall's local thickness, and its stiffness follows that
-// (docs/FIDELITY.md § 5). The wall rule holds it, face by face: then the line says where it
-// lowered the tolerance instead of warning.
-std::string WallLines(const FidelityFigures& f) {
+// (docs/FIDELITY.md § 5). The wall rule (max_wall_share) holds it, face by face: then the line
+// says where it lowered the tolerance instead of warning.
+std::string WallLines(const FidelityFigures& f, double max_wall_share) {
   const double thickness = MeanThickness(f.input_mass);
   if (thickness <= 0.0 || f.tolerance_abs <= 0.0) return "";
   const double share = f.tolerance_abs / thickness;
@@ -215,6 +215,10 @@ std::string WallLines(const FidelityFigures& f) {
         s, absl::StrFormat("; the wall rule lowered it on %.1f%% of the surface (thinnest wall "
                            "%.4g)\n",
                            100 * f.wall_limited_share, f.thinnest_wall));
+  if (max_wall_share > 0.0)  // the rays looked no farther than where a wall lowers nothing
+    return absl::StrCat(s, absl::StrFormat("; no wall thinner than %.4g (the tolerance over "
+                                           "--max-wall-share): the wall rule lowered it nowhere\n",
+                                           f.tolerance_abs / max_wall_share));
   absl::StrAppend(&s, "\n");
   if (share >= kThinWallShare)
     absl::StrAppend(&s, absl::StrFormat("warning:  the tolerance is %.0f%% of the mean wall "
@@ -349,7 +353,7 @@ std::string Summary(const RunReport& r) {
                                       : std::string("no tolerance"),
                   absl::StrFormat(", volume %+.4f%%, centroid shift %.4f%% of the diagonal\n",
                                   100 * f.volume_change, 100 * f.centroid_shift));
-  absl::StrAppend(&s, MassSummaryLine(f), WallLines(f),
+  absl::StrAppend(&s, MassSummaryLine(f), WallLines(f, r.options.max_wall_share),
                   CrossingsWarning(f.output_crossings, r.options.allow_self_intersections));
   absl::StrAppend(&s,
                   absl::StrFormat("features: %u edges, %u corners (feature angle %g deg)\n",

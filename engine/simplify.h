@@ -216,7 +216,8 @@ struct SimplifyResult {
   MassSummary input_mass, output_mass;
   double inertia_change = 0.0;
   // The wall rule (max_wall_share), when on: the share of the input's area whose tolerance the
-  // walls lowered, and the thinnest wall measured (0: the rule was off or met no wall).
+  // walls lowered, and the thinnest wall measured (0: the rule was off or met no wall thinner
+  // than tolerance / max_wall_share, where its rays stop).
   double wall_limited_share = 0.0;
   double thinnest_wall = 0.0;
   // Face pairs of the output that cross each other (engine/crossings.h). Not Simplify's: it is

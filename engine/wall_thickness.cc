@@ -35,10 +35,12 @@ class FaceTree {
     Build(0, static_cast<uint32_t>(triangles_.size()));
   }
 
-  // The smallest t > 0 at which o + t d meets a face other than `skip`; infinity when none.
-  double Nearest(const DVec3& o, const DVec3& d, uint32_t skip) const {
-    double best = std::numeric_limits<double>::infinity();
-    if (nodes_.empty()) return best;
+  // The smallest t in (0, reach) at which o + t d meets a face other than `skip`; infinity when
+  // none.
+  double Nearest(const DVec3& o, const DVec3& d, uint32_t skip, double reach) const {
+    constexpr double kNone = std::numeric_limits<double>::infinity();
+    double best = reach;
+    if (nodes_.empty()) return kNone;
     const double inv[3] = {1.0 / d.x, 1.0 / d.y, 1.0 / d.z};
     const double org[3] = {o.x, o.y, o.z};
     uint32_t stack[64];
@@ -61,7 +63,7 @@ class FaceTree {
       if (std::max(tl, tr) < best) stack[top++] = far;
       if (std::min(tl, tr) < best) stack[top++] = near;
     }
-    return best;
+    return best < reach ? best : kNone;
   }
 
  private:
@@ -157,7 +159,7 @@ class FaceTree {
 }  // namespace
 
 std::vector<float> WallThickness(const Mesh& mesh, bool outward, WorkerPool* pool,
-                                 const std::function<bool()>& cancelled) {
+                                 const std::function<bool()>& cancelled, double reach) {
   const FaceTree tree(mesh);
   const uint32_t faces = mesh.face_capacity();
   std::vector<float> thickness(faces, kNoWall);
@@ -169,8 +171,8 @@ std::vector<float> WallThickness(const Mesh& mesh, bool outward, WorkerPool* poo
     if (!(length > 0.0)) return kNoWall;
     const DVec3 in = (outward ? -1.0 : 1.0) / length * n;
     const DVec3 c = (1.0 / 3.0) * (p[0] + p[1] + p[2]);
-    double t = tree.Nearest(c, in, f);
-    for (const DVec3& corner : p) t = std::min(t, tree.Nearest(0.5 * (c + corner), in, f));
+    double t = tree.Nearest(c, in, f, reach);
+    for (const DVec3& corner : p) t = std::min(t, tree.Nearest(0.5 * (c + corner), in, f, reach));
     return std::isinf(t) ? kNoWall : static_cast<float>(t);
   };
 
@@ -184,7 +186,9 @@ std::vector<float> WallThickness(const Mesh& mesh, bool outward, WorkerPool* poo
 
 std::optional<WallLimits> SetWallLimits(Mesh& mesh, double share, float tolerance, bool outward,
                                         WorkerPool* pool, const std::function<bool()>& cancelled) {
-  const std::vector<float> thickness = WallThickness(mesh, outward, pool, cancelled);
+  // A wall at least tolerance / share thick leaves the face the whole tolerance: rays stop there.
+  const std::vector<float> thickness =
+      WallThickness(mesh, outward, pool, cancelled, double(tolerance) / share);
   if (thickness.empty() && mesh.face_capacity() > 0) return std::nullopt;
   FaceAttrQ* attrs = mesh.face_attrs();
   WallLimits limits;

@@ -19,10 +19,11 @@ inline constexpr float kNoWall = std::numeric_limits<float>::infinity();
 // centroid and the midpoints between the centroid and its corners, along the normal pointing
 // into the solid (`outward`: the faces' normals point out of it, the mesh encloses a positive
 // volume), to the nearest other face; kNoWall where no ray meets one (a ray leaving through a
-// crack of the surface). Runs on the pool's contexts; polls `cancelled` (may be empty) and
-// returns an empty vector once it says true.
+// crack of the surface) or no farther than `reach`. Runs on the pool's contexts; polls
+// `cancelled` (may be empty) and returns an empty vector once it says true.
 std::vector<float> WallThickness(const Mesh& mesh, bool outward, WorkerPool* pool,
-                                 const std::function<bool()>& cancelled = {});
+                                 const std::function<bool()>& cancelled = {},
+                                 double reach = std::numeric_limits<double>::infinity());
 
 // What the wall rule's set-up found: the share of the surface's area whose tolerance the walls
 // lowered, and the thinnest wall measured (kNoWall: none met).

@@ -43,6 +43,21 @@ TEST(WallThickness, OfAPlateAlongEachAxis) {
   }
 }
 
+// The rays look no farther than `reach`: only the plate's 0.5 across is within 1.
+TEST(WallThickness, NoWallBeyondTheReach) {
+  absl::StatusOr<Mesh> mesh = Mesh::Build(MakeBox({10, 8, 0.5}, {20, 16, 2}));
+  ASSERT_TRUE(mesh.ok()) << mesh.status();
+  const std::vector<float> t = WallThickness(*mesh, true, nullptr, {}, 1.0);
+  int thin = 0;
+  for (float w : t) {
+    if (w == kNoWall) continue;
+    EXPECT_NEAR(w, 0.5, 1e-5);
+    ++thin;
+  }
+  EXPECT_GT(thin, 0);
+  EXPECT_LT(thin, static_cast<int>(t.size()));
+}
+
 TEST(WallThickness, NoWallWhereTheRaysLeave) {
   // An open sheet encloses nothing: no ray meets another face.
   absl::StatusOr<Mesh> mesh = Mesh::Build(testing::FlatGrid(4));

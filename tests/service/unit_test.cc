@@ -376,7 +376,17 @@ TEST(Report, SummaryWarnsWhereTheToleranceReachesHalfTheWall) {
             std::string::npos)
       << s;
   EXPECT_EQ(s.find("warning:"), std::string::npos) << s;
+  // On, but no wall within the rays' reach (tolerance / share): it says so, and does not warn.
   r.fidelity.thinnest_wall = 0.0;
+  r.fidelity.wall_limited_share = 0.0;
+  r.options.max_wall_share = 0.2;
+  s = cli::Summary(r);
+  EXPECT_NE(s.find("the tolerance is 50% of it; no wall thinner than 5 (the tolerance over "
+                   "--max-wall-share): the wall rule lowered it nowhere"),
+            std::string::npos)
+      << s;
+  EXPECT_EQ(s.find("warning:"), std::string::npos) << s;
+  r.options.max_wall_share = 0.0;
   r.fidelity.tolerance_abs = 0.0;
   EXPECT_EQ(cli::Summary(r).find("walls:"), std::string::npos);
   r.fidelity.tolerance_abs = 1.0;
