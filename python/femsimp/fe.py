@@ -1,7 +1,10 @@
 """FE models (meshio.Mesh) to femsimp's surface and back, groups under their own names.
 
-The surface triangles of the model are simplified; every other cell (lines, vertices, tets,
-quads, quadratic triangles...) is left out with a FemsimpWarning, or refused (strict=True).
+The surface triangles of the model are simplified, and its quads with them: each is cut into two
+triangles along the diagonal whose triangles' smallest angle is larger (as femsimp's own readers
+cut polygons), reported with a FemsimpWarning, and its block comes back as triangles. Every other
+cell (lines, vertices, tets, quadratic triangles...) is left out with a FemsimpWarning, or refused
+(strict=True).
 What identifies a triangle travels as its femsimp face group: its cell block, every integer
 cell-data array (gmsh:physical, gmsh:geometrical, a VTK MaterialId...) and its membership in
 every cell set (Abaqus/CalculiX element sets, gmsh's named groups). Each distinct combination
@@ -22,6 +25,34 @@ from .errors import FemsimpWarning, MeshError
 from .mesh import MAX_FACE_FIELDS, SurfaceMesh, checked, match_points
 
 _BLOCK_LEVEL_SETS = ("gmsh:bounding_entities",)  # entity tags per block, not cell indices
+_SURFACE = {"triangle": 1, "quad": 2}  # surface cell types, and the triangles each becomes
+
+
+def _smallest_angle_cos(points, tris):
+    """Per triangle, the cosine of its smallest angle (1: degenerate)."""
+    p = points[tris]
+    worst = np.full(len(tris), -1.0)
+    for k in range(3):
+        u, v = p[:, (k + 1) % 3] - p[:, k], p[:, (k + 2) % 3] - p[:, k]
+        norms = np.linalg.norm(u, axis=1) * np.linalg.norm(v, axis=1)
+        cos = np.where(norms > 0, (u * v).sum(axis=1) / np.where(norms > 0, norms, 1), 1.0)
+        worst = np.maximum(worst, cos)
+    return worst
+
+
+def _cut_quads(points, quads):
+    """(2n, 3) triangles of n quads (a, b, c, d) in their winding, quad k's two at rows 2k and
+    2k + 1: cut along a-c or b-d, whichever leaves the larger smallest angle."""
+    q = np.asarray(quads, dtype=np.int64)
+    first = np.stack([q[:, [0, 1, 2]], q[:, [0, 2, 3]]], axis=1)
+    second = np.stack([q[:, [0, 1, 3]], q[:, [1, 2, 3]]], axis=1)
+    pts = np.asarray(points, dtype=np.float64)
+    cos_first = np.maximum(_smallest_angle_cos(pts, first[:, 0]),
+                           _smallest_angle_cos(pts, first[:, 1]))
+    cos_second = np.maximum(_smallest_angle_cos(pts, second[:, 0]),
+                            _smallest_angle_cos(pts, second[:, 1]))
+    cut = np.where((cos_second < cos_first)[:, None, None], second, first)
+    return cut.reshape(-1, 3)
 
 
 def _report(messages, strict):
@@ -49,26 +80,43 @@ def from_meshio(mesh, strict=False):
     """(SurfaceMesh of the model's triangles, plan for to_meshio)."""
     problems = []
     blocks = list(mesh.cells)
-    tri_ids = [i for i, b in enumerate(blocks) if b.type == "triangle"]
+    tri_ids = [i for i, b in enumerate(blocks) if b.type in _SURFACE]
     others = Counter()
     for b in blocks:
-        if b.type != "triangle":
+        if b.type not in _SURFACE:
             others[b.type] += len(b.data)
     if others:
         problems.append("left out " + ", ".join(f"{n} {t}" for t, n in others.items())
-                        + " cells: femsimp simplifies surface triangles only")
+                        + " cells: femsimp simplifies surface triangles (and quads) only")
     if not tri_ids:
-        raise MeshError("the model has no triangle cells (it has "
+        raise MeshError("the model has no triangle or quad cells (it has "
                         + ", ".join(f"{n} {t}" for t, n in others.items()) + ")")
-    sizes = np.array([len(blocks[i].data) for i in tri_ids])
+    # Triangles per cell of each surface block: a quad's two follow each other.
+    per_cell = [_SURFACE[blocks[i].type] for i in tri_ids]
+    quads = sum(len(blocks[i].data) for i in tri_ids if blocks[i].type == "quad")
+    if quads:
+        warnings.warn(f"cut {quads} quad cells into {2 * quads} triangles: femsimp simplifies "
+                      "triangles, and their blocks come back as triangles", FemsimpWarning,
+                      stacklevel=3)
+    sizes = np.array([len(blocks[i].data) * m for i, m in zip(tri_ids, per_cell)])
     offsets = np.concatenate(([0], np.cumsum(sizes)))
     nf = int(offsets[-1])
-    tris = np.concatenate([np.asarray(blocks[i].data) for i in tri_ids])
+    for i in tri_ids:
+        data = np.asarray(blocks[i].data)
+        if data.size and (data.min() < 0 or data.max() >= len(mesh.points)):
+            cell = int(np.flatnonzero(((data < 0) | (data >= len(mesh.points))).any(axis=1))[0])
+            raise MeshError(f"cell {cell} of block {i} ({blocks[i].type}) references a point "
+                            f"outside the model's {len(mesh.points)}")
+    tris = np.concatenate([np.asarray(blocks[i].data) if m == 1 else
+                           _cut_quads(mesh.points, blocks[i].data).astype(
+                               np.asarray(blocks[i].data).dtype)
+                           for i, m in zip(tri_ids, per_cell)])
 
     columns = [np.repeat(np.arange(len(tri_ids)), sizes)]
     labels, fields, field_values = [], [], {}
     for name, per_block in mesh.cell_data.items():
-        arrays = [np.asarray(per_block[i]) for i in tri_ids]
+        arrays = [np.repeat(np.asarray(per_block[i]), m, axis=0)
+                  for i, m in zip(tri_ids, per_cell)]
         kinds = {a.dtype.kind for a in arrays}
         if all(a.ndim == 1 for a in arrays) and kinds <= set("iub"):
             labels.append((name, arrays[0].dtype))
@@ -91,20 +139,20 @@ def from_meshio(mesh, strict=False):
         member = np.zeros(nf, dtype=np.int64)
         for k, i in enumerate(tri_ids):
             if i < len(per_block) and per_block[i] is not None and len(per_block[i]):
-                member[offsets[k] + np.asarray(per_block[i], dtype=np.int64)] = 1
+                cells = np.asarray(per_block[i], dtype=np.int64)
+                for t in range(per_cell[k]):  # a quad's triangles are 2c and 2c + 1
+                    member[offsets[k] + per_cell[k] * cells + t] = 1
         if member.any():
             sets.append(name)
             columns.append(member)
         elif any(p is not None and len(p) for p in per_block):
-            problems.append(f"left out cell set '{name}': none of its cells is a triangle")
+            problems.append(f"left out cell set '{name}': none of its cells is a triangle or "
+                            "quad")
     _report(problems, strict)
 
     keys, inverse = _unique_rows(columns)
     groups = (inverse + 1).astype(np.uint32) if len(keys) > 1 else None
     points = np.asarray(mesh.points)
-    if tris.size and (tris.min() < 0 or tris.max() >= len(points)):
-        bad = int(np.flatnonzero(((tris < 0) | (tris >= len(points))).any(axis=1))[0])
-        raise MeshError(f"triangle {bad} references a point outside the model's {len(points)}")
     # Only the points the triangles use are sent (a volume model's inner nodes are not).
     used_mask = np.zeros(len(points), dtype=bool)
     used_mask[tris.ravel()] = True
@@ -183,8 +231,8 @@ def to_meshio(plan, points32, triangles, groups, fields):
     for k, i in enumerate(plan.tri_ids):
         sel = np.flatnonzero(block_of == k)
         if len(sel) == 0:
-            warnings.warn(f"cell block {i} (triangle) has no triangles left", FemsimpWarning,
-                          stacklevel=3)
+            warnings.warn(f"cell block {i} ({m.cells[i].type}) has no triangles left",
+                          FemsimpWarning, stacklevel=3)
             continue
         cells.append(("triangle", triangles[sel].astype(np.asarray(m.cells[i].data).dtype)))
         for j, (name, dtype) in enumerate(plan.labels):

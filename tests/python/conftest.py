@@ -69,33 +69,43 @@ def client(server):
         yield c
 
 
-def box_surface(n):
-    """The closed surface of the unit cube, n x n quads per side split into triangles, outward.
-    Returns points (float64), triangles (int64), side (0..5) of each triangle."""
+def _box_sides(n, split):
+    """The closed surface of the unit cube, n x n quads per side, outward, welded: points, the
+    cells split(quads) makes of each side's quads (a, b, c, d), and the side (0..5) of each."""
     u, v = np.meshgrid(np.linspace(0, 1, n + 1), np.linspace(0, 1, n + 1), indexing="ij")
     u, v = u.ravel(), v.ravel()
     i, j = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
     a = (i * (n + 1) + j).ravel()
-    quads = np.stack([a, a + n + 1, a + n + 2, a + 1], axis=1)
-    tri = np.concatenate([quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]])
-    pts, tris, sides = [], [], []
+    cell = split(np.stack([a, a + n + 1, a + n + 2, a + 1], axis=1))
+    pts, cells, sides = [], [], []
     for side in range(6):
         axis, high = divmod(side, 2)
         p = np.zeros(((n + 1) ** 2, 3))
         others = [k for k in range(3) if k != axis]
         p[:, axis] = high
         p[:, others[0]], p[:, others[1]] = u, v
-        t = tri.copy()
-        normal = np.cross(p[t[0, 1]] - p[t[0, 0]], p[t[0, 2]] - p[t[0, 0]])
+        c = cell.copy()
+        normal = np.cross(p[c[0, 1]] - p[c[0, 0]], p[c[0, 2]] - p[c[0, 0]])
         if (normal[axis] > 0) != bool(high):
-            t = t[:, ::-1]
-        tris.append(t + sum(len(x) for x in pts))
+            c = c[:, ::-1]
+        cells.append(c + sum(len(x) for x in pts))
         pts.append(p)
-        sides.append(np.full(len(t), side))
+        sides.append(np.full(len(c), side))
     points = np.concatenate(pts)
     # Weld the sides' shared edges.
     unique, inverse = np.unique(np.round(points, 9), axis=0, return_inverse=True)
-    return unique, inverse.ravel()[np.concatenate(tris)], np.concatenate(sides)
+    return unique, inverse.ravel()[np.concatenate(cells)], np.concatenate(sides)
+
+
+def box_surface(n):
+    """The closed surface of the unit cube, n x n quads per side split into triangles, outward.
+    Returns points (float64), triangles (int64), side (0..5) of each triangle."""
+    return _box_sides(n, lambda q: np.concatenate([q[:, [0, 1, 2]], q[:, [0, 2, 3]]]))
+
+
+def quad_box(n):
+    """The same cube as n x n quads per side: points, quads, side of each quad."""
+    return _box_sides(n, lambda q: q)
 
 
 def sphere_surface(n):

@@ -1,13 +1,14 @@
 """FE models through files: groups and fields come back under their own names in .msh (gmsh
-physical groups), .vtu (cell data arrays) and .inp (Abaqus element sets); cells femsimp does not
-simplify are left out with a warning or refused with strict."""
+physical groups), .vtu (cell data arrays) and .inp (Abaqus element sets); quads are cut into
+triangles with a warning; cells femsimp does not simplify are left out with a warning or refused
+with strict."""
 import warnings
 
 import meshio
 import numpy as np
 import pytest
 
-from conftest import box_surface
+from conftest import box_surface, quad_box
 import femsimp
 
 FIXED, LOADED = 11, 12  # physical tags
@@ -146,3 +147,29 @@ def test_too_many_fields_left_out_with_a_warning(client):
         out = client.simplify(m, ratio=0.5)
     # pressure, f0 and f1 travel; f2 and f3 are over femsimp's three fields.
     assert {"pressure", "f0", "f1"} <= set(out.cell_data) and "f2" not in out.cell_data
+
+
+def test_quads_are_cut_into_triangles(client):
+    """A quad-dominant surface (gmsh's recombined meshes) is simplified whole: its quads become
+    triangles (reported), the output is closed and each side keeps its tag and set."""
+    points, quads, side = quad_box(12)
+    model = meshio.Mesh(points, [("quad", quads)],
+                        cell_data={"gmsh:physical": [np.where(side == 0, FIXED, LOADED)
+                                                     .astype(np.int32)]},
+                        cell_sets={"fixed": [np.flatnonzero(side == 0)]})
+    n = len(quads)
+    with pytest.warns(femsimp.FemsimpWarning, match=f"cut {n} quad cells into {2 * n} triangles"):
+        out = client.simplify(model, tolerance_relative=0.005, strict=True)
+    assert [c.type for c in out.cells] == ["triangle"]
+    tris = np.asarray(out.cells[0].data)
+    assert 0 < len(tris) < 2 * n
+    # Closed and consistently oriented: each directed edge once, and its reverse too.
+    edges = [tuple(e) for e in np.concatenate([tris[:, [0, 1]], tris[:, [1, 2]],
+                                               tris[:, [2, 0]]]).tolist()]
+    assert len(set(edges)) == len(edges)
+    assert set(edges) == {(b, a) for a, b in edges}
+    c = centroids(out)
+    assert np.array_equal(per_face(out, "gmsh:physical") == FIXED, is_side(c, 0))
+    fixed = np.zeros(len(tris), bool)
+    fixed[np.asarray(out.cell_sets["fixed"][0], int)] = True
+    assert np.array_equal(fixed, is_side(c, 0))
