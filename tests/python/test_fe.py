@@ -173,3 +173,16 @@ def test_quads_are_cut_into_triangles(client):
     fixed = np.zeros(len(tris), bool)
     fixed[np.asarray(out.cell_sets["fixed"][0], int)] = True
     assert np.array_equal(fixed, is_side(c, 0))
+
+
+def test_a_cell_outside_the_points_is_named():
+    points, quads, _ = quad_box(2)
+    quads = quads.copy()
+    quads[1, 2] = len(points)  # one past the last point
+    model = meshio.Mesh(points, [("quad", quads)])
+    with pytest.raises(femsimp.MeshError,
+                       match=f"cell 1 of block 0 \\(quad\\) references a point outside the "
+                             f"model's {len(points)}"):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            femsimp.fe.from_meshio(model)
