@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from conftest import box_surface, quad_box
+from femsimp.fe import from_meshio
 import femsimp
 
 FIXED, LOADED = 11, 12  # physical tags
@@ -185,4 +186,4 @@ def test_a_cell_outside_the_points_is_named():
                              f"model's {len(points)}"):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            femsimp.fe.from_meshio(model)
+            from_meshio(model)
