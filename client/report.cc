@@ -72,9 +72,9 @@ std::string PassJson(const PassStats& p) {
       ", \"removed\": ", p.removed, ", \"lock_conflicts\": ", p.lock_conflicts,
       ", \"inconsistent\": ", p.inconsistent, ", \"rounds\": ", p.rounds,
       ", \"seam_points_removed\": ", p.seam_points_removed, ", \"placed\": ", p.placed,
-      ", \"boxes_kept\": ", p.boxes_kept, ", \"rejections\": ", rej,
-      ", \"vertices_left\": ", p.vertices_left, ", \"seconds\": ", JsonNumber(p.seconds),
-      ", \"busy_seconds\": ", JsonNumber(p.busy_seconds));
+      ", \"placed_on_lines\": ", p.placed_on_lines, ", \"boxes_kept\": ", p.boxes_kept,
+      ", \"rejections\": ", rej, ", \"vertices_left\": ", p.vertices_left,
+      ", \"seconds\": ", JsonNumber(p.seconds), ", \"busy_seconds\": ", JsonNumber(p.busy_seconds));
   if (p.cell) {
     absl::StrAppend(&s, ", \"cell\": ", CellJson(*p.cell), ", \"cell_per_spe\": [");
     for (size_t i = 0; i < p.cell_per_spe.size(); ++i)
@@ -363,15 +363,23 @@ std::string Summary(const RunReport& r) {
   if (seam_points > 0)
     absl::StrAppend(&s, "seams:    ", seam_points,
                     " seam points slid along their seams (every part at once)\n");
-  uint64_t placed = 0;
-  for (const PassStats& p : r.passes) placed += p.placed;
-  if (r.options.placement == Placement::kOptimal)
+  uint64_t placed = 0, placed_on_lines = 0;
+  for (const PassStats& p : r.passes) {
+    placed += p.placed;
+    placed_on_lines += p.placed_on_lines;
+  }
+  if (r.options.placement == Placement::kOptimal) {
     absl::StrAppend(&s, "placement: ", placed,
                     r.options.deviation_check == DeviationCheck::kMeasured
                         ? " full-edge collapses (vertices merged where a mass budget or the "
-                          "tolerance refused the half-edge collapse)\n"
+                          "tolerance refused the half-edge collapse"
                         : " full-edge collapses (vertices merged where a mass budget refused the "
-                          "half-edge collapse)\n");
+                          "half-edge collapse");
+    // Only the measured check moves lines (CollapseRule::holds_placed_lines).
+    if (r.options.deviation_check == DeviationCheck::kMeasured)
+      absl::StrAppend(&s, "; ", placed_on_lines, " of them on feature lines");
+    s += ")\n";
+  }
   if (r.face_groups > 0 || !r.face_fields.empty()) {
     absl::StrAppend(&s, "face data: ", r.face_groups, " groups");
     if (!r.face_fields.empty())

@@ -35,7 +35,8 @@ namespace femsimp {
 
 struct KernelStats {
   uint64_t tried = 0, removed = 0, lock_conflicts = 0, inconsistent = 0;
-  uint64_t placed = 0;  // of the removals: full-edge collapses (option placement)
+  uint64_t placed = 0;           // of the removals: full-edge collapses (option placement)
+  uint64_t placed_on_lines = 0;  // of those: V and Vd on one feature line
   uint64_t stale_reread = 0;
   std::array<uint64_t, static_cast<int>(Reject::kCount)> rejections{};
   // Refused vertices this context made removable again (their fans changed): the next
@@ -84,9 +85,10 @@ template <class Port>
 class RemovalKernel final : private NeighbourhoodReader {
  public:
   // quadric: the quadric cost is on (directions ranked by it, Vd absorbs V's quadric).
-  // placement: try a full-edge collapse first where V and Vd are both free to move
-  // (engine/star.h), when every rule of the run judges them. requeue_changed: a commit makes
-  // the refused vertices among the ones it locked (their fans changed) removable again.
+  // placement: try a full-edge collapse where V and Vd may both move (engine/star.h), when every
+  // rule of the run judges them (on a feature line only when a rule holds moved lines).
+  // requeue_changed: a commit makes the refused vertices among the ones it locked (their fans
+  // changed) removable again.
   RemovalKernel(Port& port, const RuleSet& rules, bool quadric, RemovalBudget& budget,
                 KernelStats& stats, bool placement = false, bool requeue_changed = false)
       : port_(port),
@@ -115,8 +117,10 @@ class RemovalKernel final : private NeighbourhoodReader {
     if (directions.fixed) return Fix(v);
     refusal_ = Refusal{};
     screen_first_ = false;
-    // A full-edge collapse moves V off its place: only where V is on no line.
-    const bool v_free = placement_ && !directions.on_line() && !ring_.boundary;
+    // A full-edge collapse moves V off its place: where V is on no line, or (when a rule holds
+    // moved lines) along its line onto a neighbour on the same line, never on a boundary.
+    const bool v_free =
+        placement_ && !ring_.boundary && (!directions.on_line() || rules_.places_on_lines());
     const int ranked = RankDirections(directions);
     for (int k = 0; k < ranked; ++k) {
       const int i = order_[k];
@@ -356,8 +360,16 @@ class RemovalKernel final : private NeighbourhoodReader {
   std::optional<Outcome> TryPlaced(uint32_t v, int i) {
     refusal_.beyond_fan = true;  // judged on Vd's one-ring too
     if ((locked_state_[i] & kStateMask) == kFixed || other_.boundary) return std::nullopt;
+    // Vd moves to P too: off every line, or (V on a line, so V - Vd is one of its edges) on
+    // V's line, whose other vertices stay; a line corner stays where it is.
     const Directions vd_directions = AllowedDirections(other_);
-    if (vd_directions.fixed || vd_directions.on_line()) return std::nullopt;
+    if (vd_directions.fixed || vd_directions.on_line() != (proposal_.line_other >= 0))
+      return std::nullopt;
+    // A group border stays on its line (the measured check holds surfaces, not groups): only a
+    // crease inside one group moves off it.
+    if (proposal_.line_other >= 0 &&
+        !(InOneGroup(ring_, ring_.group[0]) && InOneGroup(other_, ring_.group[0])))
+      return std::nullopt;
     const int base = nlocked_;
     const LockResult locked = LockRestOf(other_);
     if (locked == LockResult::kConflict) return GiveUp(v, Outcome::kConflict);
@@ -418,6 +430,12 @@ class RemovalKernel final : private NeighbourhoodReader {
     proposal_.star = nullptr;
     UnlockFrom(base);
     return std::nullopt;
+  }
+
+  static bool InOneGroup(const Ring& fan, uint32_t group) {
+    for (int f = 0; f < fan.faces; ++f)
+      if (fan.group[f] != group) return false;
+    return true;
   }
 
   // Also the end of every candidate that got its fan: the rules give back what they took.
@@ -596,6 +614,7 @@ class RemovalKernel final : private NeighbourhoodReader {
           port_.WriteFaceAttr(placing_->star.face[placing_->star.fan_faces + k],
                               proposal_.new_extra_attr[k]);
       ++stats_.placed;
+      if (proposal_.line_other >= 0) ++stats_.placed_on_lines;
     }
     WriteSideData(i);
     rules_.Commit(proposal_);

@@ -23,6 +23,7 @@ void AddKernelStats(KernelStats& k, const RemovalPhase& phase, PassStats& stats)
   stats.tried += k.tried;
   stats.removed += k.removed;
   stats.placed += k.placed;
+  stats.placed_on_lines += k.placed_on_lines;
   stats.lock_conflicts += k.lock_conflicts;
   stats.inconsistent += k.inconsistent;
   for (size_t r = 0; r < k.rejections.size(); ++r) stats.rejections[r] += k.rejections[r];

@@ -25,6 +25,7 @@
 
 #include "engine/coverage.h"
 #include "engine/fan_separation.h"
+#include "engine/line_coverage.h"
 #include "engine/mechanics.h"
 #include "engine/quadword.h"
 #include "engine/ring.h"
@@ -141,6 +142,8 @@ struct CollapseProposal {
   // heap, made by that rule's first check: the kernel's state on the cell back end lives in an
   // SPE software thread's small stack, and that back end never runs the check.
   std::unique_ptr<CoveragePlan> coverage;
+  // Its hold on feature lines (engine/line_coverage.h), for a collapse along a line.
+  std::unique_ptr<LinePlan> line_plan;
 
   uint32_t vd() const { return fan->nbr[target]; }
   // Fan face f is one of the two that contain V - Vd (and disappear).
@@ -187,6 +190,8 @@ struct RuleSetup {
   bool wall_limits = false;
   // The input's pieces (engine/coverage.h), when the tolerance is measured.
   Coverage* coverage = nullptr;
+  // The input's feature lines' pieces (engine/line_coverage.h), with the coverage.
+  LineCoverage* lines = nullptr;
 };
 
 class CollapseRule {
@@ -225,6 +230,12 @@ class CollapseRule {
   // always gets that try). A bound that adds up along the run does not: off the input surface
   // a vertex spends bound that later collapses no longer have (docs/FIDELITY.md § 11).
   virtual bool placement_may_pass() const { return false; }
+  // Whether the rule holds a feature line that a full-edge collapse moves (V and Vd on one line,
+  // merged at a point off it) within the tolerance: the kernel places vertices on lines only
+  // when some rule does and every rule judges placement. A bound that maps old points to new
+  // ones by projection does not map the line onto the line; the measured check holds the
+  // surface both ways, the crease included.
+  virtual bool holds_placed_lines() const { return false; }
   // Whether a half-edge collapse's verdict depends on V's fan alone (its one-ring's positions,
   // topology and face data): a vertex it refused is refused again until a collapse changes
   // that fan, which locks V and makes it a candidate again (RemovalKernel::Commit), so
@@ -247,6 +258,7 @@ class RuleSet {
   bool reads_face_attrs() const { return reads_face_attrs_; }
   bool tracks_mass() const { return tracks_mass_; }
   bool judges_placement() const { return judges_placement_; }
+  bool places_on_lines() const { return judges_placement_ && holds_placed_lines_; }
   bool placement_may_pass(Reject reason) const {
     return (placement_may_pass_ >> static_cast<int>(reason)) & 1;
   }
@@ -290,6 +302,7 @@ class RuleSet {
   bool reads_face_attrs_ = false;
   bool tracks_mass_ = false;
   bool judges_placement_ = true;
+  bool holds_placed_lines_ = false;
   uint32_t placement_may_pass_ = 0;  // a bit per Reject reason
   uint32_t fan_local_ = 0;           // bit per Reject
   uint32_t shape_cycles_ = 0;

@@ -37,6 +37,7 @@ RuleSet RuleSet::Build(const SimplifyOptions& options, const RuleSetup& setup) {
     set.reads_face_attrs_ |= rule->reads_face_attrs();
     set.tracks_mass_ |= rule->tracks_mass();
     set.judges_placement_ &= rule->judges_placement();
+    set.holds_placed_lines_ |= rule->holds_placed_lines();
     if (rule->fan_local()) set.fan_local_ |= uint32_t{1} << static_cast<int>(rule->reason());
     if (rule->placement_may_pass())
       set.placement_may_pass_ |= uint32_t{1} << static_cast<int>(rule->reason());

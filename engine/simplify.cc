@@ -14,6 +14,7 @@
 #include "engine/coverage.h"
 #include "engine/face_grid.h"
 #include "engine/features.h"
+#include "engine/line_coverage.h"
 #include "engine/mechanics.h"
 #include "engine/quadric.h"
 #include "engine/removal_backend.h"
@@ -200,8 +201,11 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
     setup.face_grid = &face_grid.emplace(mesh, cancelled, &pool);
   if (cancelled_in_setup()) return result;
   std::optional<Coverage> coverage;
-  if (options.deviation_check == DeviationCheck::kMeasured && setup.tolerance > 0.0f)
+  std::optional<LineCoverage> lines;
+  if (options.deviation_check == DeviationCheck::kMeasured && setup.tolerance > 0.0f) {
     setup.coverage = &coverage.emplace(mesh, setup.tolerance, setup.wall_limits);
+    setup.lines = &lines.emplace(mesh, setup.tolerance);
+  }
   const RuleSet rules = RuleSet::Build(options, setup);
 
   std::unique_ptr<VertexCost> cost;
@@ -334,6 +338,8 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
   // What the measured check's commits built holds every input point within the tolerance.
   if (coverage)
     if (absl::Status s = coverage->Audit(); !s.ok()) return s;
+  if (lines)
+    if (absl::Status s = lines->Audit(); !s.ok()) return s;
   result.output_vertices = mesh.CountLiveVertices();
   result.output_faces = mesh.CountLiveFaces();
   result.deviation_bound = MaxDeviationBound(mesh);

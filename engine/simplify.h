@@ -169,6 +169,7 @@ struct PassStats {
   uint64_t rounds = 0;               // deterministic schedule: rounds of non-interacting collapses
   uint64_t seam_points_removed = 0;  // assemblies: seam points slid along their seam (all copies)
   uint64_t placed = 0;  // of the removals: full-edge collapses (option placement = optimal)
+  uint64_t placed_on_lines = 0;  // of those: V and Vd on one feature line, merged off it
   // Deterministic rounds: candidates' boxes kept from an earlier round of the pass instead of
   // read again (no commit since changed what they were made of).
   uint64_t boxes_kept = 0;

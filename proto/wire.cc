@@ -150,6 +150,7 @@ void ToProto(const PassStats& p, v1::Progress* out) {
   out->set_rounds(p.rounds);
   out->set_seam_points_removed(p.seam_points_removed);
   out->set_placed(p.placed);
+  out->set_placed_on_lines(p.placed_on_lines);
   out->set_boxes_kept(p.boxes_kept);
   for (int i = 0; i < static_cast<int>(Reject::kCount); ++i)
     (*out->mutable_rejections())[RejectName(static_cast<Reject>(i))] = p.rejections[i];
@@ -188,6 +189,7 @@ PassStats FromProto(const v1::Progress& in) {
   p.rounds = in.rounds();
   p.seam_points_removed = in.seam_points_removed();
   p.placed = in.placed();
+  p.placed_on_lines = in.placed_on_lines();
   p.boxes_kept = in.boxes_kept();
   for (int i = 0; i < static_cast<int>(Reject::kCount); ++i) {
     auto it = in.rejections().find(RejectName(static_cast<Reject>(i)));

@@ -13,8 +13,8 @@ namespace {
 
 class MeasuredDeviationRule final : public CollapseRule {
  public:
-  explicit MeasuredDeviationRule(Coverage* coverage, double tolerance)
-      : coverage_(coverage), tolerance_(tolerance) {}
+  MeasuredDeviationRule(Coverage* coverage, LineCoverage* lines, double tolerance)
+      : coverage_(coverage), lines_(lines), tolerance_(tolerance) {}
   Reject reason() const override { return Reject::kTolerance; }
   uint32_t stages() const override { return Stages(RuleStage::kFidelity); }
   bool reads_face_attrs() const override { return true; }
@@ -24,8 +24,16 @@ class MeasuredDeviationRule final : public CollapseRule {
   bool keeps_state() const override { return true; }
   // Judged against the input, a vertex off the surface spends nothing later collapses need.
   bool placement_may_pass() const override { return true; }
+  // Every piece of the input's lines is held within the tolerance by the line it became
+  // (engine/line_coverage.h), wherever the line's vertices go (docs/FIDELITY.md § 11).
+  bool holds_placed_lines() const override { return true; }
 
   Verdict Check(RuleStage, CollapseProposal& p) const override {
+    if (p.line_other >= 0) {
+      if (!HoldsLine(p)) return Verdict::kReject;
+    } else if (p.line_plan != nullptr) {
+      p.line_plan->active = false;  // no line moves: the commit has no line pieces to pass on
+    }
     if (p.coverage == nullptr) p.coverage = std::make_unique<CoveragePlan>();
     CoveragePlan& plan = *p.coverage;
     const uint32_t star_vd = p.star != nullptr ? p.star->vd_id : kNone;
@@ -82,13 +90,55 @@ class MeasuredDeviationRule final : public CollapseRule {
     return Verdict::kPass;
   }
 
-  void Commit(CollapseProposal& p) const override { coverage_->Apply(*p.coverage); }
+  void Commit(CollapseProposal& p) const override {
+    coverage_->Apply(*p.coverage);
+    if (p.line_plan != nullptr && p.line_plan->active) lines_->Apply(*p.line_plan);
+  }
   // The next candidate's faces may be these ids rewritten since.
   void Release(CollapseProposal& p) const override {
     if (p.coverage != nullptr) p.coverage->Forget();
+    if (p.line_plan != nullptr) p.line_plan->active = false;
   }
 
  private:
+  // V slides along its line onto Vd (L - V - Vd becomes L - Vd), or V and Vd on one line merge
+  // at P (L - V - Vd - Vd' becomes L - P - Vd'): the old edges' pieces go to the new ones.
+  bool HoldsLine(CollapseProposal& p) const {
+    if (p.line_plan == nullptr) p.line_plan = std::make_unique<LinePlan>();
+    LinePlan& plan = *p.line_plan;
+    plan.active = false;
+    const Ring& fan = *p.fan;
+    const uint32_t v = fan.center, vd = fan.nbr[p.target], l = fan.nbr[p.line_other];
+    const DVec3 at_l = ToD(fan.pos[p.line_other]);
+    plan.old_edges[0] = {l, v};
+    plan.old_edges[1] = {v, vd};
+    plan.fresh_edges[0] = {l, vd};
+    plan.fresh_from[0] = at_l;
+    if (p.star == nullptr) {
+      plan.old_count = 2;
+      plan.fresh_count = 1;
+      plan.fresh_to[0] = ToD(fan.pos[p.target]);
+    } else {
+      const Ring& other = *p.target_fan;
+      int beyond = -1;  // Vd's other line neighbour
+      for (int a = 0; a < other.neighbours(); ++a)
+        if (other.feature[a] && other.nbr[a] != v) beyond = a;
+      if (beyond < 0) return false;
+      plan.old_edges[2] = {vd, other.nbr[beyond]};
+      plan.old_count = 3;
+      plan.fresh_to[0] = p.star->p;
+      plan.fresh_edges[1] = {vd, other.nbr[beyond]};
+      plan.fresh_from[1] = p.star->p;
+      plan.fresh_to[1] = ToD(other.pos[beyond]);
+      plan.fresh_count = 2;
+    }
+    uint64_t work = 0;
+    const bool held = lines_->Judge(&plan, &work);
+    p.cycles += static_cast<uint32_t>(40 * work);
+    plan.active = held;
+    return held;
+  }
+
   // Part (b) for a half-edge collapse without measuring: every point of an old face lies within
   // its error of the input (the errors this rule gave), which BoundReach carries to the new
   // faces. certified[k]: new face k's bound (in the order the faces are given to Judge); false
@@ -110,6 +160,7 @@ class MeasuredDeviationRule final : public CollapseRule {
   }
 
   Coverage* coverage_;
+  LineCoverage* lines_;
   double tolerance_;
 };
 
@@ -117,7 +168,7 @@ class MeasuredDeviationRule final : public CollapseRule {
 
 std::unique_ptr<CollapseRule> MakeMeasuredDeviationRule(const RuleSetup& s) {
   if (s.coverage == nullptr) return nullptr;
-  return std::make_unique<MeasuredDeviationRule>(s.coverage, s.tolerance);
+  return std::make_unique<MeasuredDeviationRule>(s.coverage, s.lines, s.tolerance);
 }
 
 }  // namespace femsimp
