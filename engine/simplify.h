@@ -37,7 +37,8 @@ enum class CostKind { kGaussianCurvature, kQuadric, kDeviation };
 
 // Where a collapse puts the vertex that stays: kEndpoint, the paper's half-edge collapse (V
 // moves onto a neighbour Vd); kOptimal, a full-edge collapse where V and Vd are both free to
-// move (no feature line, boundary or seam), V and Vd merging at the quadric-optimal point that
+// move (no boundary, seam or group border; no feature line, or with the measured check both on
+// one crease), V and Vd merging at the quadric-optimal point that
 // keeps the volume (else at the edge's midpoint) when it passes every rule, and the half-edge
 // collapse otherwise (engine/star.h).
 enum class Placement { kEndpoint, kOptimal };
