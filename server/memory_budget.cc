@@ -25,6 +25,7 @@ uint64_t EstimateJobBytes(uint64_t vertices, uint64_t faces, const SimplifyOptio
     bytes += uint64_t(options.cell.spes) * uint64_t(options.cell.local_store_kib) * 1024 +
              kCellBytesPerVertex * vertices;
   if (options.max_wall_share > 0.0) bytes += kWallBytesPerFace * faces;
+  if (options.deviation_check == DeviationCheck::kMeasured) bytes += kMeasuredBytesPerFace * faces;
   return bytes;
 }
 

@@ -32,6 +32,12 @@ inline constexpr uint64_t kCellBytesPerVertex = 24;
 // a thickness per face: 112 bytes per face by its sizes (measured: knob_fine's peak grew by 52
 // per face, the hierarchy freed before the run's own peak).
 inline constexpr uint64_t kWallBytesPerFace = 112;
+// The measured deviation check (deviation_check = measured, engine/coverage.h) keeps the input's
+// triangles, their pieces per face, its grid and its feature lines' pieces for the whole run:
+// measured over the same job with the mapped bound, 290-360 bytes per face at one thread, up to
+// 510 with vertices placed and the mass budgets (their cut pieces); every job measured stays at
+// least 20 % under its estimate (docs/BENCHMARKS.md, "Memory per job").
+inline constexpr uint64_t kMeasuredBytesPerFace = 576;
 uint64_t EstimateJobBytes(uint64_t vertices, uint64_t faces, const SimplifyOptions& options);
 
 // The memory this process may use: the smaller of the physical memory and the cgroup's limit

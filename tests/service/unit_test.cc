@@ -765,7 +765,7 @@ TEST(MemoryBudget, AdmitsWhileTheEstimatesFitAndTakesThemBackWithTheLease) {
   EXPECT_FALSE(budget.TryAdmit(101).has_value());  // never, even when empty
 }
 
-TEST(MemoryBudget, EstimateGrowsWithTheDeclaredSizeAndTheCellLocalStores) {
+TEST(MemoryBudget, EstimateGrowsWithTheDeclaredSizeAndWhatTheOptionsKeep) {
   SimplifyOptions native;
   const uint64_t small = server::EstimateJobBytes(1000, 2000, native);
   EXPECT_EQ(small,
@@ -781,6 +781,10 @@ TEST(MemoryBudget, EstimateGrowsWithTheDeclaredSizeAndTheCellLocalStores) {
   SimplifyOptions walls;
   walls.max_wall_share = 0.2;
   EXPECT_EQ(server::EstimateJobBytes(1000, 2000, walls), small + 2000 * server::kWallBytesPerFace);
+  SimplifyOptions measured;
+  measured.deviation_check = DeviationCheck::kMeasured;
+  EXPECT_EQ(server::EstimateJobBytes(1000, 2000, measured),
+            small + 2000 * server::kMeasuredBytesPerFace);
 }
 
 TEST(MemoryBudget, DefaultIsThreeQuartersOfTheMemoryTheServerMayUse) {
