@@ -350,6 +350,28 @@ TEST(Report, SummaryCountsSeamPoints) {
       << cli::Summary(r);
 }
 
+// With placement the summary counts the full-edge collapses, and with the measured check (the
+// only one that moves lines) how many of them merged two vertices of one feature line.
+TEST(Report, SummaryCountsVerticesPlacedOnLines) {
+  cli::RunReport r;
+  r.passes.resize(2);
+  r.passes[0].placed = 10;
+  r.passes[0].placed_on_lines = 3;
+  r.passes[1].placed = 2;
+  EXPECT_EQ(cli::Summary(r).find("placement:"), std::string::npos);
+  r.options.placement = Placement::kOptimal;
+  std::string s = cli::Summary(r);
+  EXPECT_NE(s.find("placement: 12 full-edge collapses (vertices merged where a mass budget "
+                   "refused the half-edge collapse)\n"),
+            std::string::npos)
+      << s;
+  r.options.deviation_check = DeviationCheck::kMeasured;
+  s = cli::Summary(r);
+  EXPECT_NE(s.find("or the tolerance refused the half-edge collapse; 3 of them on feature lines)"),
+            std::string::npos)
+      << s;
+}
+
 // A solid's summary gives its mean thickness against the tolerance, and warns where the
 // tolerance reaches half of it; an open surface, or a run without a tolerance, says nothing.
 TEST(Report, SummaryWarnsWhereTheToleranceReachesHalfTheWall) {
@@ -466,6 +488,8 @@ TEST(Wire, ProgressRoundTrip) {
   p.removed = 20;
   p.seam_points_removed = 7;
   p.boxes_kept = 11;
+  p.placed = 13;
+  p.placed_on_lines = 4;
   p.rejections[static_cast<int>(Reject::kMinAngle)] = 5;
   p.cell = CellPassCounters{};
   p.cell->cache_hits = 9;
@@ -481,6 +505,8 @@ TEST(Wire, ProgressRoundTrip) {
   EXPECT_EQ(q.removed, 20u);
   EXPECT_EQ(q.seam_points_removed, 7u);
   EXPECT_EQ(q.boxes_kept, 11u);
+  EXPECT_EQ(q.placed, 13u);
+  EXPECT_EQ(q.placed_on_lines, 4u);
   EXPECT_EQ(q.rejections[static_cast<int>(Reject::kMinAngle)], 5u);
   ASSERT_TRUE(q.cell.has_value());
   EXPECT_EQ(q.cell->cache_hits, 9u);
