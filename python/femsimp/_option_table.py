@@ -253,9 +253,10 @@ ROWS = [{'path': 'preset',
   'default_text': 'endpoint',
   'help': "endpoint: the paper's half-edge collapse (a vertex moves onto a neighbour); optimal: "
           'where a mass budget (or the measured tolerance) refuses it and both ends of the edge '
-          'are free to move (no feature line, boundary or seam), merge them at the point nearest '
-          'the old faces that keeps the volume, or else at another point that keeps it, nearer the '
-          "kept end or at the edge's midpoint, if that passes every bound",
+          'are free to move (no boundary, seam or group border; no feature line, or with the '
+          'measured tolerance both ends on one crease), merge them at the point nearest the old '
+          'faces that keeps the volume, or else at another point that keeps it, nearer the kept '
+          "end or at the edge's midpoint, if that passes every bound",
   'kind': 'enum',
   'default': 'endpoint',
   'percent': False},
