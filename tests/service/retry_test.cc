@@ -8,6 +8,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <cstdio>
 #include <optional>
 #include <string>
 #include <thread>
@@ -364,7 +365,10 @@ TEST(Health, NotServingWhileShuttingDown) {
 
 // A target with several addresses gets its calls spread over all of them (round_robin in
 // MakeChannel), and connections closed by --max_connection_age_seconds neither fail a running
-// job nor stop later ones.
+// job nor stop later ones. A call that meets a connection as it ages out may end UNAVAILABLE
+// after its server ran the job (a known gRPC race around GOAWAY; seen once in 20 calls under
+// AddressSanitizer): the client's retry runs it again, so the servers may count more jobs
+// than calls, never more than the attempts.
 TEST(Balancing, CallsSpreadOverEveryAddressAcrossConnectionAging) {
   server::ServerConfig config = testing::TestConfig();
   config.max_connection_age_seconds = 0.3;
@@ -372,17 +376,21 @@ TEST(Balancing, CallsSpreadOverEveryAddressAcrossConnectionAging) {
   auto stub = v1::Simplifier::NewStub(
       cli::MakeChannel(absl::StrCat("ipv4:", a.address(), ",", b.address())));
   const RawMesh mesh = testing::LoadTestMesh("femur.off");
+  int attempts = 0;
   for (int i = 0; i < 20; ++i) {
     cli::RetryCounters counters;
     cli::RemoteOutcome out =
         cli::SimplifyWithRetry(*stub, RatioSpec(0.5), mesh, cli::RetryOptions{}, &counters);
     ASSERT_TRUE(out.status.ok()) << out.status.error_message();
+    attempts += counters.attempts;
     if (i % 5 == 4) std::this_thread::sleep_for(milliseconds(150));  // let connections age out
   }
   const std::string ok = "femsimp_jobs_total{status=\"OK\"}";
   double on_a = testing::ParseMetrics(testing::HttpGet(a.server().metrics_port(), "/metrics"))[ok];
   double on_b = testing::ParseMetrics(testing::HttpGet(b.server().metrics_port(), "/metrics"))[ok];
-  EXPECT_EQ(on_a + on_b, 20);
+  EXPECT_GE(on_a + on_b, 20);
+  EXPECT_LE(on_a + on_b, attempts) << "a server ran a job no attempt asked for";
+  std::printf("20 calls, %d attempts, %g jobs run\n", attempts, on_a + on_b);
   EXPECT_GE(on_a, 5);
   EXPECT_GE(on_b, 5);
 }
