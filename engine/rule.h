@@ -234,7 +234,7 @@ class CollapseRule {
   // merged at a point off it) within the tolerance: the kernel places vertices on lines only
   // when some rule does and every rule judges placement. A bound that maps old points to new
   // ones by projection does not map the line onto the line; the measured check holds the
-  // surface both ways, the crease included.
+  // input's line pieces themselves (engine/line_coverage.h).
   virtual bool holds_placed_lines() const { return false; }
   // Whether a half-edge collapse's verdict depends on V's fan alone (its one-ring's positions,
   // topology and face data): a vertex it refused is refused again until a collapse changes
