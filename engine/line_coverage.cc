@@ -81,8 +81,10 @@ bool LineCoverage::Judge(LinePlan* plan, uint64_t* work) const {
 
 void LineCoverage::Apply(const LinePlan& plan) {
   for (int k = 0; k < plan.old_count; ++k) {
-    const auto [low, high] = Ordered(plan.old_edges[k]);
-    std::vector<Held>& list = held_[low];
+    // Not a structured binding: clang before 16 cannot capture one in a lambda.
+    const std::pair<uint32_t, uint32_t> edge = Ordered(plan.old_edges[k]);
+    const uint32_t high = edge.second;
+    std::vector<Held>& list = held_[edge.first];
     list.erase(std::remove_if(list.begin(), list.end(),
                               [high](const Held& held) { return held.other == high; }),
                list.end());
