@@ -3,17 +3,10 @@
 #include <algorithm>
 
 #include "absl/strings/str_format.h"
+#include "engine/triangle_distance.h"
 
 namespace femsimp {
 namespace {
-
-double SquaredDistanceToSegment(const DVec3& p, const DVec3& a, const DVec3& b) {
-  const DVec3 ab = b - a, ap = p - a;
-  const double length2 = Dot(ab, ab);
-  const double t = length2 > 0.0 ? std::clamp(Dot(ap, ab) / length2, 0.0, 1.0) : 0.0;
-  const DVec3 d = ap - t * ab;
-  return Dot(d, d);
-}
 
 std::pair<uint32_t, uint32_t> Ordered(std::pair<uint32_t, uint32_t> e) {
   return e.first < e.second ? e : std::pair{e.second, e.first};

@@ -3,7 +3,6 @@
 #include <algorithm>
 
 namespace femsimp {
-namespace {
 
 double SquaredDistanceToSegment(const DVec3& q, const DVec3& a, const DVec3& b) {
   const DVec3 ab = b - a;
@@ -12,8 +11,6 @@ double SquaredDistanceToSegment(const DVec3& q, const DVec3& a, const DVec3& b) 
   const DVec3 d = q - (a + t * ab);
   return Dot(d, d);
 }
-
-}  // namespace
 
 double SquaredDistanceToTriangle(const DVec3& q, const DVec3& a, const DVec3& b, const DVec3& c) {
   // The closest point by Voronoi regions (Ericson, Real-Time Collision Detection, 5.1.5); every

@@ -13,6 +13,8 @@ namespace femsimp {
 
 // The squared distance from q to the triangle (a, b, c); degenerate triangles included.
 double SquaredDistanceToTriangle(const DVec3& q, const DVec3& a, const DVec3& b, const DVec3& c);
+// Squared distance from q to the segment ab (a point when a = b).
+double SquaredDistanceToSegment(const DVec3& q, const DVec3& a, const DVec3& b);
 
 // Squared distances from many points to one triangle: a point over the triangle's inside is
 // its height over the plane (the usual case for the pieces a new face takes), the others go
