@@ -571,6 +571,27 @@ class RemovalKernel final : private NeighbourhoodReader {
     return true;
   }
 
+  // NeighbourhoodReader: the vertices around u, with CountFan's checks.
+  int Neighbours(uint32_t u, uint32_t* out) override {
+    const uint32_t start = port_.ReadVertex(u).out;
+    if (start == kNone) return -1;
+    uint32_t h = start;
+    for (int count = 0;;) {
+      if (count == kMaxRing) return kMaxRing + 2;
+      const HalfEdgeQ e0 = port_.ReadHalfEdge(h);
+      const HalfEdgeQ e2 = port_.ReadHalfEdge(Prev(h));
+      if (((e0.flags | e2.flags) & kFaceRemoved) || e2.target != u) return -1;
+      out[count++] = e0.target;
+      if (e2.twin == kNone) {  // a boundary fan: its last face's third corner ends it
+        if (port_.ReadHalfEdge(start).twin != kNone) return -1;
+        out[count++] = port_.ReadHalfEdge(Next(h)).target;
+        return count;
+      }
+      h = e2.twin;
+      if (h == start) return count;
+    }
+  }
+
   // The fan faces' side quadwords, read once per candidate.
   void LoadFanAttrs() {
     if (!attrs_loaded_) {

@@ -31,6 +31,8 @@ class Mesh {
 
   // A vertex of RawMesh::locked_vertices: kFixed from Build on, whatever features are marked.
   bool IsLocked(uint32_t v) const { return !locked_.empty() && locked_[v] != 0; }
+  // IsLocked per vertex (1: locked), or nullptr when no vertex is.
+  const uint8_t* locked_flags() const { return locked_.empty() ? nullptr : locked_.data(); }
   // RawMesh::point_ids as built, or nullptr when every vertex is its own point.
   const uint32_t* point_ids() const { return point_ids_.empty() ? nullptr : point_ids_.data(); }
 

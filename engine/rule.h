@@ -27,6 +27,7 @@
 #include "engine/fan_separation.h"
 #include "engine/line_coverage.h"
 #include "engine/mechanics.h"
+#include "engine/point_copies.h"
 #include "engine/quadword.h"
 #include "engine/ring.h"
 #include "engine/simplify.h"
@@ -78,6 +79,9 @@ class NeighbourhoodReader {
   virtual ~NeighbourhoodReader() = default;
   // Faces around u, counted up to `limit`, and whether u lies on a boundary.
   virtual bool CountFan(uint32_t u, int limit, int* faces, bool* boundary) = 0;
+  // The vertices joined to u, into out[0..kMaxRing]: their number, or -1 when the view was
+  // stale, or kMaxRing + 2 when u has more than out holds.
+  virtual int Neighbours(uint32_t u, uint32_t* out) = 0;
 };
 
 // One proposed collapse V -> Vd = fan->nbr[target]: what the rules judge, and what the
@@ -192,6 +196,10 @@ struct RuleSetup {
   Coverage* coverage = nullptr;
   // The input's feature lines' pieces (engine/line_coverage.h), with the coverage.
   LineCoverage* lines = nullptr;
+  // An assembly cut into sheets (engine/seams.h): its seam points' copies, and its seam
+  // vertices (Mesh::locked_flags; nullptr without seams).
+  const PointCopies* point_copies = nullptr;
+  const uint8_t* seam_vertices = nullptr;
 };
 
 class CollapseRule {

@@ -7,46 +7,29 @@
 
 namespace femsimp {
 
-SeamCollapser::SeamCollapser(Mesh& mesh, const RuleSet& rules, bool quadric, FaceGrid* grid,
-                             bool requeue_changed)
+SeamCollapser::SeamCollapser(Mesh& mesh, const PointCopies& copies, const RuleSet& rules,
+                             bool quadric, FaceGrid* grid, bool requeue_changed)
     : mesh_(mesh),
       rules_(rules),
       quadric_(quadric),
       requeue_changed_(requeue_changed),
       grid_(grid),
-      point_ids_(mesh.point_ids()),
-      port_(mesh) {
-  offsets_.push_back(0);
-  if (point_ids_ == nullptr) return;
-  std::vector<std::pair<uint32_t, uint32_t>> by_point;  // (point, vertex) of locked vertices
-  for (uint32_t v = 0; v < mesh.vertex_capacity(); ++v)
-    if (mesh.IsLocked(v) && !mesh.IsRemoved(v)) by_point.emplace_back(point_ids_[v], v);
-  std::sort(by_point.begin(), by_point.end());
-  for (size_t i = 0; i < by_point.size();) {
-    size_t j = i;
-    while (j < by_point.size() && by_point[j].first == by_point[i].first) ++j;
-    if (j - i >= 2) {
-      index_of_point_[by_point[i].first] = static_cast<uint32_t>(offsets_.size() - 1);
-      for (size_t k = i; k < j; ++k) copies_.push_back(by_point[k].second);
-      offsets_.push_back(static_cast<uint32_t>(copies_.size()));
-    }
-    i = j;
-  }
-}
+      copies_(copies),
+      port_(mesh) {}
 
 SeamCollapser::~SeamCollapser() = default;
 
 std::vector<uint32_t> SeamCollapser::VerticesOf(uint32_t p, uint32_t fallback) const {
-  const auto it = index_of_point_.find(p);
-  if (it == index_of_point_.end()) return {fallback};
-  return {copies_.begin() + offsets_[it->second], copies_.begin() + offsets_[it->second + 1]};
+  const std::span<const uint32_t> of = copies_.Of(p);
+  if (of.empty()) return {fallback};
+  return {of.begin(), of.end()};
 }
 
 SeamCollapser::SweepResult SeamCollapser::Sweep(RemovalBudget& budget) {
   SweepResult result;
-  for (size_t k = 0; k + 1 < offsets_.size(); ++k) {
-    const size_t copies = offsets_[k + 1] - offsets_[k];
-    const uint32_t* copy = &copies_[offsets_[k]];
+  for (size_t k = 0; k < copies_.size(); ++k) {
+    const size_t copies = copies_.copies(k).size();
+    const uint32_t* copy = copies_.copies(k).data();
     if (mesh_.IsRemoved(copy[0])) continue;
     // Every copy a boundary vertex whose fan runs from one seam neighbour to the other, the
     // same two points in every sheet.
@@ -94,8 +77,8 @@ SeamCollapser::SweepResult SeamCollapser::Sweep(RemovalBudget& budget) {
 
 SeamCollapser::Tried SeamCollapser::TryCompound(size_t point, uint32_t onto, uint32_t left,
                                                 RemovalBudget& budget) {
-  const size_t copies = offsets_[point + 1] - offsets_[point];
-  const uint32_t* copy = &copies_[offsets_[point]];
+  const size_t copies = copies_.copies(point).size();
+  const uint32_t* copy = copies_.copies(point).data();
   // The copies' rings (gathered by Sweep, and nothing changed since): their targets, the faces
   // they rewrite, and the cells they may claim.
   targets_.assign(copies, kNone);

@@ -22,10 +22,10 @@
 #include <memory>
 #include <vector>
 
-#include "absl/container/flat_hash_map.h"
 #include "engine/face_grid.h"
 #include "engine/kernel.h"
 #include "engine/mesh.h"
+#include "engine/point_copies.h"
 #include "engine/port.h"
 #include "engine/rule.h"
 
@@ -33,14 +33,15 @@ namespace femsimp {
 
 class SeamCollapser {
  public:
-  // grid: the self-intersection rule's face index, or nullptr when that rule is off.
-  // requeue_changed: as the kernel's (RemovalKernel).
-  SeamCollapser(Mesh& mesh, const RuleSet& rules, bool quadric, FaceGrid* grid,
-                bool requeue_changed = false);
+  // copies: the mesh's seam points (the run's, which the rules read too). grid: the
+  // self-intersection rule's face index, or nullptr when that rule is off. requeue_changed: as
+  // the kernel's (RemovalKernel).
+  SeamCollapser(Mesh& mesh, const PointCopies& copies, const RuleSet& rules, bool quadric,
+                FaceGrid* grid, bool requeue_changed = false);
   ~SeamCollapser();
 
   // Whether the mesh has seam points (copies of one point, locked) at all.
-  bool empty() const { return offsets_.size() <= 1; }
+  bool empty() const { return copies_.empty(); }
 
   struct SweepResult {
     uint64_t points = 0;    // seam points removed
@@ -53,25 +54,22 @@ class SeamCollapser {
 
  private:
   enum class Tried { kRemoved, kRefused, kBudgetSpent };
-  // One seam point (index into offsets_), onto its seam neighbour `onto` (a point id), `left`
+  // One seam point (index into copies_), onto its seam neighbour `onto` (a point id), `left`
   // the one left behind; rings_ hold its copies' fans.
   Tried TryCompound(size_t point, uint32_t onto, uint32_t left, RemovalBudget& budget);
   // The vertices of point p: its copies, or the one vertex `fallback` when it has none.
   std::vector<uint32_t> VerticesOf(uint32_t p, uint32_t fallback) const;
   bool AnyFaceJoins(uint32_t a_point, uint32_t a_vertex, uint32_t b_point);
   bool NewTrianglesMeet(size_t copies) const;
-  uint32_t PointOf(uint32_t v) const { return point_ids_[v]; }
+  uint32_t PointOf(uint32_t v) const { return copies_.PointOf(v); }
 
   Mesh& mesh_;
   const RuleSet& rules_;
   const bool quadric_;
   const bool requeue_changed_;
   FaceGrid* grid_;
-  const uint32_t* point_ids_;
+  const PointCopies& copies_;
   NativePort port_;
-  // Seam points in point order: copies_[offsets_[k], offsets_[k + 1]) are point k's copies.
-  std::vector<uint32_t> offsets_, copies_;
-  absl::flat_hash_map<uint32_t, uint32_t> index_of_point_;
   // Per copy of the compound being tried.
   std::vector<Ring> rings_;
   std::vector<uint32_t> targets_, replaced_;

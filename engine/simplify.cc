@@ -16,6 +16,7 @@
 #include "engine/features.h"
 #include "engine/line_coverage.h"
 #include "engine/mechanics.h"
+#include "engine/point_copies.h"
 #include "engine/quadric.h"
 #include "engine/removal_backend.h"
 #include "engine/rounds.h"
@@ -176,6 +177,9 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
   if (quadric) InitQuadrics(mesh);
   const GroupIndex groups(mesh);
   setup.groups = &groups;
+  const PointCopies point_copies(mesh);
+  setup.point_copies = &point_copies;
+  setup.seam_vertices = mesh.locked_flags();
   // Second moments about the input's centroid, measured first about the box's centre (near the
   // part, so that no large terms cancel).
   const MassProperties measured = MeasureMass(mesh, closed, bounds.centre());
@@ -229,10 +233,9 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
 
   // Assemblies: seam points slide along their seams between passes (every copy at once).
   std::optional<SeamCollapser> seams;
-  if (mesh.point_ids() != nullptr) {
-    seams.emplace(mesh, rules, quadric, face_grid ? &*face_grid : nullptr, kernel.requeue_changed);
-    if (seams->empty()) seams.reset();
-  }
+  if (!point_copies.empty())
+    seams.emplace(mesh, point_copies, rules, quadric, face_grid ? &*face_grid : nullptr,
+                  kernel.requeue_changed);
   bool seams_moved = false;  // the host changed the mesh since the back end's last phase
 
   std::optional<RoundScheduler> rounds;

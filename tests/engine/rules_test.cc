@@ -169,6 +169,7 @@ class FakeReader final : public NeighbourhoodReader {
     *boundary = boundary_;
     return !stale_;
   }
+  int Neighbours(uint32_t, uint32_t*) override { return stale_ ? -1 : 0; }
 
  private:
   int faces_;

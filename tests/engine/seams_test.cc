@@ -19,6 +19,7 @@
 #include "engine/mesh.h"
 #include "engine/mesh_checks.h"
 #include "engine/port.h"
+#include "engine/prepare.h"
 #include "engine/repair.h"
 #include "engine/rule.h"
 #include "engine/simplify.h"
@@ -511,6 +512,35 @@ TEST(Seams, WithTheToleranceMeasured) {
     const SeamRun run = RunWithSeams(mesh, options);
     ExpectSeamsConform(run);
     EXPECT_LE(run.result.deviation_bound, run.result.tolerance_abs);
+  }
+}
+
+// fandisk 300,000 diagonals from the origin, where floats are 0.06 apart (4 % of the part):
+// read as floats, its points weld into pinched vertices and non-manifold edges, the repair
+// splits them into sheets with two copies of one point in a sheet, and a collapse could join a
+// vertex to one copy while its neighbour was joined to the other. The job then failed at the
+// rejoin ("the seams did not stay conforming", 1 new seam); the link condition compares points.
+TEST(Seams, PartFarFromTheOriginKeepsItsSeams) {
+  RawMesh far = testing::LoadTestMesh("fandisk.off");
+  const double offset[3] = {3e5, 6e5, -9e4};
+  for (size_t i = 0; i < far.positions.size(); ++i)
+    far.positions[i] = static_cast<float>(double(far.positions[i]) + offset[i % 3]);
+  SimplifyOptions tolerance;
+  tolerance.tolerance_relative = 0.01;
+  for (const SimplifyOptions& options : {SimplifyOptions{}, tolerance, Reduce(0.1)}) {
+    absl::StatusOr<PreparedMesh> prepared = PrepareMesh(far, RepairOptions{});
+    ASSERT_TRUE(prepared.ok()) << prepared.status();
+    ASSERT_FALSE(prepared->seams.empty());
+    absl::StatusOr<SimplifyResult> result = Simplify(prepared->mesh, options);
+    ASSERT_TRUE(result.ok()) << result.status();
+    EXPECT_LT(result->output_vertices, result->input_vertices / 2);
+    absl::StatusOr<RawMesh> output = OutputMesh(prepared->mesh, prepared->seam_map);
+    ASSERT_TRUE(output.ok()) << output.status();
+    // The input the sheets were cut from: the repaired soup, as PrepareMesh made it.
+    RawMesh repaired = far;
+    ASSERT_TRUE(RepairMesh(repaired, RepairOptions{}).ok());
+    const judge::SeamConformity judged = judge::CheckSeamConformity(repaired, *output);
+    EXPECT_TRUE(judged.problems.empty()) << judged.problems.front();
   }
 }
 
