@@ -402,8 +402,7 @@ class RemovalKernel final : private NeighbourhoodReader {
                            midpoint};
     for (const DVec3& at : tries) {
       // Judged where the float it is stored as puts it.
-      const Vec3 stored{static_cast<float>(at.x), static_cast<float>(at.y),
-                        static_cast<float>(at.z)};
+      const Vec3 stored = StoredPosition(at);
       star.p = ToD(stored);
       if (!star.Contains(star.p)) continue;
       proposal_.star = &star;

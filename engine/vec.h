@@ -23,4 +23,17 @@ inline DVec3 Cross(const DVec3& a, const DVec3& b) {
 inline double Norm(const DVec3& a) { return std::sqrt(Dot(a, a)); }
 inline DVec3 ToD(const Vec3& v) { return {v.x, v.y, v.z}; }
 
+// d as the mesh stores it (each coordinate rounded to a float), for judging a new position
+// where it will be. Each float passes through memory the optimizer cannot see into: GCC 12's
+// SLP vectorizer (at -O2 and -O3) turned ToD(Vec3{float(d.x), float(d.y), float(d.z)}) into
+// d.x and d.y unrounded, so the rules judged a point the mesh never held (far from the origin,
+// where floats are far apart, by a good part of the tolerance).
+inline Vec3 StoredPosition(const DVec3& d) {
+  Vec3 v{static_cast<float>(d.x), static_cast<float>(d.y), static_cast<float>(d.z)};
+#if defined(__GNUC__)
+  asm("" : "+m"(v));
+#endif
+  return v;
+}
+
 }  // namespace femsimp

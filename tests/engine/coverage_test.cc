@@ -7,6 +7,7 @@
 #include <cmath>
 #include <random>
 
+#include "engine/prepare.h"
 #include "tests/support/meshes.h"
 
 namespace femsimp {
@@ -537,6 +538,30 @@ TEST(Coverage, PlacementOnFeatureLinesOnlyWithTheMeasuredCheck) {
   EXPECT_EQ(one.positions, two.positions);
   EXPECT_EQ(one.triangles, two.triangles);
   EXPECT_EQ(run(DeviationCheck::kMapped, 1, nullptr), 0u);
+}
+
+// A placed vertex is judged where the floats it is stored as put it. rotor_small 100,000 of its
+// diagonals from the origin, where floats are 0.0156 apart (1.8 % of the part): built with GCC
+// 12, the kernel judged two of P's coordinates unrounded (engine/vec.h, StoredPosition), and
+// the run's audit found an input piece beyond the tolerance of the face holding it.
+TEST(Coverage, PlacedVertexJudgedWhereItIsStored) {
+  RawMesh far = testing::LoadTestMesh("rotor_small.off");
+  const double offset[3] = {1e5, 2e5, -3e4};
+  for (size_t i = 0; i < far.positions.size(); ++i)
+    far.positions[i] = static_cast<float>(double(far.positions[i]) + offset[i % 3]);
+  absl::StatusOr<PreparedMesh> prepared = PrepareMesh(far, RepairOptions{});
+  ASSERT_TRUE(prepared.ok()) << prepared.status();
+  SimplifyOptions o;
+  o.threads = 1;
+  o.tolerance_relative = 0.01;
+  o.placement = Placement::kOptimal;
+  o.deviation_check = DeviationCheck::kMeasured;
+  absl::StatusOr<SimplifyResult> result = Simplify(prepared->mesh, o);
+  ASSERT_TRUE(result.ok()) << result.status();  // the audit of every held piece passed
+  uint64_t placed = 0;
+  for (const PassStats& p : result->passes) placed += p.placed;
+  EXPECT_GT(placed, 0u);
+  EXPECT_LT(result->output_vertices, result->input_vertices / 2);
 }
 
 TEST(Coverage, CellBackEndRefusesTheMeasuredCheck) {
