@@ -45,6 +45,22 @@ void RenumberSeams(const std::vector<uint32_t>& new_id, std::vector<SeamEdge>& s
   });
 }
 
+// Where the rejoined output first differs from the input's seams: an edge by its ends' places.
+std::string FirstSeamChange(const RawMesh& out, const RejoinReport& report) {
+  const bool added = !report.new_seams.empty();
+  if (!added && report.changed_seams.empty()) return "";
+  const EdgeUse& e = added ? report.new_seams.front() : report.changed_seams.front();
+  const auto place = [&](uint32_t input_vertex) -> std::string {
+    for (size_t o = 0; o < report.input_vertex.size(); ++o)
+      if (report.input_vertex[o] == input_vertex)
+        return absl::StrFormat("(%g, %g, %g)", out.positions[3 * o], out.positions[3 * o + 1],
+                               out.positions[3 * o + 2]);
+    return "(gone)";
+  };
+  return absl::StrCat("; the first: ", added ? "a new" : "a changed", " edge from ", place(e.a),
+                      " to ", place(e.b), " of ", e.faces, " faces");
+}
+
 }  // namespace
 
 absl::StatusOr<PreparedMesh> PrepareMesh(RawMesh raw, const RepairOptions& options) {
@@ -90,10 +106,11 @@ absl::StatusOr<RawMesh> OutputMesh(const Mesh& mesh, const SeamMap& seams) {
   absl::StatusOr<RejoinReport> rejoined = RejoinSeams(out, ids, seams);
   if (!rejoined.ok()) return rejoined.status();
   if (!rejoined->conforming())
-    return absl::FailedPreconditionError(
-        absl::StrCat("the seams did not stay conforming (", rejoined->changed_seams.size(),
-                     " changed, ", rejoined->new_seams.size(), " new, ",
-                     rejoined->missing_seam_vertices, " seam vertices missing)"));
+    return absl::FailedPreconditionError(absl::StrCat(
+        "the seams did not stay conforming (", rejoined->changed_seams.size(), " changed, ",
+        rejoined->new_seams.size(), " new, ", rejoined->missing_seam_vertices,
+        " seam vertices missing", FirstSeamChange(out, *rejoined),
+        "): a bug of the engine, please report it with the input"));
   return out;
 }
 

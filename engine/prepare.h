@@ -48,7 +48,8 @@ absl::StatusOr<PreparedMesh> PrepareMesh(RawMesh raw, const RepairOptions& optio
 
 // The simplified mesh as the user's input stands for it: compacted, and the sheets of an
 // assembly joined again at their seams. FailedPrecondition if a seam did not stay conforming
-// (the seam vertices are locked, so this means a bug, never a silently wrong output).
+// (the seam vertices are locked, so this means a bug, never a silently wrong output), naming
+// the first edge that differs by its ends' positions.
 absl::StatusOr<RawMesh> OutputMesh(const Mesh& mesh, const SeamMap& seams);
 
 }  // namespace femsimp

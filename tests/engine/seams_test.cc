@@ -452,6 +452,11 @@ TEST(Seams, CopyRemovedAloneIsCaught) {
   EXPECT_FALSE(report->conforming());
   EXPECT_FALSE(report->changed_seams.empty() && report->new_seams.empty());
   EXPECT_FALSE(judge::CheckSeamConformity(input, out).problems.empty());
+  // The job's error names the first edge that differs by where its ends are.
+  const absl::StatusOr<RawMesh> joined = OutputMesh(*mesh, *map);
+  EXPECT_EQ(joined.status().code(), absl::StatusCode::kFailedPrecondition);
+  EXPECT_NE(joined.status().message().find("the first: a "), std::string::npos) << joined.status();
+  EXPECT_NE(joined.status().message().find("(0, 0, 0."), std::string::npos) << joined.status();
 }
 
 // The paper's preset has no tolerance: still, a seam point moves only with all its copies.
