@@ -284,7 +284,10 @@ int main(int argc, char** argv) {
           if (tsv != nullptr) {
             const std::string out = absl::StrCat(config.write_dir, "/", stem, "_", tol_rel, "_",
                                                  FileTool(tools[t].name), ".off");
-            if (absl::Status s = femsimp::WriteMeshFile(out, run.output); !s.ok())
+            // Every tool ran on the input's positions, relative to its origin.
+            femsimp::RawMesh placed = run.output;
+            placed.origin = input->origin;
+            if (absl::Status s = femsimp::WriteMeshFile(out, placed); !s.ok())
               std::fprintf(stderr, "%s\n", s.ToString().c_str());
             std::fprintf(tsv, "%s\t%s\t%g\t%s\t%s\t%zu\t%.6g\t%d\t%.6g\t%.6g\t%d\n", stem.c_str(),
                          path.c_str(), tol_rel, tools[t].name.c_str(), out.c_str(),

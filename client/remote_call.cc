@@ -77,6 +77,7 @@ RemoteOutcome RemoteSimplify(v1::Simplifier::Stub& stub, grpc::ClientContext& ct
   spec.set_has_face_groups(!mesh.face_groups.empty());
   spec.clear_face_field_names();
   for (const FaceField& field : mesh.face_fields) spec.add_face_field_names(field.name);
+  wire::OriginToProto(mesh.origin, spec.mutable_origin());
   std::unique_ptr<grpc::ClientReaderWriter<v1::SimplifyRequest, v1::SimplifyResponse>> stream =
       stub.Simplify(&ctx);
 
@@ -117,10 +118,14 @@ RemoteOutcome RemoteSimplify(v1::Simplifier::Stub& stub, grpc::ClientContext& ct
         if (keep_output) {
           malformed =
               wire::CheckFieldNames(out.result.face_field_names(), "result: face_field_names");
+          absl::StatusOr<std::array<double, 3>> origin =
+              wire::OriginFromProto(out.result.origin(), "result: origin");
+          if (malformed.ok()) malformed = origin.status();
           assembler.emplace(out.result.output_vertices(), out.result.output_faces(),
                             out.result.has_face_groups(),
                             std::vector<std::string>(out.result.face_field_names().begin(),
-                                                     out.result.face_field_names().end()));
+                                                     out.result.face_field_names().end()),
+                            origin.ok() ? *origin : std::array<double, 3>{});
         }
         break;
       case v1::SimplifyResponse::kChunk:

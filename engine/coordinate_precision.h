@@ -30,7 +30,10 @@ inline CoordinatePrecision PrecisionOfBox(const double lo[3], const double hi[3]
   for (int k = 0; k < 3; ++k)
     p.magnitude = std::max({p.magnitude, std::fabs(lo[k]), std::fabs(hi[k])});
   const float m = static_cast<float>(p.magnitude);  // a stored coordinate: exact
-  p.spacing = double(std::nextafter(m, std::numeric_limits<float>::infinity())) - double(m);
+  const float up = std::nextafter(m, std::numeric_limits<float>::infinity());
+  // At the largest float there is none above: the spacing below is the same.
+  p.spacing =
+      std::isfinite(up) ? double(up) - double(m) : double(m) - double(std::nextafter(m, 0.0f));
   p.diagonal = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
                          (hi[2] - lo[2]) * (hi[2] - lo[2]));
   return p;

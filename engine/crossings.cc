@@ -167,7 +167,7 @@ SoupCrossings FindCrossings(const RawMesh& soup) {
         if (found.pairs++ == 0 || pair < std::pair(found.face_a, found.face_b)) {
           found.face_a = pair.first;
           found.face_b = pair.second;
-          found.at = {at->x, at->y, at->z};
+          found.at = {soup.origin[0] + at->x, soup.origin[1] + at->y, soup.origin[2] + at->z};
         }
       }
     }

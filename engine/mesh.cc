@@ -122,6 +122,7 @@ absl::StatusOr<Mesh> Mesh::Build(const RawMesh& raw) {
     }
     mesh.point_ids_ = raw.point_ids;
   }
+  mesh.origin_ = raw.origin;
   if (!raw.face_fields.empty()) {
     mesh.EnsureFaceAttrs();
     for (size_t i = 0; i < raw.face_fields.size(); ++i) {
@@ -143,6 +144,7 @@ void Mesh::EnsureQuadrics() {
 
 RawMesh Mesh::ToRaw(std::vector<uint32_t>* vertex_ids) const {
   RawMesh raw;
+  raw.origin = origin_;
   std::vector<uint32_t> remap(vertices_.size(), kNone);
   uint32_t next = 0;
   if (vertex_ids != nullptr) vertex_ids->clear();

@@ -1,6 +1,7 @@
 // The shared half-edge mesh: quadword arrays plus one atomic status word per vertex.
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <memory>
@@ -35,6 +36,8 @@ class Mesh {
   const uint8_t* locked_flags() const { return locked_.empty() ? nullptr : locked_.data(); }
   // RawMesh::point_ids as built, or nullptr when every vertex is its own point.
   const uint32_t* point_ids() const { return point_ids_.empty() ? nullptr : point_ids_.data(); }
+  // RawMesh::origin as built: positions are relative to it, and so are ToRaw's.
+  const std::array<double, 3>& origin() const { return origin_; }
 
   // Per-face side quadwords (error bound, field values): allocated by Build when the input has
   // fields, or on demand when a tolerance is tracked (errors start at 0: the input itself).
@@ -76,6 +79,7 @@ class Mesh {
   std::vector<QuadricQ> quadrics_;
   std::vector<uint8_t> locked_;      // per vertex, empty when none is locked
   std::vector<uint32_t> point_ids_;  // per vertex, empty when every vertex is its own point
+  std::array<double, 3> origin_{};
 };
 
 }  // namespace femsimp

@@ -1,6 +1,7 @@
 #include "engine/prepare.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <string>
 #include <utility>
@@ -8,6 +9,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
+#include "engine/local_origin.h"
 #include "engine/spatial_order.h"
 
 namespace femsimp {
@@ -52,9 +54,10 @@ std::string FirstSeamChange(const RawMesh& out, const RejoinReport& report) {
   const EdgeUse& e = added ? report.new_seams.front() : report.changed_seams.front();
   const auto place = [&](uint32_t input_vertex) -> std::string {
     for (size_t o = 0; o < report.input_vertex.size(); ++o)
-      if (report.input_vertex[o] == input_vertex)
-        return absl::StrFormat("(%g, %g, %g)", out.positions[3 * o], out.positions[3 * o + 1],
-                               out.positions[3 * o + 2]);
+      if (report.input_vertex[o] == input_vertex) {
+        const std::array<double, 3> p = WorldPoint(out, o);
+        return absl::StrFormat("(%g, %g, %g)", p[0], p[1], p[2]);
+      }
     return "(gone)";
   };
   return absl::StrCat("; the first: ", added ? "a new" : "a changed", " edge from ", place(e.a),

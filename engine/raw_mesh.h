@@ -1,6 +1,7 @@
 // Indexed triangle soup: the exchange format between file I/O, the wire format and the engine.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -19,7 +20,7 @@ struct FaceField {
 inline constexpr size_t kMaxFaceFields = 3;  // they share one 16-byte quadword with the error bound
 
 struct RawMesh {
-  std::vector<float> positions;        // x, y, z per vertex
+  std::vector<float> positions;        // x, y, z per vertex, relative to `origin`
   std::vector<uint32_t> triangles;     // three vertex indices per face, counter-clockwise
   std::vector<uint32_t> face_groups;   // empty, or one group id per face
   std::vector<FaceField> face_fields;  // at most kMaxFaceFields
@@ -32,6 +33,10 @@ struct RawMesh {
   // rule treats copies as one vertex, so that sheets meeting at a seam touch there and only
   // there. Mesh::Build checks them; Mesh::ToRaw does not list them.
   std::vector<uint32_t> point_ids{};
+  // Where positions are measured from: a vertex lies at origin + its position in the file's
+  // coordinates. Not 0 only for parts far from the origin (engine/local_origin.h); what comes
+  // out of a mesh keeps its input's origin.
+  std::array<double, 3> origin{};
 
   size_t num_vertices() const { return positions.size() / 3; }
   size_t num_faces() const { return triangles.size() / 3; }

@@ -88,6 +88,10 @@ class Repairer {
     const float* p = Pos(v);
     return {p[0], p[1], p[2]};
   }
+  // A point of the mesh as the file has it, for the user (positions are relative to the origin).
+  std::array<double, 3> World(const std::array<double, 3>& p) const {
+    return {in_.origin[0] + p[0], in_.origin[1] + p[1], in_.origin[2] + p[2]};
+  }
   // (b - a) x (c - a): the facet's normal, twice its area long.
   std::array<double, 3> AreaVector(uint32_t a, uint32_t b, uint32_t c) const {
     const std::array<double, 3> p = PosD(a), q = PosD(b), r = PosD(c);
@@ -114,7 +118,7 @@ class Repairer {
     } else {
       text = std::string(detail);
     }
-    result_.report.records.push_back({kind, facet, vertex, at, std::move(text)});
+    result_.report.records.push_back({kind, facet, vertex, World(at), std::move(text)});
   }
   // The input vertex a working vertex stands for (split copies: the vertex they were split from).
   uint32_t Origin(uint32_t w) const { return w < nv_ ? w : copy_of_[w - nv_]; }
@@ -1168,7 +1172,8 @@ void Repairer::ReportEdges() {
     const std::array<double, 3> a = PosD(Origin(tri_[ends[0]])), b = PosD(Origin(tri_[ends[1]]));
     if (n == 2) {
       Record(RepairKind::kStitchedEdge, kept_[k0], orig_[ends[0]], a, [&] {
-        return absl::StrCat("to ", Point(b), ": joins facets ", kept_[k0], " and ", kept_[k1]);
+        return absl::StrCat("to ", Point(World(b)), ": joins facets ", kept_[k0], " and ",
+                            kept_[k1]);
       });
       continue;
     }
@@ -1178,7 +1183,7 @@ void Repairer::ReportEdges() {
     for (uint32_t i = ebeg_[e]; i < ebeg_[e + 1]; ++i) seam.facets.push_back(kept_[ehe_[i] / 3]);
     std::sort(seam.facets.begin(), seam.facets.end());
     Record(RepairKind::kSeamEdge, seam.facets[0], orig_[ends[0]], a, [&] {
-      return absl::StrCat("to ", Point(b), ": shared by ", n, " facets (",
+      return absl::StrCat("to ", Point(World(b)), ": shared by ", n, " facets (",
                           absl::StrJoin(seam.facets, ", "), ")");
     });
     for (int k = 0; k < 3; ++k) {
@@ -1196,6 +1201,7 @@ void Repairer::WriteOutput(RawMesh& mesh) {
   for (uint32_t w : tri_) out[w] = 0;
   uint32_t next = 0;
   RawMesh r;
+  r.origin = in_.origin;
   for (size_t w = 0; w < nw; ++w) {
     if (out[w] == kNoIndex) continue;
     out[w] = next++;

@@ -186,7 +186,10 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
   setup.mass_origin = measured.measure != 0.0 ? measured.centroid() : bounds.centre();
   const MassProperties mass_before =
       MovedSecondMoment(measured, bounds.centre(), setup.mass_origin);
+  // Positions are relative to the mesh's origin; the centroid is reported where the file has it.
+  const DVec3 origin{mesh.origin()[0], mesh.origin()[1], mesh.origin()[2]};
   result.input_mass = Summarize(mass_before, closed, setup.mass_origin);
+  result.input_mass.centroid += origin;
   result.input_mass.area = SurfaceArea(mesh);
   const FieldResultants fields_before = MeasureFields(mesh, groups);
   setup.mass = &mass_before;
@@ -348,6 +351,7 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
   result.deviation_bound = MaxDeviationBound(mesh);
   const MassProperties mass_after = MeasureMass(mesh, closed, setup.mass_origin);
   result.output_mass = Summarize(mass_after, closed, setup.mass_origin);
+  result.output_mass.centroid += origin;
   result.output_mass.area = SurfaceArea(mesh);
   result.inertia_change = PrincipalMomentChange(result.input_mass, result.output_mass);
   if (closed && mass_before.measure != 0.0)

@@ -110,7 +110,8 @@ absl::StatusOr<SolidFigures> AnalyseSolid(const RawMesh& surface, const std::str
   const SolidProperties solid = MeasureSolid(*tets, options.material.density);
   f.volume = solid.volume;
   f.mass = options.material.density * solid.volume;
-  f.centroid = solid.centroid;
+  f.centroid = solid.centroid;  // tetgen ran on positions relative to the surface's origin
+  for (int k = 0; k < 3; ++k) f.centroid[k] += surface.origin[k] * options.unit_scale;
   f.principal_moments = solid.principal_moments;
   f.diagonal = solid.diagonal;
 

@@ -398,9 +398,34 @@ size_t ForEachChunk(const RawMesh& mesh, const std::function<bool(v1::MeshChunk&
   return count;
 }
 
+absl::StatusOr<std::array<double, 3>> OriginFromProto(
+    const google::protobuf::RepeatedField<double>& origin, const std::string& where) {
+  std::array<double, 3> out{};
+  if (origin.empty()) return out;
+  if (origin.size() != 3)
+    return absl::InvalidArgumentError(
+        absl::StrCat(where, ": ", origin.size(), " coordinates (expected none or x, y, z)"));
+  for (int k = 0; k < 3; ++k) {
+    if (!std::isfinite(origin[k]))
+      return absl::InvalidArgumentError(
+          absl::StrCat(where, ": coordinate ", k, " is not finite (", origin[k], ")"));
+    out[k] = origin[k];
+  }
+  return out;
+}
+
+void OriginToProto(const std::array<double, 3>& origin,
+                   google::protobuf::RepeatedField<double>* out) {
+  out->Clear();
+  if (origin[0] == 0.0 && origin[1] == 0.0 && origin[2] == 0.0) return;
+  out->Add(origin.begin(), origin.end());
+}
+
 MeshAssembler::MeshAssembler(uint64_t vertices, uint64_t faces, bool face_groups,
-                             std::vector<std::string> field_names)
+                             std::vector<std::string> field_names,
+                             const std::array<double, 3>& origin)
     : vertices_(vertices), faces_(faces), face_groups_(face_groups) {
+  mesh_.origin = origin;
   // Reserve is bounded by the caller's limits, checked before construction.
   mesh_.positions.reserve(3 * vertices);
   mesh_.triangles.reserve(3 * faces);

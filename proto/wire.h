@@ -2,6 +2,7 @@
 // by the server and the remote client so both sides agree on the wire format.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -69,10 +70,18 @@ size_t ForEachChunk(const RawMesh& mesh, const std::function<bool(v1::MeshChunk&
 // below the declared vertex count, one value array per declared field. Messages name the
 // problem and where (chunk number, vertex or face index, field name). The field names are
 // checked by the caller (CheckFieldNames).
+// A spec's or result's origin (RawMesh::origin): empty, or three finite coordinates; `where`
+// prefixes the message, e.g. "spec: origin". ToProto leaves origin 0 empty.
+absl::StatusOr<std::array<double, 3>> OriginFromProto(
+    const google::protobuf::RepeatedField<double>& origin, const std::string& where);
+void OriginToProto(const std::array<double, 3>& origin,
+                   google::protobuf::RepeatedField<double>* out);
+
 class MeshAssembler {
  public:
   MeshAssembler(uint64_t vertices, uint64_t faces, bool face_groups,
-                std::vector<std::string> field_names = {});
+                std::vector<std::string> field_names = {},
+                const std::array<double, 3>& origin = {});
   absl::Status Add(const v1::MeshChunk& chunk);
   // Fails when arrays are short of the declared counts.
   absl::StatusOr<RawMesh> Finish();

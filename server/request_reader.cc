@@ -25,6 +25,8 @@ absl::Status CheckSpec(const v1::JobSpec& spec, const ServerConfig& config) {
   if (spec.client_label().size() > 128)
     return absl::InvalidArgumentError(
         absl::StrCat("spec: client_label is ", spec.client_label().size(), " bytes (at most 128)"));
+  if (absl::Status s = wire::OriginFromProto(spec.origin(), "spec: origin").status(); !s.ok())
+    return s;
   return wire::CheckFieldNames(spec.face_field_names(), "spec: face_field_names");
 }
 
@@ -48,7 +50,8 @@ absl::StatusOr<v1::JobSpec> RequestReader::ReadSpec() {
 absl::StatusOr<RawMesh> RequestReader::ReadMesh(const v1::JobSpec& spec) {
   wire::MeshAssembler assembler(
       spec.vertex_count(), spec.face_count(), spec.has_face_groups(),
-      std::vector<std::string>(spec.face_field_names().begin(), spec.face_field_names().end()));
+      std::vector<std::string>(spec.face_field_names().begin(), spec.face_field_names().end()),
+      *wire::OriginFromProto(spec.origin(), "spec: origin"));  // checked by CheckSpec
   v1::SimplifyRequest req;
   while (read_(&req)) {
     switch (req.payload_case()) {

@@ -339,6 +339,7 @@ grpc::Status SimplifierService::Follow(grpc::ServerContext* ctx, Stream* stream,
   m->set_input_faces(r.input_faces);
   m->set_output_vertices(output.mesh.num_vertices());
   m->set_output_faces(output.mesh.num_faces());
+  wire::OriginToProto(output.mesh.origin, m->mutable_origin());
   m->set_engine_seconds(r.engine_seconds);
   m->set_busy_seconds(r.busy_seconds);
   m->set_queue_seconds(output.queue_seconds);

@@ -81,6 +81,32 @@ void AppendFloat(std::string* s, float v) {
   s->append(buf, ec == std::errc() ? end : buf);
 }
 
+void AppendCoordinate(std::string* s, double origin, float position) {
+  if (origin == 0.0) return AppendFloat(s, position);
+  // The fewest digits that read back (as femsimp's readers read: in double, minus the origin, to
+  // float) to this position: a vertex that did not move is written as its file wrote it.
+  const double at = origin + double(position);
+  char buf[32];
+  const auto text = [&](int digits) {
+    return std::to_chars(buf, buf + sizeof(buf), at, std::chars_format::general, digits).ptr;
+  };
+  const auto reads_back = [&](int digits) {
+    double x = 0.0;
+    std::from_chars(buf, text(digits), x);
+    return static_cast<float>(x - origin) == position;
+  };
+  int lo = 1, hi = 17;  // 17 digits: `at` itself
+  while (lo < hi) {
+    const int mid = (lo + hi) / 2;
+    if (reads_back(mid)) {
+      hi = mid;
+    } else {
+      lo = mid + 1;
+    }
+  }
+  s->append(buf, text(lo));
+}
+
 std::string ObjGroupName(uint32_t id, const GroupNames& names) {
   if (auto it = names.find(id); it != names.end()) return it->second;
   return id == 0 ? kObjDefaultGroup : absl::StrCat("group_", id);
@@ -185,7 +211,7 @@ std::string ObjText(const RawMesh& mesh, const GroupNames& names) {
     s += "v";
     for (int i = 0; i < 3; ++i) {
       s += ' ';
-      AppendFloat(&s, mesh.positions[3 * v + i]);
+      AppendCoordinate(&s, mesh.origin[i], mesh.positions[3 * v + i]);
     }
     s += '\n';
   }
@@ -205,7 +231,7 @@ std::string OffText(const RawMesh& mesh) {
   for (size_t v = 0; v < mesh.num_vertices(); ++v) {
     for (int k = 0; k < 3; ++k) {
       if (k) s += ' ';
-      AppendFloat(&s, mesh.positions[3 * v + k]);
+      AppendCoordinate(&s, mesh.origin[k], mesh.positions[3 * v + k]);
     }
     s += '\n';
   }
@@ -229,6 +255,13 @@ std::string StlBytes(const RawMesh& mesh, bool binary) {
     for (double& x : n) x = len > 0 ? x / len : 0.0;
     return std::array<float, 3>{float(n[0]), float(n[1]), float(n[2])};
   };
+  // Where the file has a corner: binary STL holds floats, so far from the origin it rounds.
+  const auto placed = [&](size_t f, int k) {
+    const size_t v = mesh.triangles[3 * f + k];
+    return std::array<float, 3>{float(mesh.origin[0] + mesh.positions[3 * v]),
+                                float(mesh.origin[1] + mesh.positions[3 * v + 1]),
+                                float(mesh.origin[2] + mesh.positions[3 * v + 2])};
+  };
   std::string s;
   if (binary) {
     // Sized once and filled in place: 84 header bytes, then 50 per facet.
@@ -240,7 +273,7 @@ std::string StlBytes(const RawMesh& mesh, bool binary) {
     for (size_t f = 0; f < mesh.num_faces(); ++f) {
       for (float x : normal(f)) PutLittleEndian(&out, x);
       for (int k = 0; k < 3; ++k)
-        for (float x : corner(f, k)) PutLittleEndian(&out, x);
+        for (float x : placed(f, k)) PutLittleEndian(&out, x);
       out += 2;  // attribute byte count 0
     }
     return s;
@@ -252,7 +285,9 @@ std::string StlBytes(const RawMesh& mesh, bool binary) {
     s += "\nouter loop\n";
     for (int k = 0; k < 3; ++k) {
       s += "vertex";
-      for (float x : corner(f, k)) (s += ' ', AppendFloat(&s, x));
+      const size_t v = mesh.triangles[3 * f + k];
+      for (int i = 0; i < 3; ++i)
+        (s += ' ', AppendCoordinate(&s, mesh.origin[i], mesh.positions[3 * v + i]));
       s += '\n';
     }
     s += "endloop\nendfacet\n";
@@ -263,10 +298,13 @@ std::string StlBytes(const RawMesh& mesh, bool binary) {
 std::string PlyBytes(const RawMesh& mesh, bool binary) {
   const size_t nv = mesh.num_vertices(), nf = mesh.num_faces();
   const bool groups = !mesh.face_groups.empty();
+  // Far from the origin binary coordinates are doubles: floats there would round the part.
+  const bool doubles =
+      binary && !(mesh.origin[0] == 0 && mesh.origin[1] == 0 && mesh.origin[2] == 0);
+  const char* type = doubles ? "double" : "float";
   std::string s = absl::StrCat("ply\nformat ", binary ? "binary_little_endian" : "ascii",
-                               " 1.0\ncomment femsimp\nelement vertex ", nv,
-                               "\nproperty float x\nproperty float y\nproperty float z\n"
-                               "element face ",
+                               " 1.0\ncomment femsimp\nelement vertex ", nv, "\nproperty ", type,
+                               " x\nproperty ", type, " y\nproperty ", type, " z\nelement face ",
                                nf, "\nproperty list uchar int vertex_indices\n");
   if (groups) absl::StrAppend(&s, "property uint ", kPlyGroupProperty, "\n");
   for (const FaceField& field : mesh.face_fields)
@@ -276,11 +314,13 @@ std::string PlyBytes(const RawMesh& mesh, bool binary) {
   s.reserve(s.size() + (binary ? 12 * nv + face_bytes * nf : 40 * nv + 3 * face_bytes * nf));
   for (size_t v = 0; v < nv; ++v) {
     for (int i = 0; i < 3; ++i) {
-      if (binary) {
+      if (doubles) {
+        AppendLittleEndian(&s, mesh.origin[i] + double(mesh.positions[3 * v + i]));
+      } else if (binary) {
         AppendLittleEndian(&s, mesh.positions[3 * v + i]);
       } else {
         if (i) s += ' ';
-        AppendFloat(&s, mesh.positions[3 * v + i]);
+        AppendCoordinate(&s, mesh.origin[i], mesh.positions[3 * v + i]);
       }
     }
     if (!binary) s += '\n';

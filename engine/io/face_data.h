@@ -80,6 +80,11 @@ std::string StlBytes(const RawMesh& mesh, bool binary);
 // Appends the shortest decimal that reads back as the same float (the writers' number text).
 void AppendFloat(std::string* s, float v);
 
+// Appends a coordinate where the file has it, origin + position (RawMesh::origin): at origin 0
+// the float's shortest text; else the shortest text that reads back to the same position
+// relative to the origin, as the readers read it.
+void AppendCoordinate(std::string* s, double origin, float position);
+
 // What the writers need beyond a well-formed soup: finite field values; for PLY, field names
 // that read back as fields (IsPlyFieldName, no blanks); for OBJ, group names on one line; for MSH,
 // group names that fit gmsh's quotes (CheckMshGroupNames).

@@ -23,6 +23,7 @@
 #include "engine/io/msh.h"
 #include "engine/io/polygons.h"
 #include "engine/io/reader_util.h"
+#include "engine/local_origin.h"
 
 namespace femsimp {
 namespace {
@@ -30,14 +31,18 @@ namespace {
 using io_internal::Bad;
 using io_internal::FiniteAsFloat;
 using io_internal::LoadBytes;
+using io_internal::ParseCoordinate;
 using io_internal::ParseDouble;
-using io_internal::ParseFloat;
 using io_internal::ParseInt;
 
 // What a reader hands on: the soup, and for OBJ and ASCII STL the line of each face, for the
 // messages of the check that follows the parse.
 struct Reading {
   ParsedMeshFile file;
+  // The coordinates of the text formats and PLY, x, y, z per vertex (ASCII STL: per corner), kept
+  // in double until the part is placed at its local origin (Localize).
+  std::vector<double> xyz;
+  bool weld_corners = false;  // ASCII STL: xyz holds corners, welded once they are floats
   std::vector<size_t> face_lines;
   std::vector<PolygonFace> polygons;  // faces of more corners than three, cut after the parse
 };
@@ -93,14 +98,15 @@ void Split(absl::string_view line, std::vector<absl::string_view>* out) {
 // vertex (called only for a message, so that a good vertex formats nothing).
 template <typename Where>
 absl::Status AddPosition(const std::vector<absl::string_view>& tok, size_t first, Where where,
-                         RawMesh* mesh) {
+                         std::vector<double>* xyz) {
   if (tok.size() < first + 3)
     return Bad(where(), ": expected 3 coordinates, found ", tok.size() - first);
   for (size_t i = first; i < first + 3; ++i) {
-    float x;
-    if (!ParseFloat(tok[i], &x)) return Bad(where(), ": cannot parse '", tok[i], "' as a number");
-    if (!std::isfinite(x)) return Bad(where(), ": coordinate '", tok[i], "' is not a finite float");
-    mesh->positions.push_back(x);
+    double x;
+    if (!ParseCoordinate(tok[i], &x))
+      return Bad(where(), ": cannot parse '", tok[i], "' as a number");
+    if (!FiniteAsFloat(x)) return Bad(where(), ": coordinate '", tok[i], "' is not a finite float");
+    xyz->push_back(x);
   }
   return absl::OkStatus();
 }
@@ -212,13 +218,14 @@ absl::Status ParseOff(absl::string_view data, Reading* out) {
   };
   RawMesh& mesh = out->file.mesh;
   // The counts are not trusted for memory: every line takes at least two bytes.
-  mesh.positions.reserve(3 * std::min<size_t>(size_t(nv), data.size() / 2));
+  out->xyz.reserve(3 * std::min<size_t>(size_t(nv), data.size() / 2));
   mesh.triangles.reserve(3 * std::min<size_t>(size_t(nf), data.size() / 2));
   for (size_t v = 0; v < size_t(nv); ++v) {
     if (!lines.NextContent(&line)) return truncated("vertices", v);
     Split(line, &tok);
     absl::Status st = AddPosition(
-        tok, 0, [&] { return absl::StrCat("vertex ", v, " (line ", lines.number(), ")"); }, &mesh);
+        tok, 0, [&] { return absl::StrCat("vertex ", v, " (line ", lines.number(), ")"); },
+        &out->xyz);
     if (!st.ok()) return st;
   }
   for (size_t f = 0; f < size_t(nf); ++f) {
@@ -275,9 +282,9 @@ absl::Status ParseObj(absl::string_view data, Reading* out) {
       absl::Status st = AddPosition(
           tok, 1,
           [&] {
-            return absl::StrCat("vertex ", mesh.num_vertices(), " (line ", lines.number(), ")");
+            return absl::StrCat("vertex ", out->xyz.size() / 3, " (line ", lines.number(), ")");
           },
-          &mesh);
+          &out->xyz);
       if (!st.ok()) return st;
     } else if (tok[0] == "g") {
       any_group_statement = true;
@@ -296,7 +303,7 @@ absl::Status ParseObj(absl::string_view data, Reading* out) {
         absl::string_view t = tok[i].substr(0, tok[i].find('/'));
         if (!ParseInt(t, &idx) || idx == 0)
           return Bad("face ", f, where(), ": invalid vertex index '", tok[i], "'");
-        if (idx < 0) idx += int64_t(mesh.num_vertices()) + 1;  // relative to the last vertex
+        if (idx < 0) idx += int64_t(out->xyz.size() / 3) + 1;  // relative to the last vertex
         if (idx <= 0)
           return Bad("face ", f, where(), ": relative index '", tok[i],
                      "' points before the first vertex");
@@ -387,11 +394,10 @@ absl::Status ParseStlBinary(absl::string_view data, uint32_t n, Reading* out) {
 }
 
 absl::Status ParseStlAscii(absl::string_view data, Reading* out) {
-  Welder welder(&out->file.mesh);
+  out->weld_corners = true;
   Lines lines(data);
   absl::string_view line;
   std::vector<absl::string_view> tok;
-  RawMesh corners;  // of the facet being read
   bool ended = false;
   while (lines.Next(&line)) {
     Split(line, &tok);
@@ -406,7 +412,6 @@ absl::Status ParseStlAscii(absl::string_view data, Reading* out) {
       return Bad("line ", lines.number(), ": unexpected '", tok[0], "' in ASCII STL");
     // The three lines after "outer loop" are the corners.
     const size_t t = out->face_lines.size();
-    corners.positions.clear();
     for (int k = 0; k < 3; ++k) {
       if (!lines.Next(&line))
         return Bad("truncated: the file ends inside facet ", t, " (line ", lines.number(), ")");
@@ -416,9 +421,8 @@ absl::Status ParseStlAscii(absl::string_view data, Reading* out) {
       };
       if (tok.empty() || !absl::EqualsIgnoreCase(tok[0], "vertex"))
         return Bad(where(), ": expected 'vertex x y z'");
-      if (absl::Status st = AddPosition(tok, 1, where, &corners); !st.ok()) return st;
+      if (absl::Status st = AddPosition(tok, 1, where, &out->xyz); !st.ok()) return st;
     }
-    for (int k = 0; k < 3; ++k) welder.AddCorner(&corners.positions[3 * k]);
     out->face_lines.push_back(lines.number());
   }
   if (!ended)
@@ -516,13 +520,11 @@ class PlyValues {
     }
     return NextToken() && Result(ParseDouble(token_, out));
   }
-  // A coordinate: ASCII text parsed as a float, a binary value of any type converted to float.
-  bool NextFloat(PlyType t, float* out) {
-    if (ascii_) return NextToken() && Result(ParseFloat(token_, out));
-    double d;
-    if (!Next(t, &d)) return false;
-    *out = static_cast<float>(d);
-    return true;
+  // A coordinate: ASCII text parsed as a double (beyond its range: an infinity), a binary value
+  // of any type converted to double.
+  bool NextCoordinate(PlyType t, double* out) {
+    if (ascii_) return NextToken() && Result(ParseCoordinate(token_, out));
+    return Next(t, out);
   }
   bool ascii() const { return ascii_; }
   bool swap() const { return swap_; }
@@ -569,7 +571,7 @@ constexpr int kPlyOther = -3, kPlyCorners = -2, kPlyGroup = -1;
 // reader refuses, the end of the data) without keeping any of it, so that the general loop reads
 // that record and words any refusal exactly as it always has.
 size_t ReadPlyBinaryRecords(const PlyElement& e, const std::vector<int>& role, bool is_vertex,
-                            PlyValues& values, RawMesh& mesh) {
+                            PlyValues& values, RawMesh& mesh, std::vector<double>& coordinates) {
   struct Slot {
     size_t offset;
     PlyType type;
@@ -600,15 +602,16 @@ size_t ReadPlyBinaryRecords(const PlyElement& e, const std::vector<int>& role, b
   size_t i = 0;
   for (; i < records; ++i) {
     const char* r = data.data() + i * stride;
-    float xyz[3] = {0, 0, 0}, fields[kMaxFaceFields] = {};
+    double xyz[3] = {0, 0, 0};
+    float fields[kMaxFaceFields] = {};
     uint32_t corners[3] = {0, 0, 0}, group = 0;
     bool plain = true;
     for (const Slot& s : slots) {
       const char* p = r + s.offset;
       if (is_vertex) {
         if (s.role < 0) continue;
-        xyz[s.role] = static_cast<float>(LoadPly(p, s.type, swap));
-        plain = plain && std::isfinite(xyz[s.role]);
+        xyz[s.role] = LoadPly(p, s.type, swap);
+        plain = plain && FiniteAsFloat(xyz[s.role]);
       } else if (s.role == kPlyCorners) {
         plain = plain && LoadPly(p, s.type, swap) == 3;
         p += PlySize(s.type);
@@ -631,7 +634,7 @@ size_t ReadPlyBinaryRecords(const PlyElement& e, const std::vector<int>& role, b
     }
     if (!plain) break;
     if (is_vertex) {
-      mesh.positions.insert(mesh.positions.end(), xyz, xyz + 3);
+      coordinates.insert(coordinates.end(), xyz, xyz + 3);
       continue;
     }
     mesh.triangles.insert(mesh.triangles.end(), corners, corners + 3);
@@ -711,7 +714,7 @@ absl::Status ParsePly(absl::string_view data, Reading* out) {
           return Bad("PLY header: the vertex element has no scalar property '", name, "'");
         role[size_t(it - e.props.begin())] = axis;
       }
-      mesh.positions.reserve(3 * expected);
+      out->xyz.reserve(3 * expected);
     }
     if (is_face) {
       mesh.face_fields.clear();
@@ -757,9 +760,9 @@ absl::Status ParsePly(absl::string_view data, Reading* out) {
     if (e.props.empty()) continue;
     size_t i = 0;
     if (!ascii && (is_vertex || is_face))
-      i = ReadPlyBinaryRecords(e, role, is_vertex, values, mesh);
+      i = ReadPlyBinaryRecords(e, role, is_vertex, values, mesh, out->xyz);
     for (; i < e.count; ++i) {
-      float xyz[3] = {0, 0, 0};
+      double xyz[3] = {0, 0, 0};
       for (size_t k = 0; k < e.props.size(); ++k) {
         const PlyProperty& p = e.props[k];
         const auto where = [&] { return values.Where(header_lines); };
@@ -772,9 +775,9 @@ absl::Status ParsePly(absl::string_view data, Reading* out) {
         };
         double v;
         if (role[k] >= 0 && is_vertex) {
-          float& x = xyz[role[k]];
-          if (!values.NextFloat(p.type, &x)) return fail();
-          if (!std::isfinite(x))
+          double& x = xyz[role[k]];
+          if (!values.NextCoordinate(p.type, &x)) return fail();
+          if (!FiniteAsFloat(x))
             return Bad("vertex ", i, where(), ": coordinate ", p.name, " = ",
                        values.ascii() ? values.token() : absl::StrCat(x), " is not a finite float");
           continue;
@@ -811,7 +814,7 @@ absl::Status ParsePly(absl::string_view data, Reading* out) {
           mesh.triangles.push_back(uint32_t(v));
         }
       }
-      if (is_vertex) mesh.positions.insert(mesh.positions.end(), xyz, xyz + 3);
+      if (is_vertex) out->xyz.insert(out->xyz.end(), xyz, xyz + 3);
     }
   }
   if (!HasFaceGroups(mesh)) mesh.face_groups.clear();
@@ -833,6 +836,25 @@ absl::Status CheckIndicesInRange(const Reading& parsed) {
   return absl::OkStatus();
 }
 
+// Places the part at its local origin (engine/local_origin.h): the double coordinates of the text
+// formats and PLY become floats relative to it (ASCII STL's corners are welded then, as floats,
+// as binary STL's are); the float coordinates of binary OFF and STL move there exactly.
+void Localize(Reading* parsed) {
+  RawMesh& mesh = parsed->file.mesh;
+  if (parsed->weld_corners) {
+    RawMesh corners;
+    StoreRelative(parsed->xyz, &corners);
+    Welder welder(&mesh, corners.num_vertices() / 3);
+    for (size_t c = 0; c < corners.num_vertices(); ++c) welder.AddCorner(&corners.positions[3 * c]);
+    mesh.origin = corners.origin;
+  } else if (!parsed->xyz.empty()) {
+    StoreRelative(parsed->xyz, &mesh);
+  } else {
+    MoveToLocalOrigin(&mesh);
+  }
+  parsed->xyz = {};
+}
+
 }  // namespace
 
 absl::StatusOr<ParsedMeshFile> ParseMeshFile(absl::string_view ext, absl::string_view data) {
@@ -851,6 +873,7 @@ absl::StatusOr<ParsedMeshFile> ParseMeshFile(absl::string_view ext, absl::string
   } else {
     s = Bad("no reader for extension '", ext, "'");
   }
+  if (s.ok()) Localize(&parsed);
   // Polygons are cut once every position is known (OBJ faces may name later vertices); the cut
   // checks their corners' range itself, by face.
   if (s.ok() && !parsed.polygons.empty()) {

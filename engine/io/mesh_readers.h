@@ -12,9 +12,12 @@
 // reader's business: they reach the soup as they are, for the repair stage (engine/repair.h) or,
 // with repair off, for validation (Mesh::Build, engine/mesh_checks.h) to report.
 //
-// Results are those of OpenMesh 9's readers, which femsimp used before: coordinates parsed as a
-// C++ stream parses a float (binary values of another type converted to float); STL facets share
-// a vertex where their corners are equal (the first appearance gives the vertex its index).
+// Results are those of OpenMesh 9's readers, which femsimp used before, for a part near the
+// origin: coordinates parsed as a C++ stream parses a double and rounded to float (binary
+// values of another type converted to float); STL facets share a vertex where their corners are
+// equal as floats (the first appearance gives the vertex its index). A part far from the origin
+// for its size is held relative to a local origin near it instead (engine/local_origin.h), the
+// floats taken of the coordinates minus the origin.
 #pragma once
 
 #include <string>

@@ -19,14 +19,16 @@
 #include "engine/io/msh.h"
 #include "engine/io/polygons.h"
 #include "engine/io/reader_util.h"
+#include "engine/local_origin.h"
 
 namespace femsimp {
 namespace {
 
 using io_internal::Bad;
+using io_internal::FiniteAsFloat;
 using io_internal::LoadBytes;
+using io_internal::ParseCoordinate;
 using io_internal::ParseDouble;
-using io_internal::ParseFloat;
 using io_internal::ParseInt;
 
 enum Family : uint8_t {
@@ -245,24 +247,21 @@ class MshReader {
       return Bad(section_, Where(pos_ - t.size()), ": cannot parse '", Clip(t), "' as ", what);
     return absl::OkStatus();
   }
-  // A coordinate of node `tag`: a text coordinate is read as a float directly (as the other
-  // readers do, so that femsimp's shortest float text reads back to the same bits).
-  absl::Status Coordinate(int64_t tag, float* x) {
+  // A coordinate of node `tag`, in double until the part is placed at its local origin.
+  absl::Status Coordinate(int64_t tag, double* x) {
     const size_t at = pos_;
     if (binary_) {
-      double d = 0;
-      if (absl::Status s = Double("a coordinate", &d); !s.ok()) return s;
-      *x = static_cast<float>(d);
-      if (!std::isfinite(*x))
-        return Bad("node ", tag, Where(at), ": coordinate ", d, " is not a finite float");
+      if (absl::Status s = Double("a coordinate", x); !s.ok()) return s;
+      if (!FiniteAsFloat(*x))
+        return Bad("node ", tag, Where(at), ": coordinate ", *x, " is not a finite float");
       return absl::OkStatus();
     }
     absl::string_view t;
     if (!Token(&t)) return Truncated();
-    if (!ParseFloat(t, x))
+    if (!ParseCoordinate(t, x))
       return Bad("node ", tag, Where(pos_ - t.size()), ": cannot parse '", Clip(t),
                  "' as a coordinate");
-    if (!std::isfinite(*x))
+    if (!FiniteAsFloat(*x))
       return Bad("node ", tag, Where(pos_ - t.size()), ": coordinate '", Clip(t),
                  "' is not a finite float");
     return absl::OkStatus();
@@ -437,7 +436,7 @@ class MshReader {
     nodes_.reserve(nodes_.size() + 3 * std::min(count, data_.size() / 8));
   }
 
-  absl::Status AddNode(int64_t tag, size_t at, const float xyz[3]) {
+  absl::Status AddNode(int64_t tag, size_t at, const double xyz[3]) {
     if (tag <= 0) return Bad("$Nodes", Where(at), ": node tag ", tag, " is not positive");
     if (!node_index_.try_emplace(tag, uint32_t(nodes_.size() / 3)).second)
       return Bad("$Nodes", Where(at), ": node ", tag, " is defined twice");
@@ -477,8 +476,8 @@ class MshReader {
       // x y z, then u (curves and up), v (surfaces and up), w (volumes) of parametric nodes.
       const size_t extra = parametric ? size_t(dim) : 0;
       for (const auto& [tag, tag_at] : tags) {
-        float xyz[3];
-        for (float& x : xyz)
+        double xyz[3];
+        for (double& x : xyz)
           if (absl::Status s = Coordinate(tag, &x); !s.ok()) return s;
         double uvw;
         for (size_t k = 0; k < extra; ++k)
@@ -504,8 +503,8 @@ class MshReader {
       const size_t tag_at = pos_;
       int64_t tag;
       if (absl::Status s = Integer(Kind::kInt, "a node tag", &tag); !s.ok()) return s;
-      float xyz[3];
-      for (float& x : xyz)
+      double xyz[3];
+      for (double& x : xyz)
         if (absl::Status s = Coordinate(tag, &x); !s.ok()) return s;
       if (absl::Status s = AddNode(tag, tag_at, xyz); !s.ok()) return s;
     }
@@ -650,11 +649,13 @@ class MshReader {
     std::vector<uint32_t> index(nodes_.size() / 3, ~0u);
     RawMesh& mesh = out_->mesh;
     for (uint32_t v : triangles_) index[v] = 0;
+    std::vector<double> used;
     for (size_t v = 0; v < index.size(); ++v) {
       if (index[v] != 0) continue;
-      index[v] = uint32_t(mesh.num_vertices());
-      mesh.positions.insert(mesh.positions.end(), &nodes_[3 * v], &nodes_[3 * v + 3]);
+      index[v] = uint32_t(used.size() / 3);
+      used.insert(used.end(), &nodes_[3 * v], &nodes_[3 * v + 3]);
     }
+    StoreRelative(used, &mesh);
     const size_t unused = index.size() - mesh.num_vertices();
     mesh.triangles.reserve(triangles_.size());
     for (uint32_t v : triangles_) mesh.triangles.push_back(index[v]);
@@ -693,7 +694,7 @@ class MshReader {
   absl::flat_hash_map<int64_t, uint32_t> node_index_;  // node tag -> index in nodes_
   absl::flat_hash_map<int64_t, uint32_t> surface_group_;
   size_t surfaces_in_several_groups_ = 0;
-  std::vector<float> nodes_;
+  std::vector<double> nodes_;
   std::vector<uint32_t> triangles_, groups_;  // the corners of every face, and its group
   std::vector<PolygonFace> polygons_;         // the faces of four corners
   std::map<int, uint64_t> left_out_;          // element type -> count

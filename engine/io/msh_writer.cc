@@ -40,10 +40,11 @@ GroupFaces FacesByGroup(const RawMesh& mesh) {
   return g;
 }
 
-void AppendPoint(std::string* s, const float* p) {
+// A point where the file has it (p relative to the mesh's origin).
+void AppendPoint(std::string* s, const RawMesh& mesh, const float* p) {
   for (int k = 0; k < 3; ++k) {
     if (k) *s += ' ';
-    AppendFloat(s, p[k]);
+    AppendCoordinate(s, mesh.origin[k], p[k]);
   }
 }
 
@@ -92,9 +93,9 @@ std::string MshText(const RawMesh& mesh, const GroupNames& names) {
           hi[i] = std::max(hi[i], x);
         }
     absl::StrAppend(&s, k + 1, " ");
-    AppendPoint(&s, lo.data());
+    AppendPoint(&s, mesh, lo.data());
     s += ' ';
-    AppendPoint(&s, hi.data());
+    AppendPoint(&s, mesh, hi.data());
     const uint32_t id = groups.ids[k];
     // Group 0 has physical tag 0 when there are groups: meshio refuses a file where only some
     // surfaces have a physical tag, and gmsh reads 0 as one more physical group.
@@ -109,7 +110,7 @@ std::string MshText(const RawMesh& mesh, const GroupNames& names) {
     absl::StrAppend(&s, "2 1 0 ", nv, "\n");
     for (size_t v = 1; v <= nv; ++v) absl::StrAppend(&s, v, "\n");
     for (size_t v = 0; v < nv; ++v) {
-      AppendPoint(&s, &mesh.positions[3 * v]);
+      AppendPoint(&s, mesh, &mesh.positions[3 * v]);
       s += '\n';
     }
   }

@@ -22,14 +22,15 @@ namespace femsimp::io_internal {
 // A reader's refusal: InvalidArgument with the message made of `parts`.
 absl::Status Bad(auto&&... parts) { return absl::InvalidArgumentError(absl::StrCat(parts...)); }
 
-// A number as a C++ stream reads a float (and so as OpenMesh's readers did): correctly rounded;
-// beyond the float range it reads as an infinity, below it as a denormal or zero. Accepts a
-// leading '+', and "nan" and "inf" so that they can be reported as such.
-inline bool ParseFloat(absl::string_view s, float* out) {
+// A coordinate, as a C++ stream reads a double: correctly rounded; beyond the double range it
+// reads as an infinity, for the caller to report, below it as a denormal or zero. Accepts a
+// leading '+', and "nan" and "inf" so that they can be reported as such. Coordinates stay in
+// double until the part is placed at its local origin (engine/local_origin.h).
+inline bool ParseCoordinate(absl::string_view s, double* out) {
   if (!s.empty() && s[0] == '+') s.remove_prefix(1);
   auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), *out);
   if (p != s.data() + s.size()) return false;
-  if (ec == std::errc::result_out_of_range) *out = std::strtof(std::string(s).c_str(), nullptr);
+  if (ec == std::errc::result_out_of_range) *out = std::strtod(std::string(s).c_str(), nullptr);
   return ec == std::errc() || ec == std::errc::result_out_of_range;
 }
 

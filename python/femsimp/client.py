@@ -252,6 +252,7 @@ class Client:
                                  face_count=surface.num_triangles,
                                  has_face_groups=surface.groups is not None,
                                  face_field_names=list(surface.fields),
+                                 origin=list(surface.origin) if any(surface.origin) else [],
                                  client_label=_truncate(label or prepared.label))
         opts.to_proto(checked, spec.options)
         requests = [self._pb2.SimplifyRequest(spec=spec).SerializeToString()]
@@ -272,6 +273,11 @@ class Client:
             if bar:
                 bar.close()
         points, triangles, groups, fields = outcome.mesh
+        if tuple(outcome.result.origin or (0.0, 0.0, 0.0)) != tuple(surface.origin):
+            raise FemsimpError(grpc.StatusCode.DATA_LOSS,
+                               f"malformed result: origin {list(outcome.result.origin)}, the job "
+                               f"was sent with {list(surface.origin)}", self.address,
+                               job_id=outcome.job_id)
         outcome.mesh = prepared.restore(points, triangles, groups, fields)
         _warn_if_far_from_origin(outcome.result)
         _warn_if_crossing(outcome.result, checked.get("allow_self_intersections", False))

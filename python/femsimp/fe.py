@@ -70,6 +70,7 @@ class _Plan:
     def __init__(self, mesh, tri_ids, used, sent_points, keys, labels, fields, sets):
         self.mesh, self.tri_ids, self.used = mesh, tri_ids, used
         self.sent_points = sent_points  # float32 (n, 3): what the server got
+        self.sent_origin = (0.0, 0.0, 0.0)  # what sent_points are measured from
         self.keys = keys      # unique key rows: block, label values..., set memberships...
         self.labels = labels  # [(name, dtype)]
         self.fields = fields  # [(name, dtype)]
@@ -162,7 +163,9 @@ def from_meshio(mesh, strict=False):
         used = np.flatnonzero(used_mask)
         local = (np.cumsum(used_mask) - 1)[tris]
     surface = checked(points[used], local, groups, field_values)
-    return surface, _Plan(mesh, tri_ids, used, surface.points, keys, labels, fields, sets)
+    plan = _Plan(mesh, tri_ids, used, surface.points, keys, labels, fields, sets)
+    plan.sent_origin = surface.origin
+    return surface, plan
 
 
 def _unique_rows(columns):
@@ -216,7 +219,8 @@ def to_meshio(plan, points32, triangles, groups, fields):
     else:
         # Not every point is an input point (a server that moves vertices): float32 coordinates,
         # without point data.
-        points = points32.astype(np.asarray(m.points).dtype)[:, :np.asarray(m.points).shape[1]]
+        world = points32 + np.asarray(plan.sent_origin)
+        points = world.astype(np.asarray(m.points).dtype)[:, :np.asarray(m.points).shape[1]]
         if m.point_data or m.point_sets:
             warnings.warn("output points are not input points: point data and point sets "
                           "left out", FemsimpWarning, stacklevel=3)

@@ -25,7 +25,7 @@ class Prepared:
         self.surface, self.restore, self.label = surface, restore, label
 
 
-def _numpy_restore(surface, original_points, kind):
+def _numpy_restore(surface, original_points, kind, user_origin=(0.0, 0.0, 0.0)):
     def restore(points32, triangles, groups, fields):
         idx = match_points(points32, surface.points)
         orig = np.asarray(original_points)
@@ -39,10 +39,11 @@ def _numpy_restore(surface, original_points, kind):
             import warnings
             warnings.warn("output points are not input points: float32 coordinates",
                           FemsimpWarning, stacklevel=3)
-            points = points32[:, :orig.shape[1]].astype(orig.dtype)
+            world = points32 + np.asarray(surface.origin) - np.asarray(user_origin)
+            points = world[:, :orig.shape[1]].astype(orig.dtype)
         triangles = triangles.astype(np.int64)
         if kind == "surface":
-            return SurfaceMesh(points, triangles, groups, dict(fields))
+            return SurfaceMesh(points, triangles, groups, dict(fields), tuple(user_origin))
         out = (points, triangles, groups, dict(fields))
         return out[:kind]
     return restore
@@ -89,8 +90,12 @@ def prepare(mesh, strict=False, output=None):
         surface, plan = fe.from_meshio(mesh, strict)
         return Prepared(surface, lambda *out: fe.to_meshio(plan, *out), "meshio.Mesh")
     if isinstance(mesh, SurfaceMesh):
-        surface = checked(mesh.points, mesh.triangles, mesh.groups, mesh.fields)
-        return Prepared(surface, _numpy_restore(surface, mesh.points, "surface"), "SurfaceMesh")
+        absolute = mesh.points
+        if any(mesh.origin):
+            absolute = np.asarray(mesh.points, dtype=np.float64) + np.asarray(mesh.origin)
+        surface = checked(absolute, mesh.triangles, mesh.groups, mesh.fields)
+        return Prepared(surface, _numpy_restore(surface, mesh.points, "surface", mesh.origin),
+                        "SurfaceMesh")
     if isinstance(mesh, (tuple, list)) and 2 <= len(mesh) <= 4:
         surface = checked(*mesh)
         return Prepared(surface, _numpy_restore(surface, mesh[0], len(mesh)), "numpy arrays")

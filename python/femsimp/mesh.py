@@ -7,6 +7,7 @@ from .errors import MeshError
 
 MAX_FACE_FIELDS = 3          # kMaxFaceFields of the engine
 MAX_FIELD_NAME_BYTES = 64    # wire::kMaxFieldNameBytes
+LOCAL_ORIGIN_FROM = 1e-6     # kLocalOriginFrom of engine/local_origin.h
 
 
 @dataclass
@@ -17,6 +18,10 @@ class SurfaceMesh:
     triangles: np.ndarray                  # (m, 3) integer, counter-clockwise
     groups: np.ndarray = None              # (m,) uint32, or None
     fields: dict = field(default_factory=dict)  # name -> (m,) float
+    # Where points are measured from: a point lies at origin + its coordinates. checked() sets
+    # it for a part far from the origin (engine/local_origin.h), so that the float32 points it
+    # sends keep the part's detail.
+    origin: tuple = (0.0, 0.0, 0.0)
 
     @property
     def num_points(self):
@@ -29,13 +34,29 @@ class SurfaceMesh:
         return len(self.triangles)
 
 
+def local_origin(points):
+    """LocalOriginOf (engine/local_origin.cc) of float64 points (n, 3): (0, 0, 0) unless float32
+    spacing at the largest coordinate exceeds LOCAL_ORIGIN_FROM of the diagonal, else the box's
+    centre rounded to float32."""
+    if len(points) == 0:
+        return (0.0, 0.0, 0.0)
+    lo, hi = points.min(axis=0), points.max(axis=0)
+    diagonal = float(np.linalg.norm(hi - lo))
+    magnitude = float(np.abs(np.concatenate([lo, hi])).max())
+    spacing = float(np.spacing(np.float32(magnitude)))
+    if not diagonal > 0 or spacing / diagonal <= LOCAL_ORIGIN_FROM:
+        return (0.0, 0.0, 0.0)
+    return tuple(float(np.float32(0.5 * a + 0.5 * b)) for a, b in zip(lo, hi))
+
+
 def _first(mask):
     return int(np.flatnonzero(mask)[0])
 
 
 def checked(points, triangles, groups=None, fields=None):
-    """A SurfaceMesh ready for the wire (float32 points, uint32 triangles and groups, float32
-    fields), or MeshError naming the array, the element and what is wrong with it."""
+    """A SurfaceMesh ready for the wire (float32 points relative to local_origin, uint32
+    triangles and groups, float32 fields), or MeshError naming the array, the element and what
+    is wrong with it."""
     try:
         p = np.asarray(points, dtype=np.float64)
         t = np.asarray(triangles)
@@ -87,11 +108,12 @@ def checked(points, triangles, groups=None, fields=None):
     if len(fl) > MAX_FACE_FIELDS:
         raise MeshError(f"fields: {len(fl)} ({', '.join(fl)}); femsimp carries at most "
                         f"{MAX_FACE_FIELDS}")
-    p32 = p.astype(np.float32)
-    if not np.isfinite(p32).all():
-        v = _first(~np.isfinite(p32).all(axis=1))
+    if not np.isfinite(p.astype(np.float32)).all():
+        v = _first(~np.isfinite(p.astype(np.float32)).all(axis=1))
         raise MeshError(f"points: vertex {v} ({p[v].tolist()}) does not fit a float32")
-    return SurfaceMesh(p32, t.astype(np.uint32), g, fl)
+    origin = local_origin(p)
+    p32 = (p - np.asarray(origin)).astype(np.float32)
+    return SurfaceMesh(p32, t.astype(np.uint32), g, fl, origin)
 
 
 def match_points(found, original):

@@ -37,6 +37,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
 #include "engine/io/mesh_io.h"
+#include "engine/local_origin.h"
 #include "tests/judge/judge.h"
 #include "tests/judge/seam_conformity.h"
 
@@ -116,6 +117,8 @@ int Main(int argc, char** argv) {
       return 2;
     }
   }
+  // Compared where the input's positions are measured from (each file has its own origin).
+  ChangeOrigin(&*out, in->origin);
   const auto start = std::chrono::steady_clock::now();
   const Measured a = Measure(*in), b = Measure(*out);
   const double diag = judge::BoundingBoxDiagonal(*in);

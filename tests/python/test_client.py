@@ -62,18 +62,25 @@ def test_an_output_that_crosses_itself_warns(client):
     assert clean.result.output_crossings.pairs == 0
 
 
-def test_a_part_far_from_the_origin_warns(client):
-    # An assembly's global coordinates: 2^16 from the origin, floats are 2^-7 apart.
+def test_a_part_far_from_the_origin_keeps_its_digits(client):
+    # An assembly's global coordinates: 2 million units out, where float32 is 2^-3 apart (a
+    # seventh of this part). The client sends it relative to an origin near it, the result comes
+    # back relative to the same origin, and every output point is an input point, exactly.
     points, triangles, _ = box_surface(6)
-    with pytest.warns(femsimp.FemsimpWarning,
-                      match=r"far from the origin \(coordinates up to 6\.554e\+04; the part is "
-                            r"1\.732 across\): .* 0\.00781 apart \(0\.45% of the part\)"):
-        out = client.run((points + [65536.0, 0, 0], triangles), ratio=0.5)
-    assert out.result.coordinates.spacing == 2.0 ** -7
+    far = points + [1000000.0371, 2000000.0813, -300000.0529]
     with warnings.catch_warnings():
         warnings.simplefilter("error", femsimp.FemsimpWarning)
-        near = client.run((points + [64.0, 0, 0], triangles), ratio=0.5)
-    assert near.result.coordinates.spacing == 2.0 ** -17
+        out = client.run((far, triangles), ratio=0.5)
+    assert len(out.result.origin) == 3
+    assert abs(out.result.origin[1] - 2000000.58) < 0.125  # the centre, rounded to float32
+    # Relative to it the part's floats are 2^-24 apart, not 2^-3.
+    assert out.result.coordinates.spacing < 1e-6
+    out_points, out_triangles = out.mesh
+    assert len(out_triangles) < len(triangles)
+    assert rows(out_points) <= rows(far)
+    # Near the origin nothing moves: no origin is sent or returned.
+    near = client.run((points + [2.0, 0, 0], triangles), ratio=0.5)
+    assert len(near.result.origin) == 0
 
 
 def test_meshio_in_meshio_out(client):

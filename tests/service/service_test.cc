@@ -520,6 +520,11 @@ TEST(Service, MalformedStreamsAreInvalidArgument) {
   for (const char* n : {"a", "b", "c", "d", "e"}) five_fields.add_face_field_names(n);
   v1::JobSpec field_p = RatioSpec(0.5);
   field_p.add_face_field_names("p");
+  v1::JobSpec two_origin = RatioSpec(0.5);
+  two_origin.add_origin(1e6);
+  two_origin.add_origin(2e6);
+  v1::JobSpec nan_origin = RatioSpec(0.5);
+  for (double x : {1e6, std::nan(""), 0.0}) nan_origin.add_origin(x);
   v1::SimplifyRequest tri_nan_p = tri;
   tri_nan_p.mutable_chunk()->add_face_fields()->add_values(std::nanf(""));
 
@@ -561,6 +566,14 @@ TEST(Service, MalformedStreamsAreInvalidArgument) {
        {SpecRequest(3, 1, five_fields), tri},
        grpc::StatusCode::INVALID_ARGUMENT,
        "spec: face_field_names: 5 face fields, at most 3"},
+      {"origin of two coordinates",
+       {SpecRequest(3, 1, two_origin), tri},
+       grpc::StatusCode::INVALID_ARGUMENT,
+       "spec: origin: 2 coordinates (expected none or x, y, z)"},
+      {"origin not finite",
+       {SpecRequest(3, 1, nan_origin), tri},
+       grpc::StatusCode::INVALID_ARGUMENT,
+       "spec: origin: coordinate 1 is not finite (nan)"},
       {"field values missing",
        {SpecRequest(3, 1, field_p), tri},
        grpc::StatusCode::INVALID_ARGUMENT,
