@@ -186,19 +186,6 @@ std::string CrossingsWarning(const SoupCrossings& c, bool allowed) {
       "; a mesher such as tetgen refuses it (a finer export of the part avoids it)\n");
 }
 
-// Positions are 32-bit floats: a part far from the origin (an assembly's global coordinates) lost
-// what its file had finer than their spacing there when it was read, silently but for what
-// repair then finds (points that became one, facets that became degenerate).
-std::string CoarseCoordinatesWarning(const CoordinatePrecision& c) {
-  if (c.relative_spacing() < kCoarseCoordinates) return "";
-  return absl::StrFormat(
-      "warning:  IN lies far from the origin (coordinates up to %.4g; the part is %.4g across): "
-      "femsimp keeps positions as 32-bit floats, which there are %.3g apart (%.2g%% of the "
-      "part), so finer detail of the file was rounded away when it was read; translate the part "
-      "near the origin to keep it\n",
-      c.magnitude, c.diagonal, c.spacing, 100 * c.relative_spacing());
-}
-
 // A solid's mean thickness against the tolerance. Each side of a wall may move by the
 // tolerance, so where the tolerance reaches half the thickness a wall may lose or double all of
 // it; the mass budgets hold totals, not a wall's local thickness, and its stiffness follows that
@@ -343,7 +330,6 @@ std::string Summary(const RunReport& r) {
       r.input_vertices, r.output_vertices, pct(r.output_vertices, r.input_vertices), r.input_faces,
       r.output_faces, pct(r.output_faces, r.input_faces), r.passes.size(), why);
   for (const std::string& w : r.input_warnings) absl::StrAppend(&s, "warning:  ", w, "\n");
-  absl::StrAppend(&s, CoarseCoordinatesWarning(r.fidelity.coordinates));
   absl::StrAppend(&s, RepairSummary(r.repair, r.repair_details ? r.repair.records.size()
                                                                : kSummaryRepairRecords));
   const FidelityFigures& f = r.fidelity;

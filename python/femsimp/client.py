@@ -114,24 +114,6 @@ def _warn_if_crossing(result, allowed):
                   FemsimpWarning, stacklevel=3)
 
 
-# engine/simplify.h kCoarseCoordinates: from this spacing of the floats at the input's largest
-# coordinate, relative to its diagonal, the C++ summary warns too.
-_COARSE_COORDINATES = 1e-4
-
-
-def _warn_if_far_from_origin(result):
-    """The C++ CLI's warning: positions are 32-bit floats, and far from the origin (an
-    assembly's global coordinates) detail finer than their spacing was rounded away."""
-    c = result.coordinates
-    if c.diagonal <= 0 or c.spacing / c.diagonal < _COARSE_COORDINATES:
-        return
-    warnings.warn(f"the input lies far from the origin (coordinates up to {c.magnitude:.4g}; the "
-                  f"part is {c.diagonal:.4g} across): femsimp keeps positions as 32-bit floats, "
-                  f"which there are {c.spacing:.3g} apart ({100 * c.spacing / c.diagonal:.2g}% "
-                  f"of the part), so finer detail was rounded away; translate the part near the "
-                  f"origin to keep it", FemsimpWarning, stacklevel=3)
-
-
 class Client:
     """A connection to a femsimp-server.
 
@@ -279,7 +261,6 @@ class Client:
                                f"was sent with {list(surface.origin)}", self.address,
                                job_id=outcome.job_id)
         outcome.mesh = prepared.restore(points, triangles, groups, fields)
-        _warn_if_far_from_origin(outcome.result)
         _warn_if_crossing(outcome.result, checked.get("allow_self_intersections", False))
         return outcome
 
