@@ -570,8 +570,18 @@ constexpr int kPlyOther = -3, kPlyCorners = -2, kPlyGroup = -1;
 // it read. It stops at the first record that is not plain (a list of another length, a value the
 // reader refuses, the end of the data) without keeping any of it, so that the general loop reads
 // that record and words any refusal exactly as it always has.
+// A vertex's coordinates: into `coordinates` (double, placed at the local origin later), or, where
+// the file's coordinates are floats (null), straight into the mesh's positions.
+void AppendVertex(const double xyz[3], std::vector<double>* coordinates, RawMesh& mesh) {
+  if (coordinates != nullptr) {
+    coordinates->insert(coordinates->end(), xyz, xyz + 3);
+  } else {
+    for (int k = 0; k < 3; ++k) mesh.positions.push_back(static_cast<float>(xyz[k]));
+  }
+}
+
 size_t ReadPlyBinaryRecords(const PlyElement& e, const std::vector<int>& role, bool is_vertex,
-                            PlyValues& values, RawMesh& mesh, std::vector<double>& coordinates) {
+                            PlyValues& values, RawMesh& mesh, std::vector<double>* coordinates) {
   struct Slot {
     size_t offset;
     PlyType type;
@@ -634,7 +644,7 @@ size_t ReadPlyBinaryRecords(const PlyElement& e, const std::vector<int>& role, b
     }
     if (!plain) break;
     if (is_vertex) {
-      coordinates.insert(coordinates.end(), xyz, xyz + 3);
+      AppendVertex(xyz, coordinates, mesh);
       continue;
     }
     mesh.triangles.insert(mesh.triangles.end(), corners, corners + 3);
@@ -697,6 +707,17 @@ absl::Status ParsePly(absl::string_view data, Reading* out) {
     if (e.name == "face") announced_faces = e.count;
   }
   RawMesh& mesh = out->file.mesh;
+  // Binary float coordinates are kept as floats (moved to the local origin exactly, Localize):
+  // no copy of them in double.
+  const bool float_coordinates =
+      !ascii && std::all_of(elements.begin(), elements.end(), [](const PlyElement& e) {
+        return e.name != "vertex" ||
+               std::all_of(e.props.begin(), e.props.end(), [](const PlyProperty& p) {
+                 return !(p.name == "x" || p.name == "y" || p.name == "z") ||
+                        p.type == PlyType::kF32;
+               });
+      });
+  std::vector<double>* coordinates = float_coordinates ? nullptr : &out->xyz;
   const size_t header_lines = lines.number();
   PlyValues values(data.substr(lines.offset()), ascii, swap);
   for (const PlyElement& e : elements) {
@@ -714,7 +735,11 @@ absl::Status ParsePly(absl::string_view data, Reading* out) {
           return Bad("PLY header: the vertex element has no scalar property '", name, "'");
         role[size_t(it - e.props.begin())] = axis;
       }
-      out->xyz.reserve(3 * expected);
+      if (coordinates != nullptr) {
+        coordinates->reserve(3 * expected);
+      } else {
+        mesh.positions.reserve(3 * expected);
+      }
     }
     if (is_face) {
       mesh.face_fields.clear();
@@ -760,7 +785,7 @@ absl::Status ParsePly(absl::string_view data, Reading* out) {
     if (e.props.empty()) continue;
     size_t i = 0;
     if (!ascii && (is_vertex || is_face))
-      i = ReadPlyBinaryRecords(e, role, is_vertex, values, mesh, out->xyz);
+      i = ReadPlyBinaryRecords(e, role, is_vertex, values, mesh, coordinates);
     for (; i < e.count; ++i) {
       double xyz[3] = {0, 0, 0};
       for (size_t k = 0; k < e.props.size(); ++k) {
@@ -814,7 +839,7 @@ absl::Status ParsePly(absl::string_view data, Reading* out) {
           mesh.triangles.push_back(uint32_t(v));
         }
       }
-      if (is_vertex) out->xyz.insert(out->xyz.end(), xyz, xyz + 3);
+      if (is_vertex) AppendVertex(xyz, coordinates, mesh);
     }
   }
   if (!HasFaceGroups(mesh)) mesh.face_groups.clear();
@@ -838,7 +863,7 @@ absl::Status CheckIndicesInRange(const Reading& parsed) {
 
 // Places the part at its local origin (engine/local_origin.h): the double coordinates of the text
 // formats and PLY become floats relative to it (ASCII STL's corners are welded then, as floats,
-// as binary STL's are); the float coordinates of binary OFF and STL move there exactly.
+// as binary STL's are); the float coordinates of binary OFF, STL and PLY move there exactly.
 void Localize(Reading* parsed) {
   RawMesh& mesh = parsed->file.mesh;
   if (parsed->weld_corners) {
