@@ -8,7 +8,9 @@
 #include <set>
 #include <tuple>
 
+#include "engine/local_origin.h"
 #include "engine/mesh_checks.h"
+#include "engine/prepare.h"
 #include "tests/support/meshes.h"
 
 namespace femsimp {
@@ -268,6 +270,62 @@ TEST(Simplify, RejectsParametersOutOfRange) {
   o.target_vertices = 10;
   expect_bad(o, "either");
   EXPECT_EQ(mesh->CountLiveVertices(), raw.num_vertices());
+}
+
+}  // namespace
+}  // namespace femsimp
+
+namespace femsimp {
+namespace {
+
+// fandisk moved (3e5, 6e5, -9e4), some 10^6 of its diagonals: as absolute floats (0.03 apart
+// there) repair must weld and drop what the rounding collapsed; held relative to its local
+// origin nothing is lost, it simplifies as the part at the origin does, and the centroid is
+// reported where the file has it.
+TEST(Simplify, FarPartAtItsLocalOriginSimplifiesAsAtTheOrigin) {
+  const RawMesh near = LoadTestMesh("fandisk.off");
+  const double offset[3] = {3e5, 6e5, -9e4};
+  std::vector<double> xyz(near.positions.size());
+  for (size_t i = 0; i < xyz.size(); ++i) xyz[i] = double(near.positions[i]) + offset[i % 3];
+  RawMesh far;
+  StoreRelative(xyz, &far);
+  far.triangles = near.triangles;
+  ASSERT_FALSE(AtOrigin(far.origin));
+  RawMesh absolute = far;
+  for (size_t i = 0; i < xyz.size(); ++i) absolute.positions[i] = static_cast<float>(xyz[i]);
+  absolute.origin = {};
+
+  SimplifyOptions options;
+  options.tolerance_relative = 0.01;
+  const auto run = [&](const RawMesh& in, size_t* repairs) {
+    absl::StatusOr<PreparedMesh> prepared = PrepareMesh(in, RepairOptions{});
+    EXPECT_TRUE(prepared.ok()) << prepared.status();
+    *repairs = prepared->report.num_changes();
+    absl::StatusOr<SimplifyResult> result = Simplify(prepared->mesh, options);
+    EXPECT_TRUE(result.ok()) << result.status();
+    absl::StatusOr<RawMesh> out = OutputMesh(prepared->mesh, prepared->seam_map);
+    EXPECT_TRUE(out.ok()) << out.status();
+    EXPECT_EQ(out->origin, in.origin);
+    return *result;
+  };
+  size_t repairs_near = 0, repairs_far = 0, repairs_absolute = 0;
+  const SimplifyResult at_origin = run(near, &repairs_near);
+  const SimplifyResult moved = run(far, &repairs_far);
+  run(absolute, &repairs_absolute);
+  EXPECT_EQ(repairs_far, repairs_near);
+  EXPECT_GT(repairs_absolute, 100u);  // what the local origin avoids
+  // The greedy order breaks ties by the floats, which round the part's decimals differently.
+  EXPECT_NEAR(double(moved.output_vertices), double(at_origin.output_vertices),
+              0.15 * double(at_origin.output_vertices));
+  const double diagonal = 1.0;  // fandisk's box is about a unit across
+  EXPECT_NEAR(moved.input_mass.centroid.x, at_origin.input_mass.centroid.x + offset[0],
+              1e-6 * diagonal);
+  EXPECT_NEAR(moved.input_mass.centroid.y, at_origin.input_mass.centroid.y + offset[1],
+              1e-6 * diagonal);
+  EXPECT_NEAR(moved.input_mass.centroid.z, at_origin.input_mass.centroid.z + offset[2],
+              1e-6 * diagonal);
+  EXPECT_NEAR(moved.input_mass.measure, at_origin.input_mass.measure,
+              1e-5 * at_origin.input_mass.measure);
 }
 
 }  // namespace
