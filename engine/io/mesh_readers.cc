@@ -565,11 +565,6 @@ class PlyValues {
 // a face's corners, its group, a field index (face_data.h), or nothing femsimp keeps.
 constexpr int kPlyOther = -3, kPlyCorners = -2, kPlyGroup = -1;
 
-// A binary element whose records all have one size (scalars, and triangles as the corner list),
-// read straight off the bytes: no per-value dispatch through PlyValues. Returns how many records
-// it read. It stops at the first record that is not plain (a list of another length, a value the
-// reader refuses, the end of the data) without keeping any of it, so that the general loop reads
-// that record and words any refusal exactly as it always has.
 // A vertex's coordinates: into `coordinates` (double, placed at the local origin later), or, where
 // the file's coordinates are floats (null), straight into the mesh's positions.
 void AppendVertex(const double xyz[3], std::vector<double>* coordinates, RawMesh& mesh) {
@@ -580,6 +575,11 @@ void AppendVertex(const double xyz[3], std::vector<double>* coordinates, RawMesh
   }
 }
 
+// A binary element whose records all have one size (scalars, and triangles as the corner list),
+// read straight off the bytes: no per-value dispatch through PlyValues. Returns how many records
+// it read. It stops at the first record that is not plain (a list of another length, a value the
+// reader refuses, the end of the data) without keeping any of it, so that the general loop reads
+// that record and words any refusal exactly as it always has.
 size_t ReadPlyBinaryRecords(const PlyElement& e, const std::vector<int>& role, bool is_vertex,
                             PlyValues& values, RawMesh& mesh, std::vector<double>* coordinates) {
   struct Slot {
