@@ -78,6 +78,15 @@ def test_a_part_far_from_the_origin_keeps_its_digits(client):
     out_points, out_triangles = out.mesh
     assert len(out_triangles) < len(triangles)
     assert rows(out_points) <= rows(far)
+    # Placed vertices are not input points: they come back where the engine put them, at the
+    # origin plus their float32 offsets, on the part (within the tolerance of its surface).
+    ball, ball_triangles = sphere_surface(20)
+    centre = np.array([1000000.0371, 2000000.0813, -300000.0529])
+    placed_points, _ = client.simplify((ball + centre, ball_triangles), tolerance_relative=0.01,
+                                       deviation_check="measured", placement="optimal")
+    assert not rows(placed_points) <= rows(ball + centre)
+    radius = np.linalg.norm(placed_points - centre, axis=1)
+    assert np.abs(radius - 1.0).max() < 0.02 * 2 * np.sqrt(3)  # 1 % of the box's diagonal
     # Near the origin nothing moves: no origin is sent or returned.
     near = client.run((points + [2.0, 0, 0], triangles), ratio=0.5)
     assert len(near.result.origin) == 0
