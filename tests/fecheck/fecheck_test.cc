@@ -220,6 +220,23 @@ double EulerBernoulliHz(double beta_l, const Material& m) {
          std::sqrt(m.youngs_modulus * inertia / (m.density * area));
 }
 
+// A part read far from the origin is held relative to its local origin (engine/local_origin.h):
+// tetgen and CalculiX run on the relative positions, the centroid is reported where the file has
+// it, in metres (unit scale: mm here).
+TEST(FeCheck, FarPartsCentroidIsWhereTheFileHasIt) {
+  SKIP_WITHOUT_FE_TOOLS();
+  FeCheckOptions options;
+  options.unit_scale = 1e-3;
+  RawMesh beam = Beam(1e3);  // 1000 x 20 x 20 mm
+  beam.origin = {1e6, 2e6, -3e5};
+  absl::StatusOr<SolidFigures> f = AnalyseSolid(beam, "beam", options, 0.0);
+  ASSERT_TRUE(f.ok()) << f.status();
+  EXPECT_NEAR(f->centroid[0], 1e3 + kL / 2, 1e-6);
+  EXPECT_NEAR(f->centroid[1], 2e3 + kH / 2, 1e-6);
+  EXPECT_NEAR(f->centroid[2], -3e2 + kH / 2, 1e-6);
+  EXPECT_NEAR(f->volume, kL * kH * kH, 1e-6 * kL * kH * kH);
+}
+
 TEST(FeCheck, FreeFreeBeamMatchesBeamTheory) {
   SKIP_WITHOUT_FE_TOOLS();
   const FeCheckOptions options;
