@@ -8,6 +8,7 @@
 #include "absl/strings/ascii.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
+#include "engine/local_origin.h"
 #include "engine/option_table.h"
 
 namespace femsimp::wire {
@@ -417,7 +418,7 @@ absl::StatusOr<std::array<double, 3>> OriginFromProto(
 void OriginToProto(const std::array<double, 3>& origin,
                    google::protobuf::RepeatedField<double>* out) {
   out->Clear();
-  if (origin[0] == 0.0 && origin[1] == 0.0 && origin[2] == 0.0) return;
+  if (AtOrigin(origin)) return;
   out->Add(origin.begin(), origin.end());
 }
 

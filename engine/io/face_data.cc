@@ -16,6 +16,7 @@
 #include "absl/strings/str_join.h"
 #include "absl/strings/strip.h"
 #include "engine/io/msh.h"
+#include "engine/local_origin.h"
 
 namespace femsimp {
 namespace {
@@ -299,8 +300,7 @@ std::string PlyBytes(const RawMesh& mesh, bool binary) {
   const size_t nv = mesh.num_vertices(), nf = mesh.num_faces();
   const bool groups = !mesh.face_groups.empty();
   // Far from the origin binary coordinates are doubles: floats there would round the part.
-  const bool doubles =
-      binary && !(mesh.origin[0] == 0 && mesh.origin[1] == 0 && mesh.origin[2] == 0);
+  const bool doubles = binary && !AtOrigin(mesh.origin);
   const char* type = doubles ? "double" : "float";
   std::string s = absl::StrCat("ply\nformat ", binary ? "binary_little_endian" : "ascii",
                                " 1.0\ncomment femsimp\nelement vertex ", nv, "\nproperty ", type,
