@@ -67,8 +67,8 @@ flags::FlagSet SimplifyFlags(SimplifyArgs* out) {
              &out->stats_json);
   set.Switch("--quiet", "no per-pass rows, summary only", &out->quiet);
   set.Switch("--drop-face-data",
-             "write OUT without the face groups and fields its format cannot hold (OFF, STL: "
-             "neither; OBJ, MSH: groups only) instead of refusing to run",
+             "write OUT without the face groups and fields its format cannot hold (OFF: "
+             "neither; OBJ, MSH, STL: groups only) instead of refusing to run",
              &out->drop_face_data);
   set.Section("FE check (tetgen + CalculiX on IN and OUT after the run, as femsimp check does):");
   set.Switch("--fe-check",
@@ -150,8 +150,9 @@ std::string SimplifyUsage() {
 
 Reads the mesh IN, removes vertices by parallel half-edge collapses and writes OUT. Prints one
 row per pass and a summary. Options take their value as `--flag VALUE` or `--flag=VALUE`.
-Face groups (.obj `g` names, .ply "group", .msh physical groups and their names) and face
-fields (.ply float face properties, at most 3) of IN are carried to OUT; a format of OUT that
+Face groups (.obj `g` names, .ply "group", .msh physical groups and their names, the named
+solids of an ASCII .stl) and face fields (.ply float face properties, at most 3) of IN are
+carried to OUT (an .stl OUT with groups is written ASCII, one solid per group); a format of OUT that
 cannot hold them stops the run before it starts (exit code 5) unless --drop-face-data is given.
 Of a .msh IN only the 3-node triangles are read; the other elements are counted in a warning.
 

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <fstream>
 
+#include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
@@ -374,6 +375,8 @@ std::string Summary(const RunReport& r) {
                                       100 * f.max_field_change, 100 * r.options.max_field_change));
     if (!r.dropped_face_data.empty())
       absl::StrAppend(&s, "; not in the output: ", r.dropped_face_data);
+    else if (absl::EndsWithIgnoreCase(r.output_path, ".stl"))
+      s += "; the STL output is ASCII, one solid per group";
     s += "\n";
   }
   double speedup = r.engine_seconds > 0 ? r.busy_seconds / r.engine_seconds : 0.0;

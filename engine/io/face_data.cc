@@ -44,7 +44,9 @@ const char* FormatName(absl::string_view ext) {
   return "these";
 }
 
-bool HoldsGroups(absl::string_view ext) { return ext == ".obj" || ext == ".ply" || ext == ".msh"; }
+bool HoldsGroups(absl::string_view ext) {
+  return ext == ".obj" || ext == ".ply" || ext == ".msh" || ext == ".stl";
+}
 bool HoldsFields(absl::string_view ext) { return ext == ".ply"; }
 
 std::vector<std::string> FieldNames(const RawMesh& mesh) {
@@ -161,7 +163,7 @@ absl::Status CheckFormatHolds(absl::string_view ext, const RawMesh& mesh) {
                     absl::StrJoin(FieldNames(mesh), ", "), ")");
   return absl::InvalidArgumentError(
       absl::StrCat(FormatName(ext), " files cannot hold ", what, "; write ",
-                   lost_fields ? ".ply to keep them" : ".obj, .ply or .msh to keep them"));
+                   lost_fields ? ".ply to keep them" : ".obj, .ply, .msh or .stl to keep them"));
 }
 
 void DropUnheldFaceData(absl::string_view ext, RawMesh* mesh) {
@@ -175,6 +177,16 @@ absl::Status CheckFaceData(absl::string_view ext, const RawMesh& mesh, const Gro
       if (name.empty() || name.find_first_of("\r\n") != std::string::npos)
         return absl::InvalidArgumentError(absl::StrCat(
             "group ", id, ": name '", name, "' cannot be an OBJ group name (empty or multi-line)"));
+  }
+  if (ext == ".stl" && HasFaceGroups(mesh)) {
+    // Read back as the rest of the `solid` line, blanks at its ends stripped.
+    for (const auto& [id, name] : names)
+      if (name.empty() || name != absl::StripAsciiWhitespace(name) ||
+          name.find_first_of("\r\n") != std::string::npos)
+        return absl::InvalidArgumentError(
+            absl::StrCat("group ", id, ": name '", name,
+                         "' cannot be an STL solid name (empty, multi-line or with blanks at "
+                         "its ends)"));
   }
   if (ext == ".msh") return CheckMshGroupNames(mesh, names);
   if (ext != ".ply") return absl::OkStatus();
@@ -242,7 +254,7 @@ std::string OffText(const RawMesh& mesh) {
   return s;
 }
 
-std::string StlBytes(const RawMesh& mesh, bool binary) {
+std::string StlBytes(const RawMesh& mesh, bool binary, const GroupNames& names) {
   const auto corner = [&](size_t f, int k) {
     const float* p = &mesh.positions[3 * mesh.triangles[3 * f + k]];
     return std::array<float, 3>{p[0], p[1], p[2]};
@@ -264,7 +276,7 @@ std::string StlBytes(const RawMesh& mesh, bool binary) {
                                 float(mesh.origin[2] + mesh.positions[3 * v + 2])};
   };
   std::string s;
-  if (binary) {
+  if (binary && !HasFaceGroups(mesh)) {
     // Sized once and filled in place: 84 header bytes, then 50 per facet.
     static constexpr char kHeader[] = "femsimp binary STL";
     s.assign(84 + 50 * mesh.num_faces(), '\0');
@@ -279,8 +291,7 @@ std::string StlBytes(const RawMesh& mesh, bool binary) {
     }
     return s;
   }
-  s = "solid femsimp\n";
-  for (size_t f = 0; f < mesh.num_faces(); ++f) {
+  const auto facet = [&](size_t f) {
     s += "facet normal";
     for (float x : normal(f)) (s += ' ', AppendFloat(&s, x));
     s += "\nouter loop\n";
@@ -292,8 +303,27 @@ std::string StlBytes(const RawMesh& mesh, bool binary) {
       s += '\n';
     }
     s += "endloop\nendfacet\n";
+  };
+  if (!HasFaceGroups(mesh)) {
+    s = "solid femsimp\n";
+    for (size_t f = 0; f < mesh.num_faces(); ++f) facet(f);
+    return s + "endsolid femsimp\n";
   }
-  return s + "endsolid femsimp\n";
+  // Groups as named solids (binary STL has no place for them), in order of first appearance.
+  std::vector<uint32_t> order;
+  std::map<uint32_t, std::vector<uint32_t>> faces_of;
+  for (size_t f = 0; f < mesh.num_faces(); ++f) {
+    std::vector<uint32_t>& faces = faces_of[mesh.face_groups[f]];
+    if (faces.empty()) order.push_back(mesh.face_groups[f]);
+    faces.push_back(uint32_t(f));
+  }
+  for (uint32_t group : order) {
+    const std::string name = ObjGroupName(group, names);
+    absl::StrAppend(&s, "solid ", name, "\n");
+    for (uint32_t f : faces_of[group]) facet(f);
+    absl::StrAppend(&s, "endsolid ", name, "\n");
+  }
+  return s;
 }
 
 std::string PlyBytes(const RawMesh& mesh, bool binary) {

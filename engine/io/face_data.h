@@ -6,8 +6,9 @@
 //   OBJ     `g NAME` statements                        -
 //   PLY     integer face property `group`              float/double face properties, by name
 //   MSH     physical groups (msh.h)                    -
+//   STL     ASCII `solid NAME` per group (so written     -
+//           ASCII when the mesh has groups)
 //   OFF     -                                          -
-//   STL     -                                          -
 #pragma once
 
 #include <cstdint>
@@ -21,13 +22,15 @@
 
 namespace femsimp {
 
-// Names of face groups by id, for formats that name groups (OBJ, MSH's $PhysicalNames). Ids missing
+// Names of face groups by id, for formats that name groups (OBJ, MSH's $PhysicalNames, STL's
+// solids). Ids missing
 // here are written with their default name (ObjGroupName).
 using GroupNames = std::map<uint32_t, std::string>;
 
 // ------------------------------------------------------------------------------------ OBJ
 //
-// Group names and ids map as follows, so that every id survives a write and a read:
+// Group names (OBJ's and ASCII STL's: a file of one solid has no groups) and ids map as follows, so
+// that every id survives a write and a read:
 //   "default" (the OBJ name of faces before any `g`, and of a `g` without a name) <-> id 0,
 //   "group_<n>" (n in decimal, no leading zeros)                                   <-> id n,
 //   any other name -> the lowest id from 1 up that no name of the file takes, in order of first
@@ -73,9 +76,10 @@ void DropUnheldFaceData(absl::string_view ext, RawMesh* mesh);
 // and field properties.
 std::string ObjText(const RawMesh& mesh, const GroupNames& names);
 std::string PlyBytes(const RawMesh& mesh, bool binary);
-// OFF as text (shortest exact floats); STL binary (little-endian) or ASCII, normals computed.
+// OFF as text (shortest exact floats); STL binary (little-endian) or ASCII, normals computed;
+// a mesh with groups as ASCII STL, one solid per group named as in OBJ (ObjGroupName).
 std::string OffText(const RawMesh& mesh);
-std::string StlBytes(const RawMesh& mesh, bool binary);
+std::string StlBytes(const RawMesh& mesh, bool binary, const GroupNames& names);
 
 // Appends the shortest decimal that reads back as the same float (the writers' number text).
 void AppendFloat(std::string* s, float v);

@@ -81,7 +81,7 @@ absl::Status WriteMesh(const std::string& path, const RawMesh& mesh, bool binary
                             : ext == ".ply" ? PlyBytes(mesh, binary)
                             : ext == ".msh" ? MshText(mesh, group_names)
                             : ext == ".off" ? OffText(mesh)
-                                            : StlBytes(mesh, binary);
+                                            : StlBytes(mesh, binary, group_names);
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   if (!out) return OpenFailure(path);
   out.write(bytes.data(), std::streamsize(bytes.size()));

@@ -252,6 +252,36 @@ absl::Status ParseOff(absl::string_view data, Reading* out) {
   return absl::OkStatus();
 }
 
+// Face groups named in the file (OBJ's `g`, ASCII STL's `solid`): the distinct names in order of
+// first appearance, and each face's index into them, until the ids are known (ObjGroupIds).
+class NamedFaceGroups {
+ public:
+  uint32_t Intern(std::string name) {
+    auto [it, fresh] = index_.try_emplace(name, uint32_t(names_.size()));
+    if (fresh) names_.push_back(std::move(name));
+    return it->second;
+  }
+  void AddFace(uint32_t name_index) { faces_.push_back(name_index); }
+  size_t distinct_names() const { return names_.size(); }
+
+  // The faces' group ids and the names that need keeping; none when every face is in group 0.
+  void AssignTo(ParsedMeshFile* file) const {
+    const std::vector<uint32_t> ids = ObjGroupIds(names_, &file->group_names);
+    RawMesh& mesh = file->mesh;
+    mesh.face_groups.reserve(faces_.size());
+    for (uint32_t i : faces_) mesh.face_groups.push_back(ids[i]);
+    if (!HasFaceGroups(mesh)) {
+      mesh.face_groups.clear();
+      file->group_names.clear();
+    }
+  }
+
+ private:
+  std::vector<std::string> names_;
+  std::unordered_map<std::string, uint32_t> index_;
+  std::vector<uint32_t> faces_;
+};
+
 // ---------------------------------------------------------------------------------- OBJ
 
 absl::Status ParseObj(absl::string_view data, Reading* out) {
@@ -261,18 +291,10 @@ absl::Status ParseObj(absl::string_view data, Reading* out) {
       "parm",  "trim",     "hole",     "scrv", "sp",         "end",       "con",    "mg",
       "bevel", "c_interp", "d_interp", "lod",  "shadow_obj", "trace_obj", "ctech",  "stech"};
   RawMesh& mesh = out->file.mesh;
-  // Group names in order of first appearance, and each face's index into them. Faces before
-  // the first `g` are in OBJ's "default" group.
-  std::vector<std::string> group_names;
-  std::unordered_map<std::string, uint32_t> group_index;
-  const auto intern = [&](std::string name) {
-    auto [it, fresh] = group_index.try_emplace(name, uint32_t(group_names.size()));
-    if (fresh) group_names.push_back(std::move(name));
-    return it->second;
-  };
-  uint32_t group = intern(kObjDefaultGroup);
+  // Faces before the first `g` are in OBJ's "default" group.
+  NamedFaceGroups groups;
+  uint32_t group = groups.Intern(kObjDefaultGroup);
   bool any_group_statement = false;
-  std::vector<uint32_t> face_group_index;
   Lines lines(data);
   absl::string_view line;
   std::vector<absl::string_view> tok;
@@ -288,12 +310,12 @@ absl::Status ParseObj(absl::string_view data, Reading* out) {
       if (!st.ok()) return st;
     } else if (tok[0] == "g") {
       any_group_statement = true;
-      group = intern(tok.size() == 1 ? std::string(kObjDefaultGroup)
-                                     : absl::StrJoin(tok.begin() + 1, tok.end(), " "));
+      group = groups.Intern(tok.size() == 1 ? std::string(kObjDefaultGroup)
+                                            : absl::StrJoin(tok.begin() + 1, tok.end(), " "));
     } else if (tok[0] == "f") {
       const size_t f = out->face_lines.size();
       out->face_lines.push_back(lines.number());
-      face_group_index.push_back(group);
+      groups.AddFace(group);
       const auto where = [&] { return absl::StrCat(" (line ", lines.number(), ")"); };
       const int64_t n = int64_t(tok.size()) - 1;
       if (!Readable(n)) return Polygon(f, size_t(n), where());
@@ -315,15 +337,7 @@ absl::Status ParseObj(absl::string_view data, Reading* out) {
       return Bad("line ", lines.number(), ": unknown OBJ statement '", tok[0], "'");
     }
   }
-  if (any_group_statement) {
-    const std::vector<uint32_t> ids = ObjGroupIds(group_names, &out->file.group_names);
-    mesh.face_groups.reserve(face_group_index.size());
-    for (uint32_t i : face_group_index) mesh.face_groups.push_back(ids[i]);
-    if (!HasFaceGroups(mesh)) {
-      mesh.face_groups.clear();
-      out->file.group_names.clear();
-    }
-  }
+  if (any_group_statement) groups.AssignTo(&out->file);
   return absl::OkStatus();
 }
 
@@ -399,6 +413,10 @@ absl::Status ParseStlAscii(absl::string_view data, Reading* out) {
   absl::string_view line;
   std::vector<absl::string_view> tok;
   bool ended = false;
+  // Each `solid NAME` is a face group (one solid per CAD face or boundary patch, as gmsh, Salome
+  // and CFD/FE pre-processors write them); an unnamed solid is OBJ's "default".
+  NamedFaceGroups solids;
+  uint32_t solid = 0;
   while (lines.Next(&line)) {
     Split(line, &tok);
     if (tok.empty()) continue;
@@ -407,7 +425,13 @@ absl::Status ParseStlAscii(absl::string_view data, Reading* out) {
       ended = true;
       continue;
     }
-    if (is("solid") || is("facet") || is("endloop") || is("endfacet")) continue;
+    if (is("solid")) {
+      absl::string_view name = absl::StripAsciiWhitespace(line);
+      name = absl::StripLeadingAsciiWhitespace(name.substr(tok[0].size()));
+      solid = solids.Intern(name.empty() ? std::string(kObjDefaultGroup) : std::string(name));
+      continue;
+    }
+    if (is("facet") || is("endloop") || is("endfacet")) continue;
     if (!is("outer"))
       return Bad("line ", lines.number(), ": unexpected '", tok[0], "' in ASCII STL");
     // The three lines after "outer loop" are the corners.
@@ -424,10 +448,13 @@ absl::Status ParseStlAscii(absl::string_view data, Reading* out) {
       if (absl::Status st = AddPosition(tok, 1, where, &out->xyz); !st.ok()) return st;
     }
     out->face_lines.push_back(lines.number());
+    solids.AddFace(solid);
   }
   if (!ended)
     return Bad("truncated: ASCII STL without 'endsolid' (", out->face_lines.size(),
                " facets read; the file ends at line ", lines.number(), ")");
+  // One name is the file's, not a grouping.
+  if (solids.distinct_names() > 1) solids.AssignTo(&out->file);
   return absl::OkStatus();
 }
 

@@ -1,12 +1,16 @@
 // Face groups and face fields through the files that hold them (OBJ groups; PLY groups and
-// fields, ASCII and binary), the OBJ naming rules, foreign PLY files, malformed attributes, and
-// formats that cannot hold them.
+// fields, ASCII and binary; STL's named solids), the OBJ naming rules, foreign PLY and STL files,
+// malformed attributes, and formats that cannot hold them.
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "engine/io/face_data.h"
 #include "engine/io/mesh_io.h"
@@ -96,6 +100,113 @@ INSTANTIATE_TEST_SUITE_P(Formats, FaceDataRoundTrip,
                                            testing::FileFormat{".ply", true},
                                            testing::FileFormat{".ply", false}),
                          testing::FileFormatName);
+
+// ------------------------------------------------------------------------- STL solids
+
+// Each facet as its group's name and its corners, as a multiset: an STL keeps neither the face
+// order nor the vertex numbers.
+std::multiset<std::pair<std::string, std::array<float, 9>>> NamedFacets(const RawMesh& m,
+                                                                        const GroupNames& names) {
+  std::multiset<std::pair<std::string, std::array<float, 9>>> facets;
+  for (size_t f = 0; f < m.num_faces(); ++f) {
+    std::array<float, 9> corners;
+    for (int k = 0; k < 3; ++k)
+      for (int i = 0; i < 3; ++i) corners[3 * k + i] = m.positions[3 * m.triangles[3 * f + k] + i];
+    facets.emplace(ObjGroupName(m.face_groups.empty() ? 0 : m.face_groups[f], names), corners);
+  }
+  return facets;
+}
+
+class StlSolidsTest : public TempDirTest {
+ protected:
+  // An ASCII STL of the tetrahedron's faces, `solids[f]` the `solid` line before face f when
+  // it differs from the one before (CRLF line ends, keywords in either case, as tools write).
+  std::string Stl(const std::string& name, const std::vector<std::string>& solids) {
+    const RawMesh t = testing::PreciseTetrahedron();
+    std::ostringstream s;
+    s.precision(9);
+    for (size_t f = 0; f < t.num_faces(); ++f) {
+      if (f == 0 || solids[f] != solids[f - 1]) {
+        if (f) s << "endsolid\r\n";
+        s << solids[f] << "\r\n";
+      }
+      s << (f % 2 ? "FACET NORMAL 0 0 0\r\n  OUTER LOOP\r\n"
+                  : "facet normal 0 0 0\r\nouter loop\r\n");
+      for (int k = 0; k < 3; ++k) {
+        const float* p = &t.positions[3 * t.triangles[3 * f + k]];
+        s << "\t" << (f % 2 ? "VERTEX " : "vertex ") << p[0] << " " << p[1] << " " << p[2]
+          << "\r\n";
+      }
+      s << "endloop\r\nendfacet\r\n";
+    }
+    return Write(name, s.str() + "endsolid\r\n");
+  }
+};
+
+TEST_F(StlSolidsTest, SolidsOfOtherToolsAreNamedGroups) {
+  GroupNames names;
+  absl::StatusOr<RawMesh> m = ReadMeshFile(
+      Stl("patches.stl", {"solid inlet", "SOLID", "solid  outer wall ", "solid inlet"}), &names);
+  ASSERT_TRUE(m.ok()) << m.status();
+  // Order of first appearance; an unnamed solid is "default" (0); the name is the rest of the
+  // line, blanks at its ends stripped.
+  EXPECT_EQ(m->face_groups, (std::vector<uint32_t>{1, 0, 2, 1}));
+  EXPECT_EQ(names, (GroupNames{{1, "inlet"}, {2, "outer wall"}}));
+  EXPECT_EQ(m->num_vertices(), 4u);  // welded across the solids
+}
+
+TEST_F(StlSolidsTest, OneSolidNameIsNoGrouping) {
+  for (const auto& solids :
+       {std::vector<std::string>(4, "solid part"),
+        std::vector<std::string>{"solid a", "solid a", "solid  a", "solid a"}}) {
+    GroupNames names;
+    absl::StatusOr<RawMesh> m = ReadMeshFile(Stl("one.stl", solids), &names);
+    ASSERT_TRUE(m.ok()) << m.status();
+    EXPECT_TRUE(m->face_groups.empty());
+    EXPECT_TRUE(names.empty());
+  }
+}
+
+TEST_F(StlSolidsTest, GroupsAreWrittenAsSolidsAndReadBack) {
+  RawMesh tet = TetrahedronWithData();
+  tet.face_fields.clear();
+  absl::StatusOr<RawMesh> fandisk = ReadMeshFile(testing::TestDataPath("fandisk.off"));
+  ASSERT_TRUE(fandisk.ok()) << fandisk.status();
+  fandisk->face_groups.resize(fandisk->num_faces());
+  for (size_t f = 0; f < fandisk->num_faces(); ++f)  // interleaved: written as one run per solid
+    fandisk->face_groups[f] = uint32_t(f % 3 == 0 ? 5 : f / 4000);
+  for (const RawMesh* in : {&tet, &*fandisk}) {
+    const GroupNames names = {{7, "inlet"}, {5, "fixed support"}};
+    const std::string path = Path("groups.stl");
+    ASSERT_TRUE(WriteMeshFile(path, *in, names).ok());  // binary asked, ASCII written
+    const std::string text = ReadText(path);
+    ASSERT_EQ(text.rfind("solid ", 0), 0u) << text.substr(0, 80);
+    GroupNames back_names;
+    absl::StatusOr<RawMesh> back = ReadMeshFile(path, &back_names);
+    ASSERT_TRUE(back.ok()) << back.status();
+    EXPECT_EQ(NamedFacets(*back, back_names), NamedFacets(*in, names));
+    std::set<uint32_t> groups(in->face_groups.begin(), in->face_groups.end());
+    size_t solids = 0;
+    for (size_t at = text.find("solid "); at != std::string::npos;
+         at = text.find("\nsolid ", at + 1))
+      ++solids;
+    EXPECT_EQ(solids, groups.size());
+  }
+  EXPECT_EQ(ReadText(Path("groups.stl")).find("solid fixed support\n"), 0u);  // face 0's
+}
+
+TEST_F(StlSolidsTest, WithoutGroupsStaysBinaryAndNamesThatDoNotReadBackAreRefused) {
+  const std::string plain = Path("plain.stl");
+  ASSERT_TRUE(WriteMeshFile(plain, testing::PreciseTetrahedron()).ok());
+  EXPECT_EQ(ReadText(plain).size(), 84u + 50u * 4u);
+  RawMesh m = testing::PreciseTetrahedron();
+  m.face_groups = {1, 1, 2, 2};
+  for (const std::string name : {" inlet", "inlet\t", "two\nlines", ""}) {
+    absl::Status s = WriteMeshFile(Path("bad.stl"), m, GroupNames{{2, name}});
+    EXPECT_EQ(s.code(), kInvalid) << s;
+    EXPECT_NE(s.message().find("cannot be an STL solid name"), std::string::npos) << s;
+  }
+}
 
 // ------------------------------------------------------------------------- OBJ names
 
@@ -311,8 +422,8 @@ TEST_F(WriteFaceDataTest, FormatsThatCannotHoldThemRefuse) {
   ExpectWriteError("m.off", both,
                    "OFF files cannot hold face groups and face fields (pressure, shear); write "
                    ".ply to keep them");
-  ExpectWriteError("m.stl", groups_only,
-                   "STL files cannot hold face groups; write .obj, .ply or .msh to keep them");
+  ExpectWriteError("m.stl", both, "STL files cannot hold face fields (pressure, shear)");
+  EXPECT_TRUE(WriteMeshFile(Path("m.stl"), groups_only).ok());  // as named solids
   ExpectWriteError("m.obj", both, "OBJ files cannot hold face fields (pressure, shear)");
   EXPECT_TRUE(WriteMeshFile(Path("m.obj"), groups_only).ok());
 
@@ -328,9 +439,7 @@ TEST_F(WriteFaceDataTest, FormatsThatCannotHoldThemRefuse) {
     ASSERT_TRUE(WriteMeshFile(Path(name), m).ok()) << name;
     absl::StatusOr<RawMesh> back = ReadMeshFile(Path(name));
     ASSERT_TRUE(back.ok()) << back.status();
-    EXPECT_EQ(back->face_groups.empty(),
-              std::string(name) == "d.off" || name == std::string("d.stl"))
-        << name;
+    EXPECT_EQ(back->face_groups.empty(), std::string(name) == "d.off") << name;
     EXPECT_EQ(back->face_fields.size(), std::string(name) == "d.ply" ? 2u : 0u) << name;
   }
 }

@@ -1,12 +1,14 @@
 // `femsimp simplify` (in process; local, and remote for MSH) with face groups and fields: they
-// reach OUT, OBJ group names and MSH physical names survive, and an OUT format that cannot hold
-// them stops the run before it starts unless --drop-face-data.
+// reach OUT, OBJ group names, STL solid names and MSH physical names survive, and an OUT format
+// that cannot hold them stops the run before it starts unless --drop-face-data.
 
 #include <algorithm>
 #include <filesystem>
+#include <set>
 #include <string>
 #include <vector>
 
+#include "absl/strings/str_cat.h"
 #include "client/args.h"
 #include "client/exit_codes.h"
 #include "client/local_run.h"
@@ -121,6 +123,37 @@ TEST_F(CliFaceDataTest, MshPhysicalGroupsKeepTheirNames) {
   }
 }
 
+TEST_F(CliFaceDataTest, StlSolidNamesSurviveLocallyAndThroughTheServer) {
+  RawMesh mesh = testing::WithGroupsAndFields(testing::MakeTorus(40, 24));
+  mesh.face_fields.clear();
+  const GroupNames names = {{10, "inlet"}, {11, "wall"}, {13, "outlet"}};  // 12: group_12
+  ASSERT_TRUE(WriteMeshFile(Path("in.stl"), mesh, names).ok());
+  testing::InProcessServer server;
+  for (const std::string where : {"", "--server"}) {
+    SCOPED_TRACE(where.empty() ? "local" : "remote");
+    std::vector<std::string> args = {Path("in.stl"), Path("out.stl")};
+    if (!where.empty()) args.insert(args.end(), {"--server", server.address()});
+    ::testing::internal::CaptureStdout();
+    const int code = Run(args);
+    const std::string summary = ::testing::internal::GetCapturedStdout();
+    ASSERT_EQ(code, cli::kExitOk);
+    EXPECT_NE(summary.find("\nface data: 4 groups; the STL output is ASCII, one solid per group\n"),
+              std::string::npos)
+        << summary;
+    const std::string text = absl::StrCat("\n", testing::ReadFileBytes(Path("out.stl")));
+    for (const char* line : {"\nsolid inlet\n", "\nsolid wall\n", "\nsolid group_12\n",
+                             "\nsolid outlet\n", "\nendsolid outlet\n"})
+      EXPECT_NE(text.find(line), std::string::npos) << line;
+    GroupNames read_names;
+    absl::StatusOr<RawMesh> out = ReadMeshFile(Path("out.stl"), &read_names);
+    ASSERT_TRUE(out.ok()) << out.status();
+    EXPECT_EQ(out->num_faces(), 960u);
+    std::set<std::string> seen;
+    for (uint32_t g : out->face_groups) seen.insert(ObjGroupName(g, read_names));
+    EXPECT_EQ(seen, (std::set<std::string>{"inlet", "wall", "group_12", "outlet"}));
+  }
+}
+
 TEST_F(CliFaceDataTest, ObjNameThatMshCannotHoldStopsBeforeTheRun) {
   RawMesh mesh = testing::WithGroupsAndFields(testing::MakeTorus(40, 24));
   mesh.face_fields.clear();
@@ -138,21 +171,23 @@ TEST_F(CliFaceDataTest, UnheldFaceDataStopsBeforeTheRun) {
 }
 
 TEST_F(CliFaceDataTest, DropFaceDataWritesWhatTheFormatHolds) {
-  ASSERT_EQ(Run({input_, Path("out.stl"), "--drop-face-data", "--stats-json", Path("s.json")}),
+  ASSERT_EQ(Run({input_, Path("out.off"), "--drop-face-data", "--stats-json", Path("s.json")}),
             cli::kExitOk);
-  EXPECT_TRUE(ReadMeshFile(Path("out.stl")).ok());
+  EXPECT_TRUE(ReadMeshFile(Path("out.off")).ok());
   EXPECT_NE(
       testing::ReadFileBytes(Path("s.json")).find("\"dropped\": \"face groups and face fields\""),
       std::string::npos);
 
-  ASSERT_EQ(Run({input_, Path("out.obj"), "--drop-face-data", "--stats-json", Path("s.json")}),
-            cli::kExitOk);
-  absl::StatusOr<RawMesh> obj = ReadMeshFile(Path("out.obj"));
-  ASSERT_TRUE(obj.ok()) << obj.status();
-  EXPECT_EQ(obj->face_groups.size(), obj->num_faces());  // OBJ keeps the groups
-  EXPECT_TRUE(obj->face_fields.empty());
-  EXPECT_NE(testing::ReadFileBytes(Path("s.json")).find("\"dropped\": \"face fields\""),
-            std::string::npos);
+  for (const char* name : {"out.obj", "out.stl"}) {  // both keep the groups
+    ASSERT_EQ(Run({input_, Path(name), "--drop-face-data", "--stats-json", Path("s.json")}),
+              cli::kExitOk);
+    absl::StatusOr<RawMesh> out = ReadMeshFile(Path(name));
+    ASSERT_TRUE(out.ok()) << out.status();
+    EXPECT_EQ(out->face_groups.size(), out->num_faces()) << name;
+    EXPECT_TRUE(out->face_fields.empty());
+    EXPECT_NE(testing::ReadFileBytes(Path("s.json")).find("\"dropped\": \"face fields\""),
+              std::string::npos);
+  }
 
   // Nothing to drop: the flag changes nothing.
   ASSERT_EQ(Run({input_, Path("out.ply"), "--drop-face-data"}), cli::kExitOk);
