@@ -609,6 +609,26 @@ def write_stl(path, pos, tris):
         f.write(rec.tobytes())
 
 
+def write_stl_solids(path, pos, tris, groups):
+    """ASCII STL, one solid per CAD face, as gmsh (Mesh.StlOneSolidPerSurface) and
+    pre-processors export boundary patches."""
+    p = pos[tris].astype(np.float64)
+    n = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
+    ln = np.linalg.norm(n, axis=1, keepdims=True)
+    n = np.divide(n, ln, out=np.zeros_like(n), where=ln > 0)
+    lines = []
+    for g in np.unique(groups).tolist():
+        lines.append(f"solid cad_face_{g}")
+        for f in np.flatnonzero(groups == g).tolist():
+            lines.append("facet normal " + " ".join(fmt(c) for c in n[f]))
+            lines.append("outer loop")
+            lines += ["vertex " + " ".join(fmt(c) for c in pos[v]) for v in tris[f].tolist()]
+            lines += ["endloop", "endfacet"]
+        lines.append(f"endsolid cad_face_{g}")
+    with open(path, "w") as f:
+        f.write("\n".join(lines) + "\n")
+
+
 def write_mesh(path, pos, tris, groups=None):
     if path.endswith(".off"):
         write_off(path, pos, tris)
@@ -1024,6 +1044,9 @@ def generate(outdir, parts, log):
                 obj = os.path.join(outdir, f"{name}_groups.obj")
                 write_obj(obj, pos, tris, groups)
                 entries.append((obj, variant + "_groups", "obj"))
+                stl = os.path.join(outdir, f"{name}_solids.stl")
+                write_stl_solids(stl, pos, tris, groups)
+                entries.append((stl, variant + "_solids", "stl"))
             m = measure(pos, tris)
             if part != "assembly" and (m["closed"] != by_construction["closed"]
                                        or not m["manifold_edges"] or m["components"] != 1

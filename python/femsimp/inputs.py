@@ -3,7 +3,8 @@
 - a SurfaceMesh                 -> SurfaceMesh
 - (points, triangles[, groups[, fields]]) numpy arrays -> a tuple of the same length
 - a meshio.Mesh                 -> meshio.Mesh (fe.py: groups, fields, sets by their names)
-- a path meshio reads           -> the output path, written by meshio (needs output=...)
+- a path meshio reads           -> the output path, written by meshio (needs output=...);
+                                   an ASCII STL of named solids: one block and cell set each
 
 Output points are mapped back to the input's (femsimp never moves a point): the coordinates come
 back in the input's dtype and order, not rounded through the wire's float32.
@@ -13,7 +14,7 @@ import pathlib
 
 import numpy as np
 
-from . import fe
+from . import _stl_solids, fe
 from .errors import FemsimpWarning, MeshError
 from .mesh import SurfaceMesh, checked, match_points
 
@@ -57,6 +58,8 @@ def write(path, mesh):
     import meshio
     if str(path).lower().endswith(".msh"):
         meshio.write(path, mesh, file_format="gmsh22", binary=False)
+    elif str(path).lower().endswith(".stl") and _stl_solids.holds_groups(mesh):
+        _stl_solids.write(path, mesh)  # meshio would merge the blocks into one solid
     else:
         # gmsh's per-block entity tags are not cell indices: other formats would write them as
         # a set of cells (an Abaqus ELSET of wrong elements).
@@ -76,6 +79,8 @@ def prepare(mesh, strict=False, output=None):
             if path.suffix.lower() == ".ply":
                 from . import _fast_ply
                 model = _fast_ply.read(path)
+            elif path.suffix.lower() == ".stl":
+                model = _stl_solids.read(path)
             if model is None:
                 model = meshio.read(path)
         except Exception as e:  # meshio raises ReadError, KeyError, ValueError...

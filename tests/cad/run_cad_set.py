@@ -205,7 +205,9 @@ def main():
     for entry in manifest["files"]:
         src = os.path.join(meshes, entry["file"])
         stem, ext = os.path.splitext(entry["file"])
-        dst = os.path.join(outputs, stem + (".obj" if ext == ".obj" else ".off"))
+        # Outputs keep the input's face groups: OBJ as OBJ, named STL solids as STL.
+        keeps_groups = ext == ".obj" or entry["variant"].endswith("_solids")
+        dst = os.path.join(outputs, stem + (ext if keeps_groups else ".off"))
         # A broken copy is run and judged against its clean source, with the source's settings
         # (the repaired copy is the source's surface again). A copy without one (a CAD system's
         # tessellation) or whose repair is not its source's surface is judged against itself,

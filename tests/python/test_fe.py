@@ -187,3 +187,35 @@ def test_a_cell_outside_the_points_is_named():
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             from_meshio(model)
+
+
+def test_stl_solids_by_name(client, tmp_path):
+    """An ASCII STL of one named solid per side (as gmsh and pre-processors export boundary
+    patches; meshio alone reads it as one block, or not at all with an upper-case SOLID) keeps
+    its solids by name, written back one per side."""
+    from femsimp import _stl_solids
+    points, triangles, side = box_surface(12)
+    lines = []
+    for s in range(6):
+        lines.append(("SOLID" if s == 3 else "solid") + f" side {s}")
+        for t in triangles[side == s]:
+            lines += ["facet normal 0 0 0", "outer loop"]
+            lines += [f"vertex {x!r} {y!r} {z!r}" for x, y, z in points[t].tolist()]
+            lines += ["endloop", "endfacet"]
+        lines.append("endsolid")
+    path, out = tmp_path / "in.stl", tmp_path / "out.stl"
+    path.write_text("\n".join(lines) + "\n")
+    assert client.simplify(str(path), output=out, tolerance_relative=0.005) == out
+    text = out.read_text()
+    assert [l for l in text.splitlines() if l.startswith("solid ")] == \
+        [f"solid side {s}" for s in range(6)]
+    back = _stl_solids.read(out)
+    assert triangles_of(back) < len(triangles)
+    for s in range(6):
+        block = next(b for b, members in enumerate(back.cell_sets[f"side {s}"]) if len(members))
+        assert is_side(back.points[back.cells[block].data].mean(axis=1), s).all()
+    # One name is no grouping: meshio reads it, and it is written as meshio writes it.
+    one = tmp_path / "one.stl"
+    one.write_text("\n".join(l if not l.startswith(("solid", "endsolid")) else
+                             l.split()[0] + " part" for l in text.splitlines()) + "\n")
+    assert _stl_solids.read(one) is None
