@@ -392,6 +392,7 @@ std::string Summary(const RunReport& r) {
                                     r.job_id, r.queue_seconds, r.transfer_seconds,
                                     r.attempts > 1 ? absl::StrCat(", attempts ", r.attempts) : ""));
   absl::StrAppend(&s, "output:   ", r.output_path, "\n");
+  for (const std::string& w : r.output_warnings) absl::StrAppend(&s, "warning:  ", w, "\n");
   if (r.fe_check) absl::StrAppend(&s, FeCheckTable(*r.fe_check, {r.input_path, r.output_path}));
   return s;
 }
@@ -402,6 +403,7 @@ std::string ReportJson(const RunReport& r) {
       ", \"faces\": ", r.input_faces, ", \"warnings\": ", JsonStrings(r.input_warnings),
       "},\n  \"output\": {\"path\": ", JsonString(r.output_path),
       ", \"vertices\": ", r.output_vertices, ", \"faces\": ", r.output_faces,
+      ", \"warnings\": ", JsonStrings(r.output_warnings),
       "},\n  \"engine_seconds\": ", JsonNumber(r.engine_seconds),
       ",\n  \"busy_seconds\": ", JsonNumber(r.busy_seconds), ",\n  \"parallel_speedup\": ",
       JsonNumber(r.engine_seconds > 0 ? r.busy_seconds / r.engine_seconds : 0.0),

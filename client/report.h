@@ -53,6 +53,8 @@ struct RunReport {
   std::string dropped_face_data;
   // What the reader left out of IN (MSH: elements other than triangles), one line each.
   std::vector<std::string> input_warnings;
+  // What OUT's format lost (binary STL of a part far from the origin: rounded corners).
+  std::vector<std::string> output_warnings;
   // What the repair stage changed (local: PrepareMesh; remote: the server's Result); with
   // repair_details every record in the summary, else the first kSummaryRepairRecords.
   RepairReport repair;

@@ -1,12 +1,15 @@
 #include "client/run_input.h"
 #include "common/escape.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <string>
 #include <unordered_set>
 
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
 #include "absl/strings/str_replace.h"
 #include "client/exit_codes.h"
 #include "engine/io/mesh_io.h"
@@ -74,6 +77,32 @@ bool CheckOutputFormat(const SimplifyArgs& args, const RawMesh& input,
   return true;
 }
 
+namespace {
+
+// Binary STL holds absolute floats: a part far from the origin rounds there, which the formats
+// that keep its origin's digits do not.
+std::string OutputRoundingNote(const std::string& path, const RawMesh& output) {
+  if (MeshFileExtension(path) != ".stl" || HasFaceGroups(output)) return "";
+  const double rounding = BinaryStlRounding(output);
+  if (rounding == 0.0) return "";
+  float lo[3], hi[3];
+  for (int i = 0; i < 3; ++i) lo[i] = hi[i] = output.positions.empty() ? 0.0f : output.positions[i];
+  for (size_t c = 0; c < output.positions.size(); ++c) {
+    lo[c % 3] = std::min(lo[c % 3], output.positions[c]);
+    hi[c % 3] = std::max(hi[c % 3], output.positions[c]);
+  }
+  const double diagonal =
+      std::hypot(double(hi[0]) - lo[0], double(hi[1]) - lo[1], double(hi[2]) - lo[2]);
+  return absl::StrFormat(
+      "binary STL holds absolute float coordinates: far from the origin (the part's centre is "
+      "near %g %g %g) its corners moved by up to %g (%.2g%% of the diagonal); write .ply, .obj, "
+      ".off or .msh to keep every digit",
+      output.origin[0], output.origin[1], output.origin[2], rounding,
+      diagonal > 0 ? 100 * rounding / diagonal : 0.0);
+}
+
+}  // namespace
+
 int FinishRun(const SimplifyArgs& args, RawMesh& output, const GroupNames& group_names,
               RunReport& report) {
   report.output_vertices = output.num_vertices();
@@ -86,6 +115,8 @@ int FinishRun(const SimplifyArgs& args, RawMesh& output, const GroupNames& group
     return kExitOutputFailed;
   }
   report.write_seconds = SecondsSince(t0);
+  if (const std::string note = OutputRoundingNote(args.output, output); !note.empty())
+    report.output_warnings.push_back(note);
   std::printf("%s", Summary(report).c_str());
   if (!args.stats_json.empty()) {
     if (absl::Status s = WriteTextFile(args.stats_json, ReportJson(report)); !s.ok()) {

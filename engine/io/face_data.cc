@@ -326,6 +326,16 @@ std::string StlBytes(const RawMesh& mesh, bool binary, const GroupNames& names) 
   return s;
 }
 
+double BinaryStlRounding(const RawMesh& mesh) {
+  if (AtOrigin(mesh.origin)) return 0.0;
+  double worst = 0.0;
+  for (size_t c = 0; c < mesh.positions.size(); ++c) {
+    const double at = mesh.origin[c % 3] + double(mesh.positions[c]);
+    worst = std::max(worst, std::abs(double(float(at)) - at));
+  }
+  return worst;
+}
+
 std::string PlyBytes(const RawMesh& mesh, bool binary) {
   const size_t nv = mesh.num_vertices(), nf = mesh.num_faces();
   const bool groups = !mesh.face_groups.empty();

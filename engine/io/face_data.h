@@ -81,6 +81,10 @@ std::string PlyBytes(const RawMesh& mesh, bool binary);
 std::string OffText(const RawMesh& mesh);
 std::string StlBytes(const RawMesh& mesh, bool binary, const GroupNames& names);
 
+// How far binary STL's absolute float coordinates put a vertex from where the mesh has it (0 at
+// origin 0): the largest rounding of any coordinate, in model units.
+double BinaryStlRounding(const RawMesh& mesh);
+
 // Appends the shortest decimal that reads back as the same float (the writers' number text).
 void AppendFloat(std::string* s, float v);
 

@@ -323,6 +323,44 @@ TEST_F(CliRepairTest, APartFarFromTheOriginKeepsItsDigitsLocallyAndThroughTheSer
   }
 }
 
+// Binary STL holds absolute floats: the far part's corners round there, and the summary and
+// --stats-json say by how much and which formats keep them; an STL of named solids (ASCII) and
+// the other formats keep every digit and say nothing.
+TEST_F(CliRepairTest, BinaryStlOfAFarPartSaysItRounds) {
+  RawMesh box = testing::MakeBox({8, 6, 4}, {4, 3, 2});
+  std::string off = absl::StrCat("OFF\n", box.num_vertices(), " ", box.num_faces(), " 0\n");
+  for (size_t v = 0; v < box.num_vertices(); ++v)
+    absl::StrAppend(&off, absl::StrFormat("%.4f %.4f %.4f\n", 1000000.0371 + box.positions[3 * v],
+                                          2000000.0813 + box.positions[3 * v + 1],
+                                          -300000.0529 + box.positions[3 * v + 2]));
+  for (size_t f = 0; f < box.num_faces(); ++f)
+    absl::StrAppend(&off, "3 ", box.triangles[3 * f], " ", box.triangles[3 * f + 1], " ",
+                    box.triangles[3 * f + 2], "\n");
+  std::ofstream(Path("far.off")) << off;
+  ASSERT_EQ(Run({Path("far.off"), Path("out.stl"), "--stats-json", Path("s.json")}), cli::kExitOk)
+      << err_;
+  EXPECT_HAS(out_, "\nwarning:  binary STL holds absolute float coordinates: far from the origin");
+  EXPECT_HAS(out_, "write .ply, .obj, .off or .msh to keep every digit\n");
+  EXPECT_HAS(testing::ReadFileBytes(Path("s.json")),
+             "\"warnings\": [\"binary STL holds absolute float coordinates");
+  // The figure is what the file lost: its corners against the same run's exact PLY.
+  const size_t at = out_.find("moved by up to ") + 15;
+  const double said = std::stod(out_.substr(at));
+  ASSERT_EQ(Run({Path("far.off"), Path("out.ply")}), cli::kExitOk) << err_;
+  EXPECT_EQ(out_.find("binary STL"), std::string::npos) << out_;
+  absl::StatusOr<RawMesh> stl = ReadMeshFile(Path("out.stl"));
+  absl::StatusOr<RawMesh> ply = ReadMeshFile(Path("out.ply"));
+  ASSERT_TRUE(stl.ok() && ply.ok());
+  double worst = 0.0;
+  for (size_t c = 0; c < ply->positions.size(); ++c) {
+    const double exact = ply->origin[c % 3] + double(ply->positions[c]);
+    worst = std::max(worst, std::abs(double(float(exact)) - exact));
+  }
+  EXPECT_GT(worst, 0.0);
+  EXPECT_NEAR(said, worst, 1e-6 * worst);
+  EXPECT_EQ(stl->num_faces(), ply->num_faces());
+}
+
 // Two boxes through each other in one file (a thin wall exported with facets as large as the
 // part crosses itself alike): repair cannot untangle them, the simplification keeps them and
 // makes no more, and the summary, --stats-json and the server's Result say where OUT crosses
