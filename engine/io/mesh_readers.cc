@@ -284,6 +284,11 @@ class NamedFaceGroups {
 
 // ---------------------------------------------------------------------------------- OBJ
 
+// OBJ continues a statement on the next line after a trailing backslash.
+bool EndsInContinuation(absl::string_view line) {
+  return absl::EndsWith(absl::StripTrailingAsciiWhitespace(line), "\\");
+}
+
 absl::Status ParseObj(absl::string_view data, Reading* out) {
   static constexpr absl::string_view kIgnored[] = {
       "vt",    "vn",       "vp",       "o",    "s",          "mtllib",    "usemtl", "l",
@@ -298,8 +303,22 @@ absl::Status ParseObj(absl::string_view data, Reading* out) {
   Lines lines(data);
   absl::string_view line;
   std::vector<absl::string_view> tok;
+  std::string joined;  // a statement continued over lines ending in a backslash
   while (lines.NextContent(&line)) {
+    if (EndsInContinuation(line)) {
+      joined.clear();
+      absl::string_view part = line;
+      while (EndsInContinuation(part)) {
+        absl::string_view body = absl::StripTrailingAsciiWhitespace(part);
+        body.remove_suffix(1);
+        absl::StrAppend(&joined, body, " ");
+        if (!lines.Next(&part)) part = {};
+      }
+      absl::StrAppend(&joined, part);
+      line = joined;
+    }
     Split(line, &tok);
+    if (tok.empty()) continue;
     if (tok[0] == "v") {
       absl::Status st = AddPosition(
           tok, 1,

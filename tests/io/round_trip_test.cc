@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "absl/strings/str_format.h"
 #include "engine/io/mesh_io.h"
 #include "engine/mesh.h"
 #include "gtest/gtest.h"
@@ -148,6 +149,26 @@ TEST_F(WriteTest, UnknownExtension) {
   EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
   EXPECT_NE(s.message().find("'.vtk' (supported: .off, .obj, .stl, .ply, .msh)"), std::string::npos)
       << s;
+}
+
+// What other tools write in OBJ: a fourth (w) coordinate, texture and normal indices, relative
+// indices, objects, materials, smoothing groups and a face continued over lines.
+TEST_F(WriteTest, ObjStatementsOfOtherToolsReadAsTheTetrahedron) {
+  const RawMesh tet = testing::PreciseTetrahedron();
+  std::string text = "# exported\nmtllib part.mtl\no part\n";
+  for (size_t v = 0; v < tet.num_vertices(); ++v)
+    text += absl::StrFormat("v %.9g %.9g %.9g 1.0\n", tet.positions[3 * v],
+                            tet.positions[3 * v + 1], tet.positions[3 * v + 2]);
+  text += "vt 0 0\nvn 0 0 1\nusemtl steel\ns off\n";
+  const uint32_t* t = tet.triangles.data();
+  text += absl::StrFormat("f %d/1/1 %d/1/1 %d/1/1\n", t[0] + 1, t[1] + 1, t[2] + 1);
+  text += absl::StrFormat("f %d//1 %d//1 %d//1\n", int(t[3]) - 4, int(t[4]) - 4, int(t[5]) - 4);
+  text += absl::StrFormat("f %d \\\n  %d \\  \n%d\n", t[6] + 1, t[7] + 1, t[8] + 1);
+  text += absl::StrFormat("f %d/1 %d/1 %d/1\n", t[9] + 1, t[10] + 1, t[11] + 1);
+  absl::StatusOr<RawMesh> back = ReadMeshFile(Write("tools.obj", text));
+  ASSERT_TRUE(back.ok()) << back.status();
+  EXPECT_EQ(back->triangles, tet.triangles);
+  EXPECT_EQ(back->positions, tet.positions);
 }
 
 // The output of an assembly keeps its seams (an edge of three faces): every format writes it as
