@@ -20,6 +20,7 @@
 #include "engine/coordinate_precision.h"
 #include "engine/id_index.h"
 #include "engine/union_find.h"
+#include "engine/winding_number.h"
 
 namespace femsimp {
 namespace {
@@ -962,20 +963,30 @@ bool Repairer::FillHoles() {
 
 // Components are connected through manifold edges (2 facets). In each, a breadth-first walk
 // gives every facet its parity relative to the first; the component then takes the orientation
-// of positive volume when it is closed (kOn), else that of the majority of its facets.
+// of the majority of its facets, or, when it is closed (kOn), the one that makes the mesh bound a
+// volume: outward, and inward where it lies inside an odd number of other closed components (a
+// cavity's wall faces into the cavity; CGAL's orient_to_bound_a_volume rule).
 void Repairer::Orient() {
   const uint32_t nk = static_cast<uint32_t>(kept_.size());
-  std::vector<uint32_t> comp(nk, kNoIndex), queue;
+  std::vector<uint32_t> comp(nk, kNoIndex), order;
   std::vector<uint8_t> parity(nk, 0), flip(nk, 0);
-  queue.reserve(nk);
+  order.reserve(nk);
+  // Each consistent component: its facets order[begin, end), seed orientation kept or not.
+  struct Component {
+    uint32_t seed, begin, end;
+    bool keep_seed, closed;
+    double volume = 0;  // signed, with the seed's orientation (closed components)
+    std::array<double, 3> lo{}, hi{};
+  };
+  std::vector<Component> components;
   for (uint32_t seed = 0; seed < nk; ++seed) {
     if (comp[seed] != kNoIndex) continue;
-    queue.clear();
-    queue.push_back(seed);
+    const uint32_t begin = static_cast<uint32_t>(order.size());
+    order.push_back(seed);
     comp[seed] = seed;
     bool closed = true, conflict = false;
-    for (size_t qi = 0; qi < queue.size(); ++qi) {
-      const uint32_t x = queue[qi];
+    for (size_t qi = begin; qi < order.size(); ++qi) {
+      const uint32_t x = order[qi];
       for (uint32_t i = 0; i < 3; ++i) {
         const uint32_t h = 3 * x + i, e = edge_of_[h];
         if (ebeg_[e + 1] - ebeg_[e] != 2) {
@@ -989,49 +1000,92 @@ void Repairer::Orient() {
         if (comp[y] == kNoIndex) {
           comp[y] = seed;
           parity[y] = want;
-          queue.push_back(y);
+          order.push_back(y);
         } else if (parity[y] != want) {
           conflict = true;
         }
       }
     }
+    const uint32_t end = static_cast<uint32_t>(order.size());
     if (conflict) {  // a Moebius band or worse: no flip makes it consistent
       Record(RepairKind::kNonOrientable, kept_[seed], -1, Centroid(&tri_[3 * seed]),
-             absl::StrCat("component of ", queue.size(),
+             absl::StrCat("component of ", end - begin,
                           " facets: no orientation is consistent; left as it was"));
       continue;
     }
     size_t odd = 0;
-    for (uint32_t x : queue) odd += parity[x];
-    bool keep_seed = 2 * odd <= queue.size();  // majority; a tie keeps the first facet
-    bool by_volume = false;
+    for (uint32_t i = begin; i < end; ++i) odd += parity[order[i]];
+    Component c{seed, begin, end, 2 * odd <= end - begin, closed};  // a tie keeps the first
     if (closed && !strict_ && options_.orient_outward) {
       // Signed volume with the seed's orientation, about the seed's first corner.
       const std::array<double, 3> o = PosD(tri_[3 * seed]);
-      double volume = 0;
-      for (uint32_t x : queue) {
+      c.lo = c.hi = o;
+      for (uint32_t i = begin; i < end; ++i) {
+        const uint32_t x = order[i];
         std::array<double, 3> p[3];
-        for (int i = 0; i < 3; ++i) {
-          p[i] = PosD(tri_[3 * x + i]);
-          for (int k = 0; k < 3; ++k) p[i][k] -= o[k];
+        for (int j = 0; j < 3; ++j) {
+          p[j] = PosD(tri_[3 * x + j]);
+          for (int k = 0; k < 3; ++k) {
+            c.lo[k] = std::min(c.lo[k], p[j][k]);
+            c.hi[k] = std::max(c.hi[k], p[j][k]);
+            p[j][k] -= o[k];
+          }
         }
         const double det = p[0][0] * (p[1][1] * p[2][2] - p[1][2] * p[2][1]) -
                            p[0][1] * (p[1][0] * p[2][2] - p[1][2] * p[2][0]) +
                            p[0][2] * (p[1][0] * p[2][1] - p[1][1] * p[2][0]);
-        volume += parity[x] ? -det : det;
-      }
-      if (volume != 0) {
-        by_volume = keep_seed != (volume > 0);
-        keep_seed = volume > 0;
+        c.volume += parity[x] ? -det : det;
       }
     }
-    size_t flipped = 0;
-    for (uint32_t x : queue) flipped += flip[x] = parity[x] == uint8_t(keep_seed);
-    if (by_volume)
-      Record(RepairKind::kReversedComponent, kept_[seed], -1, Centroid(&tri_[3 * seed]),
-             absl::StrCat("closed component of ", queue.size(), " facets had a negative volume; ",
-                          flipped, " facets flipped"));
+    components.push_back(c);
   }
+  // Whether a closed component lies inside another: in its box, and the other's winding number
+  // about the centroids of a few of its facets, spread over it, is ±1 at each. Parts that cross
+  // each other (an assembly exported overlapping) are in at some and out at others: not inside.
+  const auto encloses = [&](const Component& outer, const Component& inner) {
+    for (int k = 0; k < 3; ++k)
+      if (inner.lo[k] < outer.lo[k] || inner.hi[k] > outer.hi[k]) return false;
+    constexpr uint32_t kSamples = 8;
+    const uint32_t n = inner.end - inner.begin, samples = std::min(n, kSamples);
+    for (uint32_t s = 0; s < samples; ++s) {
+      const std::array<double, 3> at =
+          Centroid(&tri_[3 * order[inner.begin + uint64_t(s) * n / samples]]);
+      const DVec3 p{at[0], at[1], at[2]};
+      double winding = 0;
+      for (uint32_t i = outer.begin; i < outer.end; ++i) {
+        const uint32_t* t = &tri_[3 * order[i]];
+        const std::array<double, 3> a = PosD(t[0]), b = PosD(t[1]), c = PosD(t[2]);
+        const DVec3 da{a[0], a[1], a[2]}, db{b[0], b[1], b[2]}, dc{c[0], c[1], c[2]};
+        winding += parity[order[i]] ? WindingShare(p, da, dc, db) : WindingShare(p, da, db, dc);
+      }
+      if (std::abs(winding) < 0.5) return false;
+    }
+    return true;
+  };
+  for (Component& c : components) {
+    if (!c.closed || strict_ || !options_.orient_outward || c.volume == 0) continue;
+    size_t depth = 0;
+    for (const Component& other : components)
+      if (&other != &c && other.closed && other.volume != 0 && encloses(other, c)) ++depth;
+    const bool outward = depth % 2 == 0;
+    const bool keep_seed = (c.volume > 0) == outward;
+    if (keep_seed != c.keep_seed) {
+      const uint32_t n = c.end - c.begin;
+      size_t flipped = 0;
+      for (uint32_t i = c.begin; i < c.end; ++i) flipped += parity[order[i]] == uint8_t(keep_seed);
+      Record(RepairKind::kReversedComponent, kept_[c.seed], -1, Centroid(&tri_[3 * c.seed]),
+             outward ? absl::StrCat("closed component of ", n, " facets had a negative volume; ",
+                                    flipped, " facets flipped")
+                     : absl::StrCat("closed component of ", n,
+                                    " facets lies inside another (the wall of a cavity) but "
+                                    "faced outward; ",
+                                    flipped, " facets flipped to face into the cavity"));
+    }
+    c.keep_seed = keep_seed;
+  }
+  for (const Component& c : components)
+    for (uint32_t i = c.begin; i < c.end; ++i)
+      flip[order[i]] = parity[order[i]] == uint8_t(c.keep_seed);
   for (uint32_t k = 0; k < nk; ++k) {
     if (!flip[k]) continue;
     Record(RepairKind::kFlippedFacet, kept_[k], -1, Centroid(&tri_[3 * k]),

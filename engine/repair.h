@@ -27,7 +27,8 @@ struct RepairOptions {
   // Vertices closer than this fraction of the bounding-box diagonal (of the referenced vertices)
   // are welded into the lowest-numbered one. 0 welds exact duplicates only.
   double weld_tolerance = 1e-7;
-  // Closed components are turned so that their signed volume is positive.
+  // Closed components are turned so that the mesh bounds a volume: outward, and inward where
+  // one lies inside an odd number of others (a cavity's wall faces into the cavity).
   bool orient_outward = true;
   // Per kind, how many changes are recorded one by one (counts are always complete).
   size_t max_records_per_kind = 20;
@@ -41,7 +42,8 @@ enum class RepairKind : int {
   kSplitEdge,           // a facet's edge split at the T vertex of a sliver it faced
   kDuplicateFacet,      // removed: same three vertices as an earlier facet, either orientation
   kFlippedFacet,        // turned to agree with its component (or with the outward orientation)
-  kReversedComponent,   // a closed component that was inside out (its facets are also listed)
+  kReversedComponent,   // a closed component that faced the wrong way: inside out, or a cavity's
+                        // wall facing out (its facets are also listed)
   kSplitVertex,         // a vertex where several fans met, given one copy per fan
   kUnreferencedVertex,  // dropped: no facet uses it (any more)
   kFilledHole,          // a small loop of open edges closed by new facets (a facet missing)
@@ -106,11 +108,11 @@ struct RepairResult {
 
 // Repairs `mesh` in place (kOn) in this order: weld coincident vertices; remove degenerate, then
 // duplicate facets; close T-junctions; zip T-junction cracks; fill small holes; orient each
-// component consistently (outward when closed); split non-manifold vertices; drop unreferenced
-// vertices. Faces keep their input order, groups and fields (hole fills are appended); kept
-// vertices keep their order, split copies are appended. A mesh with nothing to
-// repair comes back untouched (byte-identical) with an empty report. Non-manifold edges are kept
-// and reported.
+// component consistently (closed ones to bound a volume: outward, cavities inward); split
+// non-manifold vertices; drop unreferenced vertices. Faces keep their input order, groups and
+// fields (hole fills are appended); kept vertices keep their order, split copies are appended. A
+// mesh with nothing to repair comes back untouched (byte-identical) with an empty report.
+// Non-manifold edges are kept and reported.
 //
 // T-junctions: a zero-area facet (a, t, b) with three distinct vertices, t between a and b (or a
 // needle: t within the weld tolerance of edge a-b, as a single-precision export writes it), that

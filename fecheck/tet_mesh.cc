@@ -5,12 +5,16 @@
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
+#include <unordered_map>
+#include <vector>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "engine/crossings.h"
 #include "engine/mesh_checks.h"
 #include "engine/union_find.h"
+#include "engine/vec.h"
+#include "engine/winding_number.h"
 
 namespace femsimp::fecheck {
 namespace {
@@ -29,7 +33,51 @@ double SixVolume(const RawMesh& m) {
   return sum;
 }
 
-// TetGen's surface format: nodes, then one facet per triangle (0-based, as -z reads them back).
+DVec3 Corner(const RawMesh& m, size_t f, int k) {
+  const float* p = &m.positions[3 * size_t(m.triangles[3 * f + k])];
+  return {p[0], p[1], p[2]};
+}
+
+// A point in each cavity of the solid, for tetgen's hole list: tetgen meshes every region the
+// surface encloses, a cavity too, unless it holds a hole point. A cavity's wall is a connected
+// part of the surface of negative volume (it faces into the cavity); the point lies a little off
+// its largest facet, on the side it faces, where the surface's winding number is 0 (outside the
+// material).
+std::vector<DVec3> CavityPoints(const RawMesh& m) {
+  const size_t nf = m.num_faces();
+  UnionFind parts(uint32_t(m.num_vertices()));
+  for (size_t f = 0; f < nf; ++f)
+    for (int k = 1; k < 3; ++k) parts.Union(m.triangles[3 * f], m.triangles[3 * f + k]);
+  struct Part {
+    double six_volume = 0, largest = 0;
+    size_t facet = 0;
+  };
+  std::unordered_map<uint32_t, Part> by_root;
+  for (size_t f = 0; f < nf; ++f) {
+    const DVec3 a = Corner(m, f, 0), b = Corner(m, f, 1), c = Corner(m, f, 2);
+    Part& part = by_root[parts.Find(m.triangles[3 * f])];
+    part.six_volume += Dot(a, Cross(b, c));
+    const double twice_area = Norm(Cross(b - a, c - a));
+    if (twice_area > part.largest) part.largest = twice_area, part.facet = f;
+  }
+  std::vector<DVec3> points;
+  for (const auto& [root, part] : by_root) {
+    if (part.six_volume >= 0 || part.largest == 0) continue;
+    const size_t f = part.facet;
+    const DVec3 a = Corner(m, f, 0), b = Corner(m, f, 1), c = Corner(m, f, 2);
+    const DVec3 normal = Cross(b - a, c - a);
+    // A thousandth of the facet's size off it: in the region next to it, short of any other.
+    const DVec3 at = (1.0 / 3) * (a + b + c) + (1e-3 / std::sqrt(Norm(normal))) * normal;
+    double winding = 0;
+    for (size_t g = 0; g < nf; ++g)
+      winding += WindingShare(at, Corner(m, g, 0), Corner(m, g, 1), Corner(m, g, 2));
+    if (std::abs(winding) < 0.5) points.push_back(at);
+  }
+  return points;
+}
+
+// TetGen's surface format: nodes, then one facet per triangle (0-based, as -z reads them back),
+// then a hole point in each cavity.
 absl::Status WriteSmesh(const std::string& path, const RawMesh& m) {
   std::FILE* out = std::fopen(path.c_str(), "w");
   if (out == nullptr) return absl::InternalError(absl::StrCat("cannot write ", path));
@@ -41,7 +89,11 @@ absl::Status WriteSmesh(const std::string& path, const RawMesh& m) {
   for (size_t f = 0; f < m.num_faces(); ++f)
     std::fprintf(out, "3 %u %u %u\n", m.triangles[3 * f], m.triangles[3 * f + 1],
                  m.triangles[3 * f + 2]);
-  std::fprintf(out, "0\n0\n");
+  const std::vector<DVec3> holes = CavityPoints(m);
+  std::fprintf(out, "%zu\n", holes.size());
+  for (size_t h = 0; h < holes.size(); ++h)
+    std::fprintf(out, "%zu %.17g %.17g %.17g\n", h, holes[h].x, holes[h].y, holes[h].z);
+  std::fprintf(out, "0\n");
   const bool ok = std::ferror(out) == 0;
   if (std::fclose(out) != 0 || !ok) return absl::InternalError(absl::StrCat("cannot write ", path));
   return absl::OkStatus();

@@ -162,6 +162,46 @@ TEST(Repair, InsideOutComponentIsTurnedOutward) {
   ExpectSameMesh(inside_out, before);
 }
 
+// A part with a cavity is an outer shell facing out and the cavity's wall facing in (into the
+// cavity): repair keeps that, and turns a cavity wall that faces out (as gmsh writes the sphere of
+// a box minus a sphere) so that the mesh bounds the solid: its volume is the box's less the
+// cavity's. An island in the cavity faces out again; a box beside the part is not in it.
+TEST(Repair, CavityWallsFaceIntoTheCavity) {
+  RawMesh m;
+  AddCube(m, 0, 0, 0, 10);    // the part, facets 0-11
+  AddCube(m, 2, 2, 2, 6);     // its cavity, 12-23
+  AddCube(m, 4, 4, 4, 2);     // an island in the cavity, 24-35
+  AddCube(m, 12, 0, 0, 1);    // a box beside the part, 36-47
+  AddCube(m, 9.5, 9.5, 9.5);  // a box crossing the part's corner (out at some facets), 48-59
+  for (size_t f = 12; f < 24; ++f) Flip(m, f);  // the cavity's wall facing in: right
+  const RawMesh solid = m;
+  const double volume = 1000 - 216 + 8 + 1 + 1;
+  EXPECT_NEAR(testing::SignedVolume(solid), volume, 1e-9);
+  {
+    RawMesh same = solid;
+    RepairResult r = Repair(same);
+    EXPECT_EQ(r.report.num_changes(), 0u) << r.report.Details();
+    ExpectSameMesh(same, solid);
+  }
+  // Every shell facing out: the cavity's wall is turned in, and only it.
+  RawMesh outward = solid;
+  for (size_t f = 12; f < 24; ++f) Flip(outward, f);
+  RepairResult r = Repair(outward);
+  ExpectSameMesh(outward, solid);
+  EXPECT_EQ(r.report.count(RepairKind::kReversedComponent), 1u);
+  EXPECT_EQ(r.report.count(RepairKind::kFlippedFacet), 12u);
+  EXPECT_HAS(Records(r.report, RepairKind::kReversedComponent),
+             "closed component of 12 facets lies inside another (the wall of a cavity) but faced "
+             "outward; 12 facets flipped to face into the cavity");
+  // Every shell inside out: each is turned the right way.
+  RawMesh inverted = solid;
+  for (size_t f = 0; f < inverted.num_faces(); ++f) Flip(inverted, f);
+  r = Repair(inverted);
+  ExpectSameMesh(inverted, solid);
+  EXPECT_EQ(r.report.count(RepairKind::kReversedComponent), 5u);
+  EXPECT_NEAR(testing::SignedVolume(inverted), volume, 1e-9);
+}
+
 TEST(Repair, DuplicateFacetsEitherOrientation) {
   RawMesh m = Cube();
   NumberFacets(m);

@@ -1,6 +1,7 @@
 // The FE check (fecheck/): mass properties, the eigenvalue table, the rigid-mode split and the
 // child processes on their own; then tetgen + CalculiX end to end on a free-free beam, whose
-// bending frequencies have a closed form (docs/FIDELITY.md, "FE check"), and the ways a check
+// bending frequencies have a closed form (docs/FIDELITY.md, "FE check"), a box with a cavity,
+// and the ways a check
 // must fail: an open surface, a self-intersecting one, a missing tool, a cancel.
 #include <gtest/gtest.h>
 
@@ -235,6 +236,30 @@ TEST(FeCheck, FarPartsCentroidIsWhereTheFileHasIt) {
   EXPECT_NEAR(f->centroid[1], 2e3 + kH / 2, 1e-6);
   EXPECT_NEAR(f->centroid[2], -3e2 + kH / 2, 1e-6);
   EXPECT_NEAR(f->volume, kL * kH * kH, 1e-6 * kL * kH * kH);
+}
+
+// A box with a cavity (a cube's surface inside, facing into it): tetgen would fill the cavity
+// with tetrahedra unless told it is a hole, and the solid would weigh as a full box.
+TEST(FeCheck, CavityIsNotMeshed) {
+  SKIP_WITHOUT_FE_TOOLS();
+  RawMesh hollow = testing::MakeBox({1, 1, 1}, {4, 4, 4});
+  const RawMesh cavity = testing::MakeBox({0.5, 0.5, 0.5}, {2, 2, 2});
+  const uint32_t base = uint32_t(hollow.num_vertices());
+  for (size_t i = 0; i < cavity.positions.size(); ++i)
+    hollow.positions.push_back(cavity.positions[i] + 0.25f);
+  for (size_t f = 0; f < cavity.num_faces(); ++f)  // turned to face into the cavity
+    hollow.triangles.insert(hollow.triangles.end(),
+                            {base + cavity.triangles[3 * f], base + cavity.triangles[3 * f + 2],
+                             base + cavity.triangles[3 * f + 1]});
+  absl::StatusOr<SolidFigures> f = AnalyseSolid(hollow, "hollow", FeCheckOptions{}, 0.0);
+  ASSERT_TRUE(f.ok()) << f.status();
+  EXPECT_NEAR(f->volume, 1.0 - 0.125, 1e-6);
+  const double density = f->mass / f->volume;
+  // A cube of side a and volume V has a moment V a^2 / 6 about every axis through its centre.
+  const double moment = density * (1.0 / 6 - 0.125 * 0.25 / 6);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(f->principal_moments[k] / moment, 1.0, 1e-6) << k;
+  EXPECT_EQ(f->components, 1);
+  EXPECT_EQ(f->rigid_modes, 6);
 }
 
 TEST(FeCheck, FreeFreeBeamMatchesBeamTheory) {
