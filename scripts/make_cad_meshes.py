@@ -62,7 +62,7 @@ import numpy as np
 
 import gmsh
 
-PARTS = ["bracket", "flange", "bottle", "knob", "sheet", "assembly"]
+PARTS = ["bracket", "flange", "bottle", "knob", "sheet", "assembly", "housing"]
 
 # ------------------------------------------------------------------------------- geometry
 
@@ -162,15 +162,20 @@ def build_bottle(occ):
     return [t for d, t in out if d == 3]
 
 
+def _rounded_box(occ, dx, dy, dz, radius):
+    """A box at the origin with every edge filleted (the model holds nothing else yet)."""
+    block = occ.addBox(0, 0, 0, dx, dy, dz)
+    occ.synchronize()
+    edges = [c for _, c in gmsh.model.getEntities(1)]
+    out = occ.fillet([block], edges, [radius], removeVolume=True)
+    occ.synchronize()
+    return out[0][1]
+
+
 def build_knob(occ):
     """Block with many small fillets and chamfers: every edge of the block rounded (r 1),
     four bosses with small base fillets and chamfered tops, and two slots."""
-    block = occ.addBox(0, 0, 0, 40, 30, 12)
-    occ.synchronize()
-    edges = [c for _, c in gmsh.model.getEntities(1)]
-    out = occ.fillet([block], edges, [1.0], removeVolume=True)
-    occ.synchronize()
-    vol = out[0][1]
+    vol = _rounded_box(occ, 40, 30, 12, 1.0)
     bosses = []
     for x, y in [(8, 8), (32, 8), (8, 22), (32, 22)]:
         bosses.append((3, occ.addCylinder(x, y, 11, 0, 0, 7, 3.5)))
@@ -225,6 +230,19 @@ def build_sheet(occ):
         occ.remove(extra, recursive=True)
         occ.synchronize()
     return []
+
+
+def build_housing(occ):
+    """A cast housing with a closed cavity: a block with every edge rounded (r 3), a bolt hole
+    through it and a capsule-shaped core inside (the cavity's wall is a second shell that must
+    face into the cavity)."""
+    vol = _rounded_box(occ, 60, 40, 30, 3.0)
+    hole = occ.addCylinder(12, 20, -1, 0, 0, 32, 4)
+    core, _ = occ.fuse([(3, occ.addCylinder(28, 20, 15, 16, 0, 0, 6))],
+                       [(3, occ.addSphere(28, 20, 15, 6)), (3, occ.addSphere(44, 20, 15, 6))])
+    out, _ = occ.cut([(3, vol)], [(3, hole)] + core)
+    occ.synchronize()
+    return [t for d, t in out if d == 3]
 
 
 def _inside(b, box):
@@ -331,6 +349,7 @@ BUILDERS = {
     "knob": build_knob,
     "sheet": build_sheet,
     "assembly": build_assembly,
+    "housing": build_housing,
 }
 
 # ----------------------------------------------------------------------------------- meshing
@@ -439,7 +458,8 @@ def edge_table(tris):
     return e, uniq, inv.ravel(), counts
 
 
-def components(n_vertices, tris):
+def face_components(n_vertices, tris):
+    """The component (a root vertex) of each face, through shared vertices."""
     parent = np.arange(n_vertices)
 
     def find(a):
@@ -454,8 +474,22 @@ def components(n_vertices, tris):
         ra, rb, rc = find(a), find(b), find(c)
         parent[rb] = ra
         parent[find(rc)] = ra
-    used = np.unique(tris)
-    return len({find(int(v)) for v in used})
+    return np.array([find(int(t[0])) for t in tris.tolist()])
+
+
+def winding_number(pos, tris, point):
+    """Solid angle of the triangles seen from point over 4 pi (1 inside an outward surface)."""
+    p = pos.astype(np.float64)[tris] - np.asarray(point, dtype=np.float64)
+    a, b, c = p[:, 0], p[:, 1], p[:, 2]
+    la, lb, lc = (np.linalg.norm(x, axis=1) for x in (a, b, c))
+    num = np.einsum("ij,ij->i", a, np.cross(b, c))
+    den = (la * lb * lc + np.einsum("ij,ij->i", a, b) * lc + np.einsum("ij,ij->i", a, c) * lb
+           + np.einsum("ij,ij->i", b, c) * la)
+    return float(np.arctan2(num, den).sum() / (2 * np.pi))
+
+
+def components(n_vertices, tris):
+    return len(np.unique(face_components(n_vertices, tris)))
 
 
 def face_areas_and_angles(pos, tris):
@@ -562,6 +596,16 @@ def orient(pos, tris, faces=None):
                 queue.append(g)
         if signed_volume(pos, sub[comp]) < 0:
             sub[comp] = sub[comp][:, [0, 2, 1]]
+    # A closed shell inside an odd number of others is a cavity's wall: it faces into the cavity.
+    label = face_components(len(pos), sub)
+    shells = [np.flatnonzero(label == r) for r in np.unique(label)]
+    if len(shells) > 1:
+        for inner in shells:
+            probe = pos.astype(np.float64)[sub[inner[0]]].mean(axis=0)
+            depth = sum(1 for outer in shells if outer is not inner
+                        and abs(winding_number(pos, sub[outer], probe)) > 0.5)
+            if depth % 2:
+                sub[inner] = sub[inner][:, [0, 2, 1]]
     tris[ids] = sub
     return tris
 
@@ -916,6 +960,21 @@ def break_unreferenced(rng, pos, tris, groups):
          "note": "copies of used vertices, not used by any face"}]
 
 
+def break_cavity_outward(rng, pos, tris, groups):
+    """The cavity's wall turned to face outward, into the material, as gmsh's own STL writes
+    a cavity (and a tool that orients every shell outward leaves it)."""
+    label = face_components(len(pos), tris)
+    tris = tris.copy()
+    flipped = 0
+    for r in np.unique(label):
+        faces = np.flatnonzero(label == r)
+        if signed_volume(pos, tris[faces]) < 0:
+            tris[faces] = tris[faces][:, [0, 2, 1]]
+            flipped += len(faces)
+    return pos, tris, groups, [{"kind": "cavity_outward", "count": flipped,
+                                "note": "the cavity's wall faces outward (into the material)"}]
+
+
 def break_bowtie(rng, pos, tris, groups):
     """Two copies of the part welded at one vertex: the extreme vertex in direction (1,1,1) of
     the first is the extreme vertex in direction -(1,1,1) of the translated second."""
@@ -948,6 +1007,7 @@ BREAKERS = {
     "unwelded": break_unwelded,
     "unreferenced": break_unreferenced,
     "bowtie": break_bowtie,
+    "cavity_outward": break_cavity_outward,
 }
 
 # The soup as written, per kind: (closed: every edge used by exactly two faces, manifold: and
@@ -963,6 +1023,7 @@ BROKEN_SHAPE = {
     "unwelded": (False, True),
     "unreferenced": (True, True),
     "bowtie": (True, False),  # every edge is fine; one vertex has two fans
+    "cavity_outward": (True, True),  # each shell consistent, the inner one the wrong way
 }
 
 # Which broken copies of which clean file (part_variant).
@@ -983,6 +1044,7 @@ BROKEN = [
     ("bracket_coarse", "unwelded"),
     ("knob_coarse", "unreferenced"),
     ("bracket_coarse", "bowtie"),
+    ("housing_coarse", "cavity_outward"),
 ]
 
 # -------------------------------------------------------------------------------------- main
@@ -1034,7 +1096,8 @@ def generate(outdir, parts, log):
                 broken = [{"kind": "nonmanifold_edges", "note": note}]
             else:
                 tris = orient(pos, tris)
-                by_construction = {"closed": part != "sheet", "manifold": True}
+                by_construction = {"closed": part != "sheet", "manifold": True,
+                                   "shells": 2 if part == "housing" else 1}
                 broken = defects
             name = f"{part}_{variant}"
             path = os.path.join(outdir, f"{name}.{ext}")
@@ -1049,7 +1112,8 @@ def generate(outdir, parts, log):
                 entries.append((stl, variant + "_solids", "stl"))
             m = measure(pos, tris)
             if part != "assembly" and (m["closed"] != by_construction["closed"]
-                                       or not m["manifold_edges"] or m["components"] != 1
+                                       or not m["manifold_edges"]
+                                       or m["components"] != by_construction["shells"]
                                        or m["zero_area_faces"] or m["duplicate_faces"]):
                 raise RuntimeError(f"{name}: not a clean part: {m}")
             for p, var, e in entries:
