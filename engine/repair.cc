@@ -17,6 +17,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
+#include "engine/box_containment.h"
 #include "engine/coordinate_precision.h"
 #include "engine/id_index.h"
 #include "engine/union_find.h"
@@ -1039,12 +1040,11 @@ void Repairer::Orient() {
     }
     components.push_back(c);
   }
-  // Whether a closed component lies inside another: in its box, and the other's winding number
-  // about the centroids of a few of its facets, spread over it, is ±1 at each. Parts that cross
-  // each other (an assembly exported overlapping) are in at some and out at others: not inside.
+  // Whether a closed component lies inside another whose box holds its box: the other's winding
+  // number about the centroids of a few of its facets, spread over it, is ±1 at each. Parts that
+  // cross each other (an assembly exported overlapping) are in at some and out at others: not
+  // inside.
   const auto encloses = [&](const Component& outer, const Component& inner) {
-    for (int k = 0; k < 3; ++k)
-      if (inner.lo[k] < outer.lo[k] || inner.hi[k] > outer.hi[k]) return false;
     constexpr uint32_t kSamples = 8;
     const uint32_t n = inner.end - inner.begin, samples = std::min(n, kSamples);
     for (uint32_t s = 0; s < samples; ++s) {
@@ -1062,11 +1062,19 @@ void Repairer::Orient() {
     }
     return true;
   };
-  for (Component& c : components) {
-    if (!c.closed || strict_ || !options_.orient_outward || c.volume == 0) continue;
+  std::vector<uint32_t> shells;  // closed components with a volume
+  std::vector<AxisBox> boxes;
+  if (!strict_ && options_.orient_outward)
+    for (uint32_t i = 0; i < components.size(); ++i)
+      if (components[i].closed && components[i].volume != 0) {
+        shells.push_back(i);
+        boxes.push_back({components[i].lo, components[i].hi});
+      }
+  const std::vector<std::vector<uint32_t>> candidates = ContainingBoxes(boxes);
+  for (size_t s = 0; s < shells.size(); ++s) {
+    Component& c = components[shells[s]];
     size_t depth = 0;
-    for (const Component& other : components)
-      if (&other != &c && other.closed && other.volume != 0 && encloses(other, c)) ++depth;
+    for (uint32_t other : candidates[s]) depth += encloses(components[shells[other]], c);
     const bool outward = depth % 2 == 0;
     const bool keep_seed = (c.volume > 0) == outward;
     if (keep_seed != c.keep_seed) {
