@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <memory>
 #include <tuple>
 #include <type_traits>
 #include <utility>
@@ -20,8 +21,8 @@
 #include "engine/box_containment.h"
 #include "engine/coordinate_precision.h"
 #include "engine/id_index.h"
+#include "engine/point_in_shell.h"
 #include "engine/union_find.h"
-#include "engine/winding_number.h"
 
 namespace femsimp {
 namespace {
@@ -1043,22 +1044,26 @@ void Repairer::Orient() {
   // Whether a closed component lies inside another whose box holds its box: the other's winding
   // number about the centroids of a few of its facets, spread over it, is ±1 at each. Parts that
   // cross each other (an assembly exported overlapping) are in at some and out at others: not
-  // inside.
+  // inside. Each enclosing candidate's test is built once, when first asked.
+  absl::flat_hash_map<const Component*, std::unique_ptr<PointInShell>> inside_tests;
   const auto encloses = [&](const Component& outer, const Component& inner) {
+    std::unique_ptr<PointInShell>& test = inside_tests[&outer];
+    if (!test) {
+      std::vector<uint32_t> corners;
+      corners.reserve(3 * size_t(outer.end - outer.begin));
+      for (uint32_t i = outer.begin; i < outer.end; ++i) {
+        const uint32_t* t = &tri_[3 * order[i]];
+        corners.insert(corners.end(),
+                       {t[0], parity[order[i]] ? t[2] : t[1], parity[order[i]] ? t[1] : t[2]});
+      }
+      test = std::make_unique<PointInShell>(in_.positions.data(), std::move(corners));
+    }
     constexpr uint32_t kSamples = 8;
     const uint32_t n = inner.end - inner.begin, samples = std::min(n, kSamples);
     for (uint32_t s = 0; s < samples; ++s) {
       const std::array<double, 3> at =
           Centroid(&tri_[3 * order[inner.begin + uint64_t(s) * n / samples]]);
-      const DVec3 p{at[0], at[1], at[2]};
-      double winding = 0;
-      for (uint32_t i = outer.begin; i < outer.end; ++i) {
-        const uint32_t* t = &tri_[3 * order[i]];
-        const std::array<double, 3> a = PosD(t[0]), b = PosD(t[1]), c = PosD(t[2]);
-        const DVec3 da{a[0], a[1], a[2]}, db{b[0], b[1], b[2]}, dc{c[0], c[1], c[2]};
-        winding += parity[order[i]] ? WindingShare(p, da, dc, db) : WindingShare(p, da, db, dc);
-      }
-      if (std::abs(winding) < 0.5) return false;
+      if (test->Winding({at[0], at[1], at[2]}) == 0) return false;
     }
     return true;
   };

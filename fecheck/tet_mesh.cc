@@ -12,9 +12,9 @@
 #include "absl/strings/str_format.h"
 #include "engine/crossings.h"
 #include "engine/mesh_checks.h"
+#include "engine/point_in_shell.h"
 #include "engine/union_find.h"
 #include "engine/vec.h"
-#include "engine/winding_number.h"
 
 namespace femsimp::fecheck {
 namespace {
@@ -61,6 +61,7 @@ std::vector<DVec3> CavityPoints(const RawMesh& m) {
     if (twice_area > part.largest) part.largest = twice_area, part.facet = f;
   }
   std::vector<DVec3> points;
+  const PointInShell material(m.positions.data(), m.triangles);
   for (const auto& [root, part] : by_root) {
     if (part.six_volume >= 0 || part.largest == 0) continue;
     const size_t f = part.facet;
@@ -68,10 +69,7 @@ std::vector<DVec3> CavityPoints(const RawMesh& m) {
     const DVec3 normal = Cross(b - a, c - a);
     // A thousandth of the facet's size off it: in the region next to it, short of any other.
     const DVec3 at = (1.0 / 3) * (a + b + c) + (1e-3 / std::sqrt(Norm(normal))) * normal;
-    double winding = 0;
-    for (size_t g = 0; g < nf; ++g)
-      winding += WindingShare(at, Corner(m, g, 0), Corner(m, g, 1), Corner(m, g, 2));
-    if (std::abs(winding) < 0.5) points.push_back(at);
+    if (material.Winding(at) == 0) points.push_back(at);
   }
   return points;
 }
