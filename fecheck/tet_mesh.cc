@@ -4,8 +4,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <map>
 #include <sstream>
-#include <unordered_map>
 #include <vector>
 
 #include "absl/strings/str_cat.h"
@@ -52,7 +52,7 @@ std::vector<DVec3> CavityPoints(const RawMesh& m) {
     double six_volume = 0, largest = 0;
     size_t facet = 0;
   };
-  std::unordered_map<uint32_t, Part> by_root;
+  std::map<uint32_t, Part> by_root;  // ordered: the hole list is the same every run
   for (size_t f = 0; f < nf; ++f) {
     const DVec3 a = Corner(m, f, 0), b = Corner(m, f, 1), c = Corner(m, f, 2);
     Part& part = by_root[parts.Find(m.triangles[3 * f])];
