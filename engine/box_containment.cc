@@ -27,9 +27,10 @@ std::vector<std::vector<uint32_t>> ContainingBoxes(const std::vector<AxisBox>& b
   // in the cell of that centre.
   const int cells = std::clamp(int(std::cbrt(double(boxes.size()))), 1, 64);
   const auto cell_of = [&](double x, int k) {
-    const double extent = all.hi[k] - all.lo[k];
-    if (!(extent > 0)) return 0;
-    return std::clamp(int((x - all.lo[k]) / extent * cells), 0, cells - 1);
+    // NaN (a flat or overflowing extent) and out-of-range values are clamped before the
+    // conversion.
+    const double t = (x - all.lo[k]) / (all.hi[k] - all.lo[k]) * cells;
+    return t >= 0 ? (t < cells ? int(t) : cells - 1) : 0;
   };
   std::vector<std::vector<uint32_t>> grid(size_t(cells) * cells * cells);
   for (uint32_t b = 0; b < boxes.size(); ++b) {

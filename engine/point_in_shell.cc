@@ -58,9 +58,9 @@ DVec3 PointInShell::Position(uint32_t v) const {
 }
 
 int PointInShell::Cell(double x, int axis) const {
-  const double extent = hi_[axis] - lo_[axis];
-  if (!(extent > 0)) return 0;
-  return std::clamp(int((x - lo_[axis]) / extent * cells_), 0, cells_ - 1);
+  // NaN (an overflowing extent) and out-of-range values are clamped before the conversion.
+  const double t = (x - lo_[axis]) / (hi_[axis] - lo_[axis]) * cells_;
+  return t >= 0 ? (t < cells_ ? int(t) : cells_ - 1) : 0;
 }
 
 int PointInShell::Winding(const DVec3& p) const {
