@@ -38,7 +38,11 @@ def read(path):
         elif key == "vertex":
             if current is None or len(words) != 4:
                 raise ValueError(f"line {number}: expected 'vertex x y z' inside a solid")
-            corners.append([float(w) for w in words[1:]])
+            try:
+                corners.append([float(w) for w in words[1:]])
+            except ValueError:
+                raise ValueError(f"line {number}: cannot parse '{line.strip()}' as a vertex's "
+                                 "three numbers") from None
             if len(corners) % 3 == 0:
                 solid_of.append(order.index(current))
     if len(corners) % 3:

@@ -219,3 +219,14 @@ def test_stl_solids_by_name(client, tmp_path):
     one.write_text("\n".join(l if not l.startswith(("solid", "endsolid")) else
                              l.split()[0] + " part" for l in text.splitlines()) + "\n")
     assert _stl_solids.read(one) is None
+
+
+def test_malformed_stl_solids_name_the_line(tmp_path):
+    path = tmp_path / "bad.stl"
+    facet = "facet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 1 {} 0\nvertex 0 1 0\n" \
+            "endloop\nendfacet\n"
+    path.write_text("solid a\n" + facet.format(0) + "endsolid\nsolid b\n" + facet.format("x")
+                    + "endsolid\n")
+    with pytest.raises(femsimp.MeshError, match=r"bad.stl: cannot read it as a mesh: line 14: "
+                                                r"cannot parse 'vertex 1 x 0'"):
+        femsimp.inputs.prepare(str(path), output=tmp_path / "out.stl")
