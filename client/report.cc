@@ -105,10 +105,17 @@ std::string MassJson(const MassSummary& m) {
 }
 
 std::string CrossingsJson(const SoupCrossings& c) {
-  if (c.pairs == 0) return "{\"pairs\": 0}";
+  const SoupCrossings::Overlaps& o = c.overlaps;
+  const std::string overlaps =
+      o.pairs == 0 ? "{\"pairs\": 0}"
+                   : absl::StrCat("{\"pairs\": ", o.pairs, ", \"area\": ", JsonNumber(o.area),
+                                  ", \"faces\": [", o.face_a, ", ", o.face_b, "], \"at\": [",
+                                  JsonNumber(o.at[0]), ", ", JsonNumber(o.at[1]), ", ",
+                                  JsonNumber(o.at[2]), "]}");
+  if (c.pairs == 0) return absl::StrCat("{\"pairs\": 0, \"overlaps\": ", overlaps, "}");
   return absl::StrCat("{\"pairs\": ", c.pairs, ", \"faces\": [", c.face_a, ", ", c.face_b,
                       "], \"at\": [", JsonNumber(c.at[0]), ", ", JsonNumber(c.at[1]), ", ",
-                      JsonNumber(c.at[2]), "]}");
+                      JsonNumber(c.at[2]), "], \"overlaps\": ", overlaps, "}");
 }
 
 std::string FidelityJson(const FidelityFigures& f) {
@@ -179,9 +186,18 @@ std::string MassSummaryLine(const FidelityFigures& f) {
 // crossing unless allowed to (docs/FIDELITY.md § 9), so they came with the input, which repair
 // cannot untangle (a thin wall exported with facets as large as the part).
 std::string CrossingsWarning(const SoupCrossings& c, bool allowed) {
-  if (c.pairs == 0) return "";
+  std::string overlaps;
+  if (c.overlaps.pairs > 0)
+    overlaps = absl::StrCat(
+        "warning:  OUT has overlapping faces: ", DescribeOverlaps(c),
+        allowed ? "; from the input or the run (--allow-self-intersections)"
+                : "; kept from the input (the simplification makes none)",
+        "; tetgen and most FE meshers "
+        "refuse overlapping faces (export the assembly with its contacts shared, as gmsh's "
+        "fragment does)\n");
+  if (c.pairs == 0) return overlaps;
   return absl::StrCat(
-      "warning:  OUT intersects itself: ", DescribeCrossings(c), "; ",
+      overlaps, "warning:  OUT intersects itself: ", DescribeCrossings(c), "; ",
       allowed ? "--allow-self-intersections let the run make crossings"
               : "the input's own crossings, kept (the simplification makes none)",
       "; a mesher such as tetgen refuses it (a finer export of the part avoids it)\n");

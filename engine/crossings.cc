@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <utility>
 #include <vector>
 
 #include "absl/strings/str_format.h"
+#include "engine/planar_overlap.h"
 #include "engine/transversal_crossing.h"
 
 namespace femsimp {
@@ -15,6 +17,7 @@ namespace {
 // coordinate fits 21 bits, so that three pack into one key.
 constexpr double kCellsPerFace = 8.0;
 constexpr int kKeyBits = 21;
+constexpr double kPlaneTolerance = 1e-6;  // of the diagonal
 
 struct Box {
   float lo[3], hi[3];
@@ -83,6 +86,13 @@ SoupCrossings FindCrossings(const RawMesh& soup) {
   }
   const double extent =
       std::max({double{hi[0]} - lo[0], double{hi[1]} - lo[1], double{hi[2]} - lo[2], 1e-300});
+  const double magnitude = std::max({std::fabs(lo[0]), std::fabs(lo[1]), std::fabs(lo[2]),
+                                     std::fabs(hi[0]), std::fabs(hi[1]), std::fabs(hi[2])});
+  // Contacts exported apart are planar up to their corners' rounding to float.
+  const double plane_tolerance =
+      std::max(kPlaneTolerance *
+                   std::hypot(double{hi[0]} - lo[0], double{hi[1]} - lo[1], double{hi[2]} - lo[2]),
+               16.0 * magnitude * std::numeric_limits<float>::epsilon());
   Grid grid(lo, std::max(2.0 * edges / (3.0 * double(nf)), extent / double(1 << (kKeyBits - 1))));
   std::vector<CellRange> range(nf);
   for (;;) {  // large faces among small ones would each cover many cells
@@ -133,12 +143,33 @@ SoupCrossings FindCrossings(const RawMesh& soup) {
     }
     return t;
   };
-  const auto shares_an_edge = [&](uint32_t a, uint32_t b) {
+  // Each face's plane (unit normal, offset) in floats: most pairs are far off each other's
+  // planes, which this tells before OverlapInPlane's exact test (its rounding is far below the
+  // doubled tolerance).
+  std::vector<std::array<float, 4>> plane(nf);
+  for (size_t f = 0; f < nf; ++f) {
+    const Triangle t = triangle(static_cast<uint32_t>(f));
+    const DVec3 n = Cross(t.p[1] - t.p[0], t.p[2] - t.p[0]);
+    const double length = Norm(n);
+    const DVec3 unit = length > 0.0 ? (1.0 / length) * n : DVec3{0, 0, 0};
+    plane[f] = {float(unit.x), float(unit.y), float(unit.z), float(Dot(unit, t.p[0]))};
+  }
+  const auto near_plane = [&](uint32_t of, uint32_t other) {
+    const std::array<float, 4>& e = plane[of];
+    for (int k = 0; k < 3; ++k) {
+      const float* q = corner(other, k);
+      if (std::fabs(double{e[0]} * q[0] + double{e[1]} * q[1] + double{e[2]} * q[2] - e[3]) >
+          2.0 * plane_tolerance)
+        return false;
+    }
+    return true;
+  };
+  const auto shared_corners = [&](uint32_t a, uint32_t b) {
     int shared = 0;
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j)
         shared += soup.triangles[3 * size_t{a} + i] == soup.triangles[3 * size_t{b} + j];
-    return shared >= 2;
+    return shared;
   };
   const uint64_t mask = (uint64_t{1} << kKeyBits) - 1;
   for (size_t begin = 0, end; begin < listed.size(); begin = end) {
@@ -159,10 +190,24 @@ SoupCrossings FindCrossings(const RawMesh& soup) {
             std::max(a.first_cell[2], b.first_cell[2]) != here[2])
           continue;
         // Faces with a common edge meet along it or fold within one plane: never a crossing.
-        if (shares_an_edge(a.face, b.face)) continue;
+        const int shared = shared_corners(a.face, b.face);
+        if (shared >= 2) continue;
         const std::pair<uint32_t, uint32_t> pair = std::minmax(a.face, b.face);
-        const std::optional<DVec3> at =
-            TransversalCrossing(triangle(pair.first), triangle(pair.second));
+        const Triangle first = triangle(pair.first), second = triangle(pair.second);
+        if (const std::optional<PlanarOverlap> o =
+                shared == 0 && near_plane(a.face, b.face)
+                    ? OverlapInPlane(first, second, plane_tolerance)
+                    : std::nullopt) {
+          SoupCrossings::Overlaps& ov = found.overlaps;
+          ov.area += o->area;
+          if (ov.pairs++ == 0 || pair < std::pair(ov.face_a, ov.face_b)) {
+            ov.face_a = pair.first;
+            ov.face_b = pair.second;
+            ov.at = {soup.origin[0] + o->at.x, soup.origin[1] + o->at.y, soup.origin[2] + o->at.z};
+          }
+          continue;
+        }
+        const std::optional<DVec3> at = TransversalCrossing(first, second);
         if (!at) continue;
         if (found.pairs++ == 0 || pair < std::pair(found.face_a, found.face_b)) {
           found.face_a = pair.first;
@@ -179,6 +224,15 @@ std::string DescribeCrossings(const SoupCrossings& c) {
   return absl::StrFormat("%u face pair%s cross (the first: faces %u and %u, at (%.6g, %.6g, %.6g))",
                          c.pairs, c.pairs == 1 ? "" : "s", c.face_a, c.face_b, c.at[0], c.at[1],
                          c.at[2]);
+}
+
+std::string DescribeOverlaps(const SoupCrossings& c) {
+  const SoupCrossings::Overlaps& o = c.overlaps;
+  return absl::StrFormat(
+      "%u face pair%s overlap in their plane, over an area of %.6g (the first: faces %u and %u, "
+      "at (%.6g, %.6g, %.6g)): bodies exported apart that touch, each with its own "
+      "triangulation of the contact",
+      o.pairs, o.pairs == 1 ? "" : "s", o.area, o.face_a, o.face_b, o.at[0], o.at[1], o.at[2]);
 }
 
 }  // namespace femsimp

@@ -1,9 +1,9 @@
-// Faces of a triangle soup that cross each other: the check an FE mesher makes first (tetgen
-// refuses a surface that intersects itself). The collapses never make a crossing (the
-// self-intersection rule, docs/FIDELITY.md § 9), so crossings in an output came with its
-// input (a thin wall exported with facets as large as the part) or from a run that allowed
-// them; the CLI and the server report them with the output so that the analyst hears of them
-// before the mesher says so.
+// Faces of a triangle soup that cross each other, or overlap within one plane: the checks an FE
+// mesher makes first (tetgen refuses a surface that intersects itself, and overlapping facets). The
+// collapses never make a crossing (the self-intersection rule, docs/FIDELITY.md § 9), so crossings
+// in an output came with its input (a thin wall exported with facets as large as the part) or from
+// a run that allowed them; the CLI and the server report them with the output so that the analyst
+// hears of them before the mesher says so.
 #pragma once
 
 #include <array>
@@ -20,15 +20,34 @@ struct SoupCrossings {
   // cross; meaningful when pairs > 0.
   uint32_t face_a = 0, face_b = 0;
   std::array<double, 3> at{};
+  // Face pairs with no corner in common, in one plane, whose insides overlap
+  // (engine/planar_overlap.h): bodies exported apart that touch, their contact triangulated
+  // twice; the first pair as above, a point of their common part, and the area of every pair's
+  // common part (the contact's area: each point of a contact is under one face of each body,
+  // less what pairs with a corner welded in common overlap). Faces in one plane with a corner
+  // in common overlap only where a surface folds onto itself, which this leaves out.
+  struct Overlaps {
+    uint64_t pairs = 0;
+    uint32_t face_a = 0, face_b = 0;
+    std::array<double, 3> at{};
+    double area = 0.0;
+  } overlaps;
 };
 
-// Every pair of faces whose bounding boxes overlap is tested once (TransversalCrossing: only
-// certain crossings count, not contacts or folds within one plane), found through a uniform grid
-// of cells about twice the mean edge (coarser where large faces would span many cells).
+// Every pair of faces whose bounding boxes overlap and that share no edge is tested once: an
+// overlap when they share no corner, each has its corners within a millionth of the diagonal (or a
+// few float spacings of the coordinates) of the other's plane and their insides overlap, else a
+// crossing when TransversalCrossing says so (only certain crossings count, not contacts). The pairs
+// are found through a uniform grid of cells about twice the mean edge (coarser where large faces
+// would span many cells).
 SoupCrossings FindCrossings(const RawMesh& soup);
 
 // "N face pairs cross (the first: faces A and B, at (x, y, z))": the words every report of them
 // uses (the summary, the FE check's refusal); meaningful when pairs > 0.
 std::string DescribeCrossings(const SoupCrossings& c);
+
+// "N face pairs overlap in their plane, over an area of A (the first: faces A and B, at (x, y,
+// z)): bodies exported apart that touch, ..."; meaningful when overlaps.pairs > 0.
+std::string DescribeOverlaps(const SoupCrossings& c);
 
 }  // namespace femsimp

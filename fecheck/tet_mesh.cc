@@ -126,11 +126,17 @@ absl::Status CheckClosedSolid(const RawMesh& surface) {
         "closed solid with its faces counter-clockwise seen from outside");
   // tetgen aborts on such a surface, quoting two of its own face numbers; this names the
   // surface's faces and where they cross, before any tool runs.
-  if (const SoupCrossings c = FindCrossings(surface); c.pairs > 0)
+  const SoupCrossings c = FindCrossings(surface);
+  if (c.pairs > 0)
     return absl::InvalidArgumentError(absl::StrCat(
         "the surface intersects itself: ", DescribeCrossings(c),
         ", so it bounds no solid and tetgen cannot mesh it (a finer export of the part avoids "
         "it)"));
+  if (c.overlaps.pairs > 0)
+    return absl::InvalidArgumentError(absl::StrCat(
+        "the surface has overlapping faces: ", DescribeOverlaps(c),
+        "; tetgen cannot mesh overlapping faces (export the assembly with its contacts shared, "
+        "as gmsh's fragment does, or check each body on its own)"));
   return absl::OkStatus();
 }
 

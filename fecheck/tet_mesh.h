@@ -23,8 +23,8 @@ struct TetMesh {
 };
 
 // What tetgen needs of a surface: valid triangles (CheckSoup), closed (no boundary edge),
-// enclosing a positive volume (oriented outwards) and not crossing itself (FindCrossings: faces
-// that certainly cross). InvalidArgument saying what is wrong.
+// enclosing a positive volume (oriented outwards), not crossing itself and with no faces
+// overlapping in their plane (FindCrossings). InvalidArgument saying what is wrong.
 absl::Status CheckClosedSolid(const RawMesh& surface);
 
 // Runs tetgen on `surface` (written to run.dir) with the quality bound -q1.414 and, when

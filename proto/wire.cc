@@ -309,6 +309,15 @@ void FidelityToProto(const SimplifyResult& r, v1::Result* out) {
     crossings->set_face_b(r.output_crossings.face_b);
     for (double x : r.output_crossings.at) crossings->add_at(x);
   }
+  const SoupCrossings::Overlaps& overlaps = r.output_crossings.overlaps;
+  v1::Overlaps* overlaps_out = crossings->mutable_overlaps();
+  overlaps_out->set_pairs(overlaps.pairs);
+  if (overlaps.pairs > 0) {
+    overlaps_out->set_area(overlaps.area);
+    overlaps_out->set_face_a(overlaps.face_a);
+    overlaps_out->set_face_b(overlaps.face_b);
+    for (double x : overlaps.at) overlaps_out->add_at(x);
+  }
   v1::CoordinatePrecision* coordinates = out->mutable_coordinates();
   coordinates->set_magnitude(r.coordinates.magnitude);
   coordinates->set_spacing(r.coordinates.spacing);
@@ -334,6 +343,13 @@ void FidelityFromProto(const v1::Result& in, SimplifyResult* out) {
   out->output_crossings.face_b = crossings.face_b();
   for (int i = 0; i < 3 && i < crossings.at_size(); ++i)
     out->output_crossings.at[i] = crossings.at(i);
+  const v1::Overlaps& overlaps = crossings.overlaps();
+  SoupCrossings::Overlaps& overlaps_out = out->output_crossings.overlaps;
+  overlaps_out.pairs = overlaps.pairs();
+  overlaps_out.area = overlaps.area();
+  overlaps_out.face_a = overlaps.face_a();
+  overlaps_out.face_b = overlaps.face_b();
+  for (int i = 0; i < 3 && i < overlaps.at_size(); ++i) overlaps_out.at[i] = overlaps.at(i);
   out->coordinates.magnitude = in.coordinates().magnitude();
   out->coordinates.spacing = in.coordinates().spacing();
   out->coordinates.diagonal = in.coordinates().diagonal();

@@ -103,6 +103,17 @@ def _warn_if_crossing(result, allowed):
     """The C++ CLI's warning: a mesher refuses an output whose faces cross (Result
     .output_crossings counts the pairs that certainly do)."""
     c = result.output_crossings
+    o = c.overlaps
+    if o.pairs > 0:
+        at = ", ".join(f"{x:.6g}" for x in o.at)
+        source = ("from the input or the run (allow_self_intersections)" if allowed
+                  else "kept from the input (the simplification makes none)")
+        warnings.warn(f"the output has overlapping faces: {o.pairs} face pair"
+                      f"{'' if o.pairs == 1 else 's'} overlap in their plane, over an area of "
+                      f"{o.area:.6g} (the first: faces {o.face_a} and {o.face_b}, at ({at})): "
+                      f"bodies exported apart that touch, each with its own triangulation of "
+                      f"the contact; {source}; tetgen and most FE meshers refuse overlapping "
+                      f"faces", FemsimpWarning, stacklevel=3)
     if c.pairs == 0:
         return
     at = ", ".join(f"{x:.6g}" for x in c.at)

@@ -4,12 +4,15 @@
 
 #include <utility>
 
+#include "absl/strings/str_cat.h"
+#include "engine/planar_overlap.h"
 #include "engine/transversal_crossing.h"
 #include "tests/support/meshes.h"
 
 namespace femsimp {
 namespace {
 
+using testing::Append;
 using testing::FlatGrid;
 using testing::MakeBox;
 using testing::MakeTorus;
@@ -35,14 +38,6 @@ SoupCrossings BruteForce(const RawMesh& m) {
         c.face_b = static_cast<uint32_t>(b);
       }
   return c;
-}
-
-// `add`'s vertices and faces appended to `m`, moved by `shift`.
-void Append(RawMesh& m, const RawMesh& add, const std::array<float, 3>& shift) {
-  const uint32_t base = static_cast<uint32_t>(m.num_vertices());
-  for (size_t i = 0; i < add.positions.size(); ++i)
-    m.positions.push_back(add.positions[i] + shift[i % 3]);
-  for (uint32_t v : add.triangles) m.triangles.push_back(base + v);
 }
 
 void ExpectAsBruteForce(const RawMesh& m) {
@@ -107,6 +102,46 @@ TEST(Crossings, ContactsAndFoldsAreNotCrossings) {
   for (uint32_t v : grid.triangles) tilted.triangles.push_back(base + v);
   EXPECT_GT(FindCrossings(tilted).pairs, 0u);
   ExpectAsBruteForce(tilted);
+}
+
+// Two bodies exported apart that touch: a block standing on a plate, each triangulated on its own,
+// so the block's bottom faces lie on the plate's top faces without sharing a vertex. tetgen
+// refuses such a surface; FindCrossings counts the overlapping pairs apart from the crossings and
+// measures the contact.
+TEST(Crossings, BodiesTouchingWithoutSharedVerticesOverlapInTheirPlane) {
+  RawMesh m = MakeBox({4, 3, 1}, {4, 3, 1});
+  const uint32_t plate_faces = static_cast<uint32_t>(m.num_faces());
+  Append(m, MakeBox({1.5, 1.25, 2}, {3, 2, 2}), {0.75f, 0.5f, 1.0f});
+  const SoupCrossings c = FindCrossings(m);
+  EXPECT_EQ(c.pairs, 0u);
+  ASSERT_GT(c.overlaps.pairs, 0u);
+  EXPECT_NEAR(c.overlaps.area, 1.5 * 1.25, 1e-6);
+  EXPECT_LT(c.overlaps.face_a, plate_faces);
+  EXPECT_GE(c.overlaps.face_b, plate_faces);
+  EXPECT_EQ(c.overlaps.at[2], 1.0);
+  // Every pair tested: the same pairs, the first the same.
+  uint64_t pairs = 0;
+  std::pair<uint32_t, uint32_t> first;
+  for (uint32_t a = 0; a < m.num_faces(); ++a)
+    for (uint32_t b = a + 1; b < m.num_faces(); ++b)
+      if (OverlapInPlane(TriangleOf(m, a), TriangleOf(m, b), 1e-6) && pairs++ == 0) first = {a, b};
+  EXPECT_EQ(c.overlaps.pairs, pairs);
+  EXPECT_EQ(std::pair(c.overlaps.face_a, c.overlaps.face_b), first);
+  EXPECT_EQ(DescribeOverlaps(c).substr(0, 40),
+            absl::StrCat(pairs, " face pairs overlap in their plane, over").substr(0, 40));
+  // Against the plate's side, the contact 1.25 by the plate's height of 1.
+  RawMesh beside = MakeBox({4, 3, 1}, {4, 3, 1});
+  Append(beside, MakeBox({1.5, 1.25, 2}, {3, 2, 2}), {4.0f, 0.5f, 0.0f});
+  EXPECT_NEAR(FindCrossings(beside).overlaps.area, 1.25, 1e-6);
+  // Lifted off the plate by a hundredth, or a hundredth away from its side: no contact.
+  RawMesh apart = MakeBox({4, 3, 1}, {4, 3, 1});
+  Append(apart, MakeBox({1.5, 1.25, 2}, {3, 2, 2}), {0.75f, 0.5f, 1.01f});
+  EXPECT_EQ(FindCrossings(apart).overlaps.pairs, 0u);
+  RawMesh aside = MakeBox({4, 3, 1}, {4, 3, 1});
+  Append(aside, MakeBox({1.5, 1.25, 2}, {3, 2, 2}), {4.01f, 0.5f, 0.0f});
+  EXPECT_EQ(FindCrossings(aside).overlaps.pairs, 0u);
+  // Closed surfaces and a folded grid (its faces on shared edges) have none.
+  EXPECT_EQ(FindCrossings(MakeTorus(24, 12)).overlaps.pairs, 0u);
 }
 
 }  // namespace

@@ -142,16 +142,21 @@ TEST(ClosedSolid, OpenAndInsideOutSurfacesAreRefused) {
   EXPECT_HAS(CheckClosedSolid(inverted).message(), "no positive volume");
   // Two boxes through each other: closed and outward, but they bound no solid.
   RawMesh crossing = box;
-  const RawMesh second = testing::MakeBox({1, 1, 1}, {2, 2, 2});
-  const uint32_t base = static_cast<uint32_t>(crossing.num_vertices());
-  for (size_t i = 0; i < second.positions.size(); ++i)
-    crossing.positions.push_back(second.positions[i] + 0.3f);
-  for (uint32_t v : second.triangles) crossing.triangles.push_back(base + v);
+  testing::Append(crossing, testing::MakeBox({1, 1, 1}, {2, 2, 2}), {0.3f, 0.3f, 0.3f});
   const absl::Status c = CheckClosedSolid(crossing);
   EXPECT_EQ(c.code(), absl::StatusCode::kInvalidArgument);
   EXPECT_HAS(c.message(), "the surface intersects itself: ");
   EXPECT_HAS(c.message(), " face pairs cross (the first: faces ");
   EXPECT_HAS(c.message(), "tetgen cannot mesh it");
+  // A block standing on the box, exported apart (the contact triangulated twice): refused as
+  // overlapping faces with the contact's area, before tetgen aborts on it.
+  RawMesh stacked = box;
+  testing::Append(stacked, testing::MakeBox({0.5, 0.5, 1}, {3, 3, 2}), {0.25f, 0.25f, 1.0f});
+  const absl::Status o = CheckClosedSolid(stacked);
+  EXPECT_EQ(o.code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_HAS(o.message(), "the surface has overlapping faces: ");
+  EXPECT_HAS(o.message(), " face pairs overlap in their plane, over an area of 0.25 (the first: ");
+  EXPECT_HAS(o.message(), "tetgen cannot mesh overlapping faces");
 }
 
 class ChildProcess : public testing::TempDirTest {};

@@ -62,6 +62,22 @@ def test_an_output_that_crosses_itself_warns(client):
     assert clean.result.output_crossings.pairs == 0
 
 
+def test_bodies_touching_without_shared_vertices_warn(client):
+    # A block standing on the cube, exported apart: its bottom lies on the cube's top without a
+    # shared vertex. Nothing crosses; the faces overlap in the contact's plane (area 0.25).
+    points, triangles, _ = box_surface(4)
+    block = points * [0.5, 0.5, 1.0] + [0.2, 0.2, 1.0]  # no corner on one of the cube's corners
+    both = (np.concatenate([points, block]), np.concatenate([triangles, triangles + len(points)]))
+    with pytest.warns(femsimp.FemsimpWarning,
+                      match=r"overlapping faces: \d+ face pairs overlap in their plane, over an "
+                            r"area of 0\.25 \(the first: faces \d+ and \d+"):
+        out = client.run(both, ratio=0.5)
+    overlaps = out.result.output_crossings.overlaps
+    assert overlaps.pairs > 0 and abs(overlaps.area - 0.25) < 1e-6
+    assert len(overlaps.at) == 3 and abs(overlaps.at[2] - 1.0) < 1e-6
+    assert out.result.output_crossings.pairs == 0
+
+
 def test_a_part_far_from_the_origin_keeps_its_digits(client):
     # An assembly's global coordinates: 2 million units out, where float32 is 2^-3 apart (a
     # seventh of this part). The client sends it relative to an origin near it, the result comes

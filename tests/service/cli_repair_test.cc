@@ -367,11 +367,7 @@ TEST_F(CliRepairTest, BinaryStlOfAFarPartSaysItRounds) {
 // itself before a mesher refuses it.
 TEST_F(CliRepairTest, AnOutputThatIntersectsItselfIsReportedLocallyAndByTheServer) {
   RawMesh boxes = testing::MakeBox({1, 1, 1}, {6, 6, 6});
-  const RawMesh second = testing::MakeBox({1, 1, 1}, {6, 6, 6});
-  const uint32_t base = static_cast<uint32_t>(boxes.num_vertices());
-  for (size_t i = 0; i < second.positions.size(); ++i)
-    boxes.positions.push_back(second.positions[i] + (i % 3 == 0 ? 0.5f : 0.25f));
-  for (uint32_t v : second.triangles) boxes.triangles.push_back(base + v);
+  testing::Append(boxes, testing::MakeBox({1, 1, 1}, {6, 6, 6}), {0.5f, 0.25f, 0.25f});
   const std::string crossing = WriteSoup("crossing.off", boxes);
   testing::InProcessServer s;
   for (const bool remote : {false, true}) {
@@ -398,7 +394,38 @@ TEST_F(CliRepairTest, AnOutputThatIntersectsItselfIsReportedLocallyAndByTheServe
   // A clean input: no warning, and the count says none.
   ASSERT_EQ(Run({input_, Path("out.off"), "--stats-json", Path("s.json")}), cli::kExitOk) << err_;
   EXPECT_EQ(out_.find("intersects itself"), std::string::npos) << out_;
-  EXPECT_HAS(testing::ReadFileBytes(Path("s.json")), "\"output_crossings\": {\"pairs\": 0}");
+  EXPECT_HAS(testing::ReadFileBytes(Path("s.json")),
+             "\"output_crossings\": {\"pairs\": 0, \"overlaps\": {\"pairs\": 0}}");
+}
+
+// A block standing on a plate, the two exported apart (each triangulates the contact its own
+// way): nothing crosses, yet a mesher refuses the faces that overlap in the contact's plane. The
+// summary, --stats-json and the server's Result say so, with the contact's area.
+TEST_F(CliRepairTest, BodiesTouchingWithoutSharedVerticesAreReportedLocallyAndByTheServer) {
+  RawMesh stacked = testing::MakeBox({4, 3, 1}, {4, 3, 1});
+  testing::Append(stacked, testing::MakeBox({2, 1, 2}, {3, 2, 2}), {0.5f, 0.5f, 1.0f});
+  const std::string input = WriteSoup("stacked.off", stacked);
+  testing::InProcessServer s;
+  for (const bool remote : {false, true}) {
+    std::vector<std::string> args = {input, Path("out.off"), "--stats-json", Path("s.json")};
+    if (remote) args.insert(args.end(), {"--server", s.address()});
+    ASSERT_EQ(Run(args), cli::kExitOk) << err_;
+    absl::StatusOr<RawMesh> out = ReadMeshFile(Path("out.off"));
+    ASSERT_TRUE(out.ok()) << out.status();
+    const SoupCrossings c = FindCrossings(*out);
+    EXPECT_EQ(c.pairs, 0u);
+    ASSERT_GT(c.overlaps.pairs, 0u);
+    EXPECT_NEAR(c.overlaps.area, 2.0, 1e-6);
+    EXPECT_HAS(out_, absl::StrFormat("warning:  OUT has overlapping faces: %u face pairs overlap "
+                                     "in their plane, over an area of 2 (the first: faces %u and "
+                                     "%u, at (",
+                                     c.overlaps.pairs, c.overlaps.face_a, c.overlaps.face_b));
+    EXPECT_EQ(out_.find("intersects itself"), std::string::npos) << out_;
+    EXPECT_HAS(testing::ReadFileBytes(Path("s.json")),
+               absl::StrCat("\"output_crossings\": {\"pairs\": 0, \"overlaps\": {\"pairs\": ",
+                            c.overlaps.pairs, ", \"area\": 2, \"faces\": [", c.overlaps.face_a,
+                            ", ", c.overlaps.face_b, "]"));
+  }
 }
 
 TEST_F(CliRepairTest, RemoteRunPrintsTheServersReport) {

@@ -282,6 +282,8 @@ TEST(Wire, FidelityFiguresRoundTrip) {
   r.wall_limited_share = 0.375;
   r.thinnest_wall = 0.0625;
   r.output_crossings = {.pairs = 8, .face_a = 12, .face_b = 57, .at = {1.5, -2.25, 3}};
+  r.output_crossings.overlaps = {
+      .pairs = 5, .face_a = 7, .face_b = 70, .at = {1, 0, -1}, .area = 2.5};
   r.coordinates = {.magnitude = 3e6, .spacing = 0.25, .diagonal = 53.5};
   v1::Result m;
   wire::FidelityToProto(r, &m);
@@ -309,6 +311,11 @@ TEST(Wire, FidelityFiguresRoundTrip) {
   EXPECT_EQ(back.output_crossings.face_a, 12u);
   EXPECT_EQ(back.output_crossings.face_b, 57u);
   EXPECT_EQ(back.output_crossings.at, (std::array<double, 3>{1.5, -2.25, 3}));
+  EXPECT_EQ(back.output_crossings.overlaps.pairs, 5u);
+  EXPECT_EQ(back.output_crossings.overlaps.face_a, 7u);
+  EXPECT_EQ(back.output_crossings.overlaps.face_b, 70u);
+  EXPECT_EQ(back.output_crossings.overlaps.area, 2.5);
+  EXPECT_EQ(back.output_crossings.overlaps.at, (std::array<double, 3>{1, 0, -1}));
   EXPECT_EQ(back.coordinates.magnitude, 3e6);
   EXPECT_EQ(back.coordinates.spacing, 0.25);
   EXPECT_EQ(back.coordinates.diagonal, 53.5);
@@ -435,7 +442,28 @@ TEST(Report, SummaryWarnsWhereTheOutputIntersectsItself) {
   EXPECT_NE(s.find("--allow-self-intersections let the run make crossings"), std::string::npos)
       << s;
   EXPECT_NE(cli::ReportJson(r).find("\"output_crossings\": {\"pairs\": 1, \"faces\": [12, 57], "
-                                    "\"at\": [1.5, -2, 3]}"),
+                                    "\"at\": [1.5, -2, 3], \"overlaps\": {\"pairs\": 0}}"),
+            std::string::npos);
+}
+
+// Bodies exported apart that touch leave faces overlapping in their plane: a warning of its own,
+// with the contact's area, and the figures in --stats-json.
+TEST(Report, SummaryWarnsWhereTheOutputHasOverlappingFaces) {
+  cli::RunReport r;
+  r.fidelity.output_crossings.overlaps = {
+      .pairs = 3, .face_a = 4, .face_b = 9, .at = {1, 2, 3}, .area = 0.75};
+  const std::string s = cli::Summary(r);
+  EXPECT_NE(s.find("warning:  OUT has overlapping faces: 3 face pairs overlap in their plane, over "
+                   "an area of 0.75 (the first: faces 4 and 9, at (1, 2, 3)): bodies exported "
+                   "apart that touch, each with its own triangulation of the contact; kept from "
+                   "the input (the simplification makes none); tetgen and most FE meshers refuse "
+                   "overlapping faces"),
+            std::string::npos)
+      << s;
+  EXPECT_EQ(s.find("intersects itself"), std::string::npos) << s;
+  EXPECT_NE(cli::ReportJson(r).find("\"output_crossings\": {\"pairs\": 0, \"overlaps\": "
+                                    "{\"pairs\": 3, \"area\": 0.75, \"faces\": [4, 9], \"at\": "
+                                    "[1, 2, 3]}}"),
             std::string::npos);
 }
 
@@ -746,7 +774,7 @@ TEST(Report, JsonHasEveryField) {
                           "\"mean_thickness\"",
                           "\"inertia_change\"",
                           "\"wall_limited_share\"",
-                          "\"output_crossings\": {\"pairs\": 0}",
+                          "\"output_crossings\": {\"pairs\": 0, \"overlaps\": {\"pairs\": 0}}",
                           "\"tolerance_relative\"",
                           "\"feature_angle_deg\"",
                           "\"max_field_change\"",

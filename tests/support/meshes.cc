@@ -116,6 +116,13 @@ RawMesh ShellBesideSolidTorus() {
   return out;
 }
 
+void Append(RawMesh& m, const RawMesh& add, const std::array<float, 3>& shift) {
+  const uint32_t base = static_cast<uint32_t>(m.num_vertices());
+  for (size_t i = 0; i < add.positions.size(); ++i)
+    m.positions.push_back(add.positions[i] + shift[i % 3]);
+  for (uint32_t v : add.triangles) m.triangles.push_back(base + v);
+}
+
 RawMesh MakeBox(const std::array<double, 3>& size, const std::array<int, 3>& cells) {
   RawMesh mesh;
   std::map<std::array<int, 3>, uint32_t> ids;  // grid point -> vertex, shared by the sides

@@ -31,6 +31,8 @@ RawMesh PreciseTetrahedron();
 // squares of two triangles, counter-clockwise seen from outside (a beam or a plate for the FE
 // check's known answers).
 RawMesh MakeBox(const std::array<double, 3>& size, const std::array<int, 3>& cells);
+// `add`'s vertices and faces appended to `m` (a second body in one soup), moved by `shift`.
+void Append(RawMesh& m, const RawMesh& add, const std::array<float, 3>& shift);
 
 // Closed torus of n * m vertices and 2nm faces (a valid closed 2-manifold), radii R and r.
 RawMesh MakeTorus(int n, int m, double R = 3.0, double r = 1.0);
