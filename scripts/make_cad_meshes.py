@@ -29,6 +29,8 @@ writes the triangle soups, then makes broken copies the way CAD exports break:
              vertices on it, off the chords), missing (five facets dropped: holes), unwelded
              (every CAD face its own vertices), unreferenced (unused and duplicated vertices),
              bowtie (two parts welded at one vertex: non-manifold vertex); the assembly (non-manifold edges),
+             assembly_apart_solids (its boxes meshed body by body, one named STL solid each:
+             contacts whose facets overlap in their plane, as an assembly exported to STL has),
              bottle_export_crossing (self-intersecting) and every occ_stl file are not clean
 
   held out   shaft (stepped, filleted, keyway, cross hole), elbow (thick-walled pipe bend),
@@ -653,22 +655,22 @@ def write_stl(path, pos, tris):
         f.write(rec.tobytes())
 
 
-def write_stl_solids(path, pos, tris, groups):
-    """ASCII STL, one solid per CAD face, as gmsh (Mesh.StlOneSolidPerSurface) and
-    pre-processors export boundary patches."""
+def write_stl_solids(path, pos, tris, groups, name_of=lambda g: f"cad_face_{g}"):
+    """ASCII STL, one solid per group (default: per CAD face, as gmsh
+    (Mesh.StlOneSolidPerSurface) and pre-processors export boundary patches)."""
     p = pos[tris].astype(np.float64)
     n = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
     ln = np.linalg.norm(n, axis=1, keepdims=True)
     n = np.divide(n, ln, out=np.zeros_like(n), where=ln > 0)
     lines = []
     for g in np.unique(groups).tolist():
-        lines.append(f"solid cad_face_{g}")
+        lines.append(f"solid {name_of(g)}")
         for f in np.flatnonzero(groups == g).tolist():
             lines.append("facet normal " + " ".join(fmt(c) for c in n[f]))
             lines.append("outer loop")
             lines += ["vertex " + " ".join(fmt(c) for c in pos[v]) for v in tris[f].tolist()]
             lines += ["endloop", "endfacet"]
-        lines.append(f"endsolid cad_face_{g}")
+        lines.append(f"endsolid {name_of(g)}")
     with open(path, "w") as f:
         f.write("\n".join(lines) + "\n")
 
@@ -1050,6 +1052,47 @@ BROKEN = [
 # -------------------------------------------------------------------------------------- main
 
 
+APART_BODIES = {"plate_left": (0, 0, 0, 30, 40, 10), "plate_right": (30, 0, 0, 30, 40, 10),
+                "block_left": (10, 10, 10, 20, 20, 20), "block_right": (30, 10, 10, 20, 20, 20)}
+
+
+def assembly_apart(outdir):
+    """The assembly's boxes (no pin) exported body by body, as a CAD tool writes an assembly to
+    one STL: each body tessellated on its own (no occ.fragment), one named solid per body, its
+    vertices welded only where the float32 coordinates are equal (as an STL reader does). Where
+    a block stands on a plate the two contacts' facets overlap in their plane without sharing a
+    vertex (a mesher refuses them); where two bodies' contact faces are the same rectangle gmsh
+    may triangulate both alike, and repair keeps one copy (a conforming seam)."""
+    gmsh.clear()
+    gmsh.model.add("assembly_apart")
+    tags = {name: gmsh.model.occ.addBox(*box) for name, box in APART_BODIES.items()}
+    gmsh.model.occ.synchronize()
+    xmin, ymin, zmin, xmax, ymax, zmax = gmsh.model.getBoundingBox(-1, -1)
+    pos, tris, groups = mesh_surfaces(VARIANTS["coarse"],
+                                      math.dist((xmin, ymin, zmin), (xmax, ymax, zmax)))
+    body = np.zeros(len(tris), dtype=np.int64)
+    for tag in tags.values():
+        surfs = [abs(s) for _, s in gmsh.model.getBoundary([(3, tag)], oriented=False)]
+        body[np.isin(groups, surfs)] = tag
+    for tag in tags.values():  # each body outward on its own (its nodes are its own)
+        tris = orient(pos, tris, np.flatnonzero(body == tag))
+    welded, inverse = np.unique(pos, axis=0, return_inverse=True)
+    tris = inverse.reshape(-1)[tris]
+    path = os.path.join(outdir, "assembly_apart_solids.stl")
+    names = {tag: name for name, tag in tags.items()}
+    write_stl_solids(path, welded, tris, body, name_of=lambda g: names[g])
+    return {
+        "file": os.path.basename(path), "part": "assembly", "variant": "apart_solids",
+        "format": "stl", "clean": False, "broken": [{
+            "kind": "touching_apart",
+            "note": "four boxes meshed body by body and written as named solids: the blocks' "
+                    "bottoms overlap the plates' tops in their plane, no vertex shared"}],
+        "by_construction": {"closed": False, "manifold": False,
+                            "after_repair": "touching bodies, their contacts overlapping"},
+        "cad_faces": int(len(np.unique(groups))), "volumes": len(tags),
+        "measured": measure(welded, tris)}
+
+
 def build_part(part):
     gmsh.clear()
     gmsh.model.add(part)
@@ -1137,6 +1180,8 @@ def generate(outdir, parts, log):
             "by_construction": {"closed": False, "manifold": False,
                                 "after_repair": "as the clean variants"},
             "cad_faces": len(gmsh.model.getEntities(2)), "measured": measure(pos, tris)})
+        if part == "assembly":
+            manifest["files"].append(assembly_apart(outdir))
         log(f"{part}: {time.time() - t0:.1f} s")
     gmsh.finalize()
     shutil.rmtree(tmpdir)

@@ -47,6 +47,7 @@ namespace {
 struct Measured {
   judge::Topology topology;
   long self_intersecting_pairs = 0;
+  long overlapping_pairs = 0;  // in one plane, no corner in common (bodies exported apart)
   double volume = 0.0, area = 0.0;
   size_t groups = 0;
 };
@@ -59,6 +60,7 @@ Measured Measure(const RawMesh& mesh) {
   const bool seams = m.topology.nonmanifold_edges > 0 || m.topology.nonmanifold_vertices > 0;
   m.self_intersecting_pairs = static_cast<long>(seams ? judge::SoupSelfIntersectingPairs(mesh)
                                                       : judge::SelfIntersectingPairs(mesh));
+  m.overlapping_pairs = static_cast<long>(judge::SoupOverlappingPairs(mesh));
   if (m.topology.closed_manifold()) m.volume = judge::SolidProperties(mesh).volume;
   m.area = judge::SurfaceProperties(mesh).area;
   m.groups = judge::GroupIds(mesh).size();
@@ -188,13 +190,15 @@ int Main(int argc, char** argv) {
       "\"hausdorff_in_out\":%.9g,\"hausdorff_out_in\":%.9g,\"hausdorff\":%.9g,"
       "\"hausdorff_error\":%.3g,\"hausdorff_over_diagonal\":%.6g,\"closed\":%s,"
       "\"volume_in\":%.9g,\"volume_out\":%.9g,\"volume_change\":%.6g,"
-      "\"self_intersections_in\":%ld,\"self_intersections_out\":%ld,\"groups_in\":%zu,"
+      "\"self_intersections_in\":%ld,\"self_intersections_out\":%ld,"
+      "\"overlaps_in\":%ld,\"overlaps_out\":%ld,\"groups_in\":%zu,"
       "\"groups_out\":%zu,\"seam_points_in\":%zu,\"seam_points_out\":%zu,"
       "\"vertex_reduction\":%.6g,\"judge_seconds\":%.3f,\"failures\":[%s]}\n",
       TopologyJson(ta).c_str(), TopologyJson(tb).c_str(), diag, tolerance, slack, h.a_to_b,
       h.b_to_a, h.two_sided(), h.error, diag > 0 ? h.two_sided() / diag : 0.0,
       closed ? "true" : "false", a.volume, b.volume, volume_change, a.self_intersecting_pairs,
-      b.self_intersecting_pairs, a.groups, b.groups, seams.input_points, seams.output_points,
+      b.self_intersecting_pairs, a.overlapping_pairs, b.overlapping_pairs, a.groups, b.groups,
+      seams.input_points, seams.output_points,
       ta.vertices > 0 ? 1.0 - static_cast<double>(tb.vertices) / ta.vertices : 0.0, seconds,
       absl::StrJoin(quoted, ",").c_str());
   for (const std::string& f : failures) std::fprintf(stderr, "cad_judge: FAILED: %s\n", f.c_str());

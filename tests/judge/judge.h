@@ -68,6 +68,10 @@ size_t SelfIntersectingPairs(const RawMesh& mesh);
 // so that the parts of an assembly touch at their seams instead of crossing there (the mesh
 // test above splits a seam into copies that only touch). Degenerate faces are left out.
 size_t SoupSelfIntersectingPairs(const RawMesh& mesh);
+// Pairs of faces with no corner in common that lie in one plane and overlap there with a positive
+// area (exact predicates and constructions): bodies exported apart that touch. Degenerate faces
+// are left out.
+size_t SoupOverlappingPairs(const RawMesh& mesh);
 
 struct Topology {
   long vertices = 0, edges = 0, faces = 0;  // referenced vertices only
