@@ -31,15 +31,16 @@ std::string List(const std::vector<double>& v) {
 }
 
 std::string SolidJson(const fecheck::SolidFigures& f, const std::string& path) {
-  return absl::StrCat("{", path.empty() ? "" : absl::StrCat("\"path\": ", JsonString(path), ", "),
-                      "\"surface_faces\": ", f.surface_faces, ", \"tetrahedra\": ", f.tetrahedra,
-                      ", \"nodes\": ", f.nodes, ", \"solver_nodes\": ", f.solver_nodes,
-                      ", \"components\": ", f.components, ", \"volume\": ", JsonNumber(f.volume),
-                      ", \"mass\": ", JsonNumber(f.mass), ", \"centroid\": ", Triple(f.centroid),
-                      ", \"principal_moments\": ", Triple(f.principal_moments),
-                      ", \"diagonal\": ", JsonNumber(f.diagonal),
-                      ", \"frequencies_hz\": ", List(f.frequencies_hz),
-                      ", \"rigid_modes\": ", f.rigid_modes, "}");
+  return absl::StrCat(
+      "{", path.empty() ? "" : absl::StrCat("\"path\": ", JsonString(path), ", "),
+      "\"surface_faces\": ", f.surface_faces, ", \"tetrahedra\": ", f.tetrahedra,
+      ", \"nodes\": ", f.nodes, ", \"solver_nodes\": ", f.solver_nodes,
+      ", \"components\": ", f.components, ", \"bodies_meshed_apart\": ", f.bodies_meshed_apart,
+      ", \"volume\": ", JsonNumber(f.volume), ", \"mass\": ", JsonNumber(f.mass),
+      ", \"centroid\": ", Triple(f.centroid),
+      ", \"principal_moments\": ", Triple(f.principal_moments),
+      ", \"diagonal\": ", JsonNumber(f.diagonal), ", \"frequencies_hz\": ", List(f.frequencies_hz),
+      ", \"rigid_modes\": ", f.rigid_modes, "}");
 }
 
 }  // namespace
@@ -88,6 +89,12 @@ std::string FeCheckTable(const fecheck::FeCheckReport& r, const std::array<std::
       absl::StrAppend(&s, "  note: the ", f == &a ? "original" : "simplified", " mesh has ",
                       f->rigid_modes, " near-zero modes for ", f->components,
                       " part(s), 6 each expected: a part may hang by a thread\n");
+  for (const fecheck::SolidFigures* f : {&a, &b})
+    if (f->bodies_meshed_apart > 0)
+      absl::StrAppend(&s, "  note: the ", f == &a ? "original" : "simplified", " surface's ",
+                      f->bodies_meshed_apart,
+                      " bodies touch without sharing faces: each was tet-meshed on its own, so "
+                      "they are not bonded (their contacts carry no load)\n");
   // With the surfaces kept (tetgen -Y), a coarse surface makes a coarse tet mesh, whose
   // discretisation error (stiffer: higher frequencies) adds to the geometric difference.
   const double ratio =

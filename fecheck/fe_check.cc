@@ -107,6 +107,7 @@ absl::StatusOr<SolidFigures> AnalyseSolid(const RawMesh& surface, const std::str
   f.tetrahedra = static_cast<int64_t>(tets->num_tets());
   f.nodes = static_cast<int64_t>(tets->num_nodes());
   f.components = tets->components;
+  f.bodies_meshed_apart = tets->bodies_meshed_apart;
   const SolidProperties solid = MeasureSolid(*tets, options.material.density);
   f.volume = solid.volume;
   f.mass = options.material.density * solid.volume;

@@ -58,6 +58,7 @@ struct SolidFigures {
   double diagonal = 0.0;                             // bounding-box diagonal, m
   std::vector<double> frequencies_hz;                // first non-rigid modes, ascending
   int rigid_modes = 0;                               // set apart (6 per component expected)
+  int bodies_meshed_apart = 0;  // touching without shared faces, so not bonded (else 0)
 };
 
 struct FeCheckReport {

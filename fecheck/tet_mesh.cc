@@ -97,6 +97,59 @@ absl::Status WriteSmesh(const std::string& path, const RawMesh& m) {
   return absl::OkStatus();
 }
 
+// The surface split into bodies, each meshed on its own where bodies touch without sharing
+// faces (tetgen refuses their overlapping facets): a body is a vertex-connected part of
+// positive volume with the cavity walls (parts of negative volume) whose corners lie in its
+// material. Vertices keep their positions; each body numbers its own from 0.
+std::vector<RawMesh> Bodies(const RawMesh& m) {
+  const size_t nf = m.num_faces();
+  UnionFind parts(uint32_t(m.num_vertices()));
+  for (size_t f = 0; f < nf; ++f)
+    for (int k = 1; k < 3; ++k) parts.Union(m.triangles[3 * f], m.triangles[3 * f + k]);
+  std::map<uint32_t, std::vector<uint32_t>> faces_of;  // ordered: bodies in a fixed order
+  std::map<uint32_t, double> six_volume;
+  for (size_t f = 0; f < nf; ++f) {
+    const uint32_t root = parts.Find(m.triangles[3 * f]);
+    faces_of[root].push_back(static_cast<uint32_t>(f));
+    six_volume[root] += Dot(Corner(m, f, 0), Cross(Corner(m, f, 1), Corner(m, f, 2)));
+  }
+  const auto soup_of = [&](const std::vector<uint32_t>& faces) {
+    RawMesh body;
+    body.origin = m.origin;
+    std::map<uint32_t, uint32_t> renumbered;
+    for (uint32_t f : faces)
+      for (int k = 0; k < 3; ++k) {
+        const uint32_t v = m.triangles[3 * size_t{f} + k];
+        const auto [at, fresh] = renumbered.try_emplace(v, uint32_t(renumbered.size()));
+        if (fresh)
+          body.positions.insert(body.positions.end(), &m.positions[3 * size_t{v}],
+                                &m.positions[3 * size_t{v}] + 3);
+        body.triangles.push_back(at->second);
+      }
+    return body;
+  };
+  std::vector<std::vector<uint32_t>> body_faces;
+  std::vector<RawMesh> shells;
+  for (const auto& [root, faces] : faces_of)
+    if (six_volume[root] > 0) {
+      body_faces.push_back(faces);
+      shells.push_back(soup_of(faces));
+    }
+  for (const auto& [root, faces] : faces_of) {
+    if (six_volume[root] > 0) continue;
+    const float* p = &m.positions[3 * size_t{m.triangles[3 * size_t{faces[0]}]}];
+    for (size_t b = 0; b < shells.size(); ++b)
+      if (PointInShell(shells[b].positions.data(), shells[b].triangles)
+              .Winding({p[0], p[1], p[2]}) != 0) {
+        body_faces[b].insert(body_faces[b].end(), faces.begin(), faces.end());
+        break;
+      }
+  }
+  std::vector<RawMesh> bodies;
+  for (const std::vector<uint32_t>& faces : body_faces) bodies.push_back(soup_of(faces));
+  return bodies;
+}
+
 int CountComponents(const TetMesh& mesh) {
   UnionFind parts(mesh.num_nodes());
   std::vector<bool> used(mesh.num_nodes(), false);
@@ -132,12 +185,18 @@ absl::Status CheckClosedSolid(const RawMesh& surface) {
         "the surface intersects itself: ", DescribeCrossings(c),
         ", so it bounds no solid and tetgen cannot mesh it (a finer export of the part avoids "
         "it)"));
-  if (c.overlaps.pairs > 0)
-    return absl::InvalidArgumentError(absl::StrCat(
-        "the surface has overlapping faces: ", DescribeOverlaps(c),
-        "; tetgen cannot mesh overlapping faces (export the assembly with its contacts shared, "
-        "as gmsh's fragment does, or check each body on its own)"));
-  return absl::OkStatus();
+  if (c.overlaps.pairs == 0) return absl::OkStatus();
+  // Bodies that only touch are meshed each on its own (Tetrahedralise); faces overlapping within
+  // one body are a fold no mesher takes.
+  const std::vector<RawMesh> bodies = Bodies(surface);
+  bool apart = bodies.size() > 1;
+  for (size_t b = 0; apart && b < bodies.size(); ++b)
+    apart = FindCrossings(bodies[b]).overlaps.pairs == 0;
+  if (apart) return absl::OkStatus();
+  return absl::InvalidArgumentError(
+      absl::StrCat("the surface has overlapping faces, some within one body (parts joined by "
+                   "shared vertices, which tetgen meshes whole): ",
+                   DescribeOverlaps(c), "; tetgen cannot mesh overlapping faces"));
 }
 
 absl::StatusOr<std::vector<std::vector<double>>> ReadTetgenTable(const std::string& path) {
@@ -164,46 +223,51 @@ absl::StatusOr<std::vector<std::vector<double>>> ReadTetgenTable(const std::stri
   return rows;
 }
 
-absl::StatusOr<TetMesh> Tetrahedralise(const RawMesh& surface, double unit_scale,
-                                       double max_tet_volume, bool keep_surface,
-                                       const ToolRun& run) {
-  if (absl::Status s = WriteSmesh(run.dir + "/surface.smesh", surface); !s.ok()) return s;
+namespace {
+
+// tetgen on one surface written as run.dir/STEM.smesh, its nodes appended to `mesh` (scaled) and
+// its tetrahedra after them, each of positive volume.
+absl::Status AppendTetgenMesh(const RawMesh& surface, const std::string& stem, double unit_scale,
+                              double max_tet_volume, bool keep_surface, const ToolRun& run,
+                              TetMesh& mesh) {
+  const std::string smesh = stem + ".smesh";
+  if (absl::Status s = WriteSmesh(run.dir + "/" + smesh, surface); !s.ok()) return s;
   // -p: the surface is a piecewise linear complex; -Y: keep it as given; -q1.414: radius-edge
   // ratio bound (no slivers inside); -z: number from 0, as the .smesh does.
   std::string switches = keep_surface ? "-pq1.414Yz" : "-pq1.414z";
   if (max_tet_volume > 0) absl::StrAppend(&switches, absl::StrFormat("a%.9g", max_tet_volume));
-  absl::StatusOr<ToolExit> ran = RunTool(kTetgen, {switches, "surface.smesh"}, run);
+  absl::StatusOr<ToolExit> ran = RunTool(kTetgen, {switches, smesh}, run);
   if (!ran.ok()) return ran.status();
   if (!ran->exit.ok()) return absl::InvalidArgumentError(ToolFailure(kTetgen, *ran));
 
+  const std::string node_file = stem + ".1.node", ele_file = stem + ".1.ele";
   absl::StatusOr<std::vector<std::vector<double>>> nodes =
-      ReadTetgenTable(run.dir + "/surface.1.node");
-  absl::StatusOr<std::vector<std::vector<double>>> tets =
-      ReadTetgenTable(run.dir + "/surface.1.ele");
+      ReadTetgenTable(run.dir + "/" + node_file);
+  absl::StatusOr<std::vector<std::vector<double>>> tets = ReadTetgenTable(run.dir + "/" + ele_file);
   if (!nodes.ok() || !tets.ok() || tets->size() < 2)
     return absl::InvalidArgumentError(ToolFailure(kTetgen, *ran, "it made no tetrahedra"));
-  TetMesh mesh;
+  const size_t first_node = mesh.num_nodes();
   const size_t num_nodes = nodes->size() - 1;
-  mesh.nodes.reserve(3 * num_nodes);
+  mesh.nodes.reserve(3 * (first_node + num_nodes));
   for (size_t n = 1; n < nodes->size(); ++n) {
     const std::vector<double>& row = (*nodes)[n];
     if (row.size() < 4 || row[0] != static_cast<double>(n - 1))
       return absl::InternalError(
-          absl::StrCat("tetgen's surface.1.node: node ", n - 1, " malformed"));
+          absl::StrCat("tetgen's ", node_file, ": node ", n - 1, " malformed"));
     for (int k = 1; k <= 3; ++k) mesh.nodes.push_back(row[k] * unit_scale);
   }
-  mesh.tets.reserve(4 * (tets->size() - 1));
+  mesh.tets.reserve(mesh.tets.size() + 4 * (tets->size() - 1));
   for (size_t t = 1; t < tets->size(); ++t) {
     const std::vector<double>& row = (*tets)[t];
     if (row.size() < 5)
-      return absl::InternalError(absl::StrCat("tetgen's surface.1.ele: tetrahedron ", t - 1,
+      return absl::InternalError(absl::StrCat("tetgen's ", ele_file, ": tetrahedron ", t - 1,
                                               " has fewer than four nodes"));
     uint32_t v[4];
     for (int k = 0; k < 4; ++k) {
       if (row[k + 1] < 0 || row[k + 1] >= static_cast<double>(num_nodes))
-        return absl::InternalError(absl::StrCat("tetgen's surface.1.ele: tetrahedron ", t - 1,
+        return absl::InternalError(absl::StrCat("tetgen's ", ele_file, ": tetrahedron ", t - 1,
                                                 " names a node out of range"));
-      v[k] = static_cast<uint32_t>(row[k + 1]);
+      v[k] = static_cast<uint32_t>(first_node + static_cast<size_t>(row[k + 1]));
     }
     // Positive volume, as CalculiX's C3D10 numbering expects.
     const double* a = &mesh.nodes[3 * v[0]];
@@ -215,6 +279,30 @@ absl::StatusOr<TetMesh> Tetrahedralise(const RawMesh& surface, double unit_scale
                        e[0][2] * (e[1][0] * e[2][1] - e[1][1] * e[2][0]);
     if (det < 0) std::swap(v[1], v[2]);
     mesh.tets.insert(mesh.tets.end(), v, v + 4);
+  }
+  return absl::OkStatus();
+}
+
+}  // namespace
+
+absl::StatusOr<TetMesh> Tetrahedralise(const RawMesh& surface, double unit_scale,
+                                       double max_tet_volume, bool keep_surface,
+                                       const ToolRun& run) {
+  TetMesh mesh;
+  // Bodies that touch without sharing faces (CheckClosedSolid let them through) are meshed each
+  // on its own: not bonded, their contacts carry no load.
+  if (FindCrossings(surface).overlaps.pairs > 0) {
+    const std::vector<RawMesh> bodies = Bodies(surface);
+    for (size_t b = 0; b < bodies.size(); ++b)
+      if (absl::Status s = AppendTetgenMesh(bodies[b], absl::StrCat("body", b), unit_scale,
+                                            max_tet_volume, keep_surface, run, mesh);
+          !s.ok())
+        return s;
+    mesh.bodies_meshed_apart = static_cast<int>(bodies.size());
+  } else if (absl::Status s = AppendTetgenMesh(surface, "surface", unit_scale, max_tet_volume,
+                                               keep_surface, run, mesh);
+             !s.ok()) {
+    return s;
   }
   mesh.components = CountComponents(mesh);
   return mesh;

@@ -15,19 +15,22 @@
 namespace femsimp::fecheck {
 
 struct TetMesh {
-  std::vector<double> nodes;   // x, y, z per node, in metres (the unit scale applied)
-  std::vector<uint32_t> tets;  // four nodes per tetrahedron, positive volume
-  int components = 0;          // node-connected parts (each has six rigid-body modes)
+  std::vector<double> nodes;    // x, y, z per node, in metres (the unit scale applied)
+  std::vector<uint32_t> tets;   // four nodes per tetrahedron, positive volume
+  int components = 0;           // node-connected parts (each has six rigid-body modes)
+  int bodies_meshed_apart = 0;  // bodies that touch without shared faces, meshed each alone
   size_t num_nodes() const { return nodes.size() / 3; }
   size_t num_tets() const { return tets.size() / 4; }
 };
 
 // What tetgen needs of a surface: valid triangles (CheckSoup), closed (no boundary edge),
-// enclosing a positive volume (oriented outwards), not crossing itself and with no faces
-// overlapping in their plane (FindCrossings). InvalidArgument saying what is wrong.
+// enclosing a positive volume (oriented outwards), not crossing itself, and with faces
+// overlapping in their plane (FindCrossings) only between bodies that touch (each meshed on its
+// own by Tetrahedralise). InvalidArgument saying what is wrong.
 absl::Status CheckClosedSolid(const RawMesh& surface);
 
-// Runs tetgen on `surface` (written to run.dir) with the quality bound -q1.414 and, when
+// Runs tetgen on `surface` (written to run.dir; each body on its own where bodies touch without
+// shared faces, so that they are not bonded) with the quality bound -q1.414 and, when
 // max_tet_volume > 0, that volume bound in model units cubed; coordinates are multiplied by
 // unit_scale afterwards. InvalidArgument quoting tetgen when it refuses the surface (e.g. a
 // self-intersection), Cancelled, NotFound (no tetgen).

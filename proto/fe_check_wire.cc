@@ -30,6 +30,7 @@ void SolidToProto(const fecheck::SolidFigures& f, v1::FeSolid* out) {
   out->set_diagonal(f.diagonal);
   for (double hz : f.frequencies_hz) out->add_frequencies_hz(hz);
   out->set_rigid_modes(static_cast<uint32_t>(f.rigid_modes));
+  out->set_bodies_meshed_apart(static_cast<uint32_t>(f.bodies_meshed_apart));
 }
 
 fecheck::SolidFigures SolidFromProto(const v1::FeSolid& in) {
@@ -47,6 +48,7 @@ fecheck::SolidFigures SolidFromProto(const v1::FeSolid& in) {
   f.diagonal = in.diagonal();
   f.frequencies_hz.assign(in.frequencies_hz().begin(), in.frequencies_hz().end());
   f.rigid_modes = static_cast<int>(in.rigid_modes());
+  f.bodies_meshed_apart = static_cast<int>(in.bodies_meshed_apart());
   return f;
 }
 

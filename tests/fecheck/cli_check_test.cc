@@ -67,6 +67,22 @@ TEST_F(CliCheckTest, TableAndJson) {
   EXPECT_HAS(json, "\"worst_frequency\": ");
 }
 
+// Bodies exported apart that touch: checked, each body meshed on its own, which the table and
+// the JSON say.
+TEST_F(CliCheckTest, TouchingBodiesAreCheckedApart) {
+  RawMesh stacked = testing::MakeBox({100, 20, 10}, {10, 2, 1});
+  testing::Append(stacked, testing::MakeBox({20, 10, 10}, {3, 2, 2}), {10.5f, 5.25f, 10.0f});
+  const std::string path = WriteSoup("stacked.off", stacked);
+  ASSERT_EQ(Run({"check", path, path, "--unit-scale", "0.001", "--json", Path("c.json")}),
+            cli::kExitOk)
+      << err_;
+  EXPECT_HAS(out_,
+             "note: the original surface's 2 bodies touch without sharing faces: each was "
+             "tet-meshed on its own, so they are not bonded");
+  EXPECT_HAS(out_, "rigid-body modes set apart   12               12");
+  EXPECT_HAS(testing::ReadFileBytes(Path("c.json")), "\"bodies_meshed_apart\": 2");
+}
+
 TEST_F(CliCheckTest, OpenSurfaceExitsWithInvalidInput) {
   RawMesh open = testing::MakeBox({100, 20, 10}, {10, 2, 1});
   open.triangles.resize(open.triangles.size() - 3 * 40);  // no top: too large a hole to fill

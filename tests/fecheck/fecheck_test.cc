@@ -8,6 +8,7 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -17,6 +18,7 @@
 #include <sstream>
 #include <string>
 
+#include "engine/crossings.h"
 #include "fecheck/calculix.h"
 #include "fecheck/child_process.h"
 #include "fecheck/fe_check.h"
@@ -152,10 +154,25 @@ TEST(ClosedSolid, OpenAndInsideOutSurfacesAreRefused) {
   // overlapping faces with the contact's area, before tetgen aborts on it.
   RawMesh stacked = box;
   testing::Append(stacked, testing::MakeBox({0.5, 0.5, 1}, {3, 3, 2}), {0.25f, 0.25f, 1.0f});
-  const absl::Status o = CheckClosedSolid(stacked);
+  EXPECT_TRUE(CheckClosedSolid(stacked).ok());
+  // Standing on the box's top corner quarter, the block has two corners on the box's vertices;
+  // welded there it is one body with the box, which tetgen would have to mesh whole: refused,
+  // naming the overlap.
+  RawMesh joined = box;
+  testing::Append(joined, testing::MakeBox({0.5, 0.5, 1}, {3, 3, 2}), {0.5f, 0.5f, 1.0f});
+  int welded = 0;
+  for (uint32_t& v : joined.triangles)
+    for (uint32_t w = 0; w < box.num_vertices() && v >= box.num_vertices(); ++w)
+      if (std::equal(&joined.positions[3 * v], &joined.positions[3 * v] + 3,
+                     &joined.positions[3 * w])) {
+        v = w;
+        ++welded;
+      }
+  ASSERT_GT(welded, 0);
+  const absl::Status o = CheckClosedSolid(joined);
   EXPECT_EQ(o.code(), absl::StatusCode::kInvalidArgument);
-  EXPECT_HAS(o.message(), "the surface has overlapping faces: ");
-  EXPECT_HAS(o.message(), " face pairs overlap in their plane, over an area of 0.25 (the first: ");
+  EXPECT_HAS(o.message(), "the surface has overlapping faces, some within one body");
+  EXPECT_HAS(o.message(), " face pairs overlap in their plane, over an area of ");
   EXPECT_HAS(o.message(), "tetgen cannot mesh overlapping faces");
 }
 
@@ -243,10 +260,8 @@ TEST(FeCheck, FarPartsCentroidIsWhereTheFileHasIt) {
   EXPECT_NEAR(f->volume, kL * kH * kH, 1e-6 * kL * kH * kH);
 }
 
-// A box with a cavity (a cube's surface inside, facing into it): tetgen would fill the cavity
-// with tetrahedra unless told it is a hole, and the solid would weigh as a full box.
-TEST(FeCheck, CavityIsNotMeshed) {
-  SKIP_WITHOUT_FE_TOOLS();
+// A unit box with a cavity (a cube's surface of side 0.5 inside, facing into it).
+RawMesh HollowCube() {
   RawMesh hollow = testing::MakeBox({1, 1, 1}, {4, 4, 4});
   const RawMesh cavity = testing::MakeBox({0.5, 0.5, 0.5}, {2, 2, 2});
   const uint32_t base = uint32_t(hollow.num_vertices());
@@ -256,6 +271,14 @@ TEST(FeCheck, CavityIsNotMeshed) {
     hollow.triangles.insert(hollow.triangles.end(),
                             {base + cavity.triangles[3 * f], base + cavity.triangles[3 * f + 2],
                              base + cavity.triangles[3 * f + 1]});
+  return hollow;
+}
+
+// tetgen would fill the cavity with tetrahedra unless told it is a hole, and the solid would
+// weigh as a full box.
+TEST(FeCheck, CavityIsNotMeshed) {
+  SKIP_WITHOUT_FE_TOOLS();
+  const RawMesh hollow = HollowCube();
   absl::StatusOr<SolidFigures> f = AnalyseSolid(hollow, "hollow", FeCheckOptions{}, 0.0);
   ASSERT_TRUE(f.ok()) << f.status();
   EXPECT_NEAR(f->volume, 1.0 - 0.125, 1e-6);
@@ -265,6 +288,22 @@ TEST(FeCheck, CavityIsNotMeshed) {
   for (int k = 0; k < 3; ++k) EXPECT_NEAR(f->principal_moments[k] / moment, 1.0, 1e-6) << k;
   EXPECT_EQ(f->components, 1);
   EXPECT_EQ(f->rigid_modes, 6);
+}
+
+// A block standing on the hollow box, exported apart (the contact's facets overlap, no vertex
+// shared): tetgen refuses the whole, so each body is meshed on its own, the cavity with the box
+// that holds it; the two are not bonded (twelve rigid-body modes).
+TEST(FeCheck, TouchingBodiesAreMeshedApart) {
+  SKIP_WITHOUT_FE_TOOLS();
+  RawMesh bodies = HollowCube();
+  testing::Append(bodies, testing::MakeBox({0.5, 0.5, 1}, {2, 2, 2}), {0.2f, 0.2f, 1.0f});
+  ASSERT_GT(FindCrossings(bodies).overlaps.pairs, 0u);
+  absl::StatusOr<SolidFigures> f = AnalyseSolid(bodies, "bodies", FeCheckOptions{}, 0.0);
+  ASSERT_TRUE(f.ok()) << f.status();
+  EXPECT_NEAR(f->volume, 1.0 - 0.125 + 0.25, 1e-6);
+  EXPECT_EQ(f->bodies_meshed_apart, 2);
+  EXPECT_EQ(f->components, 2);
+  EXPECT_EQ(f->rigid_modes, 12);
 }
 
 TEST(FeCheck, FreeFreeBeamMatchesBeamTheory) {

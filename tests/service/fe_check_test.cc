@@ -17,6 +17,7 @@
 #include "tests/service/test_util.h"
 #include "tests/support/fe_check.h"
 #include "tests/support/files.h"
+#include "tests/support/meshes.h"
 
 namespace femsimp {
 namespace {
@@ -55,6 +56,26 @@ TEST(ServiceFeCheck, ResultHoldsBothSolids) {
   }
   EXPECT_EQ(r.input().surface_faces(), Plate().num_faces());
   EXPECT_EQ(r.output().surface_faces(), out.result.output_faces());
+}
+
+// A block standing on the plate, the two exported apart: the server's check meshes each body on
+// its own (not bonded) and says so in both solids' figures.
+TEST(ServiceFeCheck, TouchingBodiesAreMeshedApart) {
+  SKIP_WITHOUT_FE_TOOLS();
+  RawMesh stacked = Plate();
+  testing::Append(stacked, testing::MakeBox({20, 10, 10}, {3, 2, 2}), {10.5f, 5.25f, 10.0f});
+  testing::InProcessServer s;
+  grpc::ClientContext ctx;
+  const cli::RemoteOutcome out = cli::RemoteSimplify(s.stub(), ctx, FeCheckSpec(), stacked);
+  ASSERT_TRUE(out.status.ok()) << out.status.error_message();
+  EXPECT_GT(out.result.output_crossings().overlaps().pairs(), 0u);
+  for (const v1::FeSolid* solid :
+       {&out.result.fe_check().input(), &out.result.fe_check().output()}) {
+    EXPECT_EQ(solid->bodies_meshed_apart(), 2u);
+    EXPECT_EQ(solid->components(), 2u);
+    EXPECT_EQ(solid->rigid_modes(), 12u);
+    EXPECT_NEAR(solid->volume(), 2.2e-5, 1e-11);
+  }
 }
 
 TEST(ServiceFeCheck, RemoteCliPrintsIt) {
