@@ -108,10 +108,13 @@ std::vector<RawMesh> Bodies(const RawMesh& m) {
     for (int k = 1; k < 3; ++k) parts.Union(m.triangles[3 * f], m.triangles[3 * f + k]);
   std::map<uint32_t, std::vector<uint32_t>> faces_of;  // ordered: bodies in a fixed order
   std::map<uint32_t, double> six_volume;
+  std::map<uint32_t, std::pair<double, size_t>> largest;  // twice the area, facet
   for (size_t f = 0; f < nf; ++f) {
     const uint32_t root = parts.Find(m.triangles[3 * f]);
     faces_of[root].push_back(static_cast<uint32_t>(f));
-    six_volume[root] += Dot(Corner(m, f, 0), Cross(Corner(m, f, 1), Corner(m, f, 2)));
+    const DVec3 a = Corner(m, f, 0), b = Corner(m, f, 1), c = Corner(m, f, 2);
+    six_volume[root] += Dot(a, Cross(b, c));
+    largest[root] = std::max(largest[root], std::pair(Norm(Cross(b - a, c - a)), f));
   }
   const auto soup_of = [&](const std::vector<uint32_t>& faces) {
     RawMesh body;
@@ -130,20 +133,34 @@ std::vector<RawMesh> Bodies(const RawMesh& m) {
   };
   std::vector<std::vector<uint32_t>> body_faces;
   std::vector<RawMesh> shells;
+  std::vector<double> shell_volume;
   for (const auto& [root, faces] : faces_of)
     if (six_volume[root] > 0) {
       body_faces.push_back(faces);
       shells.push_back(soup_of(faces));
+      shell_volume.push_back(six_volume[root]);
     }
+  std::vector<PointInShell> inside;  // each shell's test built once, for every cavity wall
+  inside.reserve(shells.size());
+  for (const RawMesh& shell : shells) inside.emplace_back(shell.positions.data(), shell.triangles);
   for (const auto& [root, faces] : faces_of) {
     if (six_volume[root] > 0) continue;
-    const float* p = &m.positions[3 * size_t{m.triangles[3 * size_t{faces[0]}]}];
-    for (size_t b = 0; b < shells.size(); ++b)
-      if (PointInShell(shells[b].positions.data(), shells[b].triangles)
-              .Winding({p[0], p[1], p[2]}) != 0) {
-        body_faces[b].insert(body_faces[b].end(), faces.begin(), faces.end());
-        break;
-      }
+    // A point just off its largest facet, on the side it faces: in the cavity of the innermost
+    // shell around it (a body in another's cavity may have a cavity too), or in no shell where
+    // it is a body turned inside out.
+    const auto [twice_area, f] = largest[root];
+    const DVec3 c0 = Corner(m, f, 0), c1 = Corner(m, f, 1), c2 = Corner(m, f, 2);
+    const DVec3 probe = (1.0 / 3) * (c0 + c1 + c2) +
+                        (1e-3 / std::sqrt(std::max(twice_area, 1e-300))) * Cross(c1 - c0, c2 - c0);
+    size_t holder = shells.size();
+    for (size_t b = 0; b < shells.size() && twice_area > 0; ++b)
+      if (inside[b].Winding(probe) != 0 &&
+          (holder == shells.size() || shell_volume[b] < shell_volume[holder]))
+        holder = b;
+    if (holder < shells.size())
+      body_faces[holder].insert(body_faces[holder].end(), faces.begin(), faces.end());
+    else
+      body_faces.push_back(faces);  // inside out and in no body: CheckClosedSolid refuses it
   }
   std::vector<RawMesh> bodies;
   for (const std::vector<uint32_t>& faces : body_faces) bodies.push_back(soup_of(faces));
@@ -189,6 +206,12 @@ absl::Status CheckClosedSolid(const RawMesh& surface) {
   // Bodies that only touch are meshed each on its own (Tetrahedralise); faces overlapping within
   // one body are a fold no mesher takes.
   const std::vector<RawMesh> bodies = Bodies(surface);
+  for (const RawMesh& body : bodies)
+    if (SixVolume(body) <= 0)
+      return absl::InvalidArgumentError(
+          "the surface has touching bodies, one of which encloses no positive volume (is it "
+          "oriented inwards?): an FE check needs each closed solid with its faces "
+          "counter-clockwise seen from outside");
   bool apart = bodies.size() > 1;
   for (size_t b = 0; apart && b < bodies.size(); ++b)
     apart = FindCrossings(bodies[b]).overlaps.pairs == 0;

@@ -174,6 +174,14 @@ TEST(ClosedSolid, OpenAndInsideOutSurfacesAreRefused) {
   EXPECT_HAS(o.message(), "the surface has overlapping faces, some within one body");
   EXPECT_HAS(o.message(), " face pairs overlap in their plane, over an area of ");
   EXPECT_HAS(o.message(), "tetgen cannot mesh overlapping faces");
+  // The block turned inside out (no cavity of the box: it lies outside it) is refused.
+  RawMesh inverted_block = box;
+  RawMesh block = testing::MakeBox({0.5, 0.5, 1}, {3, 3, 2});
+  for (size_t f = 0; f < block.num_faces(); ++f)
+    std::swap(block.triangles[3 * f + 1], block.triangles[3 * f + 2]);
+  testing::Append(inverted_block, block, {0.25f, 0.25f, 1.0f});
+  EXPECT_HAS(CheckClosedSolid(inverted_block).message(),
+             "touching bodies, one of which encloses no positive volume");
 }
 
 class ChildProcess : public testing::TempDirTest {};
@@ -304,6 +312,24 @@ TEST(FeCheck, TouchingBodiesAreMeshedApart) {
   EXPECT_EQ(f->bodies_meshed_apart, 2);
   EXPECT_EQ(f->components, 2);
   EXPECT_EQ(f->rigid_modes, 12);
+  // A hollow island in the cavity: its own cavity goes with it (the innermost shell around it),
+  // not with the box.
+  RawMesh island = testing::MakeBox({0.3, 0.3, 0.3}, {2, 2, 2});
+  const RawMesh hole = testing::MakeBox({0.1, 0.1, 0.1}, {1, 1, 1});
+  const uint32_t first = uint32_t(island.num_vertices());
+  for (size_t i = 0; i < hole.positions.size(); ++i)
+    island.positions.push_back(hole.positions[i] + 0.1f);
+  for (size_t t = 0; t < hole.num_faces(); ++t)
+    island.triangles.insert(island.triangles.end(),
+                            {first + hole.triangles[3 * t], first + hole.triangles[3 * t + 2],
+                             first + hole.triangles[3 * t + 1]});
+  testing::Append(bodies, island, {0.35f, 0.35f, 0.35f});
+  f = AnalyseSolid(bodies, "bodies", FeCheckOptions{}, 0.0);
+  ASSERT_TRUE(f.ok()) << f.status();
+  EXPECT_NEAR(f->volume, 1.0 - 0.125 + 0.25 + 0.027 - 0.001, 1e-6);
+  EXPECT_EQ(f->bodies_meshed_apart, 3);
+  EXPECT_EQ(f->components, 3);
+  EXPECT_EQ(f->rigid_modes, 18);
 }
 
 TEST(FeCheck, FreeFreeBeamMatchesBeamTheory) {
