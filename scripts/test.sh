@@ -50,11 +50,12 @@ TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1" \
 
 # The fuzz targets under libFuzzer with ASan and UBSan (clang; fuzz/): each from its seeds in
 # fuzz/seeds/<target> for FEMSIMP_FUZZ_SECONDS (default 20); a crash fails the run and leaves
-# its input in build-fuzz/crash-* (keep it in fuzz/crashes/<target> once fixed). Long runs:
+# its input in build-fuzz/crash-* (keep it in fuzz/crashes/<target> once fixed); one target per
+# core at once (each is single-threaded). Long runs:
 # fuzz/run-long.sh.
 cmake -S . -B build-fuzz -G Ninja -DFEMSIMP_FUZZ=ON -DCMAKE_CXX_COMPILER=clang++
 timed cmake --build build-fuzz -j "$jobs"
-timed fuzz/run.sh build-fuzz "${FEMSIMP_FUZZ_SECONDS:-20}"
+FUZZ_PARALLEL="$jobs" timed fuzz/run.sh build-fuzz "${FEMSIMP_FUZZ_SECONDS:-20}"
 
 # The container image (deploy/test-container.sh) needs a Docker daemon it can start: Debian's
 # docker.io (installed above) and root. Where none can start it skips itself (77);
