@@ -13,6 +13,7 @@
 #include "engine/simplify.h"
 #include "engine/vec.h"
 #include "tests/support/meshes.h"
+#include "tests/support/sanitizers.h"
 
 namespace femsimp {
 namespace {
@@ -93,6 +94,9 @@ TEST(EngineFidelity, DeviationStaysWithinTheToleranceBothWays) {
       EXPECT_LT(run.result.output_vertices, run.result.input_vertices / 10);
       EXPECT_LE(run.result.deviation_bound, tol);
       EXPECT_GT(run.result.deviation_bound, 0.0);
+      // Measured on one thread: ThreadSanitizer would spend 50 of this test's 60 s in
+      // it and has nothing to find there (the other builds measure).
+      if (testing::kUnderThreadSanitizer) continue;
       // Every input vertex near the output, and the output's faces near the input.
       const Surface output(run.output);
       double to_output = 0.0;
