@@ -38,39 +38,57 @@ DVec3 Corner(const RawMesh& m, size_t f, int k) {
   return {p[0], p[1], p[2]};
 }
 
-// A point in each cavity of the solid, for tetgen's hole list: tetgen meshes every region the
-// surface encloses, a cavity too, unless it holds a hole point. A cavity's wall is a connected
-// part of the surface of negative volume (it faces into the cavity); the point lies a little off
-// its largest facet, on the side it faces, where the surface's winding number is 0 (outside the
-// material).
-std::vector<DVec3> CavityPoints(const RawMesh& m) {
+// The surface's vertex-connected parts, in a fixed order (the hole list and the bodies are the
+// same every run): each with its faces, six times its signed volume (negative for a cavity's
+// wall, which faces into the cavity) and a probe point a thousandth of its largest facet's size
+// off that facet, on the side the facet faces: in the region next to it, short of any other.
+struct SurfacePart {
+  std::vector<uint32_t> faces;
+  double six_volume = 0;
+  double largest_twice_area = 0;  // 0: every facet degenerate, no probe
+  DVec3 probe{};
+};
+
+std::vector<SurfacePart> PartsOf(const RawMesh& m) {
   const size_t nf = m.num_faces();
-  UnionFind parts(uint32_t(m.num_vertices()));
+  UnionFind vertices(uint32_t(m.num_vertices()));
   for (size_t f = 0; f < nf; ++f)
-    for (int k = 1; k < 3; ++k) parts.Union(m.triangles[3 * f], m.triangles[3 * f + k]);
-  struct Part {
-    double six_volume = 0, largest = 0;
-    size_t facet = 0;
-  };
-  std::map<uint32_t, Part> by_root;  // ordered: the hole list is the same every run
+    for (int k = 1; k < 3; ++k) vertices.Union(m.triangles[3 * f], m.triangles[3 * f + k]);
+  std::map<uint32_t, SurfacePart> by_root;
+  std::map<uint32_t, size_t> largest_facet;
   for (size_t f = 0; f < nf; ++f) {
+    const uint32_t root = vertices.Find(m.triangles[3 * f]);
+    SurfacePart& part = by_root[root];
+    part.faces.push_back(static_cast<uint32_t>(f));
     const DVec3 a = Corner(m, f, 0), b = Corner(m, f, 1), c = Corner(m, f, 2);
-    Part& part = by_root[parts.Find(m.triangles[3 * f])];
     part.six_volume += Dot(a, Cross(b, c));
     const double twice_area = Norm(Cross(b - a, c - a));
-    if (twice_area > part.largest) part.largest = twice_area, part.facet = f;
+    if (twice_area > part.largest_twice_area)
+      part.largest_twice_area = twice_area, largest_facet[root] = f;
   }
+  std::vector<SurfacePart> parts;
+  parts.reserve(by_root.size());
+  for (auto& [root, part] : by_root) {
+    if (part.largest_twice_area > 0) {
+      const size_t f = largest_facet[root];
+      const DVec3 a = Corner(m, f, 0), b = Corner(m, f, 1), c = Corner(m, f, 2);
+      part.probe = (1.0 / 3) * (a + b + c) +
+                   (1e-3 / std::sqrt(part.largest_twice_area)) * Cross(b - a, c - a);
+    }
+    parts.push_back(std::move(part));
+  }
+  return parts;
+}
+
+// A point in each cavity of the solid, for tetgen's hole list: tetgen meshes every region the
+// surface encloses, a cavity too, unless it holds a hole point. A cavity wall's probe lies in
+// the cavity where the surface's winding number is 0 there (outside the material).
+std::vector<DVec3> CavityPoints(const RawMesh& m) {
   std::vector<DVec3> points;
   const PointInShell material(m.positions.data(), m.triangles);
-  for (const auto& [root, part] : by_root) {
-    if (part.six_volume >= 0 || part.largest == 0) continue;
-    const size_t f = part.facet;
-    const DVec3 a = Corner(m, f, 0), b = Corner(m, f, 1), c = Corner(m, f, 2);
-    const DVec3 normal = Cross(b - a, c - a);
-    // A thousandth of the facet's size off it: in the region next to it, short of any other.
-    const DVec3 at = (1.0 / 3) * (a + b + c) + (1e-3 / std::sqrt(Norm(normal))) * normal;
-    if (material.Winding(at) == 0) points.push_back(at);
-  }
+  for (const SurfacePart& part : PartsOf(m))
+    if (part.six_volume < 0 && part.largest_twice_area > 0 && material.Winding(part.probe) == 0)
+      points.push_back(part.probe);
   return points;
 }
 
@@ -99,23 +117,9 @@ absl::Status WriteSmesh(const std::string& path, const RawMesh& m) {
 
 // The surface split into bodies, each meshed on its own where bodies touch without sharing
 // faces (tetgen refuses their overlapping facets): a body is a vertex-connected part of
-// positive volume with the cavity walls (parts of negative volume) whose corners lie in its
-// material. Vertices keep their positions; each body numbers its own from 0.
+// positive volume with the cavity walls (parts of negative volume) whose probes lie in it, the
+// innermost such body. Vertices keep their positions; each body numbers its own from 0.
 std::vector<RawMesh> Bodies(const RawMesh& m) {
-  const size_t nf = m.num_faces();
-  UnionFind parts(uint32_t(m.num_vertices()));
-  for (size_t f = 0; f < nf; ++f)
-    for (int k = 1; k < 3; ++k) parts.Union(m.triangles[3 * f], m.triangles[3 * f + k]);
-  std::map<uint32_t, std::vector<uint32_t>> faces_of;  // ordered: bodies in a fixed order
-  std::map<uint32_t, double> six_volume;
-  std::map<uint32_t, std::pair<double, size_t>> largest;  // twice the area, facet
-  for (size_t f = 0; f < nf; ++f) {
-    const uint32_t root = parts.Find(m.triangles[3 * f]);
-    faces_of[root].push_back(static_cast<uint32_t>(f));
-    const DVec3 a = Corner(m, f, 0), b = Corner(m, f, 1), c = Corner(m, f, 2);
-    six_volume[root] += Dot(a, Cross(b, c));
-    largest[root] = std::max(largest[root], std::pair(Norm(Cross(b - a, c - a)), f));
-  }
   const auto soup_of = [&](const std::vector<uint32_t>& faces) {
     RawMesh body;
     body.origin = m.origin;
@@ -131,36 +135,32 @@ std::vector<RawMesh> Bodies(const RawMesh& m) {
       }
     return body;
   };
+  const std::vector<SurfacePart> parts = PartsOf(m);
   std::vector<std::vector<uint32_t>> body_faces;
   std::vector<RawMesh> shells;
   std::vector<double> shell_volume;
-  for (const auto& [root, faces] : faces_of)
-    if (six_volume[root] > 0) {
-      body_faces.push_back(faces);
-      shells.push_back(soup_of(faces));
-      shell_volume.push_back(six_volume[root]);
+  for (const SurfacePart& part : parts)
+    if (part.six_volume > 0) {
+      body_faces.push_back(part.faces);
+      shells.push_back(soup_of(part.faces));
+      shell_volume.push_back(part.six_volume);
     }
   std::vector<PointInShell> inside;  // each shell's test built once, for every cavity wall
   inside.reserve(shells.size());
   for (const RawMesh& shell : shells) inside.emplace_back(shell.positions.data(), shell.triangles);
-  for (const auto& [root, faces] : faces_of) {
-    if (six_volume[root] > 0) continue;
-    // A point just off its largest facet, on the side it faces: in the cavity of the innermost
-    // shell around it (a body in another's cavity may have a cavity too), or in no shell where
-    // it is a body turned inside out.
-    const auto [twice_area, f] = largest[root];
-    const DVec3 c0 = Corner(m, f, 0), c1 = Corner(m, f, 1), c2 = Corner(m, f, 2);
-    const DVec3 probe = (1.0 / 3) * (c0 + c1 + c2) +
-                        (1e-3 / std::sqrt(std::max(twice_area, 1e-300))) * Cross(c1 - c0, c2 - c0);
+  for (const SurfacePart& part : parts) {
+    if (part.six_volume > 0) continue;
+    // The wall's probe lies in the cavity of the innermost shell around it (a body in another's
+    // cavity may have a cavity too), or in no shell where it is a body turned inside out.
     size_t holder = shells.size();
-    for (size_t b = 0; b < shells.size() && twice_area > 0; ++b)
-      if (inside[b].Winding(probe) != 0 &&
+    for (size_t b = 0; b < shells.size() && part.largest_twice_area > 0; ++b)
+      if (inside[b].Winding(part.probe) != 0 &&
           (holder == shells.size() || shell_volume[b] < shell_volume[holder]))
         holder = b;
     if (holder < shells.size())
-      body_faces[holder].insert(body_faces[holder].end(), faces.begin(), faces.end());
+      body_faces[holder].insert(body_faces[holder].end(), part.faces.begin(), part.faces.end());
     else
-      body_faces.push_back(faces);  // inside out and in no body: CheckClosedSolid refuses it
+      body_faces.push_back(part.faces);  // inside out and in no body: CheckClosedSolid refuses it
   }
   std::vector<RawMesh> bodies;
   for (const std::vector<uint32_t>& faces : body_faces) bodies.push_back(soup_of(faces));

@@ -35,8 +35,8 @@ timed cmake --build build-asan -j "$jobs"
 # fandisk_tol0p1pct_quadric took 300 s under ASan, 0.99 s of it in the engine and 298.6 s in
 # the judge, 5 more fidelity tests 591 s; the judge test 410 s (7.4 s in the release run);
 # cad_set over its 400 s timeout (40 s release). The engine code they run is checked under ASan
-# by the engine tests (label tsan) and the CAD meshes' generation (cad_meshes), the judge by its
-# other tests (label judge), which do run here. And deploy_scaleout: its load (300 s at most)
+# by the engine tests (label tsan; cad_meshes makes the set once for the seam test on the CAD
+# assembly), the judge by its other tests (label judge), which do run here. And deploy_scaleout: its load (300 s at most)
 # through nginx to replicas did not finish on ASan-built replicas here; the service tests cover
 # the server under ASan.
 ASAN_OPTIONS="strict_init_order=1" UBSAN_OPTIONS="print_stacktrace=1" \
