@@ -59,6 +59,23 @@ uint64_t Key(int64_t x, int64_t y, int64_t z) {
   return uint64_t(x) << (2 * kKeyBits) | uint64_t(y) << kKeyBits | uint64_t(z);
 }
 
+// Whether t reaches through the other's plane by no more than `tolerance` on one of its sides:
+// a face standing on another along a line (a block's side on the plate it touches) crosses it by
+// its corners' rounding where the contact is tilted, a corner a float spacing below the plate's
+// plane. As exported that is a contact, not a crossing.
+bool TouchesWithinTolerance(const Triangle& t, const Triangle& other, double tolerance) {
+  const DVec3 n = Cross(other.p[1] - other.p[0], other.p[2] - other.p[0]);
+  const double length = Norm(n);
+  if (length == 0.0) return false;
+  double above = 0.0, below = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const double d = Dot(n, t.p[k] - other.p[0]) / length;
+    above = std::max(above, d);
+    below = std::max(below, -d);
+  }
+  return std::min(above, below) <= tolerance;
+}
+
 }  // namespace
 
 SoupCrossings FindCrossings(const RawMesh& soup) {
@@ -208,7 +225,9 @@ SoupCrossings FindCrossings(const RawMesh& soup) {
           continue;
         }
         const std::optional<DVec3> at = TransversalCrossing(first, second);
-        if (!at) continue;
+        if (!at || TouchesWithinTolerance(first, second, plane_tolerance) ||
+            TouchesWithinTolerance(second, first, plane_tolerance))
+          continue;
         if (found.pairs++ == 0 || pair < std::pair(found.face_a, found.face_b)) {
           found.face_a = pair.first;
           found.face_b = pair.second;

@@ -37,7 +37,9 @@ struct SoupCrossings {
 // Every pair of faces whose bounding boxes overlap and that share no edge is tested once: an
 // overlap when they share no corner, each has its corners within a millionth of the diagonal (or a
 // few float spacings of the coordinates) of the other's plane and their insides overlap, else a
-// crossing when TransversalCrossing says so (only certain crossings count, not contacts). The pairs
+// crossing when TransversalCrossing says so (only certain crossings count, not contacts) and each
+// face reaches through the other's plane by more than that tolerance on both its sides (a face
+// standing on another along a tilted contact pokes through it by its corners' rounding). The pairs
 // are found through a uniform grid of cells about twice the mean edge (coarser where large faces
 // would span many cells).
 SoupCrossings FindCrossings(const RawMesh& soup);

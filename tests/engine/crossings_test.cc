@@ -144,5 +144,25 @@ TEST(Crossings, BodiesTouchingWithoutSharedVerticesOverlapInTheirPlane) {
   EXPECT_EQ(FindCrossings(MakeTorus(24, 12)).overlaps.pairs, 0u);
 }
 
+// The same block on the plate, the pair turned about a skew axis and stored in floats, as a CAD
+// export of a tilted assembly is: the block's bottom corners land a float spacing above or below
+// the plate's top plane, so its side faces poke through the plate by that rounding. That is the
+// contact, not a crossing; pushed into the plate by a hundredth, the block does cross it.
+TEST(Crossings, TiltedContactRoundedToFloatIsNoCrossing) {
+  const auto tilted = [](double lift) {
+    RawMesh m = MakeBox({4, 3, 1}, {4, 3, 1});
+    Append(m, MakeBox({1.5, 1.25, 2}, {3, 2, 2}), {0.75f, 0.5f, float(1.0 + lift)});
+    return testing::TurnedSkew(m);
+  };
+  const RawMesh touching = tilted(0.0);
+  EXPECT_GT(BruteForce(touching).pairs, 0u);  // what rounding alone makes of the contact
+  const SoupCrossings c = FindCrossings(touching);
+  EXPECT_EQ(c.pairs, 0u) << DescribeCrossings(c);
+  EXPECT_NEAR(c.overlaps.area, 1.5 * 1.25, 1e-4);
+  const SoupCrossings pushed = FindCrossings(tilted(-0.01));
+  EXPECT_GT(pushed.pairs, 0u);
+  EXPECT_EQ(pushed.overlaps.pairs, 0u);
+}
+
 }  // namespace
 }  // namespace femsimp

@@ -155,6 +155,9 @@ TEST(ClosedSolid, OpenAndInsideOutSurfacesAreRefused) {
   RawMesh stacked = box;
   testing::Append(stacked, testing::MakeBox({0.5, 0.5, 1}, {3, 3, 2}), {0.25f, 0.25f, 1.0f});
   EXPECT_TRUE(CheckClosedSolid(stacked).ok());
+  // Tilted and rounded to float, the block's sides poke through the box's top by that rounding:
+  // still a contact.
+  EXPECT_TRUE(CheckClosedSolid(testing::TurnedSkew(stacked)).ok());
   // Standing on the box's top corner quarter, the block has two corners on the box's vertices;
   // welded there it is one body with the box, which tetgen would have to mesh whole: refused,
   // naming the overlap.

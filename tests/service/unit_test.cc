@@ -281,7 +281,8 @@ TEST(Wire, FidelityFiguresRoundTrip) {
   r.inertia_change = 0.004;
   r.wall_limited_share = 0.375;
   r.thinnest_wall = 0.0625;
-  r.output_crossings = {.pairs = 8, .face_a = 12, .face_b = 57, .at = {1.5, -2.25, 3}};
+  r.output_crossings = {
+      .pairs = 8, .face_a = 12, .face_b = 57, .at = {1.5, -2.25, 3}, .overlaps = {}};
   r.output_crossings.overlaps = {
       .pairs = 5, .face_a = 7, .face_b = 70, .at = {1, 0, -1}, .area = 2.5};
   r.coordinates = {.magnitude = 3e6, .spacing = 0.25, .diagonal = 53.5};
@@ -427,7 +428,8 @@ TEST(Report, SummaryWarnsWhereTheToleranceReachesHalfTheWall) {
 TEST(Report, SummaryWarnsWhereTheOutputIntersectsItself) {
   cli::RunReport r;
   EXPECT_EQ(cli::Summary(r).find("intersects itself"), std::string::npos);
-  r.fidelity.output_crossings = {.pairs = 8, .face_a = 12, .face_b = 57, .at = {1.5, -2, 3}};
+  r.fidelity.output_crossings = {
+      .pairs = 8, .face_a = 12, .face_b = 57, .at = {1.5, -2, 3}, .overlaps = {}};
   std::string s = cli::Summary(r);
   EXPECT_NE(s.find("warning:  OUT intersects itself: 8 face pairs cross (the first: faces 12 and "
                    "57, at (1.5, "

@@ -123,6 +123,19 @@ void Append(RawMesh& m, const RawMesh& add, const std::array<float, 3>& shift) {
   for (uint32_t v : add.triangles) m.triangles.push_back(base + v);
 }
 
+RawMesh TurnedSkew(RawMesh m) {
+  const DVec3 axis = (1.0 / std::sqrt(1.0 + 0.49 + 0.09)) * DVec3{1.0, 0.7, 0.3};
+  const double c = std::cos(0.61), s = std::sin(0.61);
+  for (size_t v = 0; v < m.num_vertices(); ++v) {  // Rodrigues' rotation
+    const DVec3 p{m.positions[3 * v], m.positions[3 * v + 1], m.positions[3 * v + 2]};
+    const DVec3 r = c * p + s * Cross(axis, p) + ((1 - c) * Dot(axis, p)) * axis;
+    m.positions[3 * v] = float(r.x);
+    m.positions[3 * v + 1] = float(r.y);
+    m.positions[3 * v + 2] = float(r.z);
+  }
+  return m;
+}
+
 RawMesh MakeBox(const std::array<double, 3>& size, const std::array<int, 3>& cells) {
   RawMesh mesh;
   std::map<std::array<int, 3>, uint32_t> ids;  // grid point -> vertex, shared by the sides

@@ -33,6 +33,9 @@ RawMesh PreciseTetrahedron();
 RawMesh MakeBox(const std::array<double, 3>& size, const std::array<int, 3>& cells);
 // `add`'s vertices and faces appended to `m` (a second body in one soup), moved by `shift`.
 void Append(RawMesh& m, const RawMesh& add, const std::array<float, 3>& shift);
+// `m` turned about the origin by 0.61 rad about the skew axis (1, 0.7, 0.3) and stored in floats,
+// as a CAD export of a tilted part is: planes that were exact are so only up to that rounding.
+RawMesh TurnedSkew(RawMesh m);
 
 // Closed torus of n * m vertices and 2nm faces (a valid closed 2-manifold), radii R and r.
 RawMesh MakeTorus(int n, int m, double R = 3.0, double r = 1.0);
