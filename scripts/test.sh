@@ -36,9 +36,9 @@ timed cmake --build build-asan -j "$jobs"
 # the judge, 5 more fidelity tests 591 s; the judge test 410 s (7.4 s in the release run);
 # cad_set over its 400 s timeout (40 s release). The engine code they run is checked under ASan
 # by the engine tests (label tsan; cad_meshes makes the set once for the seam test on the CAD
-# assembly), the judge by its other tests (label judge), which do run here. And deploy_scaleout: its load (300 s at most)
-# through nginx to replicas did not finish on ASan-built replicas here; the service tests cover
-# the server under ASan.
+# assembly), the judge by its other tests (label judge), which do run here. And
+# deploy_scaleout: its load (300 s at most) through nginx to replicas did not finish on
+# ASan-built replicas here; the service tests cover the server under ASan.
 ASAN_OPTIONS="strict_init_order=1" UBSAN_OPTIONS="print_stacktrace=1" \
   timed ctest --test-dir build-asan --output-on-failure --no-tests=error -j "$jobs" \
   -LE '^fidelity$' -E '^(JudgeHausdorff\.BoundedErrorAndSamplingAgreeOnFandisk|cad_set|cad_modes|deploy_scaleout)$'
