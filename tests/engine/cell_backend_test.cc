@@ -167,7 +167,8 @@ TEST(CellBackend, CancellationStopsInsideAPassWithAValidMesh) {
 // Far more SPEs than the paper's 8: the deterministic schedule's output does not depend on the
 // SPE count (the pass's sort runs on the SPEs and is checked against the engine's order), and
 // the modeled time still falls. ThreadSanitizer runs 64 only: its cost grows with the SPE
-// threads (90 s for 128 alone on 2 cores), and 128 takes no path 64 does not.
+// threads (the test took 224 s in CI with 128, 61 s without), and 128 takes no path 64 does
+// not.
 TEST(CellBackend, ManySpesGiveTheNativeOutput) {
   const RawMesh raw = testing::LoadTestMesh("fandisk.off");
   SimplifyOptions native;
