@@ -27,11 +27,7 @@ using testing::WaitWhile;
 // two cancellation checks several times slower: there the bound is 3 s (0.6 to 1.43 s were
 // measured on a loaded 2-core machine); what that build checks is the cancel path's memory, not
 // its speed.
-#if defined(__SANITIZE_ADDRESS__)
-constexpr double kMaxLatencySeconds = 3.0;
-#else
-constexpr double kMaxLatencySeconds = 0.5;
-#endif
+constexpr double kMaxLatencySeconds = testing::kUnderAddressSanitizer ? 3.0 : 0.5;
 
 double Since(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();

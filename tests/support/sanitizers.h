@@ -7,28 +7,23 @@
 
 namespace femsimp::testing {
 
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-inline constexpr bool kUnderSanitizer = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
-inline constexpr bool kUnderSanitizer = true;
+// gcc defines __SANITIZE_*__; clang answers __has_feature.
+#if defined(__has_feature)
+#define FEMSIMP_TEST_HAS_FEATURE(x) __has_feature(x)
 #else
-inline constexpr bool kUnderSanitizer = false;
-#endif
-#else
-inline constexpr bool kUnderSanitizer = false;
+#define FEMSIMP_TEST_HAS_FEATURE(x) 0
 #endif
 
-#if defined(__SANITIZE_THREAD__)
-inline constexpr bool kUnderThreadSanitizer = true;
-#elif defined(__has_feature)
-#if __has_feature(thread_sanitizer)
+#if defined(__SANITIZE_THREAD__) || FEMSIMP_TEST_HAS_FEATURE(thread_sanitizer)
 inline constexpr bool kUnderThreadSanitizer = true;
 #else
 inline constexpr bool kUnderThreadSanitizer = false;
 #endif
+#if defined(__SANITIZE_ADDRESS__) || FEMSIMP_TEST_HAS_FEATURE(address_sanitizer)
+inline constexpr bool kUnderAddressSanitizer = true;
 #else
-inline constexpr bool kUnderThreadSanitizer = false;
+inline constexpr bool kUnderAddressSanitizer = false;
 #endif
+inline constexpr bool kUnderSanitizer = kUnderThreadSanitizer || kUnderAddressSanitizer;
 
 }  // namespace femsimp::testing
