@@ -118,6 +118,14 @@ std::string CrossingsJson(const SoupCrossings& c) {
                       JsonNumber(c.at[2]), "], \"overlaps\": ", overlaps, "}");
 }
 
+std::string PartsJson(const std::vector<SimplifyResult::PartVolume>& parts) {
+  std::string s = "[";
+  for (size_t i = 0; i < parts.size(); ++i)
+    absl::StrAppend(&s, i ? ", " : "", "{\"input_volume\": ", JsonNumber(parts[i].input),
+                    ", \"output_volume\": ", JsonNumber(parts[i].output), "}");
+  return s + "]";
+}
+
 std::string FidelityJson(const FidelityFigures& f) {
   return absl::StrCat("{\"feature_edges\": ", f.feature_edges,
                       ", \"corner_vertices\": ", f.corner_vertices,
@@ -134,7 +142,8 @@ std::string FidelityJson(const FidelityFigures& f) {
                       ", \"spacing\": ", JsonNumber(f.coordinates.spacing),
                       ", \"diagonal\": ", JsonNumber(f.coordinates.diagonal), "}",
                       ",\n    \"input_mass\": ", MassJson(f.input_mass),
-                      ",\n    \"output_mass\": ", MassJson(f.output_mass), "}");
+                      ",\n    \"output_mass\": ", MassJson(f.output_mass),
+                      ",\n    \"parts\": ", PartsJson(f.parts), "}");
 }
 
 std::string FaceDataJson(const RunReport& r) {
@@ -180,6 +189,30 @@ std::string MassSummaryLine(const FidelityFigures& f) {
       "change %.4f%%)\n",
       in.solid ? "volume" : "area (open surface)", in.measure, out.measure, moments(in),
       moments(out), 100 * f.inertia_change);
+}
+
+// The parts of an assembly, each a solid of its own volume: the first few, and the one that
+// changed most.
+std::string PartsLine(const std::vector<SimplifyResult::PartVolume>& parts) {
+  if (parts.empty()) return "";
+  constexpr size_t kListed = 4;
+  const auto change = [](const SimplifyResult::PartVolume& p) {
+    return p.input != 0.0 ? (p.output - p.input) / p.input : 0.0;
+  };
+  const auto part = [&](size_t i) {
+    return absl::StrFormat("part %u %.6g -> %.6g (%+.4f%%)", i + 1, parts[i].input, parts[i].output,
+                           100 * change(parts[i]));
+  };
+  std::string s =
+      absl::StrFormat("parts:    %u solids meeting at seams, volume each: ", parts.size());
+  size_t worst = 0;
+  for (size_t i = 0; i < parts.size(); ++i) {
+    if (std::fabs(change(parts[i])) > std::fabs(change(parts[worst]))) worst = i;
+    if (i < kListed) absl::StrAppend(&s, i ? ", " : "", part(i));
+  }
+  if (parts.size() > kListed)
+    absl::StrAppend(&s, ", ", parts.size() - kListed, " more; the most changed: ", part(worst));
+  return s + "\n";
 }
 
 // An output that intersects itself is refused by the mesher that comes next; the collapses make no
@@ -277,6 +310,7 @@ FidelityFigures FidelityFigures::Of(const SimplifyResult& r) {
   f.thinnest_wall = r.thinnest_wall;
   f.output_crossings = r.output_crossings;
   f.coordinates = r.coordinates;
+  f.parts = r.parts;
   return f;
 }
 
@@ -355,7 +389,8 @@ std::string Summary(const RunReport& r) {
                                       : std::string("no tolerance"),
                   absl::StrFormat(", volume %+.4f%%, centroid shift %.4f%% of the diagonal\n",
                                   100 * f.volume_change, 100 * f.centroid_shift));
-  absl::StrAppend(&s, MassSummaryLine(f), WallLines(f, r.options.max_wall_share),
+  absl::StrAppend(&s, MassSummaryLine(f), PartsLine(f.parts),
+                  WallLines(f, r.options.max_wall_share),
                   CrossingsWarning(f.output_crossings, r.options.allow_self_intersections));
   absl::StrAppend(&s,
                   absl::StrFormat("features: %u edges, %u corners (feature angle %g deg)\n",

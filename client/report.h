@@ -24,6 +24,7 @@ struct FidelityFigures {
   double wall_limited_share = 0.0, thinnest_wall = 0.0;  // the wall rule's set-up
   SoupCrossings output_crossings;
   CoordinatePrecision coordinates;
+  std::vector<SimplifyResult::PartVolume> parts;  // of an assembly meeting at seams
   static FidelityFigures Of(const SimplifyResult& r);
 };
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace femsimp {
 namespace {
@@ -28,6 +29,19 @@ DVec3 Solve3(const double m[3][3], const DVec3& r) {
   return {x[0], x[1], x[2]};
 }
 
+// A fan's or star's change, measured with its faces' orientation, as the ledger takes it: the
+// solid's by the faces' weight, the parts' on their sides as it is (enclosed).
+void SetMassDelta(const MassProperties& d, bool closed, double weight, uint32_t sides,
+                  CollapseDelta* delta) {
+  delta->mass = d;
+  delta->sides = sides;
+  delta->enclosed = closed ? d.measure : 0.0;
+  if (closed && weight != 1.0) {
+    delta->mass.measure *= weight;
+    delta->mass.moment = weight * d.moment;
+  }
+}
+
 }  // namespace
 
 GroupIndex::GroupIndex(const Mesh& mesh) {
@@ -50,18 +64,22 @@ MassProperties MeasureMass(const Mesh& mesh, bool closed, const DVec3& origin) {
   MassProperties m;
   const VertexQ* v = mesh.vertices();
   const HalfEdgeQ* h = mesh.halfedges();
+  const std::vector<FaceSides>& sides = mesh.sides();
   for (uint32_t f = 0; f < mesh.face_capacity(); ++f) {
     if (h[3 * f].flags & kFaceRemoved) continue;
     const DVec3 a = Pos(v[h[3 * f + 2].target]), b = Pos(v[h[3 * f].target]),
                 c = Pos(v[h[3 * f + 1].target]);
     if (closed) {  // signed tetrahedron with the origin
-      const double vol = Dot(a, Cross(b, c)) / 6.0;
+      const double weight = sides.empty() ? 1.0 : sides[Mesh::SidesOf(h[3 * f])].weight;
+      if (weight == 0.0) continue;
+      const double vol = weight * Dot(a, Cross(b, c)) / 6.0;
       m.measure += vol;
       m.moment += (vol / 4.0) * (a + b + c);
       // Tetrahedra with their apex at `origin` (near the part, so no large cancelling terms)
       // sum to the same solid as those from the world origin.
       const DVec3 ao = a - origin, bo = b - origin, co = c - origin;
-      m.second += TetrahedronSecondMoment({0, 0, 0}, ao, bo, co, Dot(ao, Cross(bo, co)) / 6.0);
+      m.second +=
+          TetrahedronSecondMoment({0, 0, 0}, ao, bo, co, weight * Dot(ao, Cross(bo, co)) / 6.0);
     } else {
       const double area = 0.5 * Norm(Cross(b - a, c - a));
       m.measure += area;
@@ -70,6 +88,27 @@ MassProperties MeasureMass(const Mesh& mesh, bool closed, const DVec3& origin) {
     }
   }
   return m;
+}
+
+std::vector<double> MeasurePartVolumes(const Mesh& mesh, const DVec3& origin) {
+  std::vector<double> volumes;
+  const std::vector<FaceSides>& sides = mesh.sides();
+  for (const FaceSides& s : sides)
+    volumes.resize(std::max<size_t>(volumes.size(), std::max(s.behind, s.ahead) + 1), 0.0);
+  if (volumes.empty()) return volumes;
+  const VertexQ* v = mesh.vertices();
+  const HalfEdgeQ* h = mesh.halfedges();
+  for (uint32_t f = 0; f < mesh.face_capacity(); ++f) {
+    if (h[3 * f].flags & kFaceRemoved) continue;
+    const FaceSides& s = sides[Mesh::SidesOf(h[3 * f])];
+    if (s.behind == kSpace && s.ahead == kSpace) continue;
+    const DVec3 a = Pos(v[h[3 * f + 2].target]) - origin, b = Pos(v[h[3 * f].target]) - origin,
+                c = Pos(v[h[3 * f + 1].target]) - origin;
+    const double vol = Dot(a, Cross(b, c)) / 6.0;
+    if (s.behind != kSpace) volumes[s.behind] += vol;
+    if (s.ahead != kSpace) volumes[s.ahead] -= vol;
+  }
+  return volumes;
 }
 
 double SurfaceArea(const Mesh& mesh) {
@@ -142,7 +181,8 @@ double WorstFieldChange(const FieldResultants& before, const FieldResultants& af
   return worst;
 }
 
-void CollapseMassDelta(const Ring& ring, int target, bool closed, CollapseDelta* delta) {
+void CollapseMassDelta(const Ring& ring, int target, bool closed, double weight,
+                       CollapseDelta* delta) {
   const int n = ring.neighbours();
   const DVec3 v = ToD(ring.center_pos), vd = ToD(ring.pos[target]);
   MassProperties d;
@@ -163,18 +203,18 @@ void CollapseMassDelta(const Ring& ring, int target, bool closed, CollapseDelta*
       }
     }
   }
-  delta->mass = d;
+  SetMassDelta(d, closed, weight, ring.sides, delta);
 }
 
-void CollapseSecondMomentDelta(const Ring& ring, int target, bool closed, const DVec3& origin,
-                               CollapseDelta* delta) {
+void CollapseSecondMomentDelta(const Ring& ring, int target, bool closed, double weight,
+                               const DVec3& origin, CollapseDelta* delta) {
   const int n = ring.neighbours();
   const DVec3 v = ToD(ring.center_pos) - origin, vd = ToD(ring.pos[target]) - origin;
   Sym3& d = delta->mass.second;
   for (int f = 0; f < ring.faces; ++f) {
     const DVec3 b = ToD(ring.pos[f]) - origin, c = ToD(ring.pos[(f + 1) % n]) - origin;
     if (closed) {  // the tetrahedra between the old and the new faces, as in CollapseMassDelta
-      d -= TetrahedronSecondMoment(vd, v, b, c, Dot(v - vd, Cross(b - vd, c - vd)) / 6.0);
+      d -= TetrahedronSecondMoment(vd, v, b, c, weight * Dot(v - vd, Cross(b - vd, c - vd)) / 6.0);
     } else {
       d -= TriangleSecondMoment(v, b, c, 0.5 * Norm(Cross(b - v, c - v)));
       if (f != target && (f + 1) % n != target)
@@ -183,7 +223,8 @@ void CollapseSecondMomentDelta(const Ring& ring, int target, bool closed, const 
   }
 }
 
-void StarMassDelta(const EdgeStar& star, bool closed, CollapseDelta* delta) {
+void StarMassDelta(const EdgeStar& star, bool closed, double weight, uint32_t sides,
+                   CollapseDelta* delta) {
   // Closed: tetrahedra from the edge's midpoint (near the patch, so no large terms cancel);
   // both patches share their border, so the sum does not depend on that point.
   const DVec3 o = 0.5 * (star.v + star.vd);
@@ -203,10 +244,10 @@ void StarMassDelta(const EdgeStar& star, bool closed, CollapseDelta* delta) {
     add(star.a[k], star.b[k], star.c[k], -1.0);
     if (star.survives[k]) add(star.p, star.b[k], star.c[k], 1.0);
   }
-  delta->mass = d;
+  SetMassDelta(d, closed, weight, sides, delta);
 }
 
-void StarSecondMomentDelta(const EdgeStar& star, bool closed, const DVec3& origin,
+void StarSecondMomentDelta(const EdgeStar& star, bool closed, double weight, const DVec3& origin,
                            CollapseDelta* delta) {
   const DVec3 o = 0.5 * (star.v + star.vd) - origin;
   Sym3& d = delta->mass.second;
@@ -214,9 +255,9 @@ void StarSecondMomentDelta(const EdgeStar& star, bool closed, const DVec3& origi
     a = a - origin;
     b = b - origin;
     c = c - origin;
-    const Sym3 j = closed
-                       ? TetrahedronSecondMoment(o, a, b, c, Dot(a - o, Cross(b - o, c - o)) / 6.0)
-                       : TriangleSecondMoment(a, b, c, 0.5 * Norm(Cross(b - a, c - a)));
+    const Sym3 j =
+        closed ? TetrahedronSecondMoment(o, a, b, c, weight * Dot(a - o, Cross(b - o, c - o)) / 6.0)
+               : TriangleSecondMoment(a, b, c, 0.5 * Norm(Cross(b - a, c - a)));
     if (added)
       d += j;
     else
@@ -297,15 +338,22 @@ void TransferFields(const Ring& ring, int target, int fields, const FaceAttrQ* f
   }
 }
 
-MechanicsLedger::MechanicsLedger(const MassProperties& input, const FieldResultants& fields)
-    : input_(input), fields_(fields), force_spent_(fields.force.size()) {
+MechanicsLedger::MechanicsLedger(const MassProperties& input, const FieldResultants& fields,
+                                 std::vector<FaceSides> sides, std::vector<double> part_volumes)
+    : input_(input),
+      fields_(fields),
+      force_spent_(fields.force.size()),
+      sides_(std::move(sides)),
+      part_input_(std::move(part_volumes)),
+      part_spent_(part_input_.size(), 0.0) {
   for (DVec3& f : force_spent_) f = {0, 0, 0};
 }
 
 bool MechanicsLedger::TryCommit(uint32_t v, const CollapseDelta& delta, const CollapseDelta& judged,
                                 absl::FunctionRef<bool(const LedgerView&)> within) {
   std::lock_guard<std::mutex> lock(mu_);
-  if (!within(LedgerView{input_, SpentWith(judged), fields_, force_spent_})) return false;
+  MassProperties spent;
+  if (!within(ViewWith(judged, &spent))) return false;
   if (in_round_)
     round_deltas_.emplace_back(v, delta);
   else
@@ -317,25 +365,39 @@ bool MechanicsLedger::TryCommitTogether(
     std::span<const CollapseDelta> deltas, std::span<const CollapseDelta> judged,
     absl::FunctionRef<bool(const LedgerView&, size_t k)> within) {
   std::lock_guard<std::mutex> lock(mu_);
+  MassProperties spent;
   for (size_t k = 0; k < deltas.size(); ++k)
-    if (!within(LedgerView{input_, SpentWith(judged[k]), fields_, force_spent_}, k)) return false;
+    if (!within(ViewWith(judged[k], &spent), k)) return false;
   for (const CollapseDelta& delta : deltas) Add(delta);
   return true;
 }
 
-MassProperties MechanicsLedger::SpentWith(const CollapseDelta& judged) const {
+LedgerView MechanicsLedger::ViewWith(const CollapseDelta& judged, MassProperties* spent) const {
   // A delta without a measured mass change adds zeros.
-  MassProperties spent = spent_;
-  spent.measure += judged.mass.measure;
-  spent.moment += judged.mass.moment;
-  spent.second += judged.mass.second;
-  return spent;
+  *spent = spent_;
+  spent->measure += judged.mass.measure;
+  spent->moment += judged.mass.moment;
+  spent->second += judged.mass.second;
+  LedgerView view{input_, *spent, fields_, force_spent_};
+  if (!sides_.empty()) {
+    const FaceSides& s = sides_[judged.sides];
+    for (const auto& [part, sign] : {std::pair(s.behind, 1.0), std::pair(s.ahead, -1.0)})
+      if (part != kSpace)
+        view.parts[view.part_count++] = {part_input_[part],
+                                         part_spent_[part] + sign * judged.enclosed};
+  }
+  return view;
 }
 
 void MechanicsLedger::Add(const CollapseDelta& delta) {
   spent_.measure += delta.mass.measure;
   spent_.moment += delta.mass.moment;
   spent_.second += delta.mass.second;
+  if (!sides_.empty()) {
+    const FaceSides& s = sides_[delta.sides];
+    if (s.behind != kSpace) part_spent_[s.behind] += delta.enclosed;
+    if (s.ahead != kSpace) part_spent_[s.ahead] -= delta.enclosed;
+  }
   for (int i = 0; i < delta.entries; ++i) force_spent_[delta.slot[i]] += delta.force[i];
 }
 
@@ -359,6 +421,7 @@ CollapseDelta Scaled(const CollapseDelta& delta, double s) {
   out.mass.measure *= s;
   out.mass.moment = s * out.mass.moment;
   out.mass.second = s * out.mass.second;
+  out.enclosed *= s;
   for (int i = 0; i < out.entries; ++i) out.force[i] = s * out.force[i];
   return out;
 }

@@ -50,8 +50,12 @@ struct FieldResultants {
 };
 
 bool IsClosed(const Mesh& mesh);
-// With the second moment about `origin`.
+// With the second moment about `origin`. Closed: of the solid the faces bound, each face by its
+// weight (Mesh::sides(): the parts of an assembly; +1 without).
 MassProperties MeasureMass(const Mesh& mesh, bool closed, const DVec3& origin);
+// The volume of each part of an assembly (Mesh::sides()); empty without parts. Measured from
+// `origin` (near the part: no large cancelling terms).
+std::vector<double> MeasurePartVolumes(const Mesh& mesh, const DVec3& origin);
 // The live faces' total area.
 double SurfaceArea(const Mesh& mesh);
 // The same properties with the second moment about `to` instead of `from` (parallel axes).
@@ -65,23 +69,34 @@ double WorstFieldChange(const FieldResultants& before, const FieldResultants& af
 
 // What one collapse changes: the mass properties, and the resultant of the groups it touches.
 struct CollapseDelta {
-  MassProperties mass;
+  MassProperties mass;  // of the solid (closed), each face by its weight; or of the surface
+  // The parts of an assembly: the fan's entry in Mesh::sides(), and the volume change behind
+  // its faces (the part behind gains it, the part ahead loses it).
+  uint32_t sides = 0;
+  double enclosed = 0.0;
   int entries = 0;
   int slot[2 * kMaxFaceFields];  // group * kMaxFaceFields + field
   DVec3 force[2 * kMaxFaceFields];
 };
 
+// The weight of a fan's faces in the solid's integrals (FaceSides::weight; 1 without parts).
+inline double FanWeight(const std::vector<FaceSides>& sides, const Ring& fan) {
+  return sides.empty() ? 1.0 : sides[fan.sides].weight;
+}
+
 // Mass change of collapsing V onto ring.nbr[target] (origin-independent: the two patches share
-// their border, so only the enclosed difference counts).
-void CollapseMassDelta(const Ring& ring, int target, bool closed, CollapseDelta* delta);
+// their border, so only the enclosed difference counts), the solid's by the fan's `weight`.
+void CollapseMassDelta(const Ring& ring, int target, bool closed, double weight,
+                       CollapseDelta* delta);
 // Adds the collapse's change of the second moment about `origin` to delta->mass.second.
-void CollapseSecondMomentDelta(const Ring& ring, int target, bool closed, const DVec3& origin,
-                               CollapseDelta* delta);
+void CollapseSecondMomentDelta(const Ring& ring, int target, bool closed, double weight,
+                               const DVec3& origin, CollapseDelta* delta);
 
 // The same two for a full-edge collapse (engine/star.h): the new faces at star.p replace the
-// old ones.
-void StarMassDelta(const EdgeStar& star, bool closed, CollapseDelta* delta);
-void StarSecondMomentDelta(const EdgeStar& star, bool closed, const DVec3& origin,
+// old ones; `sides` is the star's fan's.
+void StarMassDelta(const EdgeStar& star, bool closed, double weight, uint32_t sides,
+                   CollapseDelta* delta);
+void StarSecondMomentDelta(const EdgeStar& star, bool closed, double weight, const DVec3& origin,
                            CollapseDelta* delta);
 
 // New field values for the fan faces that survive the collapse: per group, the smallest
@@ -91,19 +106,30 @@ void StarSecondMomentDelta(const EdgeStar& star, bool closed, const DVec3& origi
 void TransferFields(const Ring& ring, int target, int fields, const FaceAttrQ* fan_attr,
                     const int* group_slot, FaceAttrQ* new_attr, CollapseDelta* delta);
 
+// A part of an assembly whose volume a collapse changes.
+struct PartSpend {
+  double input = 0.0;  // its volume in the input
+  double spent = 0.0;  // its volume change so far, this collapse included
+};
+
 // The ledger's totals as a budget rule (engine/rule.h) sees them, under the ledger's lock.
 struct LedgerView {
   const MassProperties& input;            // of the input mesh
   const MassProperties& spent;            // change so far, this collapse included
   const FieldResultants& reference;       // per group and field, of the input
   const std::vector<DVec3>& force_spent;  // resultant change so far, without this collapse
+  PartSpend parts[2] = {};                // the parts behind and ahead of the collapse's faces
+  int part_count = 0;
 };
 
 // The run's running totals, spent from by every context under one lock; the budget rules
 // decide what may be spent.
 class MechanicsLedger {
  public:
-  MechanicsLedger(const MassProperties& input, const FieldResultants& fields);
+  // `sides` and `part_volumes`: the parts of an assembly (Mesh::sides(), MeasurePartVolumes),
+  // empty without.
+  MechanicsLedger(const MassProperties& input, const FieldResultants& fields,
+                  std::vector<FaceSides> sides = {}, std::vector<double> part_volumes = {});
 
   // Spends the delta of V's collapse if `within` accepts the totals that `judged` would leave;
   // otherwise changes nothing and returns false. Outside rounds `judged` is the delta itself.
@@ -126,14 +152,19 @@ class MechanicsLedger {
   double round_scale() const { return round_scale_; }
 
  private:
-  void Add(const CollapseDelta& delta);                         // under mu_
-  MassProperties SpentWith(const CollapseDelta& judged) const;  // the mass spent, under mu_
+  void Add(const CollapseDelta& delta);  // under mu_
+  // What the budget rules see of the totals with `judged` spent (its mass in *spent, which the
+  // view refers to), under mu_.
+  LedgerView ViewWith(const CollapseDelta& judged, MassProperties* spent) const;
 
   const MassProperties input_;
   const FieldResultants fields_;
   std::mutex mu_;
   MassProperties spent_;            // guarded by mu_
   std::vector<DVec3> force_spent_;  // guarded by mu_
+  const std::vector<FaceSides> sides_;
+  const std::vector<double> part_input_;
+  std::vector<double> part_spent_;  // guarded by mu_
   double round_scale_ = 1.0;        // set between rounds only
   bool in_round_ = false;
   std::vector<std::pair<uint32_t, CollapseDelta>> round_deltas_;  // guarded by mu_

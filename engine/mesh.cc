@@ -122,6 +122,27 @@ absl::StatusOr<Mesh> Mesh::Build(const RawMesh& raw) {
     }
     mesh.point_ids_ = raw.point_ids;
   }
+  if (!raw.face_sides.empty() || !raw.sides.empty()) {
+    if (raw.face_sides.size() != nh / 3 || raw.sides.size() >= kMaxSides)
+      return absl::InvalidArgumentError(
+          absl::StrCat("face sides: ", raw.face_sides.size(), " for ", nh / 3, " faces, ",
+                       raw.sides.size(), " entries (one per face; fewer than ", kMaxSides, ")"));
+    for (uint32_t h = 0; h < nh; ++h) {
+      const uint32_t s = raw.face_sides[FaceOf(h)];
+      if (s >= raw.sides.size())
+        return absl::InvalidArgumentError(absl::StrCat("face ", FaceOf(h), ": sides ", s,
+                                                       " out of range (", raw.sides.size(), ")"));
+      mesh.halfedges_[h].flags |= s << kSidesShift;
+    }
+    // A collapse rewrites faces joined across edges; they must see the same parts.
+    for (uint32_t h = 0; h < nh; ++h) {
+      const uint32_t t = mesh.halfedges_[h].twin;
+      if (t != kNone && raw.face_sides[FaceOf(h)] != raw.face_sides[FaceOf(t)])
+        return absl::InvalidArgumentError(absl::StrCat("faces ", FaceOf(h), " and ", FaceOf(t),
+                                                       " share an edge but not their sides"));
+    }
+    mesh.sides_ = raw.sides;
+  }
   mesh.origin_ = raw.origin;
   if (!raw.face_fields.empty()) {
     mesh.EnsureFaceAttrs();

@@ -36,6 +36,10 @@ class Mesh {
   const uint8_t* locked_flags() const { return locked_.empty() ? nullptr : locked_.data(); }
   // RawMesh::point_ids as built, or nullptr when every vertex is its own point.
   const uint32_t* point_ids() const { return point_ids_.empty() ? nullptr : point_ids_.data(); }
+  // RawMesh::sides as built (engine/solid_parts.h): empty, or what lies on each side of a face,
+  // indexed by SidesOf.
+  const std::vector<FaceSides>& sides() const { return sides_; }
+  static uint32_t SidesOf(const HalfEdgeQ& h) { return h.flags >> kSidesShift; }
   // RawMesh::origin as built: positions are relative to it, and so are ToRaw's.
   const std::array<double, 3>& origin() const { return origin_; }
 
@@ -79,6 +83,7 @@ class Mesh {
   std::vector<QuadricQ> quadrics_;
   std::vector<uint8_t> locked_;      // per vertex, empty when none is locked
   std::vector<uint32_t> point_ids_;  // per vertex, empty when every vertex is its own point
+  std::vector<FaceSides> sides_;
   std::array<double, 3> origin_{};
 };
 

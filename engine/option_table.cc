@@ -120,7 +120,8 @@ std::vector<OptionSpec> MakeTable() {
       {.name = "max_volume_change", .flag = "--max-volume-change", .metavar = "F",
        .section = "fidelity", .type = T::kFraction, .range = Range::Closed(0, 1),
        .zero_means = "off",
-       .help = "relative change of the enclosed volume (closed meshes; an open one has none)",
+       .help = "relative change of the enclosed volume (closed meshes, and each part of an "
+               "assembly; an open one has none)",
        .field = &S::max_volume_change},
       {.name = "max_centroid_shift", .flag = "--max-centroid-shift", .metavar = "F",
        .section = "fidelity", .type = T::kFraction, .range = Range::Closed(0, 1),

@@ -10,6 +10,7 @@
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
 #include "engine/local_origin.h"
+#include "engine/solid_parts.h"
 #include "engine/spatial_order.h"
 
 namespace femsimp {
@@ -87,11 +88,19 @@ absl::StatusOr<PreparedMesh> PrepareMesh(RawMesh raw, const RepairOptions& optio
 
   // Parts of an assembly that share faces or edges: cut into manifold sheets along the seams,
   // whose vertices are locked and joined again by OutputMesh.
+  // Their parts are solids: which part lies on each side of a face is found before the cut.
   SeamMap seam_map;
   if (!repaired->seams.empty()) {
+    SolidParts parts = FindSolidParts(raw);
+    raw.face_sides = std::move(parts.face_sides);
+    raw.sides = std::move(parts.sides);
     absl::StatusOr<SeamMap> split = SplitSeams(raw);
     if (!split.ok()) return split.status();
     seam_map = *std::move(split);
+    if (!raw.sides.empty() && !SheetsKeepTheirSides(raw)) {
+      raw.face_sides.clear();
+      raw.sides.clear();
+    }
   }
   times.repair_seconds = seconds_since(repair_start) - times.order_seconds;
   const Clock::time_point build_start = Clock::now();

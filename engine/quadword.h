@@ -26,6 +26,10 @@ inline constexpr uint32_t kFaceRemoved = 1u;
 // On both half-edges of a feature edge: a boundary, a group border, or a dihedral angle above
 // the feature angle. Set before the passes; a collapse that joins two edges ORs their bits.
 inline constexpr uint32_t kFeatureEdge = 2u;
+// The face's entry in Mesh::sides() (the parts of an assembly on its two sides) sits in the
+// flags' high bits, the same on its three half-edges; 0 on a mesh without parts.
+inline constexpr int kSidesShift = 8;
+inline constexpr uint32_t kMaxSides = 1u << (32 - kSidesShift);
 
 // Side data per face (two quadwords), present when a tolerance or face fields are asked for:
 // how far the face's points moved from the original surface (docs/FIDELITY.md: a bound on the

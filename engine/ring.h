@@ -25,6 +25,7 @@ struct Ring {
   Vec3 pos[kMaxRing + 1];
   bool feature[kMaxRing + 1];  // the edge centre - nbr[i] is a feature edge
   uint32_t group[kMaxRing];    // face group of fan face i
+  uint32_t sides = 0;          // the fan's entry in Mesh::sides() (one sheet: the same for all)
   int neighbours() const { return boundary ? faces + 1 : faces; }
   // Fan face i is (centre, nbr[i], nbr[i + 1]) (indices mod neighbours() when closed).
   uint32_t face_second(int i) const { return nbr[i]; }
@@ -59,6 +60,7 @@ RingResult GatherRing(Port& port, uint32_t center, Ring& ring) {
     ring.nbr[ring.faces] = e0.target;
     ring.feature[ring.faces] = e0.flags & kFeatureEdge;
     ring.group[ring.faces] = e0.group;
+    if (ring.faces == 0) ring.sides = e0.flags >> kSidesShift;
     ++ring.faces;
     const uint32_t next_out = e2.twin;
     if (next_out == kNone) {

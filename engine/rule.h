@@ -181,7 +181,10 @@ struct RuleSetup {
   float tolerance = 0.0f;    // > 0: track the deviation bound and keep it below this
   int fields = 0;            // face fields carried (their values travel in FaceAttrQ)
   bool closed = false;       // mass properties of the solid rather than of the surface
-  double diagonal = 1.0;     // of the input's bounding box
+  // The parts of an assembly (Mesh::sides(), MeasurePartVolumes of the input); empty without.
+  const std::vector<FaceSides>* sides = nullptr;
+  const std::vector<double>* part_volumes = nullptr;
+  double diagonal = 1.0;               // of the input's bounding box
   const GroupIndex* groups = nullptr;  // dense group slots, when fields are carried
   // The input's measures the budget rules' ledger starts from; its second moment is about
   // mass_origin (the input's centroid).

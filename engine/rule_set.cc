@@ -44,7 +44,10 @@ RuleSet RuleSet::Build(const SimplifyOptions& options, const RuleSetup& setup) {
     if (rule->keeps_state()) set.stateful_.push_back(rule.get());
   }
   if (!set.stage(RuleStage::kBudget).empty())
-    set.ledger_ = std::make_unique<MechanicsLedger>(*setup.mass, *setup.resultants);
+    set.ledger_ = std::make_unique<MechanicsLedger>(
+        *setup.mass, *setup.resultants,
+        setup.sides != nullptr ? *setup.sides : std::vector<FaceSides>{},
+        setup.part_volumes != nullptr ? *setup.part_volumes : std::vector<double>{});
   return set;
 }
 

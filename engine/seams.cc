@@ -7,43 +7,13 @@
 #include "absl/container/flat_hash_map.h"
 #include "absl/status/status.h"
 #include "absl/strings/str_cat.h"
+#include "engine/edge_groups.h"
 #include "engine/union_find.h"
 
 namespace femsimp {
 namespace {
 
 constexpr uint32_t kNoIndex = std::numeric_limits<uint32_t>::max();
-
-uint32_t NextCorner(uint32_t c) { return c % 3 == 2 ? c - 2 : c + 1; }
-
-// The half-edges of a soup grouped by undirected edge: half-edge c runs from corner c to the next
-// corner of its face; group g holds half[begin[g] .. begin[g + 1]), ordered by (low, high, c).
-struct EdgeGroups {
-  std::vector<uint32_t> half, begin;
-
-  explicit EdgeGroups(const std::vector<uint32_t>& tri) {
-    const uint32_t nh = static_cast<uint32_t>(tri.size());
-    struct Key {
-      uint64_t edge;
-      uint32_t h;
-      bool operator<(const Key& o) const { return edge != o.edge ? edge < o.edge : h < o.h; }
-    };
-    std::vector<Key> keys(nh);
-    for (uint32_t h = 0; h < nh; ++h) {
-      const uint32_t a = tri[h], b = tri[NextCorner(h)];
-      keys[h] = {(uint64_t{std::min(a, b)} << 32) | std::max(a, b), h};
-    }
-    std::sort(keys.begin(), keys.end());
-    half.resize(nh);
-    for (uint32_t i = 0; i < nh; ++i) {
-      half[i] = keys[i].h;
-      if (i == 0 || keys[i].edge != keys[i - 1].edge) begin.push_back(i);
-    }
-    begin.push_back(nh);
-  }
-  size_t size() const { return begin.size() - 1; }
-  uint32_t count(size_t g) const { return begin[g + 1] - begin[g]; }
-};
 
 // Two faces in opposite directions: the only edges across which faces stay adjacent.
 bool IsManifold(const std::vector<uint32_t>& tri, const EdgeGroups& edges, size_t g) {

@@ -157,7 +157,9 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
         1, static_cast<int64_t>(std::ceil(options.ratio * double(result.input_vertices))));
 
   // Fidelity set-up (docs/FIDELITY.md): features, tolerance, mechanical reference values.
+  // A closed surface bounds a solid; so do the parts of an assembly, whose sheets are open.
   const bool closed = IsClosed(mesh);
+  const bool solid = closed || !mesh.sides().empty();
   WorkerPool pool(options.threads);
   const FeatureSummary features = MarkFeatures(mesh, options.feature_angle_deg, cancelled, &pool);
   if (cancelled_in_setup()) return result;
@@ -170,7 +172,7 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
   setup.cos_feature = std::cos(options.feature_angle_deg * std::numbers::pi / 180.0);
   setup.tolerance = EffectiveTolerance(options, diagonal, &result.tolerance_abs);
   setup.fields = static_cast<int>(mesh.field_names().size());
-  setup.closed = closed;
+  setup.closed = solid;
   setup.diagonal = diagonal;
   const bool quadric = options.cost == CostKind::kQuadric;
   if (setup.tolerance > 0.0f) mesh.EnsureFaceAttrs();
@@ -182,13 +184,16 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
   setup.seam_vertices = mesh.locked_flags();
   // Second moments about the input's centroid, measured first about the box's centre (near the
   // part, so that no large terms cancel).
-  const MassProperties measured = MeasureMass(mesh, closed, bounds.centre());
+  const MassProperties measured = MeasureMass(mesh, solid, bounds.centre());
+  const std::vector<double> part_volumes = MeasurePartVolumes(mesh, bounds.centre());
+  setup.sides = &mesh.sides();
+  setup.part_volumes = &part_volumes;
   setup.mass_origin = measured.measure != 0.0 ? measured.centroid() : bounds.centre();
   const MassProperties mass_before =
       MovedSecondMoment(measured, bounds.centre(), setup.mass_origin);
   // Positions are relative to the mesh's origin; the centroid is reported where the file has it.
   const DVec3 origin{mesh.origin()[0], mesh.origin()[1], mesh.origin()[2]};
-  result.input_mass = Summarize(mass_before, closed, setup.mass_origin);
+  result.input_mass = Summarize(mass_before, solid, setup.mass_origin);
   result.input_mass.centroid += origin;
   result.input_mass.area = SurfaceArea(mesh);
   const FieldResultants fields_before = MeasureFields(mesh, groups);
@@ -349,12 +354,15 @@ absl::StatusOr<SimplifyResult> Simplify(Mesh& mesh, const SimplifyOptions& optio
   result.output_vertices = mesh.CountLiveVertices();
   result.output_faces = mesh.CountLiveFaces();
   result.deviation_bound = MaxDeviationBound(mesh);
-  const MassProperties mass_after = MeasureMass(mesh, closed, setup.mass_origin);
-  result.output_mass = Summarize(mass_after, closed, setup.mass_origin);
+  const MassProperties mass_after = MeasureMass(mesh, solid, setup.mass_origin);
+  result.output_mass = Summarize(mass_after, solid, setup.mass_origin);
+  const std::vector<double> part_volumes_after = MeasurePartVolumes(mesh, bounds.centre());
+  for (size_t i = 0; i < part_volumes.size(); ++i)
+    result.parts.push_back({part_volumes[i], part_volumes_after[i]});
   result.output_mass.centroid += origin;
   result.output_mass.area = SurfaceArea(mesh);
   result.inertia_change = PrincipalMomentChange(result.input_mass, result.output_mass);
-  if (closed && mass_before.measure != 0.0)
+  if (solid && mass_before.measure != 0.0)
     result.volume_change = (mass_after.measure - mass_before.measure) / mass_before.measure;
   if (mass_before.measure != 0.0 && mass_after.measure != 0.0 && diagonal > 0.0)
     result.centroid_shift = Norm(mass_after.centroid() - mass_before.centroid()) / diagonal;

@@ -217,6 +217,12 @@ struct SimplifyResult {
   // principal moment of inertia.
   MassSummary input_mass, output_mass;
   double inertia_change = 0.0;
+  // The parts of an assembly that meet at seams (engine/solid_parts.h), each a solid: its
+  // volume in the input and in the output. Empty for a mesh without such parts.
+  struct PartVolume {
+    double input = 0.0, output = 0.0;
+  };
+  std::vector<PartVolume> parts;
   // The wall rule (max_wall_share), when on: the share of the input's area whose tolerance the
   // walls lowered, and the thinnest wall measured (0: the rule was off or met no wall thinner
   // than tolerance / max_wall_share, where its rays stop).

@@ -322,6 +322,11 @@ void FidelityToProto(const SimplifyResult& r, v1::Result* out) {
   coordinates->set_magnitude(r.coordinates.magnitude);
   coordinates->set_spacing(r.coordinates.spacing);
   coordinates->set_diagonal(r.coordinates.diagonal);
+  for (const SimplifyResult::PartVolume& part : r.parts) {
+    v1::PartVolume* p = out->add_parts();
+    p->set_input_volume(part.input);
+    p->set_output_volume(part.output);
+  }
 }
 
 void FidelityFromProto(const v1::Result& in, SimplifyResult* out) {
@@ -337,6 +342,9 @@ void FidelityFromProto(const v1::Result& in, SimplifyResult* out) {
   out->inertia_change = in.inertia_change();
   out->wall_limited_share = in.wall_limited_share();
   out->thinnest_wall = in.thinnest_wall();
+  out->parts.clear();
+  for (const v1::PartVolume& p : in.parts())
+    out->parts.push_back({p.input_volume(), p.output_volume()});
   const v1::OutputCrossings& crossings = in.output_crossings();
   out->output_crossings.pairs = crossings.pairs();
   out->output_crossings.face_a = crossings.face_a();

@@ -7,8 +7,8 @@ namespace {
 
 class CentroidBudgetRule final : public MassBudgetRule {
  public:
-  CentroidBudgetRule(double max_shift, bool closed, double diagonal)
-      : MassBudgetRule(closed), max_distance_(max_shift * diagonal) {}
+  CentroidBudgetRule(double max_shift, const RuleSetup& s)
+      : MassBudgetRule(s), max_distance_(max_shift * s.diagonal) {}
   Reject reason() const override { return Reject::kCentroid; }
   bool WithinBudget(const LedgerView& t, const CollapseDelta&) const override {
     const MassProperties now{
@@ -24,7 +24,7 @@ class CentroidBudgetRule final : public MassBudgetRule {
 
 std::unique_ptr<CollapseRule> MakeCentroidBudgetRule(const SimplifyOptions& o, const RuleSetup& s) {
   if (!(o.max_centroid_shift > 0.0)) return nullptr;
-  return std::make_unique<CentroidBudgetRule>(o.max_centroid_shift, s.closed, s.diagonal);
+  return std::make_unique<CentroidBudgetRule>(o.max_centroid_shift, s);
 }
 
 }  // namespace femsimp

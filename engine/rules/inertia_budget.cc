@@ -28,7 +28,7 @@ DVec3 Times(const Sym3& m, const DVec3& v) {
 class InertiaBudgetRule final : public MassBudgetRule {
  public:
   InertiaBudgetRule(double max_change, const RuleSetup& s)
-      : MassBudgetRule(s.closed), origin_(s.mass_origin), allowed_(max_change) {
+      : MassBudgetRule(s), origin_(s.mass_origin), allowed_(max_change) {
     const MassSummary input = Summarize(*s.mass, s.closed, s.mass_origin);
     // Ascending. A moment of 0 (a part flat as a sheet of no thickness) leaves no room: nothing
     // passes (WithinBudget).
@@ -41,10 +41,10 @@ class InertiaBudgetRule final : public MassBudgetRule {
   Verdict Check(RuleStage stage, CollapseProposal& p) const override {
     MassBudgetRule::Check(stage, p);
     if (p.star != nullptr) {
-      StarSecondMomentDelta(*p.star, closed(), origin_, &p.delta);
+      StarSecondMomentDelta(*p.star, closed(), weight(*p.fan), origin_, &p.delta);
       p.cycles += 60 * p.star->count;
     } else {
-      CollapseSecondMomentDelta(*p.fan, p.target, closed(), origin_, &p.delta);
+      CollapseSecondMomentDelta(*p.fan, p.target, closed(), weight(*p.fan), origin_, &p.delta);
       p.cycles += 60 * p.fan->faces;
     }
     return Verdict::kPass;

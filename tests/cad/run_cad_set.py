@@ -9,7 +9,10 @@ not run the measured check).
 
 With --tetgen, every output without boundary edges (a repaired CAD tessellation and an
 assembly's parts included) whose input does not intersect itself must also tet-mesh (`tetgen
--pQ`): the FE mesher is the last judge of an FE-usable surface.
+-pQ`): the FE mesher is the last judge of an FE-usable surface. And the volume of each part of an
+assembly that femsimp reports (`fidelity.parts` of --stats-json) must be the volume of a region
+tetgen finds (`tetgen -pA`, its tetrahedra summed per region) in the input and in the output,
+each part within the plain call's volume budget.
 
 Fails (exit 1) when the generator fails or is not deterministic, when femsimp fails on a clean
 part or its output fails a judge check or tetgen, when two 1-thread runs differ or a run with 2
@@ -26,6 +29,7 @@ import json
 import os
 import re
 import shutil
+import struct
 import subprocess
 import sys
 import time
@@ -84,6 +88,10 @@ def run_femsimp(femsimp, src, dst, args):
     return p, time.monotonic() - start
 
 
+def stats_path(dst):
+    return dst + ".stats.json"
+
+
 def judge(judge_exe, settings, src, dst, closed, repaired_input=False):
     args = [judge_exe, src, dst, "--tolerance-relative", str(settings.tolerance)]
     if closed and settings.volume is not None:
@@ -111,27 +119,103 @@ def obj_to_off(src, dst):
         f.writelines(f"{len(face.split())} {face}\n" for face in faces)
 
 
-def tetgen_refusal(tetgen, path, scratch):
-    """None when tetgen tet-meshes the surface at `path`, else what it said (or its exit)."""
+def stl_to_off(src, dst):
+    """An STL file (binary or ASCII) as an .off, points with equal coordinates made one."""
+    with open(src, "rb") as f:
+        data = f.read()
+    corners = []
+    count = struct.unpack_from("<I", data, 80)[0] if len(data) >= 84 else -1
+    if len(data) == 84 + 50 * count:
+        for k in range(count):
+            values = struct.unpack_from("<12f", data, 84 + 50 * k)
+            corners += [values[3 * i:3 * i + 3] for i in (1, 2, 3)]
+    else:
+        corners = [tuple(float(x) for x in line.split()[1:4])
+                   for line in data.decode().splitlines() if line.split()[:1] == ["vertex"]]
+    index = {}
+    faces = [[index.setdefault(c, len(index)) for c in corners[i:i + 3]]
+             for i in range(0, len(corners), 3)]
+    with open(dst, "w") as f:
+        f.write(f"OFF\n{len(index)} {len(faces)} 0\n")
+        f.writelines(f"{x!r} {y!r} {z!r}\n" for x, y, z in index)
+        f.writelines(f"3 {a} {b} {c}\n" for a, b, c in faces)
+
+
+def run_tetgen(tetgen, switches, path, scratch, read=None):
+    """Runs tetgen on a copy of the surface at `path` in `scratch` (emptied after): (None,
+    read(stem of its output files)) when it tet-meshes it, else (what it said or its exit,
+    None)."""
     os.makedirs(scratch, exist_ok=True)
     stem, ext = os.path.splitext(os.path.basename(path))
-    copy = os.path.join(scratch, stem + (".off" if ext == ".obj" else ext))
+    copy = os.path.join(scratch, stem + (".off" if ext in (".obj", ".stl") else ext))
     if ext == ".obj":  # tetgen reads no .obj: the same vertices and faces as an .off
         obj_to_off(path, copy)
+    elif ext == ".stl":  # nor binary STL
+        stl_to_off(path, copy)
     else:
         shutil.copyfile(path, copy)
     try:
-        p = subprocess.run([tetgen, "-pQ", copy], capture_output=True, text=True,
+        p = subprocess.run([tetgen, switches, copy], capture_output=True, text=True,
                            timeout=TETGEN_SECONDS)
+        said = " ".join((p.stdout + p.stderr).split())
+        if p.returncode != 0 or "error" in said.lower():
+            return f"tetgen exit {p.returncode}" + (f": {said[:200]}" if said else ""), None
+        return None, read(os.path.join(scratch, stem + ".1")) if read else None
     except subprocess.TimeoutExpired:
-        return f"tetgen ran past {TETGEN_SECONDS} s"
+        return f"tetgen ran past {TETGEN_SECONDS} s", None
     finally:
         for name in os.listdir(scratch):
             os.remove(os.path.join(scratch, name))
-    said = " ".join((p.stdout + p.stderr).split())
-    if p.returncode != 0 or "error" in said.lower():
-        return f"tetgen exit {p.returncode}" + (f": {said[:200]}" if said else "")
-    return None
+
+
+def tetgen_refusal(tetgen, path, scratch):
+    """None when tetgen tet-meshes the surface at `path`, else what it said (or its exit)."""
+    return run_tetgen(tetgen, "-pQ", path, scratch)[0]
+
+
+def region_volumes(stem):
+    """The volume of each region of tetgen's -pA output (STEM.node, STEM.ele: one attribute per
+    region the facets enclose), ascending."""
+    def rows(path):
+        with open(path) as f:
+            lines = [line.split() for line in f if line.split() and not line.startswith("#")]
+        return lines[0], lines[1:]
+    _, nodes = rows(stem + ".node")
+    first = int(nodes[0][0])
+    point = [tuple(float(x) for x in row[1:4]) for row in nodes]
+    _, tets = rows(stem + ".ele")
+    volumes = {}
+    for row in tets:
+        a, b, c, d = (point[int(i) - first] for i in row[1:5])
+        u, v, w = ([q[k] - a[k] for k in range(3)] for q in (b, c, d))
+        det = (u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0])
+               + u[2] * (v[0] * w[1] - v[1] * w[0]))
+        volumes[row[5]] = volumes.get(row[5], 0.0) + abs(det) / 6
+    return sorted(volumes.values())
+
+
+def part_volume_failures(tetgen, parts, src, dst, scratch, budget):
+    """What is wrong with the parts femsimp reports for an assembly (input and output volume
+    each): their volumes, in and out, must be those of the regions tetgen finds in the input
+    and the output surfaces (sorted, within 1e-5 of each), and each part's change within
+    `budget` (None: no budget)."""
+    failures = []
+    for side, path in (("input", src), ("output", dst)):
+        said, regions = run_tetgen(tetgen, "-pAQ", path, scratch, region_volumes)
+        if said:
+            failures.append(f"tetgen on the {side}: {said}")
+            continue
+        reported = sorted(p[f"{side}_volume"] for p in parts)
+        if len(regions) != len(reported) or any(
+                abs(r - f) > 1e-5 * abs(r) for r, f in zip(regions, reported)):
+            failures.append(f"the {side}'s parts are {reported} by femsimp, tetgen's regions "
+                            f"{regions}")
+    if budget is not None:
+        for k, p in enumerate(parts):
+            change = p["output_volume"] / p["input_volume"] - 1
+            if abs(change) > budget:
+                failures.append(f"part {k + 1}'s volume changed {change:+.4%} (budget {budget})")
+    return failures
 
 
 def repair_line(stdout):
@@ -230,7 +314,7 @@ def main():
             source = None
         reference = entry if source is None or gaps else source
         fargs = settings.femsimp_args()
-        p, seconds = run_femsimp(args.femsimp, src, dst, fargs)
+        p, seconds = run_femsimp(args.femsimp, src, dst, fargs + ["--stats-json", stats_path(dst)])
         message = (p.stderr.strip() or p.stdout.strip()).splitlines()
         message = message[0] if message else ""
         row = {"entry": entry, "exit": p.returncode, "message": message, "seconds": seconds,
@@ -287,6 +371,13 @@ def main():
             row["tetgen"] = tetgen_refusal(args.tetgen, dst, os.path.join(outputs, "tetgen"))
             if row["tetgen"]:
                 failures.append(f"{entry['file']}: the output does not tet-mesh: {row['tetgen']}")
+            with open(stats_path(dst)) as f:
+                parts = json.load(f)["fidelity"]["parts"]
+            if parts:
+                row["parts"] = len(parts)
+                failures += [f"{entry['file']}: {problem}" for problem in part_volume_failures(
+                    args.tetgen, parts, src, dst, os.path.join(outputs, "tetgen"),
+                    settings.volume)]
         # The crossings and overlaps femsimp reports with the output are the judge's (CGAL's
         # exact counts).
         if verdict is not None and reported_overlaps(p.stdout) != verdict["overlaps_out"]:

@@ -116,8 +116,8 @@ TEST(EdgeStar, MassChangeMatchesTheWholeMeshAndOptimalKeepsTheVolume) {
     for (const DVec3 p : {OptimalPosition(star), 0.5 * (star.v + star.vd), star.vd}) {
       star.p = Rounded(p);
       CollapseDelta delta;
-      StarMassDelta(star, true, &delta);
-      StarSecondMomentDelta(star, true, origin, &delta);
+      StarMassDelta(star, true, 1.0, 0, &delta);
+      StarSecondMomentDelta(star, true, 1.0, origin, &delta);
       const MassProperties after = MassOf(Collapsed(raw, v, star.vd_id, star.p), true, origin);
       // The whole mesh's sums carry a few 1e-9 of its volume (measured: up to 2.6e-9 on this
       // torus), far below any budget.
@@ -136,9 +136,9 @@ TEST(EdgeStar, MassChangeMatchesTheWholeMeshAndOptimalKeepsTheVolume) {
     }
     star.p = OptimalPosition(star);  // unrounded: the constraint holds exactly
     CollapseDelta delta;
-    StarMassDelta(star, true, &delta);
+    StarMassDelta(star, true, 1.0, 0, &delta);
     CollapseDelta half_edge;
-    CollapseMassDelta(e.fan, e.target, true, &half_edge);
+    CollapseMassDelta(e.fan, e.target, true, 1.0, &half_edge);
     EXPECT_LT(std::fabs(delta.mass.measure), 1e-6 * std::fabs(half_edge.mass.measure) + 1e-15)
         << "vertex " << v;
   }
@@ -155,13 +155,13 @@ TEST(EdgeStar, OntoVolumePlaneKeepsTheVolume) {
     EdgeStar star;
     ASSERT_TRUE(star.Build(e.fan, e.target, e.target_fan));
     CollapseDelta half_edge;
-    CollapseMassDelta(e.fan, e.target, true, &half_edge);
+    CollapseMassDelta(e.fan, e.target, true, 1.0, &half_edge);
     const double spent = std::fabs(half_edge.mass.measure);
     ASSERT_GT(spent, 0.0);  // the torus bends: the half-edge collapse changes the volume
     for (const DVec3 p : {0.5 * (star.v + star.vd), star.LinkCentre(), star.vd, star.v}) {
       star.p = OntoVolumePlane(star, p);
       CollapseDelta delta;
-      StarMassDelta(star, true, &delta);
+      StarMassDelta(star, true, 1.0, 0, &delta);
       EXPECT_LT(std::fabs(delta.mass.measure), 1e-9 * spent) << "vertex " << v;
     }
     const DVec3 optimal = OptimalPosition(star);

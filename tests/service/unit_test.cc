@@ -286,6 +286,7 @@ TEST(Wire, FidelityFiguresRoundTrip) {
   r.output_crossings.overlaps = {
       .pairs = 5, .face_a = 7, .face_b = 70, .at = {1, 0, -1}, .area = 2.5};
   r.coordinates = {.magnitude = 3e6, .spacing = 0.25, .diagonal = 53.5};
+  r.parts = {{.input = 8000, .output = 7990.5}, {.input = 1000, .output = 1001.25}};
   v1::Result m;
   wire::FidelityToProto(r, &m);
   SimplifyResult back;
@@ -320,6 +321,10 @@ TEST(Wire, FidelityFiguresRoundTrip) {
   EXPECT_EQ(back.coordinates.magnitude, 3e6);
   EXPECT_EQ(back.coordinates.spacing, 0.25);
   EXPECT_EQ(back.coordinates.diagonal, 53.5);
+  ASSERT_EQ(back.parts.size(), 2u);
+  EXPECT_EQ(back.parts[0].output, 7990.5);
+  EXPECT_EQ(back.parts[1].input, 1000);
+  EXPECT_EQ(back.parts[1].output, 1001.25);
 }
 
 // A client's label, or a file name in a message, must not forge a log line or reach the
@@ -356,6 +361,29 @@ TEST(Report, SummaryCountsSeamPoints) {
   EXPECT_NE(cli::Summary(r).find("seams:    7 seam points slid along their seams"),
             std::string::npos)
       << cli::Summary(r);
+}
+
+// An assembly's parts: each one's volume in and out, the first four listed and then the one
+// that changed most; --stats-json lists them all.
+TEST(Report, SummaryGivesEachPartsVolume) {
+  cli::RunReport r;
+  EXPECT_EQ(cli::Summary(r).find("parts:"), std::string::npos);
+  r.fidelity.parts = {{.input = 8000, .output = 8000}, {.input = 4000, .output = 3990}};
+  EXPECT_NE(cli::Summary(r).find("parts:    2 solids meeting at seams, volume each: part 1 8000 "
+                                 "-> 8000 (+0.0000%), part 2 4000 -> 3990 (-0.2500%)\n"),
+            std::string::npos)
+      << cli::Summary(r);
+  for (int k = 0; k < 3; ++k) r.fidelity.parts.push_back({.input = 100, .output = 100});
+  r.fidelity.parts.push_back({.input = 100, .output = 100.4});
+  EXPECT_NE(cli::Summary(r).find(", part 4 100 -> 100 (+0.0000%), 2 more; the most changed: part "
+                                 "6 100 -> 100.4 (+0.4000%)\n"),
+            std::string::npos)
+      << cli::Summary(r);
+  const std::string json = cli::ReportJson(r);
+  EXPECT_NE(json.find("\"parts\": [{\"input_volume\": 8000, \"output_volume\": 8000}, "
+                      "{\"input_volume\": 4000, \"output_volume\": 3990}"),
+            std::string::npos)
+      << json;
 }
 
 // With placement the summary counts the full-edge collapses, and with the measured check (the
