@@ -11,8 +11,9 @@ With --tetgen, every output without boundary edges (a repaired CAD tessellation 
 assembly's parts included) whose input does not intersect itself must also tet-mesh (`tetgen
 -pQ`): the FE mesher is the last judge of an FE-usable surface. And the volume of each part of an
 assembly that femsimp reports (`fidelity.parts` of --stats-json) must be the volume of a region
-tetgen finds (`tetgen -pA`, its tetrahedra summed per region) in the input and in the output,
-each part within the plain call's volume budget.
+tetgen finds (`tetgen -pAM`, its tetrahedra summed per region; -M: facets that are nearly
+coplanar are not merged, which would move the surface) in the input and in the output, each
+part within the plain call's volume budget.
 
 Fails (exit 1) when the generator fails or is not deterministic, when femsimp fails on a clean
 part or its output fails a judge check or tetgen, when two 1-thread runs differ or a run with 2
@@ -174,7 +175,7 @@ def tetgen_refusal(tetgen, path, scratch):
 
 
 def region_volumes(stem):
-    """The volume of each region of tetgen's -pA output (STEM.node, STEM.ele: one attribute per
+    """The volume of each region of tetgen's -pAM output (STEM.node, STEM.ele: one attribute per
     region the facets enclose), ascending."""
     def rows(path):
         with open(path) as f:
@@ -201,7 +202,7 @@ def part_volume_failures(tetgen, parts, src, dst, scratch, budget):
     `budget` (None: no budget)."""
     failures = []
     for side, path in (("input", src), ("output", dst)):
-        said, regions = run_tetgen(tetgen, "-pAQ", path, scratch, region_volumes)
+        said, regions = run_tetgen(tetgen, "-pAQM", path, scratch, region_volumes)
         if said:
             failures.append(f"tetgen on the {side}: {said}")
             continue
