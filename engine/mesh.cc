@@ -134,14 +134,19 @@ absl::StatusOr<Mesh> Mesh::Build(const RawMesh& raw) {
                                                        " out of range (", raw.sides.size(), ")"));
       mesh.halfedges_[h].flags |= s << kSidesShift;
     }
-    // A collapse rewrites faces joined across edges; they must see the same parts.
-    for (uint32_t h = 0; h < nh; ++h) {
+    // A collapse rewrites faces joined across edges, which must see the same parts. A sheet
+    // that closes a fan around both ends of a seam edge stays joined there (engine/seams.h)
+    // while the wedges of space around the edge may part its two faces' sides: such an
+    // assembly is measured as a surface.
+    bool agree = true;
+    for (uint32_t h = 0; h < nh && agree; ++h) {
       const uint32_t t = mesh.halfedges_[h].twin;
-      if (t != kNone && raw.face_sides[FaceOf(h)] != raw.face_sides[FaceOf(t)])
-        return absl::InvalidArgumentError(absl::StrCat("faces ", FaceOf(h), " and ", FaceOf(t),
-                                                       " share an edge but not their sides"));
+      agree = t == kNone || raw.face_sides[FaceOf(h)] == raw.face_sides[FaceOf(t)];
     }
-    mesh.sides_ = raw.sides;
+    if (agree)
+      mesh.sides_ = raw.sides;
+    else
+      for (HalfEdgeQ& h : mesh.halfedges_) h.flags &= (1u << kSidesShift) - 1;
   }
   mesh.origin_ = raw.origin;
   if (!raw.face_fields.empty()) {

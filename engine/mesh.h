@@ -37,7 +37,7 @@ class Mesh {
   // RawMesh::point_ids as built, or nullptr when every vertex is its own point.
   const uint32_t* point_ids() const { return point_ids_.empty() ? nullptr : point_ids_.data(); }
   // RawMesh::sides as built (engine/solid_parts.h): empty, or what lies on each side of a face,
-  // indexed by SidesOf.
+  // indexed by SidesOf. Empty too where two faces joined across an edge have different sides.
   const std::vector<FaceSides>& sides() const { return sides_; }
   static uint32_t SidesOf(const HalfEdgeQ& h) { return h.flags >> kSidesShift; }
   // RawMesh::origin as built: positions are relative to it, and so are ToRaw's.

@@ -91,16 +91,13 @@ absl::StatusOr<PreparedMesh> PrepareMesh(RawMesh raw, const RepairOptions& optio
   // Their parts are solids: which part lies on each side of a face is found before the cut.
   SeamMap seam_map;
   if (!repaired->seams.empty()) {
-    SolidParts parts = FindSolidParts(raw);
+    const EdgeGroups edges(raw.triangles);
+    SolidParts parts = FindSolidParts(raw, &edges);
     raw.face_sides = std::move(parts.face_sides);
     raw.sides = std::move(parts.sides);
-    absl::StatusOr<SeamMap> split = SplitSeams(raw);
+    absl::StatusOr<SeamMap> split = SplitSeams(raw, &edges);
     if (!split.ok()) return split.status();
     seam_map = *std::move(split);
-    if (!raw.sides.empty() && !SheetsKeepTheirSides(raw)) {
-      raw.face_sides.clear();
-      raw.sides.clear();
-    }
   }
   times.repair_seconds = seconds_since(repair_start) - times.order_seconds;
   const Clock::time_point build_start = Clock::now();

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <optional>
 #include <utility>
 
 #include "absl/container/flat_hash_map.h"
@@ -56,7 +57,7 @@ std::vector<EdgeUse> NonManifoldEdges(const RawMesh& mesh) {
   return out;  // groups are ordered by (low, high)
 }
 
-absl::StatusOr<SeamMap> SplitSeams(RawMesh& mesh) {
+absl::StatusOr<SeamMap> SplitSeams(RawMesh& mesh, const EdgeGroups* grouped) {
   if (absl::Status s = CheckArrays(mesh); !s.ok()) return s;
   const uint32_t nv = static_cast<uint32_t>(mesh.num_vertices());
   const uint32_t nc = static_cast<uint32_t>(mesh.triangles.size());
@@ -66,7 +67,8 @@ absl::StatusOr<SeamMap> SplitSeams(RawMesh& mesh) {
 
   // Corners at one vertex are in one fan when their faces are adjacent across a manifold edge
   // at that vertex.
-  const EdgeGroups edges(tri);
+  std::optional<EdgeGroups> own;
+  const EdgeGroups& edges = grouped != nullptr ? *grouped : own.emplace(tri);
   UnionFind fans(nc);
   std::vector<uint8_t> on_seam(nv, 0);
   for (size_t g = 0; g < edges.size(); ++g) {

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "absl/status/statusor.h"
+#include "engine/edge_groups.h"
 #include "engine/raw_mesh.h"
 
 namespace femsimp {
@@ -57,8 +58,9 @@ struct SeamMap {
 // fan around both its ends stay adjacent there). Sheets stay separate components. Seam vertices
 // are added to mesh.locked_vertices (as are the copies of vertices locked before).
 // A mesh without non-manifold edges or vertices comes back untouched, with an empty map.
-// InvalidArgument if an index is out of range or the arrays do not agree.
-absl::StatusOr<SeamMap> SplitSeams(RawMesh& mesh);
+// InvalidArgument if an index is out of range or the arrays do not agree. `edges`: the soup's
+// edge groups when the caller has them (made from mesh.triangles as given), else made here.
+absl::StatusOr<SeamMap> SplitSeams(RawMesh& mesh, const EdgeGroups* edges = nullptr);
 
 struct RejoinReport {
   size_t merged_vertices = 0;  // output vertices merged into another copy of their input vertex

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <tuple>
 #include <utility>
 
@@ -65,10 +66,11 @@ void JoinAroundSeam(const RawMesh& mesh, const EdgeGroups& edges, size_t g, Unio
 
 }  // namespace
 
-SolidParts FindSolidParts(const RawMesh& mesh) {
+SolidParts FindSolidParts(const RawMesh& mesh, const EdgeGroups* grouped) {
   const std::vector<uint32_t>& tri = mesh.triangles;
   const uint32_t nf = static_cast<uint32_t>(mesh.num_faces());
-  const EdgeGroups edges(tri);
+  std::optional<EdgeGroups> own;
+  const EdgeGroups& edges = grouped != nullptr ? *grouped : own.emplace(tri);
   UnionFind sides(2 * size_t{nf});
   UnionFind pieces(nf);
   std::vector<uint8_t> seam_piece(nf, 0);  // set on one face of each piece with a seam
@@ -158,17 +160,6 @@ SolidParts FindSolidParts(const RawMesh& mesh) {
     out.face_sides[f] = it->second;
   }
   return out;
-}
-
-bool SheetsKeepTheirSides(const RawMesh& split) {
-  const std::vector<uint32_t>& tri = split.triangles;
-  const EdgeGroups edges(tri);
-  for (size_t g = 0; g < edges.size(); ++g) {
-    if (edges.count(g) != 2) continue;
-    const uint32_t h0 = edges.half[edges.begin[g]], h1 = edges.half[edges.begin[g] + 1];
-    if (tri[h0] != tri[h1] && split.face_sides[h0 / 3] != split.face_sides[h1 / 3]) return false;
-  }
-  return true;
 }
 
 }  // namespace femsimp

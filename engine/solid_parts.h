@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "engine/edge_groups.h"
 #include "engine/raw_mesh.h"
 
 namespace femsimp {
@@ -30,13 +31,8 @@ struct SolidParts {
 // regions on its two sides, exactly one region is unbounded and every other encloses a
 // positive volume. Faces of pieces without a seam (a separate body, the wall of a cavity) get
 // no part and weight +1: the repair has oriented them to bound their volume, cavities facing
-// in. Indices must be in range (as after RepairMesh).
-SolidParts FindSolidParts(const RawMesh& mesh);
-
-// Whether faces joined across an edge of `split` (SplitSeams's output, with the sides found
-// before the split) have the same sides, as a collapse needs. A sheet that closes a fan around
-// both ends of a seam edge stays joined there (engine/seams.h) while the wedges of space around
-// the edge may part its two faces' sides; such an assembly is measured as a surface.
-bool SheetsKeepTheirSides(const RawMesh& split);
+// in. Indices must be in range (as after RepairMesh). `edges`: the soup's edge groups when the
+// caller has them, else made here.
+SolidParts FindSolidParts(const RawMesh& mesh, const EdgeGroups* edges = nullptr);
 
 }  // namespace femsimp

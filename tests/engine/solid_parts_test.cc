@@ -6,6 +6,7 @@
 #include <numbers>
 #include <vector>
 
+#include "engine/mesh.h"
 #include "engine/prepare.h"
 #include "engine/repair.h"
 #include "engine/simplify.h"
@@ -139,6 +140,28 @@ TEST(SolidParts, ASeparateBodyKeepsItsOrientation) {
   ASSERT_EQ(parts.parts(), 2u);
   for (size_t f = assembly_faces; f < mesh.num_faces(); ++f)
     EXPECT_EQ(parts.sides[parts.face_sides[f]], (FaceSides{kSpace, kSpace, 1})) << "face " << f;
+}
+
+TEST(SolidParts, MeshBuildTakesThemIntoTheFlags) {
+  RawMesh m = testing::Tetrahedron();
+  m.sides = {FaceSides{}, FaceSides{0, kSpace, 1}};
+  m.face_sides = {1, 1, 1};
+  EXPECT_FALSE(Mesh::Build(m).ok());  // one per face
+  m.face_sides = {1, 1, 1, 2};
+  EXPECT_FALSE(Mesh::Build(m).ok());  // out of range
+  m.face_sides = {1, 1, 1, 1};
+  absl::StatusOr<Mesh> mesh = Mesh::Build(m);
+  ASSERT_TRUE(mesh.ok()) << mesh.status();
+  EXPECT_EQ(mesh->sides(), m.sides);
+  for (uint32_t h = 0; h < mesh->halfedge_capacity(); ++h)
+    EXPECT_EQ(Mesh::SidesOf(mesh->halfedges()[h]), 1u);
+  // Faces joined across an edge must see the same parts, or the mesh has none.
+  m.face_sides = {1, 1, 1, 0};
+  mesh = Mesh::Build(m);
+  ASSERT_TRUE(mesh.ok()) << mesh.status();
+  EXPECT_TRUE(mesh->sides().empty());
+  for (uint32_t h = 0; h < mesh->halfedge_capacity(); ++h)
+    EXPECT_EQ(Mesh::SidesOf(mesh->halfedges()[h]), 0u);
 }
 
 struct AssemblyRun {
