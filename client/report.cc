@@ -251,6 +251,10 @@ std::string WallLines(const FidelityFigures& f, double max_wall_share) {
         s, absl::StrFormat("; the wall rule lowered it on %.1f%% of the surface (thinnest wall "
                            "%.4g)\n",
                            100 * f.wall_limited_share, f.thinnest_wall));
+  if (max_wall_share > 0.0 && !f.parts.empty())  // open sheets: no inside to cast rays into
+    return absl::StrCat(s,
+                        "; --max-wall-share holds closed parts only: not applied to an "
+                        "assembly whose parts meet at seams\n");
   if (max_wall_share > 0.0)  // the rays looked no farther than where a wall lowers nothing
     return absl::StrCat(s, absl::StrFormat("; no wall thinner than %.4g (the tolerance over "
                                            "--max-wall-share): the wall rule lowered it nowhere\n",

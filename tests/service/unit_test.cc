@@ -379,6 +379,15 @@ TEST(Report, SummaryGivesEachPartsVolume) {
                                  "6 100 -> 100.4 (+0.4000%)\n"),
             std::string::npos)
       << cli::Summary(r);
+  // The wall rule casts its rays into closed parts only; the summary must not say it found
+  // no thin wall where it did not look.
+  r.fidelity.input_mass = {.solid = true, .measure = 12400, .area = 2000};
+  r.fidelity.tolerance_abs = 0.5;
+  r.options.max_wall_share = 0.2;
+  EXPECT_NE(cli::Summary(r).find("--max-wall-share holds closed parts only: not applied to an "
+                                 "assembly"),
+            std::string::npos)
+      << cli::Summary(r);
   const std::string json = cli::ReportJson(r);
   EXPECT_NE(json.find("\"parts\": [{\"input_volume\": 8000, \"output_volume\": 8000}, "
                       "{\"input_volume\": 4000, \"output_volume\": 3990}"),
