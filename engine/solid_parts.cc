@@ -110,16 +110,15 @@ SolidParts FindSolidParts(const RawMesh& mesh, const EdgeGroups* grouped) {
   }
   const DVec3 centre = 0.5 * (lo + hi);
   absl::flat_hash_map<uint32_t, double> region_volume;
-  std::vector<double> face_volume(nf);
   for (uint32_t f = 0; f < nf; ++f) {
-    const DVec3 a = Point(mesh, tri[3 * f]) - centre, b = Point(mesh, tri[3 * f + 1]) - centre,
-                c = Point(mesh, tri[3 * f + 2]) - centre;
-    face_volume[f] = Dot(a, Cross(b, c)) / 6.0;
     if (!seam_piece[pieces.Find(f)]) continue;
     const uint32_t behind = sides.Find(Behind(f)), ahead = sides.Find(Ahead(f));
     if (behind == ahead) return {};  // a sheet that space reaches around
-    region_volume[behind] += face_volume[f];
-    region_volume[ahead] -= face_volume[f];
+    const DVec3 a = Point(mesh, tri[3 * f]) - centre, b = Point(mesh, tri[3 * f + 1]) - centre,
+                c = Point(mesh, tri[3 * f + 2]) - centre;
+    const double volume = Dot(a, Cross(b, c)) / 6.0;
+    region_volume[behind] += volume;
+    region_volume[ahead] -= volume;
   }
   // Per piece, its unbounded region: the one of negative volume, which must be the only one.
   absl::flat_hash_map<uint32_t, uint32_t> unbounded;  // piece -> region
@@ -134,6 +133,9 @@ SolidParts FindSolidParts(const RawMesh& mesh, const EdgeGroups* grouped) {
       if (!fresh && it->second != region) return {};  // two regions without a positive volume
     }
   }
+  // A piece of no volume (flat sheets) may round every region's to a positive one.
+  for (uint32_t f = 0; f < nf; ++f)
+    if (seam_piece[f] && pieces.Find(f) == f && !unbounded.contains(f)) return {};
 
   SolidParts out;
   out.face_sides.resize(nf);

@@ -132,6 +132,18 @@ TEST(SolidParts, NoneWithoutSeamsOrWhereSpaceReachesInside) {
   EXPECT_TRUE(none.sides.empty());
 }
 
+// Three flat sheets on one square border: seams, but no volume anywhere.
+TEST(SolidParts, NoneInFlatSheets) {
+  RawMesh m;
+  m.positions = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0.5f, 0.5f, 0, 0.25f, 0.5f, 0};
+  m.triangles = {0, 1, 2, 0, 2, 3,                     // the square in two
+                 1, 0, 4, 2, 1, 4, 3, 2, 4, 0, 3, 4,   // a fan, facing down
+                 0, 1, 5, 1, 2, 5, 2, 3, 5, 3, 0, 5};  // another, facing up
+  const SolidParts parts = FindSolidParts(m);
+  EXPECT_EQ(parts.parts(), 0u);
+  EXPECT_TRUE(parts.sides.empty());
+}
+
 TEST(SolidParts, ASeparateBodyKeepsItsOrientation) {
   RawMesh mesh = ShaftInBush(16, 2);
   const size_t assembly_faces = mesh.num_faces();
