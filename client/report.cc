@@ -225,8 +225,8 @@ std::string CrossingsWarning(const SoupCrossings& c, bool allowed) {
         "warning:  OUT has overlapping faces: ", DescribeOverlaps(c),
         allowed ? "; from the input or the run (--allow-self-intersections)"
                 : "; kept from the input (the simplification makes none)",
-        "; tetgen and most FE meshers refuse overlapping faces (export the assembly with its "
-        "contacts shared, as gmsh's fragment does)\n");
+        "; tetgen and most FE meshers refuse overlapping faces (--imprint makes each planar "
+        "contact one surface shared by the bodies, as gmsh's fragment exports it)\n");
   if (c.pairs == 0) return overlaps;
   return absl::StrCat(
       overlaps, "warning:  OUT intersects itself: ", DescribeCrossings(c), "; ",

@@ -76,9 +76,29 @@ bool TouchesWithinTolerance(const Triangle& t, const Triangle& other, double tol
   return std::min(above, below) <= tolerance;
 }
 
+// Contacts exported apart are planar up to their corners' rounding to float.
+double PlaneTolerance(const float (&lo)[3], const float (&hi)[3]) {
+  const double magnitude = std::max({std::fabs(lo[0]), std::fabs(lo[1]), std::fabs(lo[2]),
+                                     std::fabs(hi[0]), std::fabs(hi[1]), std::fabs(hi[2])});
+  return std::max(kPlaneTolerance * std::hypot(double{hi[0]} - lo[0], double{hi[1]} - lo[1],
+                                               double{hi[2]} - lo[2]),
+                  16.0 * magnitude * std::numeric_limits<float>::epsilon());
+}
+
 }  // namespace
 
-SoupCrossings FindCrossings(const RawMesh& soup) {
+double ContactPlaneTolerance(const RawMesh& soup) {
+  float lo[3] = {HUGE_VALF, HUGE_VALF, HUGE_VALF}, hi[3] = {-HUGE_VALF, -HUGE_VALF, -HUGE_VALF};
+  for (uint32_t v : soup.triangles)
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::min(lo[a], soup.positions[3 * size_t{v} + a]);
+      hi[a] = std::max(hi[a], soup.positions[3 * size_t{v} + a]);
+    }
+  return PlaneTolerance(lo, hi);
+}
+
+SoupCrossings FindCrossings(const RawMesh& soup,
+                            std::vector<std::pair<uint32_t, uint32_t>>* overlapping) {
   SoupCrossings found;
   const size_t nf = soup.num_faces();
   if (nf < 2) return found;
@@ -103,20 +123,27 @@ SoupCrossings FindCrossings(const RawMesh& soup) {
   }
   const double extent =
       std::max({double{hi[0]} - lo[0], double{hi[1]} - lo[1], double{hi[2]} - lo[2], 1e-300});
-  const double magnitude = std::max({std::fabs(lo[0]), std::fabs(lo[1]), std::fabs(lo[2]),
-                                     std::fabs(hi[0]), std::fabs(hi[1]), std::fabs(hi[2])});
-  // Contacts exported apart are planar up to their corners' rounding to float.
-  const double plane_tolerance =
-      std::max(kPlaneTolerance *
-                   std::hypot(double{hi[0]} - lo[0], double{hi[1]} - lo[1], double{hi[2]} - lo[2]),
-               16.0 * magnitude * std::numeric_limits<float>::epsilon());
-  Grid grid(lo, std::max(2.0 * edges / (3.0 * double(nf)), extent / double(1 << (kKeyBits - 1))));
+  const double plane_tolerance = PlaneTolerance(lo, hi);
+  // Faces in one plane up to that tolerance have boxes apart by it where the plane is on an axis
+  // (a block's bottom a float spacing above the plate's top): the boxes are widened by it.
+  for (Box& b : box)
+    for (int a = 0; a < 3; ++a) {
+      b.lo[a] = std::nextafter(float(b.lo[a] - plane_tolerance), -HUGE_VALF);
+      b.hi[a] = std::nextafter(float(b.hi[a] + plane_tolerance), HUGE_VALF);
+    }
+  float origin[3];  // below every widened box
+  for (int a = 0; a < 3; ++a)
+    origin[a] = std::nextafter(float(lo[a] - plane_tolerance), -HUGE_VALF);
+  for (const Box& b : box)
+    for (int a = 0; a < 3; ++a) origin[a] = std::min(origin[a], b.lo[a]);
+  Grid grid(origin,
+            std::max(2.0 * edges / (3.0 * double(nf)), extent / double(1 << (kKeyBits - 1))));
   std::vector<CellRange> range(nf);
   for (;;) {  // large faces among small ones would each cover many cells
     double covered = 0;
     for (size_t f = 0; f < nf; ++f) covered += double((range[f] = grid.Of(box[f])).count());
     if (covered <= kCellsPerFace * double(nf)) break;
-    grid = Grid(lo, 2 * grid.cell());
+    grid = Grid(origin, 2 * grid.cell());
   }
   std::vector<std::pair<uint64_t, uint32_t>> listed;  // (cell, face), by cell
   for (size_t f = 0; f < nf; ++f) {
@@ -217,6 +244,7 @@ SoupCrossings FindCrossings(const RawMesh& soup) {
                     : std::nullopt) {
           SoupCrossings::Overlaps& ov = found.overlaps;
           ov.area += o->area;
+          if (overlapping != nullptr) overlapping->push_back(pair);
           if (ov.pairs++ == 0 || pair < std::pair(ov.face_a, ov.face_b)) {
             ov.face_a = pair.first;
             ov.face_b = pair.second;

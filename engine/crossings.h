@@ -9,6 +9,8 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "engine/raw_mesh.h"
 
@@ -34,6 +36,11 @@ struct SoupCrossings {
   } overlaps;
 };
 
+// How far off a face's plane a point of a planar contact may lie: a millionth of the diagonal,
+// or a few float spacings of the largest coordinate, whichever is larger (contacts exported
+// apart are planar up to their corners' rounding to float).
+double ContactPlaneTolerance(const RawMesh& soup);
+
 // Every pair of faces whose bounding boxes overlap and that share no edge is tested once: an
 // overlap when they share no corner, each has its corners within a millionth of the diagonal (or a
 // few float spacings of the coordinates) of the other's plane and their insides overlap, else a
@@ -41,8 +48,10 @@ struct SoupCrossings {
 // face reaches through the other's plane by more than that tolerance on both its sides (a face
 // standing on another along a tilted contact pokes through it by its corners' rounding). The pairs
 // are found through a uniform grid of cells about twice the mean edge (coarser where large faces
-// would span many cells).
-SoupCrossings FindCrossings(const RawMesh& soup);
+// would span many cells). `overlapping`, when given, receives every overlapping pair (lower face
+// first), in no particular order: what an imprint re-tiles (engine/imprint.h).
+SoupCrossings FindCrossings(const RawMesh& soup,
+                            std::vector<std::pair<uint32_t, uint32_t>>* overlapping = nullptr);
 
 // "N face pairs cross (the first: faces A and B, at (x, y, z))": the words every report of them
 // uses (the summary, the FE check's refusal); meaningful when pairs > 0.

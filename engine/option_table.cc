@@ -154,6 +154,12 @@ std::vector<OptionSpec> MakeTable() {
        .unit = "of the bounding-box diagonal",
        .help = "repair: vertices closer than this are welded into one (0: exact duplicates only)",
        .field = &R::weld_tolerance},
+      {.name = "imprint", .flag = "--imprint", .section = "repair", .type = T::kBool,
+       .help = "repair: bodies exported apart that touch in a plane get their contact re-tiled "
+               "as one surface shared by both (a seam between the parts, as gmsh's fragment "
+               "writes it), so that tetgen and FE meshers take the assembly; off: such contacts "
+               "stay as exported, faces overlapping",
+       .field = &R::imprint},
       {.name = "backend", .flag = "--backend", .section = "backend", .type = T::kEnum,
        .help = "shared-memory threads or the emulated Cell BE",
        .choices = {{"native", "native"}, {"cell", "cell"}}, .field = &S::backend},

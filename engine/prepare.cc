@@ -26,7 +26,8 @@ absl::Status DefectsLeft(const RepairReport& report) {
   std::vector<std::string> listed;
   size_t defects = 0;
   for (const RepairRecord& r : report.records)
-    if (!IsRepairChange(r.kind) && r.kind != RepairKind::kSeamEdge && defects++ < kMaxListed)
+    if (!IsRepairChange(r.kind) && r.kind != RepairKind::kSeamEdge &&
+        r.kind != RepairKind::kContactLeft && defects++ < kMaxListed)
       listed.push_back(r.ToString());
   if (defects > kMaxListed) listed.push_back(absl::StrCat("and ", defects - kMaxListed, " more"));
   return absl::InvalidArgumentError(
@@ -76,7 +77,8 @@ absl::StatusOr<PreparedMesh> PrepareMesh(RawMesh raw, const RepairOptions& optio
   const Clock::time_point repair_start = Clock::now();
   absl::StatusOr<RepairResult> repaired = RepairMesh(raw, options);
   if (!repaired.ok()) return repaired.status();
-  if (repaired->report.num_defects_left() > repaired->report.count(RepairKind::kSeamEdge))
+  if (repaired->report.num_defects_left() > repaired->report.count(RepairKind::kSeamEdge) +
+                                                repaired->report.count(RepairKind::kContactLeft))
     return DefectsLeft(repaired->report);
 
   // Curve order for the kernel's memory walks (engine/spatial_order.h); the repair's report

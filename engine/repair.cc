@@ -22,6 +22,7 @@
 #include "engine/coordinate_precision.h"
 #include "engine/id_index.h"
 #include "engine/point_in_shell.h"
+#include "engine/repair_imprint.h"
 #include "engine/union_find.h"
 
 namespace femsimp {
@@ -57,10 +58,15 @@ constexpr KindInfo kKinds[kNumRepairKinds] = {
     {"unreferenced_vertex", "unreferenced vertex", "unreferenced vertices", "dropped",
      "unreferenced vertex", "unreferenced vertices", ""},
     {"filled_hole", "filled hole", "filled holes", "filled", "hole", "holes", ""},
+    {"imprinted_contact", "imprinted contact", "imprinted contacts", "imprinted",
+     "contact of bodies exported apart", "contacts of bodies exported apart",
+     " (re-tiled as one shared surface)"},
     {"seam_edge", "non-manifold edge", "non-manifold edges", "kept", "non-manifold edge",
      "non-manifold edges", " as seams"},
     {"non_orientable", "non-orientable component", "non-orientable components", "left",
      "non-orientable component", "non-orientable components", " as they were"},
+    {"contact_left", "contact left apart", "contacts left apart", "left",
+     "contact of bodies exported apart", "contacts of bodies exported apart", " as exported"},
 };
 
 const KindInfo& Info(RepairKind kind) { return kKinds[static_cast<size_t>(kind)]; }
@@ -1249,10 +1255,8 @@ void Repairer::ReportEdges() {
     seam.b = tri_[ends[1]];
     for (uint32_t i = ebeg_[e]; i < ebeg_[e + 1]; ++i) seam.facets.push_back(kept_[ehe_[i] / 3]);
     std::sort(seam.facets.begin(), seam.facets.end());
-    Record(RepairKind::kSeamEdge, seam.facets[0], orig_[ends[0]], a, [&] {
-      return absl::StrCat("to ", Point(World(b)), ": shared by ", n, " facets (",
-                          absl::StrJoin(seam.facets, ", "), ")");
-    });
+    Record(RepairKind::kSeamEdge, seam.facets[0], orig_[ends[0]], a,
+           [&] { return SeamDetail(World(b), n, seam.facets); });
     for (int k = 0; k < 3; ++k) {
       seam.pa[k] = float(a[k]);
       seam.pb[k] = float(b[k]);
@@ -1405,9 +1409,16 @@ absl::StatusOr<RepairResult> Repairer::Run(RawMesh& mesh) {
 
 const char* RepairKindName(RepairKind kind) { return Info(kind).name; }
 
+std::string SeamDetail(const std::array<double, 3>& to, size_t count,
+                       const std::vector<uint32_t>& facets) {
+  return absl::StrCat("to ", Point(to), ": shared by ", count, " facets (",
+                      count == facets.size() ? "" : "pieces of input facets ",
+                      absl::StrJoin(facets, ", "), ")");
+}
+
 bool IsRepairChange(RepairKind kind) {
   return kind != RepairKind::kSeamEdge && kind != RepairKind::kNonOrientable &&
-         kind != RepairKind::kCount;
+         kind != RepairKind::kContactLeft && kind != RepairKind::kCount;
 }
 
 std::string RepairRecord::ToString() const {
@@ -1416,7 +1427,11 @@ std::string RepairRecord::ToString() const {
     case RepairKind::kWeldedVertex:
     case RepairKind::kSplitVertex:
     case RepairKind::kUnreferencedVertex:
-      absl::StrAppend(&s, " ", vertex);
+      if (vertex >= 0) {
+        absl::StrAppend(&s, " ", vertex);
+      } else {  // a point the imprint added
+        absl::StrAppend(&s, " (an imprint's point)");
+      }
       if (facet >= 0) absl::StrAppend(&s, " (facet ", facet, ")");
       break;
     case RepairKind::kSplitEdge:
@@ -1424,6 +1439,10 @@ std::string RepairRecord::ToString() const {
       break;
     case RepairKind::kFilledHole:
       absl::StrAppend(&s, " next to facet ", facet);
+      break;
+    case RepairKind::kImprintedContact:
+    case RepairKind::kContactLeft:
+      absl::StrAppend(&s, " of facet ", facet);
       break;
     case RepairKind::kDegenerateFacet:
     case RepairKind::kDuplicateFacet:
@@ -1487,7 +1506,9 @@ std::string RepairReport::Details() const {
 
 absl::StatusOr<RepairResult> RepairMesh(RawMesh& mesh, const RepairOptions& options) {
   // The repairer reads the input while it works and replaces the mesh only at the end.
-  return Repairer(mesh, options).Run(mesh);
+  absl::StatusOr<RepairResult> repaired = Repairer(mesh, options).Run(mesh);
+  if (!repaired.ok() || !options.imprint || options.mode == RepairMode::kOff) return repaired;
+  return ImprintRepaired(mesh, options, *std::move(repaired));
 }
 
 }  // namespace femsimp

@@ -32,6 +32,10 @@ struct RepairOptions {
   bool orient_outward = true;
   // Per kind, how many changes are recorded one by one (counts are always complete).
   size_t max_records_per_kind = 20;
+  // Bodies exported apart that touch in a plane get their contact re-tiled as one surface
+  // shared by both (engine/imprint.h), after the other repairs; off: such contacts stay as
+  // exported (the output's report names them).
+  bool imprint = false;
 };
 
 enum class RepairKind : int {
@@ -47,9 +51,13 @@ enum class RepairKind : int {
   kSplitVertex,         // a vertex where several fans met, given one copy per fan
   kUnreferencedVertex,  // dropped: no facet uses it (any more)
   kFilledHole,          // a small loop of open edges closed by new facets (a facet missing)
-  // Defects left in place (the mesh still fails Mesh::Build while any remains).
+  kImprintedContact,    // bodies exported apart that touch: their contact re-tiled as one shared
+                        // surface (RepairOptions::imprint)
+  // Left in place.
   kSeamEdge,       // an edge of 3 or more facets: kept, listed in RepairResult::seams
-  kNonOrientable,  // a component that no choice of facet orientations makes consistent
+  kNonOrientable,  // a component that no choice of facet orientations makes consistent (the
+                   // mesh still fails Mesh::Build)
+  kContactLeft,    // a contact the imprint could not re-tile: it stays as exported
   kCount,
 };
 inline constexpr size_t kNumRepairKinds = static_cast<size_t>(RepairKind::kCount);
@@ -58,6 +66,10 @@ inline constexpr size_t kNumRepairKinds = static_cast<size_t>(RepairKind::kCount
 const char* RepairKindName(RepairKind kind);
 // True for the kinds RepairMesh changes; false for the defects it leaves in place.
 bool IsRepairChange(RepairKind kind);
+// A seam record's detail: "to (x, y, z): shared by N facets (f1, f2, ...)"; where fewer facets
+// than N are listed, pieces of them share it ("(pieces of input facets f1, f2)").
+std::string SeamDetail(const std::array<double, 3>& to, size_t count,
+                       const std::vector<uint32_t>& facets);
 
 // One change (or defect), located for a user who only has the input file.
 struct RepairRecord {
@@ -96,20 +108,26 @@ struct SeamEdge {
   std::vector<uint32_t> facets;  // input facet indices of the facets sharing it
 };
 
+inline constexpr uint32_t kNoInputVertex = 0xffffffffu;
+
 struct RepairResult {
   RepairReport report;
   std::vector<SeamEdge> seams;  // every non-manifold edge of the output, ordered by (a, b)
   // Provenance of the output (empty in kOff mode, where the mesh is left as it was): the input
   // facet of each output facet (for a facet that fills a hole: the facet across the hole's first
-  // edge, whose group and fields it takes), and the input vertex of each output vertex (split
-  // copies name the vertex they were split from).
+  // edge, whose group and fields it takes; for an imprinted contact's: the facet it lies in), and
+  // the input vertex of each output vertex (split copies name the vertex they were split from;
+  // points an imprint added where edges cross: kNoInputVertex).
   std::vector<uint32_t> facet_origin, vertex_origin;
 };
 
 // Repairs `mesh` in place (kOn) in this order: weld coincident vertices; remove degenerate, then
 // duplicate facets; close T-junctions; zip T-junction cracks; fill small holes; orient each
 // component consistently (closed ones to bound a volume: outward, cavities inward); split
-// non-manifold vertices; drop unreferenced vertices. Faces keep their input order, groups and
+// non-manifold vertices; drop unreferenced vertices; with `imprint`, re-tile the planar contacts
+// of bodies exported apart (engine/imprint.h) and check the result with the steps above again
+// (their changes, if any, are counted too; records then name the input facets the changed
+// facets came from). Faces keep their input order, groups and
 // fields (hole fills are appended); kept vertices keep their order, split copies are appended. A
 // mesh with nothing to repair comes back untouched (byte-identical) with an empty report.
 // Non-manifold edges are kept and reported.

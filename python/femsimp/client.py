@@ -113,7 +113,8 @@ def _warn_if_crossing(result, allowed):
                       f"{o.area:.6g} (the first: faces {o.face_a} and {o.face_b}, at ({at})): "
                       f"bodies exported apart that touch, each with its own triangulation of "
                       f"the contact; {source}; tetgen and most FE meshers refuse overlapping "
-                      f"faces", FemsimpWarning, stacklevel=3)
+                      f"faces (imprint=True makes each planar contact one surface shared by "
+                      f"the bodies)", FemsimpWarning, stacklevel=3)
     if c.pairs == 0:
         return
     at = ", ".join(f"{x:.6g}" for x in c.at)
