@@ -1090,6 +1090,7 @@ def assembly_apart(outdir):
         "by_construction": {"closed": False, "manifold": False,
                             "after_repair": "touching bodies, their contacts overlapping"},
         "cad_faces": int(len(np.unique(groups))), "volumes": len(tags),
+        "body_volumes": sorted(float(dx * dy * dz) for _, _, _, dx, dy, dz in APART_BODIES.values()),
         "measured": measure(welded, tris)}
 
 

@@ -219,6 +219,53 @@ def part_volume_failures(tetgen, parts, src, dst, scratch, budget):
     return failures
 
 
+def imprint_failures(femsimp, tetgen, settings, entry, src, dst, scratch):
+    """What is wrong with the run of bodies exported apart with --imprint: it must imprint
+    every contact (none left), leave no overlapping faces, give one part per body whose input
+    volumes add up to the bodies' and whose output volumes are tetgen's regions of the output
+    (each part within the volume budget), and tet-mesh; the parts' input volumes are the
+    bodies' (`body_volumes` of the set's manifest)."""
+    p, _ = run_femsimp(femsimp, src, dst, settings.femsimp_args() + [
+        "--imprint", "--stats-json", stats_path(dst)])
+    if p.returncode != 0:
+        return [f"with --imprint femsimp exited {p.returncode}: {p.stderr.strip()[:200]}"]
+    with open(stats_path(dst)) as f:
+        stats = json.load(f)
+    counts = stats["repair"]["counts"]
+    failures = []
+    if counts["imprinted_contact"] == 0 or counts["contact_left"] != 0:
+        failures.append(f"--imprint imprinted {counts['imprinted_contact']} contacts and left "
+                        f"{counts['contact_left']}")
+    overlaps = stats["fidelity"]["output_crossings"]["overlaps"]
+    if overlaps["pairs"] != 0:
+        failures.append(f"with --imprint the output still has {overlaps['pairs']} overlapping "
+                        "face pairs")
+    parts = stats["fidelity"]["parts"]
+    if len(parts) != entry["volumes"]:
+        failures.append(f"with --imprint {len(parts)} parts, not one per body "
+                        f"({entry['volumes']})")
+    bodies = entry.get("body_volumes", [])
+    inputs = sorted(q["input_volume"] for q in parts)
+    if bodies and (len(bodies) != len(inputs) or any(
+            abs(b - v) > 1e-5 * b for b, v in zip(bodies, inputs))):
+        failures.append(f"with --imprint the input's parts are {inputs}, the bodies {bodies}")
+    said, regions = run_tetgen(tetgen, "-pAQM", dst, scratch, region_volumes)
+    if said:
+        return failures + [f"with --imprint the output does not tet-mesh: {said}"]
+    reported = sorted(q["output_volume"] for q in parts)
+    if len(regions) != len(reported) or any(
+            abs(r - v) > 1e-5 * abs(r) for r, v in zip(regions, reported)):
+        failures.append(f"with --imprint the output's parts are {reported} by femsimp, "
+                        f"tetgen's regions {regions}")
+    if settings.volume is not None:
+        for k, q in enumerate(parts):
+            change = q["output_volume"] / q["input_volume"] - 1
+            if abs(change) > settings.volume:
+                failures.append(f"with --imprint part {k + 1}'s volume changed {change:+.4%} "
+                                f"(budget {settings.volume})")
+    return failures
+
+
 def repair_line(stdout):
     """The repair summary's first line ("repair:   N changes (...)"), without the label."""
     for line in stdout.splitlines():
@@ -379,6 +426,14 @@ def main():
                 failures += [f"{entry['file']}: {problem}" for problem in part_volume_failures(
                     args.tetgen, parts, src, dst, os.path.join(outputs, "tetgen"),
                     settings.volume)]
+        # Bodies exported apart that touch: --imprint makes their contacts shared, and the
+        # assembly meshable.
+        if args.tetgen and kinds & TOUCHING and p.returncode == 0:
+            stem_out, ext_out = os.path.splitext(dst)
+            row["imprint"] = imprint_failures(
+                args.femsimp, args.tetgen, settings, entry, os.path.join(meshes, entry["file"]),
+                stem_out + ".imprint" + ext_out, os.path.join(outputs, "tetgen"))
+            failures += [f"{entry['file']}: {problem}" for problem in row["imprint"]]
         # The crossings and overlaps femsimp reports with the output are the judge's (CGAL's
         # exact counts).
         if verdict is not None and reported_overlaps(p.stdout) != verdict["overlaps_out"]:
