@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <optional>
 #include <utility>
 #include <variant>
 
@@ -23,7 +24,8 @@ namespace {
 
 constexpr uint32_t kNone = std::numeric_limits<uint32_t>::max();
 // Rounds of finding contacts and imprinting those that share no vertex with one imprinted in the
-// same round; an assembly whose contacts meet (a plate under two blocks that touch) takes more.
+// same round; contacts that meet (a plate's top under a block, the block's side against another
+// block) take one round each.
 constexpr int kMaxRounds = 16;
 
 using K = CGAL::Exact_predicates_inexact_constructions_kernel;
@@ -105,8 +107,8 @@ class ContactRetiler {
     const std::array<double, 3> p = Pos(v);
     return {p[u_], p[w_]};
   }
-  // The vertices along the constraint from p to q (ends included).
-  std::vector<VertexHandle> Along(VertexHandle p, VertexHandle q) const;
+  // The vertices along the edge from p to q (ends included).
+  std::vector<VertexHandle> Along(VertexHandle p, VertexHandle q);
 
   const RawMesh& mesh_;
   const std::vector<uint32_t>& facets_;
@@ -118,21 +120,27 @@ class ContactRetiler {
   // one end; per piece between two of them: its constraint and the end it was inserted from.
   absl::flat_hash_map<uint64_t, std::vector<VertexHandle>> chains_;
   absl::flat_hash_map<uint64_t, std::pair<Cdtp::Constraint_id, VertexHandle>> constraints_;
+  absl::flat_hash_map<uint64_t, std::vector<VertexHandle>> along_;  // Along's, from chains_' end
 };
 
-std::vector<VertexHandle> ContactRetiler::Along(VertexHandle p, VertexHandle q) const {
-  std::vector<VertexHandle> corners = chains_.at(EdgeKey(p->info().mesh, q->info().mesh));
-  if (corners.front() != p) std::reverse(corners.begin(), corners.end());
-  std::vector<VertexHandle> along = {p};
-  for (size_t j = 0; j + 1 < corners.size(); ++j) {
-    const auto& [cid, first] =
-        constraints_.at(EdgeKey(corners[j]->info().mesh, corners[j + 1]->info().mesh));
-    std::vector<VertexHandle> piece(cdt_.vertices_in_constraint_begin(cid),
-                                    cdt_.vertices_in_constraint_end(cid));
-    if (first != corners[j]) std::reverse(piece.begin(), piece.end());
-    along.insert(along.end(), piece.begin() + 1, piece.end());
+std::vector<VertexHandle> ContactRetiler::Along(VertexHandle p, VertexHandle q) {
+  const uint64_t key = EdgeKey(p->info().mesh, q->info().mesh);
+  auto [it, fresh] = along_.try_emplace(key);
+  std::vector<VertexHandle>& along = it->second;
+  if (fresh) {
+    const std::vector<VertexHandle>& corners = chains_.at(key);
+    along.push_back(corners.front());
+    for (size_t j = 0; j + 1 < corners.size(); ++j) {
+      const auto& [cid, first] =
+          constraints_.at(EdgeKey(corners[j]->info().mesh, corners[j + 1]->info().mesh));
+      std::vector<VertexHandle> piece(cdt_.vertices_in_constraint_begin(cid),
+                                      cdt_.vertices_in_constraint_end(cid));
+      if (first != corners[j]) std::reverse(piece.begin(), piece.end());
+      along.insert(along.end(), piece.begin() + 1, piece.end());
+    }
   }
-  return along;
+  if (along.front() == p) return along;
+  return std::vector<VertexHandle>(along.rbegin(), along.rend());
 }
 
 std::variant<Retiling, std::string> ContactRetiler::Run() {
@@ -313,11 +321,11 @@ std::variant<Retiling, std::string> ContactRetiler::Run() {
     if (std::fabs(expected) <= 1e-9 * longest) continue;
     if (expected < 0)
       return absl::StrCat("facet ", facets_[i], " turns over once its corners are on the edges");
-    absl::flat_hash_set<uint64_t> own;
+    std::vector<uint64_t> own;  // a few edges: a search is quicker than a hash
     std::vector<FaceHandle> stack;
     for (size_t j = 0; j < loop.size(); ++j) {
       const VertexHandle p = loop[j], q = loop[(j + 1) % loop.size()];
-      own.insert(EdgeKey(p->info().mesh, q->info().mesh));
+      own.push_back(EdgeKey(p->info().mesh, q->info().mesh));
       FaceHandle f;
       int e;
       if (!cdt_.is_edge(p, q, f, e))
@@ -338,8 +346,9 @@ std::variant<Retiling, std::string> ContactRetiler::Run() {
       info.cover[info.covers++] = uint32_t(i);
       area += CGAL::area(f->vertex(0)->point(), f->vertex(1)->point(), f->vertex(2)->point());
       for (int e = 0; e < 3; ++e)
-        if (!own.contains(
-                EdgeKey(f->vertex(cdt_.ccw(e))->info().mesh, f->vertex(cdt_.cw(e))->info().mesh)))
+        if (std::find(own.begin(), own.end(),
+                      EdgeKey(f->vertex(cdt_.ccw(e))->info().mesh,
+                              f->vertex(cdt_.cw(e))->info().mesh)) == own.end())
           stack.push_back(f->neighbor(e));
     }
     if (std::fabs(area - expected) > 1e-6 * expected)
@@ -517,13 +526,25 @@ void Imprinter::Compact() {
 }
 
 ImprintResult Imprinter::Run() {
-  const RawMesh before = mesh_;
-  uint64_t crossings_before = 0;
-  for (int round = 0; round < kMaxRounds; ++round) {
+  std::optional<RawMesh> before;
+  uint64_t crossings_before = 0, crossings_now = 0;
+  // A round that imprinted something is followed by another: its search for contacts is also
+  // the check of the one before (what is left, what crosses).
+  for (int round = 0;; ++round) {
     std::vector<std::pair<uint32_t, uint32_t>> pairs;
     const SoupCrossings found = FindCrossings(mesh_, &pairs);
     if (round == 0) crossings_before = found.pairs;
+    crossings_now = found.pairs;
     if (pairs.empty()) break;
+    if (round == kMaxRounds) {
+      const float* p = &mesh_.positions[3 * size_t{mesh_.triangles[3 * size_t{pairs[0].first}]}];
+      result_.left.push_back({facet_origin_[pairs[0].first],
+                              {p[0], p[1], p[2]},
+                              absl::StrCat("contacts that meet others were still left after ",
+                                           kMaxRounds, " rounds")});
+      break;
+    }
+    if (!before) before = mesh_;
     const double tolerance = ContactPlaneTolerance(mesh_);
     // Contacts: facets joined by their overlaps, each grown over the flat faces of the bodies it
     // lies in (the facets joined to it by an edge in its plane), so that one re-tiling takes in
@@ -531,12 +552,14 @@ ImprintResult Imprinter::Run() {
     // overlap test sees.
     UnionFind sets(mesh_.num_faces());
     for (const auto& [a, b] : pairs) sets.Union(a, b);
-    absl::flat_hash_map<uint64_t, std::vector<uint32_t>> facets_on;
+    std::vector<std::pair<uint64_t, uint32_t>> facets_on;  // (edge, facet), by edge
+    facets_on.reserve(mesh_.triangles.size());
     for (size_t f = 0; f < mesh_.num_faces(); ++f)
       for (int c = 0; c < 3; ++c) {
         const uint32_t* t = &mesh_.triangles[3 * f];
-        facets_on[EdgeKey(t[c], t[(c + 1) % 3])].push_back(uint32_t(f));
+        facets_on.emplace_back(EdgeKey(t[c], t[(c + 1) % 3]), uint32_t(f));
       }
+    std::sort(facets_on.begin(), facets_on.end());
     std::vector<bool> reached(mesh_.num_faces(), false);
     std::vector<uint32_t> grow;
     for (const auto& [a, b] : pairs)
@@ -550,7 +573,10 @@ ImprintResult Imprinter::Run() {
       grow.pop_back();
       const uint32_t* t = &mesh_.triangles[3 * size_t{f}];
       for (int c = 0; c < 3; ++c)
-        for (uint32_t g : facets_on[EdgeKey(t[c], t[(c + 1) % 3])]) {
+        for (auto it = std::lower_bound(facets_on.begin(), facets_on.end(),
+                                        std::pair(EdgeKey(t[c], t[(c + 1) % 3]), uint32_t{0}));
+             it != facets_on.end() && it->first == EdgeKey(t[c], t[(c + 1) % 3]); ++it) {
+          const uint32_t g = it->second;
           if (g == f || !InOnePlane(mesh_, f, g, tolerance)) continue;
           sets.Union(f, g);
           if (!reached[g]) {
@@ -571,16 +597,13 @@ ImprintResult Imprinter::Run() {
     std::sort(contacts.begin(), contacts.end());
     dead_.assign(mesh_.num_faces(), false);
     absl::flat_hash_set<uint32_t> touched;  // vertices of the contacts imprinted this round
-    bool imprinted = false, deferred = false;
+    bool imprinted = false;
     std::vector<ContactLeft> left;
     for (const std::vector<uint32_t>& facets : contacts) {
       bool meets = false;
       for (uint32_t f : facets)
         for (int c = 0; c < 3; ++c) meets |= touched.contains(mesh_.triangles[3 * size_t{f} + c]);
-      if (meets) {
-        deferred = true;
-        continue;
-      }
+      if (meets) continue;  // the next round's
       std::variant<Retiling, std::string> r =
           ContactRetiler(mesh_, facets, tolerance, uint32_t(mesh_.num_vertices())).Run();
       if (std::string* why = std::get_if<std::string>(&r)) {
@@ -599,17 +622,17 @@ ImprintResult Imprinter::Run() {
       result_.contacts.push_back(retiling.contact);
       imprinted = true;
     }
-    if (imprinted) Compact();
-    if (!imprinted || !deferred) {  // every contact found was tried
+    if (!imprinted) {  // nothing was deferred: every contact found was tried
       result_.left = std::move(left);
       break;
     }
+    Compact();
   }
   if (result_.contacts.empty()) return std::move(result_);
   // A re-tiled contact lies in its plane, so it crosses nothing the bodies did not; should
   // rounding make it, the mesh goes back as it was.
-  if (FindCrossings(mesh_).pairs > crossings_before) {
-    mesh_ = before;
+  if (crossings_now > crossings_before) {
+    mesh_ = *std::move(before);
     for (const ImprintedContact& c : result_.contacts)
       result_.left.push_back({c.first_facet, c.at, "its re-tiling would cross other facets"});
     result_.contacts.clear();
