@@ -428,6 +428,34 @@ TEST_F(CliRepairTest, BodiesTouchingWithoutSharedVerticesAreReportedLocallyAndBy
   }
 }
 
+// --imprint makes the stacked boxes' contact one surface the two share, locally and through the
+// server (the option travels in EngineOptions): no overlap left, two parts of their own volumes.
+TEST_F(CliRepairTest, ImprintSharesTheContactLocallyAndThroughTheServer) {
+  RawMesh stacked = testing::MakeBox({4, 3, 1}, {4, 3, 1});
+  testing::Append(stacked, testing::MakeBox({2, 1, 2}, {3, 2, 2}), {0.5f, 0.5f, 1.0f});
+  const std::string input = WriteSoup("stacked.off", stacked);
+  testing::InProcessServer s;
+  for (const bool remote : {false, true}) {
+    std::vector<std::string> args = {input, Path("out.off"), "--imprint", "--stats-json",
+                                     Path("s.json")};
+    if (remote) args.insert(args.end(), {"--server", s.address()});
+    ASSERT_EQ(Run(args), cli::kExitOk) << err_;
+    absl::StatusOr<RawMesh> out = ReadMeshFile(Path("out.off"));
+    ASSERT_TRUE(out.ok()) << out.status();
+    const SoupCrossings c = FindCrossings(*out);
+    EXPECT_EQ(c.pairs, 0u);
+    EXPECT_EQ(c.overlaps.pairs, 0u);
+    EXPECT_EQ(out_.find("overlapping faces"), std::string::npos) << out_;
+    const std::string json = testing::ReadFileBytes(Path("s.json"));
+    EXPECT_HAS(json, "\"imprinted_contact\": 1,");
+    EXPECT_HAS(json, "\"contact_left\": 0}");
+    EXPECT_HAS(json, "\"kind\": \"imprinted_contact\"");
+    EXPECT_HAS(json, "bodies exported apart touch over an area of 2:");
+    EXPECT_HAS(json, "{\"input_volume\": 4, ");   // the block, 2 x 1 x 2
+    EXPECT_HAS(json, "{\"input_volume\": 12, ");  // the plate, 4 x 3 x 1
+  }
+}
+
 TEST_F(CliRepairTest, RemoteRunPrintsTheServersReport) {
   testing::InProcessServer s;
   ASSERT_EQ(Run({input_, Path("out.off"), "--ratio", "0.5", "--server", s.address(), "--stats-json",
