@@ -870,6 +870,10 @@ TEST(MemoryBudget, EstimateGrowsWithTheDeclaredSizeAndWhatTheOptionsKeep) {
   measured.deviation_check = DeviationCheck::kMeasured;
   EXPECT_EQ(server::EstimateJobBytes(1000, 2000, measured),
             small + 2000 * server::kMeasuredBytesPerFace);
+  SimplifyOptions imprint;
+  imprint.repair.imprint = true;
+  EXPECT_EQ(server::EstimateJobBytes(1000, 2000, imprint),
+            small + 2000 * server::kImprintBytesPerFace);
 }
 
 TEST(MemoryBudget, DefaultIsThreeQuartersOfTheMemoryTheServerMayUse) {
