@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <numeric>
 #include <optional>
 #include <utility>
@@ -270,8 +271,11 @@ std::variant<Retiling, std::string> ContactRetiler::Run() {
       chain.push_back(b);
       for (size_t j = 0; j + 1 < chain.size(); ++j) {
         const uint64_t piece = EdgeKey(chain[j]->info().mesh, chain[j + 1]->info().mesh);
-        if (!constraints_.contains(piece))
-          constraints_[piece] = {cdt_.insert_constraint(chain[j], chain[j + 1]), chain[j]};
+        if (constraints_.contains(piece)) continue;
+        const Cdtp::Constraint_id cid = cdt_.insert_constraint(chain[j], chain[j + 1]);
+        if (cid == Cdtp::Constraint_id(nullptr))
+          return absl::StrCat("an edge of facet ", facets_[i], " could not be a constraint");
+        constraints_[piece] = {cid, chain[j]};
       }
       chains_[key] = std::move(chain);
     }
@@ -604,8 +608,12 @@ ImprintResult Imprinter::Run() {
       for (uint32_t f : facets)
         for (int c = 0; c < 3; ++c) meets |= touched.contains(mesh_.triangles[3 * size_t{f} + c]);
       if (meets) continue;  // the next round's
-      std::variant<Retiling, std::string> r =
-          ContactRetiler(mesh_, facets, tolerance, uint32_t(mesh_.num_vertices())).Run();
+      std::variant<Retiling, std::string> r = std::string();
+      try {  // CGAL reports a violated precondition by an exception: the contact stays
+        r = ContactRetiler(mesh_, facets, tolerance, uint32_t(mesh_.num_vertices())).Run();
+      } catch (const std::exception& e) {
+        r = absl::StrCat("the triangulation failed: ", e.what());
+      }
       if (std::string* why = std::get_if<std::string>(&r)) {
         const float* p = &mesh_.positions[3 * size_t{mesh_.triangles[3 * size_t{facets[0]}]}];
         left.push_back({facet_origin_[facets[0]], {p[0], p[1], p[2]}, std::move(*why)});

@@ -49,7 +49,27 @@ class ReportMerger {
 
 absl::StatusOr<RepairResult> ImprintRepaired(RawMesh& mesh, const RepairOptions& options,
                                              RepairResult repaired) {
+  RawMesh unimprinted = mesh;  // what stays should the result need what no repair fixes
   ImprintResult imprint = ImprintContacts(mesh);
+  // The other repairs again, on the imprinted mesh: its seams, and whatever the re-tiling left
+  // for them (two points where edges cross closer than the weld tolerance, a needle). Should
+  // they fail or leave a defect, the contacts stay as exported.
+  RepairOptions again = options;
+  again.imprint = false;
+  absl::StatusOr<RepairResult> checked = absl::InternalError("not run");
+  if (!imprint.contacts.empty()) {
+    checked = RepairMesh(mesh, again);
+    const size_t left_before = repaired.report.count(RepairKind::kNonOrientable);
+    if (!checked.ok() || checked->report.count(RepairKind::kNonOrientable) > left_before) {
+      const std::string why =
+          checked.ok() ? "the re-tiled mesh has a component no orientation makes consistent"
+                       : std::string(checked.status().message());
+      mesh = std::move(unimprinted);
+      for (const ImprintedContact& c : imprint.contacts)
+        imprint.left.push_back({c.first_facet, c.at, absl::StrCat("after the re-tiling: ", why)});
+      imprint.contacts.clear();
+    }
+  }
   RepairReport& report = repaired.report;
   ReportMerger merge(repaired, mesh, options.max_records_per_kind);
   const std::vector<uint32_t> first_facet = repaired.facet_origin;
@@ -72,15 +92,6 @@ absl::StatusOr<RepairResult> ImprintRepaired(RawMesh& mesh, const RepairOptions&
     return repaired;
   }
 
-  // The other repairs again, on the imprinted mesh: its seams, and whatever the re-tiling left
-  // for them (two points where edges cross closer than the weld tolerance, a needle).
-  RepairOptions again = options;
-  again.imprint = false;
-  absl::StatusOr<RepairResult> checked = RepairMesh(mesh, again);
-  if (!checked.ok())
-    return absl::Status(checked.status().code(),
-                        absl::StrCat("after imprinting the contacts of bodies exported apart: ",
-                                     checked.status().message()));
   const auto input_facet = [&](int64_t f) -> int64_t {
     return f < 0 ? f : first_facet[imprint.facet_origin[f]];
   };
