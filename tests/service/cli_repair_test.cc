@@ -401,10 +401,16 @@ TEST_F(CliRepairTest, AnOutputThatIntersectsItselfIsReportedLocallyAndByTheServe
 // A block standing on a plate, the two exported apart (each triangulates the contact its own
 // way): nothing crosses, yet a mesher refuses the faces that overlap in the contact's plane. The
 // summary, --stats-json and the server's Result say so, with the contact's area.
-TEST_F(CliRepairTest, BodiesTouchingWithoutSharedVerticesAreReportedLocallyAndByTheServer) {
+// A block 2 x 1 x 2 standing on a plate 4 x 3 x 1, exported apart: the contact (area 2)
+// triangulated by both, no vertex shared.
+RawMesh StackedBoxes() {
   RawMesh stacked = testing::MakeBox({4, 3, 1}, {4, 3, 1});
   testing::Append(stacked, testing::MakeBox({2, 1, 2}, {3, 2, 2}), {0.5f, 0.5f, 1.0f});
-  const std::string input = WriteSoup("stacked.off", stacked);
+  return stacked;
+}
+
+TEST_F(CliRepairTest, BodiesTouchingWithoutSharedVerticesAreReportedLocallyAndByTheServer) {
+  const std::string input = WriteSoup("stacked.off", StackedBoxes());
   testing::InProcessServer s;
   for (const bool remote : {false, true}) {
     std::vector<std::string> args = {input, Path("out.off"), "--stats-json", Path("s.json")};
@@ -431,9 +437,7 @@ TEST_F(CliRepairTest, BodiesTouchingWithoutSharedVerticesAreReportedLocallyAndBy
 // --imprint makes the stacked boxes' contact one surface the two share, locally and through the
 // server (the option travels in EngineOptions): no overlap left, two parts of their own volumes.
 TEST_F(CliRepairTest, ImprintSharesTheContactLocallyAndThroughTheServer) {
-  RawMesh stacked = testing::MakeBox({4, 3, 1}, {4, 3, 1});
-  testing::Append(stacked, testing::MakeBox({2, 1, 2}, {3, 2, 2}), {0.5f, 0.5f, 1.0f});
-  const std::string input = WriteSoup("stacked.off", stacked);
+  const std::string input = WriteSoup("stacked.off", StackedBoxes());
   testing::InProcessServer s;
   for (const bool remote : {false, true}) {
     std::vector<std::string> args = {input, Path("out.off"), "--imprint", "--stats-json",
