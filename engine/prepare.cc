@@ -20,15 +20,20 @@ namespace {
 // gRPC status too, whose size is bounded).
 constexpr size_t kMaxListed = 20;
 
-// Defects the repair leaves in place other than seams (a non-orientable component), named by
-// their records.
+// How many defects the repair left that Mesh::Build refuses (engine/repair.h, BlocksTheBuild).
+size_t BlockingDefects(const RepairReport& report) {
+  size_t n = 0;
+  for (size_t k = 0; k < kNumRepairKinds; ++k)
+    if (BlocksTheBuild(static_cast<RepairKind>(k))) n += report.counts[k];
+  return n;
+}
+
+// Those defects, named by their records.
 absl::Status DefectsLeft(const RepairReport& report) {
   std::vector<std::string> listed;
   size_t defects = 0;
   for (const RepairRecord& r : report.records)
-    if (!IsRepairChange(r.kind) && r.kind != RepairKind::kSeamEdge &&
-        r.kind != RepairKind::kContactLeft && defects++ < kMaxListed)
-      listed.push_back(r.ToString());
+    if (BlocksTheBuild(r.kind) && defects++ < kMaxListed) listed.push_back(r.ToString());
   if (defects > kMaxListed) listed.push_back(absl::StrCat("and ", defects - kMaxListed, " more"));
   return absl::InvalidArgumentError(
       absl::StrCat("the mesh has defects no repair fixes: ", absl::StrJoin(listed, "; ")));
@@ -77,9 +82,7 @@ absl::StatusOr<PreparedMesh> PrepareMesh(RawMesh raw, const RepairOptions& optio
   const Clock::time_point repair_start = Clock::now();
   absl::StatusOr<RepairResult> repaired = RepairMesh(raw, options);
   if (!repaired.ok()) return repaired.status();
-  if (repaired->report.num_defects_left() > repaired->report.count(RepairKind::kSeamEdge) +
-                                                repaired->report.count(RepairKind::kContactLeft))
-    return DefectsLeft(repaired->report);
+  if (BlockingDefects(repaired->report) > 0) return DefectsLeft(repaired->report);
 
   // Curve order for the kernel's memory walks (engine/spatial_order.h); the repair's report
   // keeps the input's facet and vertex ids.

@@ -1421,6 +1421,8 @@ bool IsRepairChange(RepairKind kind) {
          kind != RepairKind::kContactLeft && kind != RepairKind::kCount;
 }
 
+bool BlocksTheBuild(RepairKind kind) { return kind == RepairKind::kNonOrientable; }
+
 std::string RepairRecord::ToString() const {
   std::string s = Info(kind).singular;
   switch (kind) {

@@ -66,6 +66,9 @@ inline constexpr size_t kNumRepairKinds = static_cast<size_t>(RepairKind::kCount
 const char* RepairKindName(RepairKind kind);
 // True for the kinds RepairMesh changes; false for the defects it leaves in place.
 bool IsRepairChange(RepairKind kind);
+// True for what is left in place that Mesh::Build refuses (a non-orientable component); seams
+// and contacts left apart are kept and simplified as they are.
+bool BlocksTheBuild(RepairKind kind);
 // A seam record's detail: "to (x, y, z): shared by N facets (f1, f2, ...)"; where fewer facets
 // than N are listed, pieces of them share it ("(pieces of input facets f1, f2)").
 std::string SeamDetail(const std::array<double, 3>& to, size_t count,
