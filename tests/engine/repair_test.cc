@@ -11,6 +11,7 @@
 #include "engine/io/mesh_io.h"
 #include "engine/mesh.h"
 #include "engine/mesh_checks.h"
+#include "engine/prepare.h"
 #include "tests/support/meshes.h"
 
 namespace femsimp {
@@ -935,6 +936,40 @@ TEST(Repair, LargeMeshTiming) {
                 r.report.Summary().c_str());
     ExpectBuilds(*m);
   }
+}
+
+// A Moebius strip: no choice of facet orientations is consistent. Repair leaves it and says so;
+// PrepareMesh refuses it naming the component (the one kept defect Mesh::Build cannot take).
+TEST(Repair, NonOrientableStripIsRefusedByName) {
+  RawMesh strip;
+  const int n = 24;
+  for (int i = 0; i < n; ++i) {
+    const double t = 2 * M_PI * i / n;
+    for (const double s : {-0.3, 0.3}) {
+      const double r = 1 + s * std::cos(t / 2);
+      strip.positions.insert(strip.positions.end(), {float(r * std::cos(t)), float(r * std::sin(t)),
+                                                     float(s * std::sin(t / 2))});
+    }
+  }
+  for (int i = 0; i < n; ++i) {
+    const uint32_t a = 2 * i, b = 2 * i + 1;
+    // The last quad joins the first edge turned over: (a, b) meets (1, 0).
+    const uint32_t c = i + 1 < n ? 2 * i + 2 : 1, d = i + 1 < n ? 2 * i + 3 : 0;
+    strip.triangles.insert(strip.triangles.end(), {a, c, b, b, c, d});
+  }
+  RawMesh repaired = strip;
+  absl::StatusOr<RepairResult> r = RepairMesh(repaired, RepairOptions{});
+  ASSERT_TRUE(r.ok()) << r.status();
+  EXPECT_EQ(r->report.count(RepairKind::kNonOrientable), 1u) << r->report.Details();
+  EXPECT_TRUE(BlocksTheBuild(RepairKind::kNonOrientable));
+  EXPECT_FALSE(BlocksTheBuild(RepairKind::kSeamEdge));
+  EXPECT_FALSE(BlocksTheBuild(RepairKind::kContactLeft));
+  absl::StatusOr<PreparedMesh> prepared = PrepareMesh(strip, RepairOptions{});
+  ASSERT_FALSE(prepared.ok());
+  EXPECT_EQ(prepared.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_NE(prepared.status().message().find("defects no repair fixes: non-orientable component"),
+            std::string::npos)
+      << prepared.status();
 }
 
 }  // namespace
