@@ -34,8 +34,12 @@ writes the triangle soups, then makes broken copies the way CAD exports break:
              bottle_export_crossing (self-intersecting) and every occ_stl file are not clean
 
   held out   shaft (stepped, filleted, keyway, cross hole), elbow (thick-walled pipe bend),
-             clevis (two lugs with pin holes, a bored boss): parts no engine change was tuned
-             on, built only when named with --only (issue 13's peer table on unseen parts)
+             clevis (two lugs with pin holes, a bored boss); since session 52 gear (spur gear
+             with hub, bore and keyway), rod (connecting rod, I-section shank), tee (pipe tee,
+             1.5 wall: kept as tee_export_crossing.stl at the diagonal's size too, whose facets
+             cross the other wall where the branch meets the run) and twisted (a lofted blade,
+             50 degrees of twist, on a root block): parts no engine change was tuned on, built
+             only when named with --only (issue 13's peer table on unseen parts)
 
 Usage: /usr/bin/python3 scripts/make_cad_meshes.py [OUTDIR] [--only PART,...] [--check-determinism]
 OUTDIR defaults to build/cad-meshes. Writes OUTDIR/manifest.json: for each file its part,
@@ -339,12 +343,84 @@ def build_clevis(occ):
     return [t for d, t in out if d == 3]
 
 
-HELD_OUT = ["shaft", "elbow", "clevis"]
+def build_gear(occ):
+    """Spur gear: 20 straight-flanked teeth (root radius 25, tip 30), 10 thick, a hub of radius
+    12 standing 6 out of one face, a bore of radius 6 with a keyway through both."""
+    teeth = 20
+    pitch = 2 * math.pi / teeth
+    points = []
+    for i in range(teeth):
+        for share, r in ((-0.36, 25.0), (-0.18, 30.0), (0.18, 30.0), (0.36, 25.0)):
+            a = 2 * math.pi * i / teeth + share * pitch
+            points.append(occ.addPoint(r * math.cos(a), r * math.sin(a), 0))
+    lines = [occ.addLine(points[i], points[(i + 1) % len(points)]) for i in range(len(points))]
+    face = occ.addPlaneSurface([occ.addCurveLoop(lines)])
+    body = [t for d, t in occ.extrude([(2, face)], 0, 0, 10) if d == 3][0]
+    hub = occ.addCylinder(0, 0, 10, 0, 0, 6, 12)
+    fused, _ = occ.fuse([(3, body)], [(3, hub)])
+    occ.synchronize()
+    bore = occ.addCylinder(0, 0, -1, 0, 0, 18, 6)
+    key = occ.addBox(-1.5, 5, -1, 3, 3, 18)
+    out, _ = occ.cut(fused, [(3, bore), (3, key)])
+    occ.synchronize()
+    return [t for d, t in out if d == 3]
+
+
+def build_rod(occ):
+    """Connecting rod: a big eye (radius 16, bore 10) and a small one (radius 10, bore 5) 90
+    apart, 12 thick, joined by a shank 10 wide with a pocket 2.5 deep in each face (an I
+    section)."""
+    big = occ.addCylinder(0, 0, 0, 0, 0, 12, 16)
+    small = occ.addCylinder(90, 0, 0, 0, 0, 12, 10)
+    shank = occ.addBox(10, -5, 0, 72, 10, 12)
+    fused, _ = occ.fuse([(3, big)], [(3, small), (3, shank)])
+    bores = [occ.addCylinder(0, 0, -1, 0, 0, 14, 10), occ.addCylinder(90, 0, -1, 0, 0, 14, 5)]
+    pockets = [occ.addBox(20, -3, -1, 55, 6, 3.5), occ.addBox(20, -3, 9.5, 55, 6, 3.5)]
+    out, _ = occ.cut(fused, [(3, t) for t in bores + pockets])
+    occ.synchronize()
+    return [t for d, t in out if d == 3]
+
+
+def build_tee(occ):
+    """Pipe tee: a run of radius 10 along x (80 long) and a branch of radius 8 along y (40
+    long), wall 1.5, open at its three ends."""
+    run = occ.addCylinder(-40, 0, 0, 80, 0, 0, 10)
+    branch = occ.addCylinder(0, 0, 0, 0, 40, 0, 8)
+    outer, _ = occ.fuse([(3, run)], [(3, branch)])
+    inner_run = occ.addCylinder(-41, 0, 0, 82, 0, 0, 8.5)
+    inner_branch = occ.addCylinder(0, 0, 0, 0, 41, 0, 6.5)
+    inner, _ = occ.fuse([(3, inner_run)], [(3, inner_branch)])
+    out, _ = occ.cut(outer, inner)
+    occ.synchronize()
+    return [t for d, t in out if d == 3]
+
+
+def build_twisted(occ):
+    """Twisted blade: elliptic sections (20 x 4 at the root, 12 x 2 at the tip) lofted over 60
+    with 50 degrees of twist, standing on a root block 30 x 14 x 10."""
+    wires = []
+    for i in range(6):
+        z, t = 10 + 12 * i, i / 5
+        c = occ.addEllipse(0, 0, z, 10 - 4 * t, 2 - t)
+        occ.rotate([(1, c)], 0, 0, z, 0, 0, 1, math.radians(50) * t)
+        wires.append(occ.addWire([c]))
+    blade = [(d, t) for d, t in occ.addThruSections(wires, makeSolid=True) if d == 3]
+    root = occ.addBox(-15, -7, 0, 30, 14, 10.5)
+    fused, _ = occ.fuse([(3, root)], blade)
+    occ.synchronize()
+    return [t for d, t in fused if d == 3]
+
+
+HELD_OUT = ["shaft", "elbow", "clevis", "gear", "rod", "tee", "twisted"]
 
 BUILDERS = {
     "shaft": build_shaft,
     "elbow": build_elbow,
     "clevis": build_clevis,
+    "gear": build_gear,
+    "rod": build_rod,
+    "tee": build_tee,
+    "twisted": build_twisted,
     "bracket": build_bracket,
     "flange": build_flange,
     "bottle": build_bottle,
@@ -383,14 +459,18 @@ def part_variants(part):
     if part == "elbow":
         # A 2 mm pipe wall bent at 40: facets as long as the bend cut through the other side.
         out[-1] = ("export", dict(VARIANTS["export"], divisor=20.0), [])
-    if part == "bottle":
-        # A 0.6 wall exported at the diagonal's size: the two sides' facets cross each other.
-        # The clean export keeps the facets below 8 wall thicknesses instead.
+    if part == "twisted":
+        # The loft cut at the diagonal's size folds onto itself (a non-manifold edge).
+        out[-1] = ("export", dict(VARIANTS["export"], divisor=8.0), [])
+    if part in ("bottle", "tee"):
+        # A thin wall (the bottle's 0.6, the tee's 1.5) exported at the diagonal's size: the two
+        # sides' facets cross each other (the tee's where the branch meets the run). The clean
+        # export keeps the facets at a twentieth of the diagonal instead.
         crossing = dict(VARIANTS["export"])
         out[-1] = ("export", dict(crossing, divisor=20.0), [])
         out.append(("export_crossing", crossing, [{
             "kind": "self_intersecting",
-            "note": "thin wall (0.6) exported with facets as large as the part: inner and outer "
+            "note": "thin wall exported with facets as large as the part: inner and outer "
                     "facets cross (the test counts the pairs with CGAL)"}]))
     return out
 
