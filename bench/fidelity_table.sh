@@ -16,7 +16,8 @@
 # 1), JOBS (build jobs, default 2), PARTS (the CAD-like parts, by file name, .off unless
 # another extension is given; default bracket_coarse,flange_coarse,bottle_coarse,sheet_coarse;
 # the held-out parts no tuning has seen: shaft_coarse,elbow_coarse,clevis_coarse,
-# shaft_export.stl,elbow_export.stl,clevis_export.stl), TEST_MESHES (from tests/data, default
+# shaft_export.stl,elbow_export.stl,clevis_export.stl and, since session 52, the gear, rod, tee
+# and twisted parts in the same variants), TEST_MESHES (from tests/data, default
 # fandisk.off,femur.off,blade.off,rotor_small.off; empty: none). Extra arguments go to every
 # fidelity_table run (e.g. --peers cgal --repeats 1).
 set -euo pipefail
