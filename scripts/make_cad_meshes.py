@@ -1126,6 +1126,8 @@ BROKEN = [
     ("bracket_coarse", "unwelded"),
     ("knob_coarse", "unreferenced"),
     ("bracket_coarse", "bowtie"),
+    # Large fans at the weld: the copies' faces that touch there once judged as crossing.
+    ("knob_export", "bowtie"),
     ("housing_coarse", "cavity_outward"),
 ]
 

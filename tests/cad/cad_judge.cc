@@ -10,7 +10,8 @@
 //   - topology kept: Euler characteristic, components, boundary edges present or not, boundary
 //     loops, non-manifold edges/vertices and misoriented edges (none more than the input has);
 //   - no new self-intersection: the output has no more intersecting face pairs than the input
-//     (so none at all for an input without any);
+//     (so none at all for an input without any); faces that meet at a vertex, or at vertices at
+//     exactly one place, touch there and do not count;
 //   - two-sided Hausdorff distance <= F * diagonal + float storage slack (when F > 0); the judge's
 //     figure is a certified lower bound within 1 % of the tolerance (judge.h);
 //   - |volume change| <= bound + float slack on closed inputs (when the bound is > 0);
@@ -23,6 +24,7 @@
 // components, boundary edges and loops) are reported but not judged; everything else is.
 
 #include <array>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -32,6 +34,7 @@
 #include <utility>
 #include <vector>
 
+#include "absl/container/flat_hash_map.h"
 #include "absl/status/statusor.h"
 #include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
@@ -52,14 +55,36 @@ struct Measured {
   size_t groups = 0;
 };
 
+// The mesh with the vertices that lie at exactly one place named by one index, and whether any
+// did. Faces that meet at such a place touch there, as at a shared vertex: repair gives each fan
+// of a non-manifold vertex a copy of its own, at the same place, and a soup may hold parts that
+// touch at a vertex each writes itself.
+std::pair<RawMesh, bool> CoincidentVerticesShared(const RawMesh& mesh) {
+  RawMesh shared = mesh;
+  absl::flat_hash_map<std::array<uint32_t, 3>, uint32_t> first;  // bits of x, y, z
+  std::vector<uint32_t> index(mesh.num_vertices());
+  bool any = false;
+  for (uint32_t v = 0; v < mesh.num_vertices(); ++v) {
+    std::array<uint32_t, 3> at;
+    for (int i = 0; i < 3; ++i)  // + 0.0f: -0 and +0 are one place
+      at[i] = std::bit_cast<uint32_t>(mesh.positions[3 * v + i] + 0.0f);
+    index[v] = first.try_emplace(at, v).first->second;
+    any |= index[v] != v;
+  }
+  for (uint32_t& corner : shared.triangles) corner = index[corner];
+  return {std::move(shared), any};
+}
+
 Measured Measure(const RawMesh& mesh) {
   Measured m;
   m.topology = judge::ComputeTopology(mesh);
-  // An assembly's parts share their seams' vertices: the mesh test would split them into copies
-  // that touch, and count every touch.
+  // An assembly's parts share their seams' vertices, and vertices at one place are one corner:
+  // the mesh test would split them into copies that touch, and count every touch.
+  const auto [shared, coincident] = CoincidentVerticesShared(mesh);
   const bool seams = m.topology.nonmanifold_edges > 0 || m.topology.nonmanifold_vertices > 0;
-  m.self_intersecting_pairs = static_cast<long>(seams ? judge::SoupSelfIntersectingPairs(mesh)
-                                                      : judge::SelfIntersectingPairs(mesh));
+  m.self_intersecting_pairs =
+      static_cast<long>(seams || coincident ? judge::SoupSelfIntersectingPairs(shared)
+                                            : judge::SelfIntersectingPairs(mesh));
   m.overlapping_pairs = static_cast<long>(judge::SoupOverlappingPairs(mesh));
   if (m.topology.closed_manifold()) m.volume = judge::SolidProperties(mesh).volume;
   m.area = judge::SurfaceProperties(mesh).area;

@@ -531,9 +531,9 @@ def make_table(settings, meshes, clean_rows, broken_rows):
         "Non-manifold edges (the seams of an assembly) stay conforming: the judge checks that "
         "the output's are the input's simplified along themselves (junctions and curve ends "
         "kept, face counts the same). "
-        "Self-int. of a "
-        "cracked or unwelded soup counts the face pairs that touch across the crack as well "
-        "(they share no vertex).",
+        "Self-int. counts the face pairs that cross: faces that meet at a vertex, or at "
+        "vertices at exactly one place (an unwelded crack's copies, a split vertex's), touch "
+        "there and do not count.",
         "",
         "| file | defects | soup | femsimp exit | repair | message, or judged output |",
         "|---|---|---|---:|---|---|",
