@@ -837,12 +837,23 @@ def break_degenerate(rng, pos, tris, groups):
     pos = pos.copy()
     tris = tris.copy()
     notes = []
-    # coincident
+    # coincident: a vertex whose move folds none of its other faces over (in a fan that is not
+    # star-shaped from u, a face would turn over onto its neighbour: another defect)
     flat = planar_interior_vertices(pos, tris, groups)
-    v = int(flat[int(rng.integers(len(flat)))])
-    f = int(np.flatnonzero((tris == v).any(axis=1))[0])
-    t = tris[f].tolist()
-    u = t[(t.index(v) + 1) % 3]
+    while True:
+        v = int(flat[int(rng.integers(len(flat)))])
+        fan = np.flatnonzero((tris == v).any(axis=1))
+        t = tris[int(fan[0])].tolist()
+        u = t[(t.index(v) + 1) % 3]
+        moved = pos.astype(np.float64)
+        before = np.cross(moved[tris[fan, 1]] - moved[tris[fan, 0]],
+                          moved[tris[fan, 2]] - moved[tris[fan, 0]])
+        moved[v] = moved[u]
+        after = np.cross(moved[tris[fan, 1]] - moved[tris[fan, 0]],
+                         moved[tris[fan, 2]] - moved[tris[fan, 0]])
+        keeps = ~(tris[fan] == u).any(axis=1)  # the two faces of edge v-u lose their area
+        if np.all(np.einsum("ij,ij->i", before[keeps], after[keeps]) > 0):
+            break
     pos[v] = pos[u]
     notes.append({"kind": "degenerate_coincident", "count": 2, "vertex": v, "onto": u,
                   "coordinates": pos[v].tolist(),
