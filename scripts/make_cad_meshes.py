@@ -840,7 +840,7 @@ def break_degenerate(rng, pos, tris, groups):
     # coincident: a vertex whose move folds none of its other faces over (in a fan that is not
     # star-shaped from u, a face would turn over onto its neighbour: another defect)
     flat = planar_interior_vertices(pos, tris, groups)
-    while True:
+    for _ in range(1000):
         v = int(flat[int(rng.integers(len(flat)))])
         fan = np.flatnonzero((tris == v).any(axis=1))
         t = tris[int(fan[0])].tolist()
@@ -854,6 +854,8 @@ def break_degenerate(rng, pos, tris, groups):
         keeps = ~(tris[fan] == u).any(axis=1)  # the two faces of edge v-u lose their area
         if np.all(np.einsum("ij,ij->i", before[keeps], after[keeps]) > 0):
             break
+    else:
+        raise RuntimeError("no flat vertex moves onto a neighbour without turning a face over")
     pos[v] = pos[u]
     notes.append({"kind": "degenerate_coincident", "count": 2, "vertex": v, "onto": u,
                   "coordinates": pos[v].tolist(),
