@@ -398,9 +398,6 @@ TEST_F(CliRepairTest, AnOutputThatIntersectsItselfIsReportedLocallyAndByTheServe
              "\"output_crossings\": {\"pairs\": 0, \"overlaps\": {\"pairs\": 0}}");
 }
 
-// A block standing on a plate, the two exported apart (each triangulates the contact its own
-// way): nothing crosses, yet a mesher refuses the faces that overlap in the contact's plane. The
-// summary, --stats-json and the server's Result say so, with the contact's area.
 // A block 2 x 1 x 2 standing on a plate 4 x 3 x 1, exported apart: the contact (area 2)
 // triangulated by both, no vertex shared.
 RawMesh StackedBoxes() {
@@ -409,6 +406,9 @@ RawMesh StackedBoxes() {
   return stacked;
 }
 
+// A block standing on a plate, the two exported apart (each triangulates the contact its own
+// way): nothing crosses, yet a mesher refuses the faces that overlap in the contact's plane. The
+// summary, --stats-json and the server's Result say so, with the contact's area.
 TEST_F(CliRepairTest, BodiesTouchingWithoutSharedVerticesAreReportedLocallyAndByTheServer) {
   const std::string input = WriteSoup("stacked.off", StackedBoxes());
   testing::InProcessServer s;
