@@ -112,10 +112,17 @@ std::string CrossingsJson(const SoupCrossings& c) {
                                   ", \"faces\": [", o.face_a, ", ", o.face_b, "], \"at\": [",
                                   JsonNumber(o.at[0]), ", ", JsonNumber(o.at[1]), ", ",
                                   JsonNumber(o.at[2]), "]}");
-  if (c.pairs == 0) return absl::StrCat("{\"pairs\": 0, \"overlaps\": ", overlaps, "}");
+  const SoupCrossings::Folds& f = c.folds;
+  const std::string folds =
+      f.pairs == 0 ? "{\"pairs\": 0}"
+                   : absl::StrCat("{\"pairs\": ", f.pairs, ", \"faces\": [", f.face_a, ", ",
+                                  f.face_b, "], \"at\": [", JsonNumber(f.at[0]), ", ",
+                                  JsonNumber(f.at[1]), ", ", JsonNumber(f.at[2]), "]}");
+  const std::string apart = absl::StrCat(", \"overlaps\": ", overlaps, ", \"folds\": ", folds, "}");
+  if (c.pairs == 0) return absl::StrCat("{\"pairs\": 0", apart);
   return absl::StrCat("{\"pairs\": ", c.pairs, ", \"faces\": [", c.face_a, ", ", c.face_b,
                       "], \"at\": [", JsonNumber(c.at[0]), ", ", JsonNumber(c.at[1]), ", ",
-                      JsonNumber(c.at[2]), "], \"overlaps\": ", overlaps, "}");
+                      JsonNumber(c.at[2]), "]", apart);
 }
 
 std::string PartsJson(const std::vector<SimplifyResult::PartVolume>& parts) {
@@ -227,6 +234,12 @@ std::string CrossingsWarning(const SoupCrossings& c, bool allowed) {
                 : "; kept from the input (the simplification makes none)",
         "; tetgen and most FE meshers refuse overlapping faces (--imprint makes each planar "
         "contact one surface shared by the bodies, as gmsh's fragment exports it)\n");
+  if (c.folds.pairs > 0)
+    absl::StrAppend(&overlaps, "warning:  OUT has folded faces: ", DescribeFolds(c),
+                    allowed ? "; from the input or the run (--allow-self-intersections)"
+                            : "; kept from the input, where no flip of their edge unfolds them "
+                              "(the repair report's fold_left says why)",
+                    "; tetgen and most FE meshers refuse faces lying on each other\n");
   if (c.pairs == 0) return overlaps;
   return absl::StrCat(
       overlaps, "warning:  OUT intersects itself: ", DescribeCrossings(c), "; ",
@@ -275,10 +288,14 @@ std::string WallLines(const FidelityFigures& f, double max_wall_share) {
 
 std::string RepairSummary(const RepairReport& r, size_t max_records) {
   const size_t changes = r.num_changes();
-  if (changes == 0) return "repair:   no changes\n";
-  std::string s = absl::StrFormat(
-      "repair:   %u change%s (weld tolerance %.3g of the diagonal = %.3g)\n", changes,
-      changes == 1 ? "" : "s", r.weld_tolerance_relative, r.weld_tolerance_absolute);
+  // Folds left are what the mesher next refuses: listed where nothing changed too.
+  if (changes == 0 && r.count(RepairKind::kFoldLeft) == 0) return "repair:   no changes\n";
+  std::string s =
+      changes == 0
+          ? std::string("repair:   no changes\n")
+          : absl::StrFormat("repair:   %u change%s (weld tolerance %.3g of the diagonal = %.3g)\n",
+                            changes, changes == 1 ? "" : "s", r.weld_tolerance_relative,
+                            r.weld_tolerance_absolute);
   for (size_t k = 0; k < kNumRepairKinds; ++k)
     if (r.counts[k] > 0)
       absl::StrAppend(&s, absl::StrFormat("  %-22s %u\n",

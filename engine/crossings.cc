@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <utility>
 #include <vector>
 
 #include "absl/strings/str_format.h"
+#include "engine/fold.h"
 #include "engine/planar_overlap.h"
 #include "engine/transversal_crossing.h"
 
@@ -83,6 +85,22 @@ double PlaneTolerance(const float (&lo)[3], const float (&hi)[3]) {
   return std::max(kPlaneTolerance * std::hypot(double{hi[0]} - lo[0], double{hi[1]} - lo[1],
                                                double{hi[2]} - lo[2]),
                   16.0 * magnitude * std::numeric_limits<float>::epsilon());
+}
+
+// Whether s and t, which have an edge in common (equal ids), fold onto each other
+// (engine/fold.h), and where: the middle of that edge.
+std::optional<DVec3> Fold(const Triangle& s, const Triangle& t, double plane_tolerance) {
+  const auto apex = [](const Triangle& x, const Triangle& y) {
+    for (int i = 0; i < 3; ++i)
+      if (x.id[i] != y.id[0] && x.id[i] != y.id[1] && x.id[i] != y.id[2]) return i;
+    return 3;
+  };
+  const int i = apex(s, t), j = apex(t, s);
+  if (i == 3 || j == 3) return std::nullopt;
+  const int ia = (i + 1) % 3, ib = (i + 2) % 3;
+  if (t.id[(j + 1) % 3] != s.id[ib] || t.id[(j + 2) % 3] != s.id[ia]) return std::nullopt;
+  if (!IsFold(s.p[ia], s.p[ib], s.p[i], t.p[j], plane_tolerance)) return std::nullopt;
+  return 0.5 * (s.p[ia] + s.p[ib]);
 }
 
 }  // namespace
@@ -235,9 +253,20 @@ SoupCrossings FindCrossings(const RawMesh& soup,
           continue;
         // Faces with a common edge meet along it or fold within one plane: never a crossing.
         const int shared = shared_corners(a.face, b.face);
-        if (shared >= 2) continue;
+        if (shared > 2) continue;
         const std::pair<uint32_t, uint32_t> pair = std::minmax(a.face, b.face);
         const Triangle first = triangle(pair.first), second = triangle(pair.second);
+        if (shared == 2) {
+          if (const std::optional<DVec3> at = Fold(first, second, plane_tolerance)) {
+            SoupCrossings::Folds& fo = found.folds;
+            if (fo.pairs++ == 0 || pair < std::pair(fo.face_a, fo.face_b)) {
+              fo.face_a = pair.first;
+              fo.face_b = pair.second;
+              fo.at = {soup.origin[0] + at->x, soup.origin[1] + at->y, soup.origin[2] + at->z};
+            }
+          }
+          continue;
+        }
         if (const std::optional<PlanarOverlap> o =
                 shared == 0 && near_plane(a.face, b.face)
                     ? OverlapInPlane(first, second, plane_tolerance)
@@ -280,6 +309,14 @@ std::string DescribeOverlaps(const SoupCrossings& c) {
       "at (%.6g, %.6g, %.6g)): bodies exported apart that touch, each with its own "
       "triangulation of the contact",
       o.pairs, o.pairs == 1 ? "" : "s", o.area, o.face_a, o.face_b, o.at[0], o.at[1], o.at[2]);
+}
+
+std::string DescribeFolds(const SoupCrossings& c) {
+  const SoupCrossings::Folds& f = c.folds;
+  return absl::StrFormat(
+      "%u face pair%s lie on each other in their plane, one of each turned over (the first: "
+      "faces %u and %u, along their common edge at (%.6g, %.6g, %.6g))",
+      f.pairs, f.pairs == 1 ? "" : "s", f.face_a, f.face_b, f.at[0], f.at[1], f.at[2]);
 }
 
 }  // namespace femsimp

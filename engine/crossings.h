@@ -34,6 +34,15 @@ struct SoupCrossings {
     std::array<double, 3> at{};
     double area = 0.0;
   } overlaps;
+  // Face pairs with an edge in common, in one plane, facing opposite ways: one turned over onto
+  // the other (a fold, engine/fold.h), which FE meshers refuse as they do an overlap. Repair
+  // unfolds what a flip of the edge undoes (engine/repair.h) and the collapses make none, so
+  // these came with the input; the first pair as above and the middle of their common edge.
+  struct Folds {
+    uint64_t pairs = 0;
+    uint32_t face_a = 0, face_b = 0;
+    std::array<double, 3> at{};
+  } folds;
 };
 
 // How far off a face's plane a point of a planar contact may lie: a millionth of the diagonal,
@@ -41,7 +50,9 @@ struct SoupCrossings {
 // apart are planar up to their corners' rounding to float).
 double ContactPlaneTolerance(const RawMesh& soup);
 
-// Every pair of faces whose bounding boxes overlap and that share no edge is tested once: an
+// Every pair of faces whose bounding boxes overlap is tested once: with an edge in common, a fold
+// when IsFold says so (faces running their edge the same way, misoriented, face no way and
+// are never one); else an
 // overlap when they share no corner, each has its corners within a millionth of the diagonal (or a
 // few float spacings of the coordinates) of the other's plane and their insides overlap, else a
 // crossing when TransversalCrossing says so (only certain crossings count, not contacts) and each
@@ -60,5 +71,9 @@ std::string DescribeCrossings(const SoupCrossings& c);
 // "N face pairs overlap in their plane, over an area of A (the first: faces A and B, at (x, y,
 // z)): bodies exported apart that touch, ..."; meaningful when overlaps.pairs > 0.
 std::string DescribeOverlaps(const SoupCrossings& c);
+
+// "N face pairs lie on each other in their plane, one of each turned over (the first: faces A
+// and B, along their common edge at (x, y, z))"; meaningful when folds.pairs > 0.
+std::string DescribeFolds(const SoupCrossings& c);
 
 }  // namespace femsimp

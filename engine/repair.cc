@@ -20,6 +20,8 @@
 #include "absl/strings/str_join.h"
 #include "engine/box_containment.h"
 #include "engine/coordinate_precision.h"
+#include "engine/crossings.h"
+#include "engine/fold.h"
 #include "engine/id_index.h"
 #include "engine/point_in_shell.h"
 #include "engine/repair_imprint.h"
@@ -61,10 +63,14 @@ constexpr KindInfo kKinds[kNumRepairKinds] = {
     {"imprinted_contact", "imprinted contact", "imprinted contacts", "imprinted",
      "contact of bodies exported apart", "contacts of bodies exported apart",
      " (re-tiled as one shared surface)"},
+    {"unfolded_edge", "folded edge", "folded edges", "unfolded", "folded edge", "folded edges",
+     " (two facets lay on each other: the other diagonal taken)"},
     {"seam_edge", "non-manifold edge", "non-manifold edges", "kept", "non-manifold edge",
      "non-manifold edges", " as seams"},
     {"non_orientable", "non-orientable component", "non-orientable components", "left",
      "non-orientable component", "non-orientable components", " as they were"},
+    {"fold_left", "fold left", "folds left", "left", "folded edge", "folded edges",
+     " as they were (two facets lying on each other; FE meshers refuse them)"},
     {"contact_left", "contact left apart", "contacts left apart", "left",
      "contact of bodies exported apart", "contacts of bodies exported apart", " as exported"},
 };
@@ -152,6 +158,9 @@ class Repairer {
   bool FillHoles();
   void PlaceSplitPieces(const std::vector<uint32_t>& after, uint32_t nk0);
   void Orient();
+  // Flips folded edges (engine/fold.h) where that unfolds them (strict: records them); true when
+  // a facet changed.
+  bool UnfoldEdges();
   void SplitVertices();
   void ReportVertices();
   void ReportEdges();
@@ -1114,6 +1123,128 @@ void Repairer::Orient() {
   }
 }
 
+// Each round finds every fold and flips those whose flip unfolds them, one per facet (a flip
+// changes its facets' other edges); a fan turned over unfolds over several rounds.
+bool Repairer::UnfoldEdges() {
+  constexpr int kMaxRounds = 8;
+  const double plane_tolerance = ContactPlaneTolerance(in_);
+  const auto at = [&](uint32_t w) {
+    const std::array<double, 3> p = PosD(Origin(w));
+    return DVec3{p[0], p[1], p[2]};
+  };
+  struct Fold {
+    uint32_t k0, k1;  // kept facets (a, b, c) and (b, a, d)
+    uint32_t ja, jc;  // corners of k0: a (then b) and c
+    uint32_t jd;      // corner of k1: d (then b, a)
+  };
+  const auto apex = [&](uint32_t k, uint32_t other) {  // the corner of k not on `other`
+    for (uint32_t j = 0; j < 3; ++j) {
+      const uint32_t v = tri_[3 * k + j];
+      if (v != tri_[3 * other] && v != tri_[3 * other + 1] && v != tri_[3 * other + 2]) return j;
+    }
+    return 3u;
+  };
+  const auto find_folds = [&] {
+    // Facets of a fold face opposite ways: comparing the normals first passes over nearly
+    // every edge of a part cheaply.
+    std::vector<DVec3> normal(kept_.size());
+    for (size_t k = 0; k < kept_.size(); ++k) {
+      const DVec3 p = at(tri_[3 * k]);
+      normal[k] = Cross(at(tri_[3 * k + 1]) - p, at(tri_[3 * k + 2]) - p);
+    }
+    std::vector<Fold> folds;
+    for (size_t e = 0; e + 1 < ebeg_.size(); ++e) {
+      if (ebeg_[e + 1] - ebeg_[e] != 2) continue;
+      const uint32_t k0 = ehe_[ebeg_[e]] / 3, k1 = ehe_[ebeg_[e] + 1] / 3;
+      if (Dot(normal[k0], normal[k1]) >= 0.0) continue;
+      const uint32_t jc = apex(k0, k1), jd = apex(k1, k0);
+      if (k0 == k1 || jc == 3 || jd == 3) continue;
+      const uint32_t ja = (jc + 1) % 3;
+      const uint32_t a = tri_[3 * k0 + ja], b = tri_[3 * k0 + (jc + 2) % 3];
+      // Oriented alike: k1 runs b -> a (a component left non-orientable may not).
+      if (tri_[3 * k1 + (jd + 1) % 3] != b || tri_[3 * k1 + (jd + 2) % 3] != a) continue;
+      if (IsFold(at(a), at(b), at(tri_[3 * k0 + jc]), at(tri_[3 * k1 + jd]), plane_tolerance))
+        folds.push_back({k0, k1, ja, jc, jd});
+    }
+    return folds;
+  };
+  const auto same_attributes = [&](uint32_t k0, uint32_t k1) {
+    const uint32_t f0 = kept_[k0], f1 = kept_[k1];
+    if (!in_.face_groups.empty() && in_.face_groups[f0] != in_.face_groups[f1]) return false;
+    for (const FaceField& field : in_.face_fields)
+      if (std::memcmp(&field.values[f0], &field.values[f1], sizeof(float)) != 0) return false;
+    return true;
+  };
+  const auto record = [&](RepairKind kind, const Fold& f, std::string why) {
+    const uint32_t a = tri_[3 * f.k0 + f.ja];
+    const uint32_t b = tri_[3 * f.k0 + (f.ja + 1) % 3];
+    const std::array<double, 3> pb = PosD(Origin(b));
+    Record(kind, std::min(kept_[f.k0], kept_[f.k1]), orig_[3 * f.k0 + f.ja], PosD(Origin(a)), [&] {
+      return absl::StrCat("to ", Point(World(pb)), ": facets ", std::min(kept_[f.k0], kept_[f.k1]),
+                          " and ", std::max(kept_[f.k0], kept_[f.k1]),
+                          " lie on each other in their plane, one turned over", why);
+    });
+  };
+  bool changed = false;
+  for (int round = 0;; ++round) {
+    const std::vector<Fold> folds = find_folds();
+    if (folds.empty()) break;
+    if (strict_) {
+      for (const Fold& f : folds) record(RepairKind::kUnfoldedEdge, f, "");
+      break;
+    }
+    std::vector<uint8_t> touched(kept_.size(), 0);
+    absl::flat_hash_set<uint64_t> made;  // edges this round's flips made
+    std::vector<std::pair<const Fold*, const char*>> left;
+    for (const Fold& f : folds) {
+      const uint32_t a = tri_[3 * f.k0 + f.ja], b = tri_[3 * f.k0 + (f.ja + 1) % 3];
+      const uint32_t c = tri_[3 * f.k0 + f.jc], d = tri_[3 * f.k1 + f.jd];
+      const uint64_t cd = uint64_t{std::min(c, d)} << 32 | std::max(c, d);
+      const char* why = nullptr;
+      if (touched[f.k0] || touched[f.k1]) {
+        why = "";  // a neighbour flipped this round: the next round decides
+      } else if (!same_attributes(f.k0, f.k1)) {
+        why = "; they belong to different face groups or carry different field values";
+      } else if (c == d || EdgeUses(c, d) != 0 || made.contains(cd)) {
+        why = "; the other diagonal is an edge already";
+      } else if (!FlipUnfolds(at(a), at(b), at(c), at(d))) {
+        why = "; the other diagonal would turn a facet over";
+      }
+      if (why != nullptr) {
+        left.emplace_back(&f, why);
+        continue;
+      }
+      record(RepairKind::kUnfoldedEdge, f,
+             absl::StrCat(": edge replaced by the other diagonal, ", Point(World(PosD(Origin(c)))),
+                          " to ", Point(World(PosD(Origin(d))))));
+      const uint32_t oa = orig_[3 * f.k0 + f.ja], ob = orig_[3 * f.k0 + (f.ja + 1) % 3],
+                     oc = orig_[3 * f.k0 + f.jc], od = orig_[3 * f.k1 + f.jd];
+      const uint32_t k0 = 3 * f.k0, k1 = 3 * f.k1;
+      tri_[k0] = a, tri_[k0 + 1] = d, tri_[k0 + 2] = c;
+      orig_[k0] = oa, orig_[k0 + 1] = od, orig_[k0 + 2] = oc;
+      tri_[k1] = b, tri_[k1 + 1] = c, tri_[k1 + 2] = d;
+      orig_[k1] = ob, orig_[k1 + 1] = oc, orig_[k1 + 2] = od;
+      touched[f.k0] = touched[f.k1] = 1;
+      made.insert(cd);
+      changed = true;
+    }
+    const bool flipped = left.size() < folds.size();
+    if (!flipped || round + 1 == kMaxRounds) {
+      if (flipped) {  // the last round's flips may have made or left folds: look once more
+        BuildEdges();
+        for (const Fold& f : find_folds())
+          record(RepairKind::kFoldLeft, f,
+                 absl::StrCat("; unfolding stopped after ", kMaxRounds, " rounds of flips"));
+      } else {
+        for (const auto& [f, why] : left) record(RepairKind::kFoldLeft, *f, why);
+      }
+      break;
+    }
+    BuildEdges();
+  }
+  return changed;
+}
+
 // Corners at one vertex belong to the same fan when their facets share an edge at that vertex
 // (a manifold edge or a seam: seam vertices are shared by the parts and stay one vertex). A
 // vertex with several fans gets one vertex per fan. Where the weld made the vertex and each fan
@@ -1373,6 +1504,7 @@ absl::StatusOr<RepairResult> Repairer::Run(RawMesh& mesh) {
   for (int call = 0; call < 3 && !strict_ && ZipTJunctions(); ++call) BuildEdges();
   if (!strict_ && FillHoles()) BuildEdges();
   Orient();
+  if (UnfoldEdges()) BuildEdges();
   SplitVertices();
   ReportEdges();
   if (!strict_) ReportVertices();
@@ -1418,7 +1550,8 @@ std::string SeamDetail(const std::array<double, 3>& to, size_t count,
 
 bool IsRepairChange(RepairKind kind) {
   return kind != RepairKind::kSeamEdge && kind != RepairKind::kNonOrientable &&
-         kind != RepairKind::kContactLeft && kind != RepairKind::kCount;
+         kind != RepairKind::kFoldLeft && kind != RepairKind::kContactLeft &&
+         kind != RepairKind::kCount;
 }
 
 bool BlocksTheBuild(RepairKind kind) { return kind == RepairKind::kNonOrientable; }

@@ -53,10 +53,14 @@ enum class RepairKind : int {
   kFilledHole,          // a small loop of open edges closed by new facets (a facet missing)
   kImprintedContact,    // bodies exported apart that touch: their contact re-tiled as one shared
                         // surface (RepairOptions::imprint)
+  kUnfoldedEdge,        // two facets lying on each other in their plane, one turned over (a
+                        // fold, engine/fold.h): their common edge flipped to the other diagonal
   // Left in place.
   kSeamEdge,       // an edge of 3 or more facets: kept, listed in RepairResult::seams
   kNonOrientable,  // a component that no choice of facet orientations makes consistent (the
                    // mesh still fails Mesh::Build)
+  kFoldLeft,       // a fold no flip unfolds (the flip would turn a facet over, join two face
+                   // groups, or make an edge that exists): kept; FE meshers refuse it
   kContactLeft,    // a contact the imprint could not re-tile: it stays as exported
   kCount,
 };
@@ -126,7 +130,8 @@ struct RepairResult {
 
 // Repairs `mesh` in place (kOn) in this order: weld coincident vertices; remove degenerate, then
 // duplicate facets; close T-junctions; zip T-junction cracks; fill small holes; orient each
-// component consistently (closed ones to bound a volume: outward, cavities inward); split
+// component consistently (closed ones to bound a volume: outward, cavities inward); unfold
+// folds (below); split
 // non-manifold vertices; drop unreferenced vertices; with `imprint`, re-tile the planar contacts
 // of bodies exported apart (engine/imprint.h) and check the result with the steps above again
 // (their changes, if any, are counted too; records then name the input facets the changed
@@ -151,6 +156,14 @@ struct RepairResult {
 // whole crack then closes (docs/FIDELITY.md, "Repair"). Holes: a component whose
 // every open loop is small (at most 6 edges, a tenth of its area) gets them filled with the
 // least-area triangulation that adds no existing edge.
+//
+// Folds (engine/fold.h): a manifold edge whose two facets lie in one plane, within the contact
+// tolerance (engine/crossings.h) or an opening angle of 0.06 degrees, and face opposite ways is
+// flipped to the quad's other diagonal where both new facets then face the pair's way, the
+// facets share their group and field values and the new edge is not one already; flips repeat
+// (a fan turned over unfolds one edge at a time) until none is left or none helps, at most 8
+// rounds. What is left is reported (kFoldLeft) and kept. No point moves and the region covered,
+// counted with orientation, is the same, so volume and moments stay as they were.
 //
 // Errors (InvalidArgument, the mesh untouched): what no repair can fix (indices out of range,
 // referenced non-finite coordinates, inconsistent array sizes, empty input or output), each

@@ -202,6 +202,11 @@ absl::Status CheckClosedSolid(const RawMesh& surface) {
         "the surface intersects itself: ", DescribeCrossings(c),
         ", so it bounds no solid and tetgen cannot mesh it (a finer export of the part avoids "
         "it)"));
+  if (c.folds.pairs > 0)
+    return absl::InvalidArgumentError(absl::StrCat(
+        "the surface has folded faces: ", DescribeFolds(c),
+        "; tetgen cannot mesh faces lying on each other (femsimp's repair unfolds those a flip "
+        "of their edge undoes; its report's fold_left says why it left these)"));
   if (c.overlaps.pairs == 0) return absl::OkStatus();
   // Bodies that only touch are meshed each on its own (Tetrahedralise); faces overlapping within
   // one body are a fold no mesher takes.

@@ -222,7 +222,7 @@ PassStats FromProto(const v1::Progress& in) {
 
 void RepairToProto(const RepairReport& r, v1::RepairReport* out) {
   for (size_t k = 0; k < kNumRepairKinds; ++k)
-    if (IsRepairChange(static_cast<RepairKind>(k)))
+    if (IsRepairChange(static_cast<RepairKind>(k)) || r.counts[k] > 0)
       (*out->mutable_counts())[RepairKindName(static_cast<RepairKind>(k))] = r.counts[k];
   for (const RepairRecord& rec : r.records) {
     v1::RepairRecord* m = out->add_records();
@@ -318,6 +318,14 @@ void FidelityToProto(const SimplifyResult& r, v1::Result* out) {
     overlaps_out->set_face_b(overlaps.face_b);
     for (double x : overlaps.at) overlaps_out->add_at(x);
   }
+  const SoupCrossings::Folds& folds = r.output_crossings.folds;
+  v1::Folds* folds_out = crossings->mutable_folds();
+  folds_out->set_pairs(folds.pairs);
+  if (folds.pairs > 0) {
+    folds_out->set_face_a(folds.face_a);
+    folds_out->set_face_b(folds.face_b);
+    for (double x : folds.at) folds_out->add_at(x);
+  }
   v1::CoordinatePrecision* coordinates = out->mutable_coordinates();
   coordinates->set_magnitude(r.coordinates.magnitude);
   coordinates->set_spacing(r.coordinates.spacing);
@@ -358,6 +366,12 @@ void FidelityFromProto(const v1::Result& in, SimplifyResult* out) {
   overlaps_out.face_a = overlaps.face_a();
   overlaps_out.face_b = overlaps.face_b();
   for (int i = 0; i < 3 && i < overlaps.at_size(); ++i) overlaps_out.at[i] = overlaps.at(i);
+  const v1::Folds& folds = crossings.folds();
+  SoupCrossings::Folds& folds_out = out->output_crossings.folds;
+  folds_out.pairs = folds.pairs();
+  folds_out.face_a = folds.face_a();
+  folds_out.face_b = folds.face_b();
+  for (int i = 0; i < 3 && i < folds.at_size(); ++i) folds_out.at[i] = folds.at(i);
   out->coordinates.magnitude = in.coordinates().magnitude();
   out->coordinates.spacing = in.coordinates().spacing();
   out->coordinates.diagonal = in.coordinates().diagonal();

@@ -1091,6 +1091,63 @@ def break_bowtie(rng, pos, tris, groups):
         "note": "two copies of the part sharing one vertex (two fans around it)"}]
 
 
+def break_fold(rng, pos, tris, groups, count=2):
+    """Facets turned over onto their neighbours, as a tessellator that took the wrong diagonal
+    writes them: two facets of a flat CAD face across edge p-q, with apexes r1 and r2, where p
+    lies inside triangle (r1, r2, q) (the quad is not convex at p), get the other diagonal:
+    (r1, r2, q) and (r2, r1, p), the second turned over onto the first. No point moves and the
+    region covered, counted with orientation, is the same; tetgen refuses the pair."""
+    tris = tris.copy()
+    p64 = pos.astype(np.float64)
+    n = np.cross(p64[tris[:, 1]] - p64[tris[:, 0]], p64[tris[:, 2]] - p64[tris[:, 0]])
+    unit = n / np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
+    e, uniq, inv, counts = edge_table(tris)
+    owner = np.concatenate([np.arange(len(tris))] * 3)
+    existing = {tuple(x) for x in uniq.tolist()}
+    faces_of = {}
+    for k in np.flatnonzero(counts[inv] == 2):
+        faces_of.setdefault(int(inv[k]), []).append(int(k))
+
+    def inside(x, a, b, c, normal, margin=0.02):
+        """x well inside triangle (a, b, c) (barycentric coordinates above the margin)."""
+        total = np.dot(np.cross(b - a, c - a), normal)
+        w = [np.dot(np.cross(c - b, x - b), normal), np.dot(np.cross(a - c, x - c), normal),
+             np.dot(np.cross(b - a, x - a), normal)]
+        return total > 0 and min(w) > margin * total
+
+    used = set()
+    done = []
+    for edge in rng.permutation(sorted(faces_of)):
+        h1, h2 = faces_of[int(edge)]
+        f1, f2 = int(owner[h1]), int(owner[h2])
+        if f1 in used or f2 in used or groups[f1] != groups[f2]:
+            continue
+        if float(np.dot(unit[f1], unit[f2])) < 1 - 1e-9:
+            continue  # not flat
+        p, q = (int(x) for x in e[h1])  # f1 runs p -> q
+        r1 = next(int(v) for v in tris[f1] if v not in (p, q))
+        r2 = next(int(v) for v in tris[f2] if v not in (p, q))
+        if tuple(sorted((r1, r2))) in existing:
+            continue
+        if inside(p64[p], p64[r1], p64[r2], p64[q], unit[f1]):
+            tris[f1], tris[f2] = [r1, r2, q], [r2, r1, p]
+        elif inside(p64[q], p64[r2], p64[r1], p64[p], unit[f1]):
+            tris[f1], tris[f2] = [r1, r2, q], [r2, r1, p]
+        else:
+            continue
+        used.update((f1, f2))
+        done.append((f1, f2, p64[p].tolist()))
+        if len(done) == count:
+            break
+    if len(done) < count:
+        raise RuntimeError(f"only {len(done)} flat edges whose quad is not convex")
+    return pos, tris, groups, [{
+        "kind": "fold", "count": count, "faces": [[a, b] for a, b, _ in done],
+        "coordinates": [c for _, _, c in done],
+        "note": "two facets of a flat face given the other diagonal of their non-convex quad: "
+                "one turned over onto the other"}]
+
+
 BREAKERS = {
     "flipped": break_flipped,
     "duplicate": break_duplicate,
@@ -1103,6 +1160,7 @@ BREAKERS = {
     "unreferenced": break_unreferenced,
     "bowtie": break_bowtie,
     "cavity_outward": break_cavity_outward,
+    "fold": break_fold,
 }
 
 # The soup as written, per kind: (closed: every edge used by exactly two faces, manifold: and
@@ -1119,6 +1177,7 @@ BROKEN_SHAPE = {
     "unreferenced": (True, True),
     "bowtie": (True, False),  # every edge is fine; one vertex has two fans
     "cavity_outward": (True, True),  # each shell consistent, the inner one the wrong way
+    "fold": (True, True),  # oriented alike, only turned over in their plane
 }
 
 # Which broken copies of which clean file (part_variant).
@@ -1142,6 +1201,8 @@ BROKEN = [
     # Large fans at the weld: the copies' faces that touch there once judged as crossing.
     ("knob_export", "bowtie"),
     ("housing_coarse", "cavity_outward"),
+    ("bracket_export", "fold"),
+    ("flange_coarse", "fold"),
 ]
 
 # -------------------------------------------------------------------------------------- main

@@ -115,6 +115,17 @@ def _warn_if_crossing(result, allowed):
                       f"the contact; {source}; tetgen and most FE meshers refuse overlapping "
                       f"faces (imprint=True makes each planar contact one surface shared by "
                       f"the bodies)", FemsimpWarning, stacklevel=3)
+    f = c.folds
+    if f.pairs > 0:
+        at = ", ".join(f"{x:.6g}" for x in f.at)
+        source = ("from the input or the run (allow_self_intersections)" if allowed
+                  else "kept from the input, where no flip of their edge unfolds them (the "
+                       "repair records' fold_left say why)")
+        warnings.warn(f"the output has folded faces: {f.pairs} face pair"
+                      f"{'' if f.pairs == 1 else 's'} lie on each other in their plane, one of "
+                      f"each turned over (the first: faces {f.face_a} and {f.face_b}, along "
+                      f"their common edge at ({at})); {source}; tetgen and most FE meshers "
+                      f"refuse faces lying on each other", FemsimpWarning, stacklevel=3)
     if c.pairs == 0:
         return
     at = ", ".join(f"{x:.6g}" for x in c.at)

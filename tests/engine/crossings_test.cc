@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
+#include <cmath>
 #include <utility>
 
 #include "absl/strings/str_cat.h"
@@ -91,6 +93,9 @@ TEST(Crossings, ContactsAndFoldsAreNotCrossings) {
         folded.triangles.end(),
         {grid.triangles[3 * f], grid.triangles[3 * f + 2], grid.triangles[3 * f + 1]});
   EXPECT_EQ(FindCrossings(folded).pairs, 0u);
+  // Nor a fold: a face and its neighbour's copy run their edge the same way (misoriented, they
+  // face no way).
+  EXPECT_EQ(FindCrossings(folded).folds.pairs, 0u);
   // Shifted aside and tilted about a line across it, the copy crosses the grid along a line.
   RawMesh tilted = grid;
   const uint32_t base = static_cast<uint32_t>(grid.num_vertices());
@@ -102,6 +107,38 @@ TEST(Crossings, ContactsAndFoldsAreNotCrossings) {
   for (uint32_t v : grid.triangles) tilted.triangles.push_back(base + v);
   EXPECT_GT(FindCrossings(tilted).pairs, 0u);
   ExpectAsBruteForce(tilted);
+}
+
+// The unit square in four facets, one of them turned over: (0, 1, 3) over the lower right half,
+// (3, 4, 0) back over part of it to (0.7, 0.3), and the two facets from there to the upper left
+// corner, together covering the square once, counted with orientation. The turned-over facet
+// lies on each of its three neighbours: three folds, no crossing, no overlap.
+TEST(Crossings, AFacetTurnedOverOntoItsNeighboursFolds) {
+  RawMesh m;
+  m.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0, 0.7f, 0.3f, 0};
+  m.triangles = {0, 1, 3, 3, 4, 0, 3, 2, 4, 2, 0, 4};
+  const SoupCrossings c = FindCrossings(m);
+  EXPECT_EQ(c.pairs, 0u);
+  EXPECT_EQ(c.overlaps.pairs, 0u);
+  EXPECT_EQ(c.folds.pairs, 3u);
+  EXPECT_EQ(c.folds.face_a, 0u);
+  EXPECT_EQ(c.folds.face_b, 1u);
+  EXPECT_EQ(c.folds.at, (std::array<double, 3>{0.5, 0.5, 0}));
+  EXPECT_EQ(DescribeFolds(c),
+            "3 face pairs lie on each other in their plane, one of each turned over (the first: "
+            "faces 0 and 1, along their common edge at (0.5, 0.5, 0))");
+  // Unfolded (edge 0-3 flipped to 1-4), nothing is left.
+  m.triangles = {0, 1, 4, 1, 3, 4, 3, 2, 4, 2, 0, 4};
+  EXPECT_EQ(FindCrossings(m).folds.pairs, 0u);
+  // Bent along the edge by 1 degree, the facets are a sharp edge, not a fold.
+  RawMesh bent;
+  bent.positions = {0, 0, 0, 1, 1, 0, 1, 0, 0};
+  const double t = M_PI / 180;
+  bent.positions.insert(bent.positions.end(),
+                        {float(0.5 + 0.3 * std::cos(t)), float(0.5 - 0.3 * std::cos(t)),
+                         float(0.3 * std::sqrt(2.0) * std::sin(t))});
+  bent.triangles = {0, 1, 2, 1, 0, 3};
+  EXPECT_EQ(FindCrossings(bent).folds.pairs, 0u);
 }
 
 // Two bodies exported apart that touch: a block standing on a plate, each triangulated on its own,

@@ -696,6 +696,89 @@ TEST(Repair, StrictModeNamesEveryDefectAndChangesNothing) {
   ExpectSameMesh(inside_out, clean);
 }
 
+TEST(Repair, AFacetTurnedOverOntoItsNeighbourIsUnfolded) {
+  RawMesh m = testing::CubeWithAFoldOnTop();
+  const double volume = testing::SignedVolume(m);
+  RepairResult r = Repair(m);
+  EXPECT_EQ(r.report.count(RepairKind::kUnfoldedEdge), 1u) << r.report.Details();
+  EXPECT_EQ(r.report.num_changes(), 1u) << r.report.Details();
+  EXPECT_EQ(r.report.num_defects_left(), 0u) << r.report.Details();
+  EXPECT_HAS(r.report.Summary(), "unfolded 1 folded edge (two facets lay on each other");
+  EXPECT_HAS(Records(r.report, RepairKind::kUnfoldedEdge),
+             "folded edge (facet 10) at (1, 1, 1): to (0, 0, 1): facets 10 and 11 lie on each "
+             "other in their plane, one turned over: edge replaced by the other diagonal, "
+             "(1, 0, 1) to (0.699999988, 0.300000012, 1)");
+  // The fan as it was: every top facet faces up, the volume the same, nothing left to repair.
+  ASSERT_EQ(m.num_faces(), 14u);
+  for (size_t f = 10; f < 14; ++f) {
+    const float* p[3];
+    for (int k = 0; k < 3; ++k) p[k] = &m.positions[3 * m.triangles[3 * f + k]];
+    const double up =
+        (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]);
+    EXPECT_GT(up, 0.0) << "facet " << f;
+  }
+  EXPECT_NEAR(testing::SignedVolume(m), volume, 1e-6);
+  ExpectBuilds(m);
+  RawMesh again = m;
+  EXPECT_EQ(Repair(again).report.num_changes(), 0u);
+}
+
+TEST(Repair, AFoldAcrossFaceGroupsIsKeptAndReported) {
+  RawMesh m = testing::CubeWithAFoldOnTop();
+  NumberFacets(m);  // every facet its own group: the flip would move the groups' border
+  const RawMesh before = m;
+  RepairResult r = Repair(m);
+  EXPECT_EQ(r.report.count(RepairKind::kUnfoldedEdge), 0u);
+  // The turned-over facet lies on each of its three neighbours: three folded edges.
+  EXPECT_EQ(r.report.count(RepairKind::kFoldLeft), 3u) << r.report.Details();
+  EXPECT_HAS(r.report.Summary(), "no changes; left 3 folded edges as they were");
+  EXPECT_HAS(Records(r.report, RepairKind::kFoldLeft),
+             "fold left (facet 10) at (1, 1, 1): to (0, 0, 1): facets 10 and 11 lie on each other "
+             "in their plane, one turned over; they belong to different face groups");
+  ExpectSameMesh(m, before);
+}
+
+TEST(Repair, StrictModeRefusesAFold) {
+  RawMesh m = testing::CubeWithAFoldOnTop();
+  const RawMesh before = m;
+  RepairOptions strict;
+  strict.mode = RepairMode::kOff;
+  absl::StatusOr<RepairResult> r = RepairMesh(m, strict);
+  ASSERT_FALSE(r.ok());
+  EXPECT_HAS(std::string(r.status().message()),
+             "repair is off and the mesh has 3 defects (3 folded edges): folded edge (facet 10) at "
+             "(1, 1, 1): to (0, 0, 1): facets 10 and 11 lie on each other in their plane, one "
+             "turned over; folded edge (facet 11) at (1, 1, 1): to (0.699999988, 0.300000012, 1)");
+  ExpectSameMesh(m, before);
+}
+
+TEST(Repair, AFanTurnedOverByAWeldIsUnfolded) {
+  // A flat 4 x 4 square of 5 x 5 vertices (32 facets) with vertex 8 moved in to (2.5, 1.8), so
+  // that the ring around the middle vertex 12 is not convex there; 12 then moved onto its
+  // neighbour 6 = (1, 1) before the export: the weld joins them, the two facets of their edge
+  // go, and the rest of 12's fan hangs from 6, which does not see all of it past 8: a facet
+  // turned over.
+  RawMesh m = testing::FlatGrid(4);
+  m.positions[3 * 8] = 2.5f;
+  m.positions[3 * 8 + 1] = 1.8f;
+  for (int k = 0; k < 3; ++k) m.positions[3 * 12 + k] = m.positions[3 * 6 + k];
+  RepairResult r = Repair(m);
+  EXPECT_GT(r.report.count(RepairKind::kUnfoldedEdge), 0u) << r.report.Details();
+  EXPECT_EQ(r.report.count(RepairKind::kFoldLeft), 0u) << r.report.Details();
+  // Unfolded: every facet faces up and together they cover the square once.
+  double area = 0;
+  for (size_t f = 0; f < m.num_faces(); ++f) {
+    const float* p[3];
+    for (int k = 0; k < 3; ++k) p[k] = &m.positions[3 * m.triangles[3 * f + k]];
+    const double up =
+        (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]);
+    EXPECT_GT(up, 0.0) << "facet " << f;
+    area += up / 2;
+  }
+  EXPECT_NEAR(area, 16.0, 1e-5);
+  ExpectBuilds(m);
+}
+
 TEST(Repair, StrictModeCapsTheListPerKind) {
   RawMesh m = testing::FlatGrid(10);  // 200 facets
   for (size_t f = 0; f < 60; f += 2) Flip(m, f);

@@ -150,6 +150,13 @@ TEST(ClosedSolid, OpenAndInsideOutSurfacesAreRefused) {
   EXPECT_HAS(c.message(), "the surface intersects itself: ");
   EXPECT_HAS(c.message(), " face pairs cross (the first: faces ");
   EXPECT_HAS(c.message(), "tetgen cannot mesh it");
+  // A facet turned over onto its neighbours (a fold repair could not undo): refused by name.
+  const absl::Status folded = CheckClosedSolid(testing::CubeWithAFoldOnTop());
+  EXPECT_EQ(folded.code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_HAS(folded.message(),
+             "the surface has folded faces: 3 face pairs lie on each other in "
+             "their plane, one of each turned over (the first: faces 10 and 11");
+  EXPECT_HAS(folded.message(), "tetgen cannot mesh faces lying on each other");
   // A block standing on the box, exported apart (the contact triangulated twice): refused as
   // overlapping faces with the contact's area, before tetgen aborts on it.
   RawMesh stacked = box;

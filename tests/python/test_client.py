@@ -78,6 +78,30 @@ def test_bodies_touching_without_shared_vertices_warn(client):
     assert out.result.output_crossings.pairs == 0
 
 
+def test_a_fold_repair_may_not_undo_warns(client):
+    # The unit cube whose top has a facet turned over onto its neighbours (8 inside triangle
+    # 4-5-7, the quad given its wrong diagonal). Each facet its own face group: no flip may move
+    # the groups' border, so the fold stays, and the client warns as the CLI does.
+    points = np.array([[i & 1, i >> 1 & 1, i >> 2 & 1] for i in range(8)] + [[0.7, 0.3, 1]],
+                      dtype=np.float64)
+    quads = [[0, 4, 6, 2], [1, 3, 7, 5], [0, 1, 5, 4], [2, 6, 7, 3], [0, 2, 3, 1]]
+    triangles = np.array([t for q in quads for t in ([q[0], q[1], q[2]], [q[0], q[2], q[3]])] +
+                         [[4, 5, 7], [7, 8, 4], [7, 6, 8], [6, 4, 8]])
+    groups = np.arange(len(triangles), dtype=np.uint32)
+    with pytest.warns(femsimp.FemsimpWarning,
+                      match=r"folded faces: \d+ face pairs lie on each other in their plane, one "
+                            r"of each turned over \(the first: faces \d+ and \d+"):
+        out = client.run((points, triangles, groups), ratio=0.5)
+    assert out.result.output_crossings.folds.pairs > 0
+    assert out.result.repair.counts["fold_left"] == 3
+    # The same without groups: repair unfolds it, no warning.
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", femsimp.FemsimpWarning)
+        out = client.run((points, triangles), ratio=0.5)
+    assert out.result.repair.counts["unfolded_edge"] == 1
+    assert out.result.output_crossings.folds.pairs == 0
+
+
 def test_a_part_far_from_the_origin_keeps_its_digits(client):
     # An assembly's global coordinates: 2 million units out, where float32 is 2^-3 apart (a
     # seventh of this part). The client sends it relative to an origin near it, the result comes

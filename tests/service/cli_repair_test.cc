@@ -395,7 +395,8 @@ TEST_F(CliRepairTest, AnOutputThatIntersectsItselfIsReportedLocallyAndByTheServe
   ASSERT_EQ(Run({input_, Path("out.off"), "--stats-json", Path("s.json")}), cli::kExitOk) << err_;
   EXPECT_EQ(out_.find("intersects itself"), std::string::npos) << out_;
   EXPECT_HAS(testing::ReadFileBytes(Path("s.json")),
-             "\"output_crossings\": {\"pairs\": 0, \"overlaps\": {\"pairs\": 0}}");
+             "\"output_crossings\": {\"pairs\": 0, \"overlaps\": {\"pairs\": 0}, \"folds\": "
+             "{\"pairs\": 0}}");
 }
 
 // A block 2 x 1 x 2 standing on a plate 4 x 3 x 1, exported apart: the contact (area 2)
@@ -431,6 +432,56 @@ TEST_F(CliRepairTest, BodiesTouchingWithoutSharedVerticesAreReportedLocallyAndBy
                absl::StrCat("\"output_crossings\": {\"pairs\": 0, \"overlaps\": {\"pairs\": ",
                             c.overlaps.pairs, ", \"area\": 2, \"faces\": [", c.overlaps.face_a,
                             ", ", c.overlaps.face_b, "]"));
+  }
+}
+
+// A facet turned over onto its neighbours (a quad given its wrong diagonal) is unfolded by
+// repair, locally and through the server. Where the facets lie in different face groups no flip
+// may move the groups' border: the fold is kept, the repair summary lists it though nothing
+// changed, and the output's warning and --stats-json name the first pair.
+TEST_F(CliRepairTest, FoldsAreUnfoldedOrReportedLocallyAndByTheServer) {
+  const std::string plain = WriteSoup("fold.off", testing::CubeWithAFoldOnTop());
+  RawMesh grouped_mesh = testing::CubeWithAFoldOnTop();
+  for (uint32_t f = 0; f < grouped_mesh.num_faces(); ++f) grouped_mesh.face_groups.push_back(f);
+  const std::string grouped = Path("fold_groups.ply");
+  ASSERT_TRUE(WriteMeshFile(grouped, grouped_mesh).ok());
+  testing::InProcessServer s;
+  for (const bool remote : {false, true}) {
+    SCOPED_TRACE(remote ? "remote" : "local");
+    std::vector<std::string> args = {plain, Path("out.off"), "--stats-json", Path("s.json")};
+    if (remote) args.insert(args.end(), {"--server", s.address()});
+    ASSERT_EQ(Run(args), cli::kExitOk) << err_;
+    absl::StatusOr<RawMesh> out = ReadMeshFile(Path("out.off"));
+    ASSERT_TRUE(out.ok()) << out.status();
+    EXPECT_EQ(FindCrossings(*out).folds.pairs, 0u);
+    EXPECT_HAS(out_, "  unfolded_edge          1\n");
+    EXPECT_HAS(out_,
+               "folded edge (facet 10) at (1, 1, 1): to (0, 0, 1): facets 10 and 11 lie on "
+               "each other in their plane, one turned over: edge replaced by the other "
+               "diagonal");
+    EXPECT_EQ(out_.find("folded faces"), std::string::npos) << out_;
+    std::string json = testing::ReadFileBytes(Path("s.json"));
+    EXPECT_HAS(json, "\"unfolded_edge\": 1,");
+    EXPECT_HAS(json, "\"folds\": {\"pairs\": 0}");
+
+    args = {grouped, Path("out.ply"), "--stats-json", Path("g.json")};
+    if (remote) args.insert(args.end(), {"--server", s.address()});
+    ASSERT_EQ(Run(args), cli::kExitOk) << err_;
+    out = ReadMeshFile(Path("out.ply"));
+    ASSERT_TRUE(out.ok()) << out.status();
+    const SoupCrossings c = FindCrossings(*out);
+    ASSERT_GT(c.folds.pairs, 0u);
+    EXPECT_HAS(out_, "repair:   no changes\n  fold_left              3\n");
+    EXPECT_HAS(out_, "; they belong to different face groups or carry different field values");
+    EXPECT_HAS(out_, absl::StrFormat("warning:  OUT has folded faces: %u face pair%s lie on each "
+                                     "other in their plane, one of each turned over (the first: "
+                                     "faces %u and %u, along their common edge at (",
+                                     c.folds.pairs, c.folds.pairs == 1 ? "" : "s", c.folds.face_a,
+                                     c.folds.face_b));
+    json = testing::ReadFileBytes(Path("g.json"));
+    EXPECT_HAS(json, "\"fold_left\": 3,");
+    EXPECT_HAS(json, absl::StrCat("\"folds\": {\"pairs\": ", c.folds.pairs, ", \"faces\": [",
+                                  c.folds.face_a, ", ", c.folds.face_b, "]"));
   }
 }
 

@@ -282,9 +282,10 @@ TEST(Wire, FidelityFiguresRoundTrip) {
   r.wall_limited_share = 0.375;
   r.thinnest_wall = 0.0625;
   r.output_crossings = {
-      .pairs = 8, .face_a = 12, .face_b = 57, .at = {1.5, -2.25, 3}, .overlaps = {}};
+      .pairs = 8, .face_a = 12, .face_b = 57, .at = {1.5, -2.25, 3}, .overlaps = {}, .folds = {}};
   r.output_crossings.overlaps = {
       .pairs = 5, .face_a = 7, .face_b = 70, .at = {1, 0, -1}, .area = 2.5};
+  r.output_crossings.folds = {.pairs = 3, .face_a = 10, .face_b = 11, .at = {0.5, 0.5, 1}};
   r.coordinates = {.magnitude = 3e6, .spacing = 0.25, .diagonal = 53.5};
   r.parts = {{.input = 8000, .output = 7990.5}, {.input = 1000, .output = 1001.25}};
   v1::Result m;
@@ -318,6 +319,10 @@ TEST(Wire, FidelityFiguresRoundTrip) {
   EXPECT_EQ(back.output_crossings.overlaps.face_b, 70u);
   EXPECT_EQ(back.output_crossings.overlaps.area, 2.5);
   EXPECT_EQ(back.output_crossings.overlaps.at, (std::array<double, 3>{1, 0, -1}));
+  EXPECT_EQ(back.output_crossings.folds.pairs, 3u);
+  EXPECT_EQ(back.output_crossings.folds.face_a, 10u);
+  EXPECT_EQ(back.output_crossings.folds.face_b, 11u);
+  EXPECT_EQ(back.output_crossings.folds.at, (std::array<double, 3>{0.5, 0.5, 1}));
   EXPECT_EQ(back.coordinates.magnitude, 3e6);
   EXPECT_EQ(back.coordinates.spacing, 0.25);
   EXPECT_EQ(back.coordinates.diagonal, 53.5);
@@ -466,7 +471,7 @@ TEST(Report, SummaryWarnsWhereTheOutputIntersectsItself) {
   cli::RunReport r;
   EXPECT_EQ(cli::Summary(r).find("intersects itself"), std::string::npos);
   r.fidelity.output_crossings = {
-      .pairs = 8, .face_a = 12, .face_b = 57, .at = {1.5, -2, 3}, .overlaps = {}};
+      .pairs = 8, .face_a = 12, .face_b = 57, .at = {1.5, -2, 3}, .overlaps = {}, .folds = {}};
   std::string s = cli::Summary(r);
   EXPECT_NE(s.find("warning:  OUT intersects itself: 8 face pairs cross (the first: faces 12 and "
                    "57, at (1.5, "
@@ -481,7 +486,8 @@ TEST(Report, SummaryWarnsWhereTheOutputIntersectsItself) {
   EXPECT_NE(s.find("--allow-self-intersections let the run make crossings"), std::string::npos)
       << s;
   EXPECT_NE(cli::ReportJson(r).find("\"output_crossings\": {\"pairs\": 1, \"faces\": [12, 57], "
-                                    "\"at\": [1.5, -2, 3], \"overlaps\": {\"pairs\": 0}}"),
+                                    "\"at\": [1.5, -2, 3], \"overlaps\": {\"pairs\": 0}, "
+                                    "\"folds\": {\"pairs\": 0}}"),
             std::string::npos);
 }
 
@@ -502,8 +508,38 @@ TEST(Report, SummaryWarnsWhereTheOutputHasOverlappingFaces) {
   EXPECT_EQ(s.find("intersects itself"), std::string::npos) << s;
   EXPECT_NE(cli::ReportJson(r).find("\"output_crossings\": {\"pairs\": 0, \"overlaps\": "
                                     "{\"pairs\": 3, \"area\": 0.75, \"faces\": [4, 9], \"at\": "
-                                    "[1, 2, 3]}}"),
+                                    "[1, 2, 3]}, \"folds\": {\"pairs\": 0}}"),
             std::string::npos);
+}
+
+// A fold repair could not undo (facets in different face groups) stays in the output: a warning
+// naming the first pair, the figures in --stats-json, and the repair summary lists what it left
+// though it changed nothing.
+TEST(Report, SummaryWarnsWhereTheOutputHasFoldedFaces) {
+  cli::RunReport r;
+  r.fidelity.output_crossings.folds = {.pairs = 3, .face_a = 10, .face_b = 11, .at = {0.5, 0.5, 1}};
+  const std::string s = cli::Summary(r);
+  EXPECT_NE(s.find("warning:  OUT has folded faces: 3 face pairs lie on each other in their "
+                   "plane, one of each turned over (the first: faces 10 and 11, along their "
+                   "common edge at (0.5, 0.5, 1)); kept from the input, where no flip of their "
+                   "edge unfolds them (the repair report's fold_left says why); tetgen and most "
+                   "FE meshers refuse faces lying on each other"),
+            std::string::npos)
+      << s;
+  EXPECT_EQ(s.find("intersects itself"), std::string::npos) << s;
+  EXPECT_EQ(s.find("overlapping faces"), std::string::npos) << s;
+  EXPECT_NE(cli::ReportJson(r).find("\"output_crossings\": {\"pairs\": 0, \"overlaps\": "
+                                    "{\"pairs\": 0}, \"folds\": {\"pairs\": 3, \"faces\": "
+                                    "[10, 11], \"at\": [0.5, 0.5, 1]}}"),
+            std::string::npos);
+  RepairReport repair;
+  EXPECT_EQ(cli::RepairSummary(repair, 5), "repair:   no changes\n");
+  repair.counts[static_cast<size_t>(RepairKind::kFoldLeft)] = 3;
+  repair.records.push_back({RepairKind::kFoldLeft, 10, 7, {1, 1, 1}, "facets 10 and 11 ..."});
+  EXPECT_EQ(cli::RepairSummary(repair, 5),
+            "repair:   no changes\n  fold_left              3\n  fold left (facet 10) at (1, 1, "
+            "1): facets 10 and 11 ...\n  ... 2 more (--repair-details lists them, --stats-json "
+            "has them under \"repair\")\n");
 }
 
 // A part far from the origin lost the detail finer than the floats' spacing there when it was
@@ -813,7 +849,8 @@ TEST(Report, JsonHasEveryField) {
                           "\"mean_thickness\"",
                           "\"inertia_change\"",
                           "\"wall_limited_share\"",
-                          "\"output_crossings\": {\"pairs\": 0, \"overlaps\": {\"pairs\": 0}}",
+                          "\"output_crossings\": {\"pairs\": 0, \"overlaps\": {\"pairs\": 0}, "
+                          "\"folds\": {\"pairs\": 0}}",
                           "\"tolerance_relative\"",
                           "\"feature_angle_deg\"",
                           "\"max_field_change\"",

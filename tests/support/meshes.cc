@@ -185,6 +185,20 @@ BrokenTorusRepairs BrokenTorusRepairsOf(int m) {
   return r;
 }
 
+RawMesh CubeWithAFoldOnTop() {
+  RawMesh m;
+  for (uint32_t i = 0; i < 8; ++i)
+    m.positions.insert(m.positions.end(), {float(i & 1), float(i >> 1 & 1), float(i >> 2 & 1)});
+  m.positions.insert(m.positions.end(), {0.7f, 0.3f, 1.0f});
+  // Quads counter-clockwise seen from outside: -x, +x, -y, +y, -z.
+  const uint32_t quads[5][4] = {
+      {0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}};
+  for (const auto& q : quads)
+    m.triangles.insert(m.triangles.end(), {q[0], q[1], q[2], q[0], q[2], q[3]});
+  m.triangles.insert(m.triangles.end(), {4, 5, 7, 7, 8, 4, 7, 6, 8, 6, 4, 8});
+  return m;
+}
+
 RawMesh WithGroupsAndFields(RawMesh mesh) {
   const size_t nf = mesh.num_faces();
   mesh.face_groups.resize(nf);

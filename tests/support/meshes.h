@@ -46,6 +46,15 @@ RawMesh MakeTorus(int n, int m, double R = 3.0, double r = 1.0);
 // group 1 for the shell, 2 for the solid torus.
 RawMesh ShellBesideSolidTorus();
 
+// The unit cube (vertex i at (i & 1, i >> 1 & 1, i >> 2 & 1), facets 0-9 its five lower sides as
+// two triangles each) with its top split into a fan around (0.7, 0.3, 1) (vertex 8), whose two
+// facets on edge 5-8 are replaced by the other diagonal 4-7 of their quad: facets 10 = (4, 5, 7)
+// and 11 = (7, 8, 4), the second turned over onto the first (8 lies inside triangle 4-5-7), as
+// a tessellator that took the wrong diagonal writes it; 12 = (7, 6, 8), 13 = (6, 4, 8). Facet
+// 11 lies on all three of its neighbours (three folded edges); flipping 4-7 back to 5-8
+// unfolds it.
+RawMesh CubeWithAFoldOnTop();
+
 // A torus (MakeTorus(n, m)) as a careless export writes it, for the repair stage end to end:
 // facets 3 and 10 flipped; a crack: the faces of the last ring (i = n - 1) use their own copies
 // of ring 0's m vertices (same coordinates, appended); then a copy of facet 0 (a duplicate) and a
