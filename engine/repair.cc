@@ -158,9 +158,9 @@ class Repairer {
   bool FillHoles();
   void PlaceSplitPieces(const std::vector<uint32_t>& after, uint32_t nk0);
   void Orient();
-  // Flips folded edges (engine/fold.h) where that unfolds them (strict: records them); true when
-  // a facet changed.
-  bool UnfoldEdges();
+  // Flips folded edges (engine/fold.h) where that unfolds them (strict: records them), leaving
+  // the edges built for what the facets are then.
+  void UnfoldEdges();
   void SplitVertices();
   void ReportVertices();
   void ReportEdges();
@@ -1124,8 +1124,8 @@ void Repairer::Orient() {
 }
 
 // Each round finds every fold and flips those whose flip unfolds them, one per facet (a flip
-// changes its facets' other edges); a fan turned over unfolds over several rounds.
-bool Repairer::UnfoldEdges() {
+// changes its facets' other edges), so a fan turned over may take several rounds.
+void Repairer::UnfoldEdges() {
   constexpr int kMaxRounds = 8;
   const double plane_tolerance = ContactPlaneTolerance(in_);
   const auto at = [&](uint32_t w) {
@@ -1185,7 +1185,6 @@ bool Repairer::UnfoldEdges() {
                           " lie on each other in their plane, one turned over", why);
     });
   };
-  bool changed = false;
   for (int round = 0;; ++round) {
     const std::vector<Fold> folds = find_folds();
     if (folds.empty()) break;
@@ -1226,7 +1225,6 @@ bool Repairer::UnfoldEdges() {
       orig_[k1] = ob, orig_[k1 + 1] = oc, orig_[k1 + 2] = od;
       touched[f.k0] = touched[f.k1] = 1;
       made.insert(cd);
-      changed = true;
     }
     const bool flipped = left.size() < folds.size();
     if (!flipped || round + 1 == kMaxRounds) {
@@ -1242,7 +1240,6 @@ bool Repairer::UnfoldEdges() {
     }
     BuildEdges();
   }
-  return changed;
 }
 
 // Corners at one vertex belong to the same fan when their facets share an edge at that vertex
@@ -1504,7 +1501,7 @@ absl::StatusOr<RepairResult> Repairer::Run(RawMesh& mesh) {
   for (int call = 0; call < 3 && !strict_ && ZipTJunctions(); ++call) BuildEdges();
   if (!strict_ && FillHoles()) BuildEdges();
   Orient();
-  if (UnfoldEdges()) BuildEdges();
+  UnfoldEdges();
   SplitVertices();
   ReportEdges();
   if (!strict_) ReportVertices();

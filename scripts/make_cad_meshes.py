@@ -827,6 +827,20 @@ def break_duplicate(rng, pos, tris, groups, same=4, reversed_=2):
          "note": "same vertices, opposite order (a double-sided facet)"}]
 
 
+def turn_on_move(pos, tris, fan, v, u):
+    """For each face of v's fan (`fan`: their indices) but the two of edge v-u, which lose
+    their area: the dot product of its normal before and after v moves onto u (negative: the
+    face turns over)."""
+    moved = pos.astype(np.float64)
+    before = np.cross(moved[tris[fan, 1]] - moved[tris[fan, 0]],
+                      moved[tris[fan, 2]] - moved[tris[fan, 0]])
+    moved[v] = moved[u]
+    after = np.cross(moved[tris[fan, 1]] - moved[tris[fan, 0]],
+                     moved[tris[fan, 2]] - moved[tris[fan, 0]])
+    keeps = ~(tris[fan] == u).any(axis=1)
+    return np.einsum("ij,ij->i", before[keeps], after[keeps])
+
+
 def break_degenerate(rng, pos, tris, groups):
     """Three kinds of zero-area facets, each the way CAD exports make them:
     coincident: a vertex of a flat CAD face moved onto a neighbour (its two shared faces
@@ -845,14 +859,7 @@ def break_degenerate(rng, pos, tris, groups):
         fan = np.flatnonzero((tris == v).any(axis=1))
         t = tris[int(fan[0])].tolist()
         u = t[(t.index(v) + 1) % 3]
-        moved = pos.astype(np.float64)
-        before = np.cross(moved[tris[fan, 1]] - moved[tris[fan, 0]],
-                          moved[tris[fan, 2]] - moved[tris[fan, 0]])
-        moved[v] = moved[u]
-        after = np.cross(moved[tris[fan, 1]] - moved[tris[fan, 0]],
-                         moved[tris[fan, 2]] - moved[tris[fan, 0]])
-        keeps = ~(tris[fan] == u).any(axis=1)  # the two faces of edge v-u lose their area
-        if np.all(np.einsum("ij,ij->i", before[keeps], after[keeps]) > 0):
+        if np.all(turn_on_move(pos, tris, fan, v, u) > 0):
             break
     else:
         raise RuntimeError("no flat vertex moves onto a neighbour without turning a face over")

@@ -46,14 +46,7 @@ def break_fan(rng, pos, tris):
         for f in fan:
             t = tris[int(f)].tolist()
             u = t[(t.index(int(v)) + 1) % 3]
-            moved = pos.astype(np.float64)
-            before = np.cross(moved[tris[fan, 1]] - moved[tris[fan, 0]],
-                              moved[tris[fan, 2]] - moved[tris[fan, 0]])
-            moved[v] = moved[u]
-            after = np.cross(moved[tris[fan, 1]] - moved[tris[fan, 0]],
-                             moved[tris[fan, 2]] - moved[tris[fan, 0]])
-            keeps = ~(tris[fan] == u).any(axis=1)
-            turned = int((np.einsum("ij,ij->i", before[keeps], after[keeps]) < 0).sum())
+            turned = int((m.turn_on_move(pos, tris, fan, v, u) < 0).sum())
             if turned:
                 pos = pos.copy()
                 pos[v] = pos[u]
