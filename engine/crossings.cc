@@ -90,17 +90,12 @@ double PlaneTolerance(const float (&lo)[3], const float (&hi)[3]) {
 // Whether s and t, which have an edge in common (equal ids), fold onto each other
 // (engine/fold.h), and where: the middle of that edge.
 std::optional<DVec3> Fold(const Triangle& s, const Triangle& t, double plane_tolerance) {
-  const auto apex = [](const Triangle& x, const Triangle& y) {
-    for (int i = 0; i < 3; ++i)
-      if (x.id[i] != y.id[0] && x.id[i] != y.id[1] && x.id[i] != y.id[2]) return i;
-    return 3;
-  };
-  const int i = apex(s, t), j = apex(t, s);
-  if (i == 3 || j == 3) return std::nullopt;
-  const int ia = (i + 1) % 3, ib = (i + 2) % 3;
-  if (t.id[(j + 1) % 3] != s.id[ib] || t.id[(j + 2) % 3] != s.id[ia]) return std::nullopt;
-  if (!IsFold(s.p[ia], s.p[ib], s.p[i], t.p[j], plane_tolerance)) return std::nullopt;
-  return 0.5 * (s.p[ia] + s.p[ib]);
+  const std::optional<std::pair<int, int>> apexes = OppositeApexes(s.id, t.id);
+  if (!apexes) return std::nullopt;
+  const auto [i, j] = *apexes;
+  const DVec3 &a = s.p[(i + 1) % 3], &b = s.p[(i + 2) % 3];
+  if (!IsFold(a, b, s.p[i], t.p[j], plane_tolerance)) return std::nullopt;
+  return 0.5 * (a + b);
 }
 
 }  // namespace

@@ -17,7 +17,22 @@ bool NearPlane(const DVec3& p, const DVec3& at, const DVec3& n, double h, double
   return off <= std::max(plane_tolerance, kFoldSine * h);
 }
 
+// The corner of x whose vertex y lacks (the first, or 3: none).
+int CornerOff(const uint32_t* x, const uint32_t* y) {
+  for (int i = 0; i < 3; ++i)
+    if (x[i] != y[0] && x[i] != y[1] && x[i] != y[2]) return i;
+  return 3;
+}
+
 }  // namespace
+
+std::optional<std::pair<int, int>> OppositeApexes(const uint32_t* s, const uint32_t* t) {
+  const int i = CornerOff(s, t), j = CornerOff(t, s);
+  if (i == 3 || j == 3) return std::nullopt;
+  const uint32_t a = s[(i + 1) % 3], b = s[(i + 2) % 3];
+  if (t[(j + 1) % 3] != b || t[(j + 2) % 3] != a) return std::nullopt;
+  return std::pair(i, j);
+}
 
 bool IsFold(const DVec3& a, const DVec3& b, const DVec3& c, const DVec3& d,
             double plane_tolerance) {

@@ -8,6 +8,10 @@
 // point.
 #pragma once
 
+#include <cstdint>
+#include <optional>
+#include <utility>
+
 #include "engine/vec.h"
 
 namespace femsimp {
@@ -15,6 +19,13 @@ namespace femsimp {
 // Each apex within this fraction of its distance from the edge line off the other facet's
 // plane: an opening angle under about 0.06 degrees, far below any edge a part is made with.
 inline constexpr double kFoldSine = 1e-3;
+
+// For facets s and t (three vertex ids each) with exactly an edge in common that they run
+// opposite ways (oriented alike): the corner of s off that edge, i, and t's, j, so that s is
+// (a, b, c) = (s[i + 1], s[i + 2], s[i]) and t is (b, a, d) with d = t[j] (indices mod 3).
+// None for facets with another number of corners in common, or that run the edge the same way
+// (misoriented: they face no way, so never fold).
+std::optional<std::pair<int, int>> OppositeApexes(const uint32_t* s, const uint32_t* t);
 
 // Whether (a, b, c) and (b, a, d) fold onto each other: they face opposite ways, and each apex
 // lies within plane_tolerance (the coordinates' rounding), or within kFoldSine of its distance

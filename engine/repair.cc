@@ -1137,13 +1137,6 @@ void Repairer::UnfoldEdges() {
     uint32_t ja, jc;  // corners of k0: a (then b) and c
     uint32_t jd;      // corner of k1: d (then b, a)
   };
-  const auto apex = [&](uint32_t k, uint32_t other) {  // the corner of k not on `other`
-    for (uint32_t j = 0; j < 3; ++j) {
-      const uint32_t v = tri_[3 * k + j];
-      if (v != tri_[3 * other] && v != tri_[3 * other + 1] && v != tri_[3 * other + 2]) return j;
-    }
-    return 3u;
-  };
   const auto find_folds = [&] {
     // Facets of a fold face opposite ways: comparing the normals first passes over nearly
     // every edge of a part cheaply.
@@ -1156,13 +1149,13 @@ void Repairer::UnfoldEdges() {
     for (size_t e = 0; e + 1 < ebeg_.size(); ++e) {
       if (ebeg_[e + 1] - ebeg_[e] != 2) continue;
       const uint32_t k0 = ehe_[ebeg_[e]] / 3, k1 = ehe_[ebeg_[e] + 1] / 3;
-      if (Dot(normal[k0], normal[k1]) >= 0.0) continue;
-      const uint32_t jc = apex(k0, k1), jd = apex(k1, k0);
-      if (k0 == k1 || jc == 3 || jd == 3) continue;
-      const uint32_t ja = (jc + 1) % 3;
-      const uint32_t a = tri_[3 * k0 + ja], b = tri_[3 * k0 + (jc + 2) % 3];
+      if (k0 == k1 || Dot(normal[k0], normal[k1]) >= 0.0) continue;
       // Oriented alike: k1 runs b -> a (a component left non-orientable may not).
-      if (tri_[3 * k1 + (jd + 1) % 3] != b || tri_[3 * k1 + (jd + 2) % 3] != a) continue;
+      const std::optional<std::pair<int, int>> apexes =
+          OppositeApexes(&tri_[3 * k0], &tri_[3 * k1]);
+      if (!apexes) continue;
+      const uint32_t jc = apexes->first, jd = apexes->second, ja = (jc + 1) % 3;
+      const uint32_t a = tri_[3 * k0 + ja], b = tri_[3 * k0 + (jc + 2) % 3];
       if (IsFold(at(a), at(b), at(tri_[3 * k0 + jc]), at(tri_[3 * k1 + jd]), plane_tolerance))
         folds.push_back({k0, k1, ja, jc, jd});
     }
