@@ -195,11 +195,16 @@ TEST(Imprint, GroupsAndFieldsFollowTheFacets) {
       EXPECT_GT(nz, 0.0);
       ++shared_on_plate;
     }
-    if (at_contact) EXPECT_EQ(mesh.face_groups[f], 1u);  // the block's bottom is all shared
+    if (at_contact) {
+      EXPECT_EQ(mesh.face_groups[f], 1u);  // the block's bottom is all shared
+    }
   }
   EXPECT_GT(shared_on_plate, 0u);
-  for (uint32_t v : r->vertex_origin)
-    if (v != kNoInputVertex) EXPECT_LT(v, input.num_vertices());
+  for (uint32_t v : r->vertex_origin) {
+    if (v != kNoInputVertex) {
+      EXPECT_LT(v, input.num_vertices());
+    }
+  }
 }
 
 // Boxes that cross each other share faces in their planes facing the same way: no contact of
