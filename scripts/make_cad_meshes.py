@@ -1210,6 +1210,9 @@ BROKEN = [
     ("housing_coarse", "cavity_outward"),
     ("bracket_export", "fold"),
     ("flange_coarse", "fold"),
+    # Several defects in one file, as CAD exports have them (a "+" list, made in that order).
+    ("flange_export", "degenerate+fold+tjunction+crack+unwelded+flipped"),
+    ("knob_export", "duplicate+unwelded+flipped+degenerate+missing+fold"),
 ]
 
 # -------------------------------------------------------------------------------------- main
@@ -1354,13 +1357,18 @@ def generate(outdir, parts, log):
             continue
         rng = np.random.default_rng(rng_seed + i)
         pos, tris, groups = clean[source]
-        pos, tris, groups, notes = BREAKERS[kind](rng, pos, tris, groups)
-        name = f"{source}_{kind}"
+        kinds = kind.split("+")
+        notes = []
+        for k in kinds:
+            pos, tris, groups, made = BREAKERS[k](rng, pos, tris, groups)
+            notes += made
+        name = f"{source}_{kind if len(kinds) == 1 else 'mixed'}"
         path = os.path.join(outdir, name + ".off")
         write_off(path, pos, tris)
         m = measure(pos, tris)
-        closed, manifold = BROKEN_SHAPE[kind]
-        if closed != m["closed"] or manifold != (m["manifold_edges"] and kind != "bowtie"):
+        closed = all(BROKEN_SHAPE[k][0] for k in kinds)
+        manifold = all(BROKEN_SHAPE[k][1] for k in kinds)
+        if closed != m["closed"] or manifold != (m["manifold_edges"] and "bowtie" not in kinds):
             raise RuntimeError(f"{name}: expected closed {closed}, manifold {manifold}: {m}")
         manifest["files"].append({
             "file": os.path.basename(path), "part": source.split("_")[0],
