@@ -13,6 +13,7 @@ import subprocess
 import sys
 
 import gmsh
+import meshio
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "scripts"))
@@ -30,12 +31,28 @@ ap.add_argument("--copies", type=int, default=3, help="copies per mesh")
 ap.add_argument("--femsimp", default="build/client/femsimp")
 ap.add_argument("--judge", default="build/tests/cad/cad_judge")
 ap.add_argument("--tetgen", default="tetgen")
+ap.add_argument("--groups", action="store_true",
+                help="write the copies as OBJ with their CAD faces as groups, and check that "
+                "the output keeps every group")
+ap.add_argument("--mode", default="", help="femsimp options beyond the plain call")
+ap.add_argument("--tolerance-relative", default="0.005", help="the judge's tolerance")
+ap.add_argument("--judge-volume", default="0.005",
+                help="the judge's volume budget ('none' where the mode keeps none)")
 args = ap.parse_args()
 os.makedirs(args.work, exist_ok=True)
 
 
 def run(cmd):
     return subprocess.run(cmd, capture_output=True, text=True)
+
+
+def as_off(path):
+    """The mesh at path as an OFF file beside it (tetgen reads no OBJ)."""
+    if path.endswith(".off"):
+        return path
+    mesh = meshio.read(path)
+    m.write_off(path + ".off", mesh.points, mesh.cells_dict["triangle"])
+    return path + ".off"
 
 
 def sources():
@@ -61,8 +78,12 @@ def sources():
 
 rows = []
 for index, (stem, pos0, tris0, groups0) in enumerate(sources()):
-    clean = os.path.join(args.work, stem + ".off")
-    m.write_off(clean, pos0, tris0)
+    if args.groups:
+        clean = os.path.join(args.work, stem + ".obj")
+        m.write_obj(clean, pos0, tris0, groups0)
+    else:
+        clean = os.path.join(args.work, stem + ".off")
+        m.write_off(clean, pos0, tris0)
     for seed in range(args.copies):
         rng = np.random.default_rng(1000 * index + seed)
         pos, tris, groups = pos0, tris0, groups0
@@ -74,26 +95,36 @@ for index, (stem, pos0, tris0, groups0) in enumerate(sources()):
             except (RuntimeError, ValueError, IndexError, StopIteration):
                 pass  # nothing of that kind left to break in this copy
         name = f"{stem}_mix{seed}"
-        inp = os.path.join(args.work, name + ".off")
-        out = os.path.join(args.work, name + ".out.off")
-        m.write_off(inp, pos, tris)
+        ext = "obj" if args.groups else "off"
+        inp = os.path.join(args.work, f"{name}.{ext}")
+        out = os.path.join(args.work, f"{name}.out.{ext}")
+        if args.groups:
+            m.write_obj(inp, pos, tris, groups)
+        else:
+            m.write_off(inp, pos, tris)
         r = run([args.femsimp, "simplify", inp, out, "--threads", "1", "--quiet",
-                 "--stats-json", out + ".json"])
+                 "--stats-json", out + ".json"] + args.mode.split())
         if r.returncode != 0:
             rows.append((name, "+".join(made), f"exit {r.returncode}", r.stderr.strip()[:300]))
             continue
         st = json.load(open(out + ".json"))
         changes = {k: v for k, v in st["repair"]["counts"].items() if v}
         crossings = st["fidelity"]["output_crossings"]
-        j = run([args.judge, clean, out, "--tolerance-relative", "0.005",
-                 "--max-volume-change", "0.005"])
-        tin = run([args.tetgen, "-d", inp]).stdout
-        tout = run([args.tetgen, "-d", out]).stdout
+        volume = [] if args.judge_volume == "none" else ["--max-volume-change", args.judge_volume]
+        j = run([args.judge, clean, out, "--tolerance-relative", args.tolerance_relative] + volume)
+        kept = ""
+        if args.groups:
+            named = lambda path: {ln.split()[1] for ln in open(path) if ln.startswith("g ")}
+            lost = named(inp) - named(out)
+            kept = f"groups {len(named(out))}/{len(named(inp))}" + (f" LOST {sorted(lost)}"
+                                                                    if lost else "")
+        tin = run([args.tetgen, "-d", as_off(inp)]).stdout
+        tout = run([args.tetgen, "-d", as_off(out)]).stdout
         rows.append((name, "+".join(made), "exit 0",
                      ",".join(f"{k}={v}" for k, v in sorted(changes.items())),
                      f"crossings={crossings['pairs']} folds={crossings['folds']['pairs']}",
                      "judge ok" if j.returncode == 0 else "JUDGE " + (j.stderr or j.stdout)
                      .strip().replace("\n", " ")[:200],
                      "in:" + ("refused" if "intersects" in tin else "clean"),
-                     "out:" + ("REFUSED" if "intersects" in tout else "clean")))
+                     "out:" + ("REFUSED" if "intersects" in tout else "clean"), kept))
         print(*rows[-1], flush=True)
