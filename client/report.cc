@@ -288,8 +288,9 @@ std::string WallLines(const FidelityFigures& f, double max_wall_share) {
 
 std::string RepairSummary(const RepairReport& r, size_t max_records) {
   const size_t changes = r.num_changes();
-  // Folds left are what the mesher next refuses: listed where nothing changed too.
-  if (changes == 0 && r.count(RepairKind::kFoldLeft) == 0) return "repair:   no changes\n";
+  // Folds and holes left are what the mesher next refuses: listed where nothing changed too.
+  if (changes == 0 && r.count(RepairKind::kFoldLeft) == 0 && r.count(RepairKind::kHoleLeft) == 0)
+    return "repair:   no changes\n";
   std::string s =
       changes == 0
           ? std::string("repair:   no changes\n")

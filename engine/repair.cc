@@ -73,6 +73,8 @@ constexpr KindInfo kKinds[kNumRepairKinds] = {
      " as they were (two facets lying on each other; FE meshers refuse them)"},
     {"contact_left", "contact left apart", "contacts left apart", "left",
      "contact of bodies exported apart", "contacts of bodies exported apart", " as exported"},
+    {"hole_left", "hole left open", "holes left open", "left", "hole", "holes",
+     " open (larger than a few missing facets)"},
 };
 
 const KindInfo& Info(RepairKind kind) { return kKinds[static_cast<size_t>(kind)]; }
@@ -874,6 +876,37 @@ bool Repairer::FillHoles() {
     double area = 0;
   };
   std::vector<Hole> holes;
+  // Every whole loop (each vertex on it with two open edges), filled or not: those of a component
+  // left open are reported where they would close it with less than half its area (a solid with
+  // a face missing, not a sheet's border).
+  struct Loop {
+    uint32_t first;
+    std::vector<uint32_t> vertices;
+    double area;       // of the plane polygon its Newell normal spans: the least a fill could have
+    double off_plane;  // the farthest of its vertices from that plane through their centroid
+  };
+  std::vector<Loop> loops;
+  const auto describe = [&](uint32_t first, const std::vector<uint32_t>& vertices) {
+    std::array<double, 3> normal{}, centre{};
+    const size_t n = vertices.size();
+    for (size_t i = 0; i < n; ++i) {
+      const std::array<double, 3> a = PosD(vertices[i]), b = PosD(vertices[(i + 1) % n]);
+      normal[0] += (a[1] - b[1]) * (a[2] + b[2]);
+      normal[1] += (a[2] - b[2]) * (a[0] + b[0]);
+      normal[2] += (a[0] - b[0]) * (a[1] + b[1]);
+      for (int k = 0; k < 3; ++k) centre[k] += a[k] / double(n);
+    }
+    const double length =
+        std::sqrt(normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]);
+    double off = 0;
+    for (uint32_t v : vertices) {
+      const std::array<double, 3> a = PosD(v);
+      double d = 0;
+      for (int k = 0; k < 3; ++k) d += (a[k] - centre[k]) * normal[k];
+      off = std::max(off, length > 0 ? std::fabs(d) / length : HUGE_VAL);
+    }
+    return Loop{first, vertices, 0.5 * length, off};
+  };
   absl::flat_hash_map<uint32_t, bool> fillable;  // component -> every loop of it a hole
   absl::flat_hash_set<uint32_t> walked;          // open half-edges already on a loop
   std::vector<uint32_t> starts;
@@ -894,14 +927,15 @@ bool Repairer::FillHoles() {
       const uint32_t v = tri_[h] == hole.loop.back() ? head(h) : tri_[h];
       if (v == hole.loop.front()) break;
       const std::vector<uint32_t>& at = open_at[v];
-      if (at.size() != 2 || hole.loop.size() == kMaxHoleEdges) {
+      if (at.size() != 2) {
         ok = false;
         break;
       }
       hole.loop.push_back(v);
       h = at[0] == h ? at[1] : at[0];
     }
-    if (!ok || hole.loop.size() < 3) {
+    if (ok && hole.loop.size() >= 3) loops.push_back(describe(h0, hole.loop));
+    if (!ok || hole.loop.size() < 3 || hole.loop.size() > kMaxHoleEdges) {
       fillable[comp] = false;
       continue;
     }
@@ -952,6 +986,33 @@ bool Repairer::FillHoles() {
     holes.push_back(std::move(hole));
   }
 
+  // What a component left open would need to close: reported where that is under half its area.
+  absl::flat_hash_map<uint32_t, double> open_area;
+  for (const Loop& loop : loops) open_area[components.Find(loop.first / 3)] += loop.area;
+  double plane_tolerance = -1;  // measured on the first loop reported
+  for (const Loop& loop : loops) {
+    const uint32_t comp = components.Find(loop.first / 3);
+    if (fillable[comp] || !(open_area[comp] < 0.5 * component_area[comp])) continue;
+    if (plane_tolerance < 0) plane_tolerance = ContactPlaneTolerance(in_);
+    const bool planar = loop.vertices.size() > 3 && loop.off_plane <= plane_tolerance;
+    const bool small =
+        loop.vertices.size() <= kMaxHoleEdges && loop.area <= kMaxHoleShare * component_area[comp];
+    std::array<double, 3> at{};
+    for (uint32_t v : loop.vertices)
+      for (int k = 0; k < 3; ++k) at[k] += PosD(v)[k] / double(loop.vertices.size());
+    Record(RepairKind::kHoleLeft, kept_[loop.first / 3], loop.vertices[0], at, [&] {
+      return absl::StrFormat(
+          "a loop of %u open edges (from vertex %u) left open: a fill would take at least %.3g "
+          "(%.2g%% of its surface's area), %s; %s",
+          loop.vertices.size(), loop.vertices[0], loop.area, 100 * loop.area / component_area[comp],
+          planar                     ? "in one plane (a flat face missing?)"
+          : loop.vertices.size() > 3 ? "not in one plane"
+                                     : "a triangle",
+          small ? "another loop of its surface is too large to fill"
+                : "larger than a few missing facets: the surface is not closed (tetgen and "
+                  "solid FE models need it closed)");
+    });
+  }
   bool any = false;
   for (const Hole& hole : holes) {
     const uint32_t comp = components.Find(hole.first / 3);
@@ -1541,7 +1602,7 @@ std::string SeamDetail(const std::array<double, 3>& to, size_t count,
 bool IsRepairChange(RepairKind kind) {
   return kind != RepairKind::kSeamEdge && kind != RepairKind::kNonOrientable &&
          kind != RepairKind::kFoldLeft && kind != RepairKind::kContactLeft &&
-         kind != RepairKind::kCount;
+         kind != RepairKind::kHoleLeft && kind != RepairKind::kCount;
 }
 
 bool BlocksTheBuild(RepairKind kind) { return kind == RepairKind::kNonOrientable; }

@@ -62,6 +62,8 @@ enum class RepairKind : int {
   kFoldLeft,       // a fold no flip unfolds (the flip would turn a facet over, join two face
                    // groups, or make an edge that exists): kept; FE meshers refuse it
   kContactLeft,    // a contact the imprint could not re-tile: it stays as exported
+  kHoleLeft,       // a loop of open edges of a surface that it would close with under half its
+                   // area, too large to fill (a face missing): the output stays open
   kCount,
 };
 inline constexpr size_t kNumRepairKinds = static_cast<size_t>(RepairKind::kCount);

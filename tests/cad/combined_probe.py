@@ -9,8 +9,10 @@ command."""
 import argparse
 import json
 import os
+import shutil
 import subprocess
 import sys
+import tempfile
 
 import gmsh
 import meshio
@@ -34,6 +36,10 @@ ap.add_argument("--tetgen", default="tetgen")
 ap.add_argument("--groups", action="store_true",
                 help="write the copies as OBJ with their CAD faces as groups, and check that "
                 "the output keeps every group")
+ap.add_argument("--occ", action="store_true",
+                help="break OpenCASCADE's own tessellation of each part (what CAD tools export "
+                "as STL: slivers, cracks, near-coincident vertices) instead of gmsh's meshes; "
+                "judged against it as repaired (the judge's --repaired-input)")
 ap.add_argument("--mode", default="", help="femsimp options beyond the plain call")
 ap.add_argument("--tolerance-relative", default="0.005", help="the judge's tolerance")
 ap.add_argument("--judge-volume", default="0.005",
@@ -63,16 +69,22 @@ def sources():
     gmsh.option.setNumber("Mesh.MaxNumThreads2D", 1)
     gmsh.option.setNumber("Mesh.RandomSeed", 1)
     out = []
+    tmpdir = tempfile.mkdtemp()
     for part in args.parts.split(","):
         m.build_part(part)
         xmin, ymin, zmin, xmax, ymax, zmax = gmsh.model.getBoundingBox(-1, -1)
         diag = float(np.linalg.norm([xmax - xmin, ymax - ymin, zmax - zmin]))
+        if args.occ:
+            pos, tris = m.occ_tessellation(tmpdir, diag)
+            out.append((f"{part}_occ", pos, tris, np.zeros(len(tris), dtype=np.int64)))
+            continue
         for variant, spec, _ in m.part_variants(part):
             if variant not in ("coarse", "export"):
                 continue
             pos, tris, groups = m.mesh_surfaces(spec, diag)
             out.append((f"{part}_{variant}", pos, m.orient(pos, tris), groups))
     gmsh.finalize()
+    shutil.rmtree(tmpdir)
     return out
 
 
@@ -111,7 +123,8 @@ for index, (stem, pos0, tris0, groups0) in enumerate(sources()):
         changes = {k: v for k, v in st["repair"]["counts"].items() if v}
         crossings = st["fidelity"]["output_crossings"]
         volume = [] if args.judge_volume == "none" else ["--max-volume-change", args.judge_volume]
-        j = run([args.judge, clean, out, "--tolerance-relative", args.tolerance_relative] + volume)
+        j = run([args.judge, clean, out, "--tolerance-relative", args.tolerance_relative] + volume
+                + (["--repaired-input"] if args.occ else []))
         kept = ""
         if args.groups:
             named = lambda path: {ln.split()[1] for ln in open(path) if ln.startswith("g ")}

@@ -503,7 +503,7 @@ TEST_F(CliRepairTest, ImprintSharesTheContactLocallyAndThroughTheServer) {
     EXPECT_EQ(out_.find("overlapping faces"), std::string::npos) << out_;
     const std::string json = testing::ReadFileBytes(Path("s.json"));
     EXPECT_HAS(json, "\"imprinted_contact\": 1,");
-    EXPECT_HAS(json, "\"contact_left\": 0}");
+    EXPECT_HAS(json, "\"contact_left\": 0, \"hole_left\": 0}");
     EXPECT_HAS(json, "\"kind\": \"imprinted_contact\"");
     EXPECT_HAS(json, "bodies exported apart touch over an area of 2:");
     EXPECT_HAS(json, "{\"input_volume\": 4, ");   // the block, 2 x 1 x 2

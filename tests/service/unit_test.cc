@@ -542,6 +542,16 @@ TEST(Report, SummaryWarnsWhereTheOutputHasFoldedFaces) {
             "has them under \"repair\")\n");
 }
 
+// A surface left open (a face missing) is what tetgen next refuses: said where nothing changed.
+TEST(Report, RepairSummaryListsHolesLeftOpen) {
+  RepairReport repair;
+  repair.counts[static_cast<size_t>(RepairKind::kHoleLeft)] = 1;
+  repair.records.push_back({RepairKind::kHoleLeft, 4, 2, {0.5, 0.5, 1}, "a loop of 4 open edges"});
+  EXPECT_EQ(cli::RepairSummary(repair, 5),
+            "repair:   no changes\n  hole_left              1\n  hole left open (facet 4) at "
+            "(0.5, 0.5, 1): a loop of 4 open edges\n");
+}
+
 // A part far from the origin lost the detail finer than the floats' spacing there when it was
 // read: the summary says so from 1e-4 of the part's size on, and not below.
 // Where the engine's positions lie is reported as figures (the readers hold a far part relative
