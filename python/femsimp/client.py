@@ -137,6 +137,19 @@ def _warn_if_crossing(result, allowed):
                   FemsimpWarning, stacklevel=3)
 
 
+def _warn_if_open(result):
+    """The C++ CLI lists the openings repair left (a face missing): tetgen refuses the output."""
+    left = result.repair.counts.get("hole_left", 0)
+    if left == 0:
+        return
+    first = next((r for r in result.repair.records if r.kind == "hole_left"), None)
+    where = (f" (the first at ({', '.join(f'{x:.6g}' for x in first.at)}): {first.detail})"
+             if first is not None else "")
+    warnings.warn(f"the surface is open: repair left {left} hole{'' if left == 1 else 's'} "
+                  f"larger than a few missing facets{where}; tetgen and solid FE models need a "
+                  f"closed surface", FemsimpWarning, stacklevel=3)
+
+
 class Client:
     """A connection to a femsimp-server.
 
@@ -285,6 +298,7 @@ class Client:
                                job_id=outcome.job_id)
         outcome.mesh = prepared.restore(points, triangles, groups, fields)
         _warn_if_crossing(outcome.result, checked.get("allow_self_intersections", False))
+        _warn_if_open(outcome.result)
         return outcome
 
     def _with_retry(self, requests, progress, bar, deadline_at):

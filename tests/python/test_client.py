@@ -102,6 +102,22 @@ def test_a_fold_repair_may_not_undo_warns(client):
     assert out.result.output_crossings.folds.pairs == 0
 
 
+def test_a_missing_face_is_said_not_filled(client):
+    # The unit cube without its top (side 5): a hole of 4 n edges in one plane, a fifth of the
+    # surface. Repair leaves it (a tray, or a face the exporter dropped) and says so.
+    points, triangles, side = box_surface(4)
+    with pytest.warns(femsimp.FemsimpWarning,
+                      match=r"the surface is open: repair left 1 hole larger than a few missing "
+                            r"facets \(the first at .*a loop of 16 open edges.*in one plane"):
+        out = client.run((points, triangles[side != 5]), ratio=0.5)
+    assert out.result.repair.counts["hole_left"] == 1
+    # Closed, nothing to say.
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", femsimp.FemsimpWarning)
+        out = client.run((points, triangles), ratio=0.5)
+    assert out.result.repair.counts.get("hole_left", 0) == 0
+
+
 def test_a_part_far_from_the_origin_keeps_its_digits(client):
     # An assembly's global coordinates: 2 million units out, where float32 is 2^-3 apart (a
     # seventh of this part). The client sends it relative to an origin near it, the result comes
