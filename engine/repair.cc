@@ -881,11 +881,12 @@ bool Repairer::FillHoles() {
   // a face missing, not a sheet's border).
   struct Loop {
     uint32_t first;
-    std::vector<uint32_t> vertices;
-    double area;       // of the plane polygon its Newell normal spans: the least a fill could have
-    double off_plane;  // the farthest of its vertices from that plane through their centroid
+    size_t begin, size;  // its vertices in loop_vertices
+    double area;         // of the plane polygon its Newell normal spans: the least a fill has
+    double off_plane;    // the farthest of its vertices from that plane through their centroid
   };
   std::vector<Loop> loops;
+  std::vector<uint32_t> loop_vertices;  // one array for all: a soup may have millions of loops
   const auto describe = [&](uint32_t first, const std::vector<uint32_t>& vertices) {
     std::array<double, 3> normal{}, centre{};
     const size_t n = vertices.size();
@@ -905,7 +906,8 @@ bool Repairer::FillHoles() {
       for (int k = 0; k < 3; ++k) d += (a[k] - centre[k]) * normal[k];
       off = std::max(off, length > 0 ? std::fabs(d) / length : HUGE_VAL);
     }
-    return Loop{first, vertices, 0.5 * length, off};
+    loop_vertices.insert(loop_vertices.end(), vertices.begin(), vertices.end());
+    return Loop{first, loop_vertices.size() - n, n, 0.5 * length, off};
   };
   absl::flat_hash_map<uint32_t, bool> fillable;  // component -> every loop of it a hole
   absl::flat_hash_set<uint32_t> walked;          // open half-edges already on a loop
@@ -994,20 +996,21 @@ bool Repairer::FillHoles() {
     const uint32_t comp = components.Find(loop.first / 3);
     if (fillable[comp] || !(open_area[comp] < 0.5 * component_area[comp])) continue;
     if (plane_tolerance < 0) plane_tolerance = ContactPlaneTolerance(in_);
-    const bool planar = loop.vertices.size() > 3 && loop.off_plane <= plane_tolerance;
+    const bool planar = loop.size > 3 && loop.off_plane <= plane_tolerance;
     const bool small =
-        loop.vertices.size() <= kMaxHoleEdges && loop.area <= kMaxHoleShare * component_area[comp];
+        loop.size <= kMaxHoleEdges && loop.area <= kMaxHoleShare * component_area[comp];
+    const uint32_t* vertices = &loop_vertices[loop.begin];
     std::array<double, 3> at{};
-    for (uint32_t v : loop.vertices)
-      for (int k = 0; k < 3; ++k) at[k] += PosD(v)[k] / double(loop.vertices.size());
-    Record(RepairKind::kHoleLeft, kept_[loop.first / 3], loop.vertices[0], at, [&] {
+    for (size_t i = 0; i < loop.size; ++i)
+      for (int k = 0; k < 3; ++k) at[k] += PosD(vertices[i])[k] / double(loop.size);
+    Record(RepairKind::kHoleLeft, kept_[loop.first / 3], vertices[0], at, [&] {
       return absl::StrFormat(
           "a loop of %u open edges (from vertex %u) left open: a fill would take at least %.3g "
           "(%.2g%% of its surface's area), %s; %s",
-          loop.vertices.size(), loop.vertices[0], loop.area, 100 * loop.area / component_area[comp],
-          planar                     ? "in one plane (a flat face missing?)"
-          : loop.vertices.size() > 3 ? "not in one plane"
-                                     : "a triangle",
+          loop.size, vertices[0], loop.area, 100 * loop.area / component_area[comp],
+          planar          ? "in one plane (a flat face missing?)"
+          : loop.size > 3 ? "not in one plane"
+                          : "a triangle",
           small ? "another loop of its surface is too large to fill"
                 : "larger than a few missing facets: the surface is not closed (tetgen and "
                   "solid FE models need it closed)");
