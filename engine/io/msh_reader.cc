@@ -447,7 +447,7 @@ class MshReader {
   }
 
   absl::Status ReadNodes4() {
-    size_t blocks, total;
+    size_t blocks = 0, total = 0;
     int64_t ignored;
     if (absl::Status s = Count(Kind::kSize, "a block count", &blocks); !s.ok()) return s;
     if (absl::Status s = Count(Kind::kSize, "a node count", &total); !s.ok()) return s;
@@ -548,7 +548,7 @@ class MshReader {
   }
 
   absl::Status ReadElements4() {
-    size_t blocks, total;
+    size_t blocks = 0, total = 0;
     int64_t ignored;
     if (absl::Status s = Count(Kind::kSize, "a block count", &blocks); !s.ok()) return s;
     if (absl::Status s = Count(Kind::kSize, "an element count", &total); !s.ok()) return s;
