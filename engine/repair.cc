@@ -884,6 +884,7 @@ bool Repairer::FillHoles() {
     size_t begin, size;  // its vertices in loop_vertices
     double area;         // of the plane polygon its Newell normal spans: the least a fill has
     double off_plane;    // the farthest of its vertices from that plane through their centroid
+    std::array<double, 3> centre;  // of its vertices: where its report is
   };
   std::vector<Loop> loops;
   std::vector<uint32_t> loop_vertices;  // one array for all: a soup may have millions of loops
@@ -907,7 +908,7 @@ bool Repairer::FillHoles() {
       off = std::max(off, length > 0 ? std::fabs(d) / length : HUGE_VAL);
     }
     loop_vertices.insert(loop_vertices.end(), vertices.begin(), vertices.end());
-    return Loop{first, loop_vertices.size() - n, n, 0.5 * length, off};
+    return Loop{first, loop_vertices.size() - n, n, 0.5 * length, off, centre};
   };
   absl::flat_hash_map<uint32_t, bool> fillable;  // component -> every loop of it a hole
   absl::flat_hash_set<uint32_t> walked;          // open half-edges already on a loop
@@ -1000,10 +1001,7 @@ bool Repairer::FillHoles() {
     const bool small =
         loop.size <= kMaxHoleEdges && loop.area <= kMaxHoleShare * component_area[comp];
     const uint32_t* vertices = &loop_vertices[loop.begin];
-    std::array<double, 3> at{};
-    for (size_t i = 0; i < loop.size; ++i)
-      for (int k = 0; k < 3; ++k) at[k] += PosD(vertices[i])[k] / double(loop.size);
-    Record(RepairKind::kHoleLeft, kept_[loop.first / 3], vertices[0], at, [&] {
+    Record(RepairKind::kHoleLeft, kept_[loop.first / 3], vertices[0], loop.centre, [&] {
       return absl::StrFormat(
           "a loop of %u open edges (from vertex %u) left open: a fill would take at least %.3g "
           "(%.2g%% of its surface's area), %s; %s",
