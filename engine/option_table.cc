@@ -18,6 +18,8 @@ using R = RepairOptions;
 
 // An enum row's value is the choice's index, which must be the engine enum's value.
 static_assert(static_cast<int>(RepairMode::kOff) == 0 && static_cast<int>(RepairMode::kOn) == 1);
+static_assert(static_cast<int>(HoleFill::kSmall) == 0 && static_cast<int>(HoleFill::kPlanar) == 1 &&
+              static_cast<int>(HoleFill::kNone) == 2);
 
 // The defaults are SimplifyOptions' own (simplify.h): the table reads them.
 std::vector<OptionSpec> MakeTable() {
@@ -160,6 +162,13 @@ std::vector<OptionSpec> MakeTable() {
                "writes it), so that tetgen and FE meshers take the assembly; off: such contacts "
                "stay as exported, faces overlapping",
        .field = &R::imprint},
+      {.name = "fill_holes", .flag = "--fill-holes", .section = "repair", .type = T::kEnum,
+       .help = "repair: which openings are closed; small: loops of a few facets an exporter lost "
+               "(at most 6 edges, a tenth of the surface); planar: also openings in one plane "
+               "where the part is a solid missing a flat face (its holes kept), filled in that "
+               "plane; none: every opening stays; each is reported",
+       .choices = {{"small", "small"}, {"planar", "planar"}, {"none", "none"}},
+       .field = &R::fill_holes},
       {.name = "backend", .flag = "--backend", .section = "backend", .type = T::kEnum,
        .help = "shared-memory threads or the emulated Cell BE",
        .choices = {{"native", "native"}, {"cell", "cell"}}, .field = &S::backend},

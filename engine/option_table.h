@@ -38,7 +38,7 @@ using OptionField =
                  Preset SimplifyOptions::*, Schedule SimplifyOptions::*,
                  Placement SimplifyOptions::*, DeviationCheck SimplifyOptions::*,
                  int CellOptions::*, bool CellOptions::*, RepairMode RepairOptions::*,
-                 double RepairOptions::*, bool RepairOptions::*>;
+                 double RepairOptions::*, bool RepairOptions::*, HoleFill RepairOptions::*>;
 
 struct OptionSpec {
   const char* name = "";       // snake_case; the proto field name (inside message `group` when set)

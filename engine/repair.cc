@@ -8,6 +8,7 @@
 #include <cstring>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <tuple>
 #include <type_traits>
 #include <utility>
@@ -21,8 +22,10 @@
 #include "engine/box_containment.h"
 #include "engine/coordinate_precision.h"
 #include "engine/crossings.h"
+#include "engine/flat_openings.h"
 #include "engine/fold.h"
 #include "engine/id_index.h"
+#include "engine/plane_fill.h"
 #include "engine/point_in_shell.h"
 #include "engine/repair_imprint.h"
 #include "engine/union_find.h"
@@ -74,7 +77,7 @@ constexpr KindInfo kKinds[kNumRepairKinds] = {
     {"contact_left", "contact left apart", "contacts left apart", "left",
      "contact of bodies exported apart", "contacts of bodies exported apart", " as exported"},
     {"hole_left", "hole left open", "holes left open", "left", "hole", "holes",
-     " open (larger than a few missing facets)"},
+     " open (the surface is not closed)"},
 };
 
 const KindInfo& Info(RepairKind kind) { return kKinds[static_cast<size_t>(kind)]; }
@@ -188,6 +191,10 @@ class Repairer {
   // Zero-area facets and needles with three distinct vertices (kOn), for CloseTJunctions to
   // remove.
   std::vector<uint32_t> slivers_;
+  // Facets that fill a flat opening as a face group of their own (kept index -> group), and the
+  // next such group's id (0: not chosen yet).
+  absl::flat_hash_map<uint32_t, uint32_t> own_group_;
+  uint32_t next_group_ = 0;
 };
 
 absl::Status Repairer::CheckInput() const {
@@ -837,12 +844,15 @@ bool Repairer::ZipTJunctions() {
 // edges, each vertex on it with two open edges, and a fill of at most kMaxHoleShare of the
 // component's area; then each loop gets the triangulation of least area that adds no edge the
 // mesh has and no zero-area facet, oriented as most facets around it are, with the group and
-// fields of the facet across the loop's first edge. A sheet's border or a missing CAD face is
-// larger, and such a component stays open. No point moves. Returns whether it added any facet (the
-// edges are then stale).
+// fields of the facet across the loop's first edge. With HoleFill::kPlanar a loop may also be
+// larger where it lies in one plane and the component's loops would close it with under half its
+// area: the loops of each such plane are filled together (engine/flat_openings.h), a new face
+// group where the facets around them are of several. A sheet's border stays open. No point
+// moves. Returns whether it added any facet (the edges are then stale).
 bool Repairer::FillHoles() {
   constexpr size_t kMaxHoleEdges = 6;
   constexpr double kMaxHoleShare = 0.1;
+  const HoleFill mode = options_.fill_holes;
   const uint32_t ne = static_cast<uint32_t>(ebeg_.size() - 1);
   auto head = [&](uint32_t h) { return tri_[h % 3 == 2 ? h - 2 : h + 1]; };
   absl::flat_hash_map<uint32_t, std::vector<uint32_t>> open_at;  // vertex -> its open half-edges
@@ -874,6 +884,7 @@ bool Repairer::FillHoles() {
     std::vector<uint32_t> loop;  // its vertices, in that half-edge's direction
     std::vector<uint32_t> fill;  // three vertices a facet, turned as most facets around it
     double area = 0;
+    size_t loop_index = 0;  // in `loops`
   };
   std::vector<Hole> holes;
   // Every whole loop (each vertex on it with two open edges), filled or not: those of a component
@@ -885,24 +896,24 @@ bool Repairer::FillHoles() {
     double area;         // of the plane polygon its Newell normal spans: the least a fill has
     double off_plane;    // the farthest of its vertices from that plane through their centroid
     std::array<double, 3> centre;  // of its vertices: where its report is
+    bool small = false;            // a small fill of it is in `holes`
+    bool flat = false;             // filled with its plane's loops (kPlanar)
   };
   std::vector<Loop> loops;
   std::vector<uint32_t> loop_vertices;  // one array for all: a soup may have millions of loops
   const auto describe = [&](uint32_t first, const std::vector<uint32_t>& vertices) {
-    std::array<double, 3> normal{}, centre{};
+    std::vector<std::array<double, 3>> p;
+    std::array<double, 3> centre{};
     const size_t n = vertices.size();
-    for (size_t i = 0; i < n; ++i) {
-      const std::array<double, 3> a = PosD(vertices[i]), b = PosD(vertices[(i + 1) % n]);
-      normal[0] += (a[1] - b[1]) * (a[2] + b[2]);
-      normal[1] += (a[2] - b[2]) * (a[0] + b[0]);
-      normal[2] += (a[0] - b[0]) * (a[1] + b[1]);
-      for (int k = 0; k < 3; ++k) centre[k] += a[k] / double(n);
+    for (uint32_t v : vertices) {
+      p.push_back(PosD(v));
+      for (int k = 0; k < 3; ++k) centre[k] += p.back()[k] / double(n);
     }
+    const std::array<double, 3> normal = NewellNormal(p.data(), n);
     const double length =
         std::sqrt(normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]);
     double off = 0;
-    for (uint32_t v : vertices) {
-      const std::array<double, 3> a = PosD(v);
+    for (const std::array<double, 3>& a : p) {
       double d = 0;
       for (int k = 0; k < 3; ++k) d += (a[k] - centre[k]) * normal[k];
       off = std::max(off, length > 0 ? std::fabs(d) / length : HUGE_VAL);
@@ -910,8 +921,9 @@ bool Repairer::FillHoles() {
     loop_vertices.insert(loop_vertices.end(), vertices.begin(), vertices.end());
     return Loop{first, loop_vertices.size() - n, n, 0.5 * length, off, centre};
   };
-  absl::flat_hash_map<uint32_t, bool> fillable;  // component -> every loop of it a hole
-  absl::flat_hash_set<uint32_t> walked;          // open half-edges already on a loop
+  absl::flat_hash_map<uint32_t, bool> fillable;         // component -> every loop of it closable
+  absl::flat_hash_map<uint32_t, std::string> why_open;  // component -> why not, where not plain
+  absl::flat_hash_set<uint32_t> walked;                 // open half-edges already on a loop
   std::vector<uint32_t> starts;
   for (const auto& [v, hs] : open_at)
     for (uint32_t h : hs)
@@ -920,7 +932,7 @@ bool Repairer::FillHoles() {
   for (uint32_t h0 : starts) {
     if (walked.contains(h0)) continue;
     const uint32_t comp = components.Find(h0 / 3);
-    fillable.try_emplace(comp, true);
+    fillable.try_emplace(comp, mode != HoleFill::kNone);
     Hole hole{h0, {tri_[h0]}, {}, 0};
     bool ok = open_at[tri_[h0]].size() == 2;
     size_t along = 0;  // loop edges whose facet runs along the loop (the rest are flipped)
@@ -937,9 +949,18 @@ bool Repairer::FillHoles() {
       hole.loop.push_back(v);
       h = at[0] == h ? at[1] : at[0];
     }
-    if (ok && hole.loop.size() >= 3) loops.push_back(describe(h0, hole.loop));
-    if (!ok || hole.loop.size() < 3 || hole.loop.size() > kMaxHoleEdges) {
+    if (!ok || hole.loop.size() < 3) {
       fillable[comp] = false;
+      why_open.try_emplace(comp,
+                           "another of its openings passes a vertex twice or meets one "
+                           "there (ambiguous: not filled)");
+      continue;
+    }
+    loops.push_back(describe(h0, hole.loop));
+    // Loops too large for a small fill may still be flat ones (kPlanar, below).
+    const bool may_be_flat = mode == HoleFill::kPlanar;
+    if (mode == HoleFill::kNone || hole.loop.size() > kMaxHoleEdges) {
+      if (!may_be_flat) fillable[comp] = false;
       continue;
     }
     // Least-area triangulation of the loop (n <= kMaxHoleEdges): best[i][j] fills the polygon
@@ -969,7 +990,7 @@ bool Repairer::FillHoles() {
     // Against the loop when most of its facets run along it (Orient turns the others).
     const bool against = 2 * along >= n;
     if (!(hole.area <= kMaxHoleShare * component_area[comp])) {
-      fillable[comp] = false;
+      if (!may_be_flat) fillable[comp] = false;
       continue;
     }
     std::vector<std::pair<size_t, size_t>> todo = {{0, n - 1}};
@@ -986,21 +1007,96 @@ bool Repairer::FillHoles() {
       todo.push_back({i, k});
       todo.push_back({k, j});
     }
+    hole.loop_index = loops.size() - 1;
+    loops.back().small = true;
     holes.push_back(std::move(hole));
   }
 
-  // What a component left open would need to close: reported where that is under half its area.
+  // What a component left open would need to close: reported where that is under half its area,
+  // and filled flat (kPlanar) only then.
   absl::flat_hash_map<uint32_t, double> open_area;
   for (const Loop& loop : loops) open_area[components.Find(loop.first / 3)] += loop.area;
-  double plane_tolerance = -1;  // measured on the first loop reported
+  double plane_tolerance = -1;  // measured when first needed
+  const auto tolerance = [&] {
+    if (plane_tolerance < 0) plane_tolerance = ContactPlaneTolerance(in_);
+    return plane_tolerance;
+  };
+  struct FlatFillOf {
+    uint32_t comp;
+    std::vector<size_t> loops;  // indices into `loops`
+    FlatFill fill;
+  };
+  std::vector<FlatFillOf> flat;
+  if (mode == HoleFill::kPlanar) {
+    std::vector<OpeningSet> sets;
+    std::vector<uint32_t> set_comp;
+    std::vector<std::vector<size_t>> set_loops;
+    absl::flat_hash_map<uint32_t, size_t> set_of;
+    for (size_t i = 0; i < loops.size(); ++i) {
+      const uint32_t comp = components.Find(loops[i].first / 3);
+      if (!fillable[comp]) continue;
+      const auto [it, fresh] = set_of.try_emplace(comp, sets.size());
+      if (fresh) {
+        sets.emplace_back();
+        set_comp.push_back(comp);
+        set_loops.emplace_back();
+      }
+      const uint32_t* v = &loop_vertices[loops[i].begin];
+      sets[it->second].loops.emplace_back(v, v + loops[i].size);
+      sets[it->second].small.push_back(loops[i].small);
+      set_loops[it->second].push_back(i);
+    }
+    std::vector<OpeningSet> to_fill;
+    std::vector<size_t> to_fill_set;
+    for (size_t s = 0; s < sets.size(); ++s) {
+      const uint32_t comp = set_comp[s];
+      if (std::all_of(sets[s].small.begin(), sets[s].small.end(), [](bool b) { return b; }))
+        continue;  // the small fill alone closes it
+      if (!(open_area[comp] < 0.5 * component_area[comp])) {
+        fillable[comp] = false;  // a sheet's border: not reported either
+        continue;
+      }
+      to_fill.push_back(std::move(sets[s]));
+      to_fill_set.push_back(s);
+    }
+    const std::vector<FlatFillResult> results =
+        FillFlatOpenings(in_.positions, tri_, to_fill, to_fill.empty() ? 0.0 : tolerance());
+    for (size_t r = 0; r < results.size(); ++r) {
+      const size_t s = to_fill_set[r];
+      const uint32_t comp = set_comp[s];
+      if (!results[r].why_not.empty()) {
+        fillable[comp] = false;
+        why_open[comp] = results[r].why_not;
+        continue;
+      }
+      for (const FlatFill& fill : results[r].fills) {
+        FlatFillOf of{comp, {}, fill};
+        for (size_t i : fill.loops) {
+          of.loops.push_back(set_loops[s][i]);
+          loops[set_loops[s][i]].flat = true;
+        }
+        flat.push_back(std::move(of));
+      }
+    }
+  }
+
   for (const Loop& loop : loops) {
     const uint32_t comp = components.Find(loop.first / 3);
     if (fillable[comp] || !(open_area[comp] < 0.5 * component_area[comp])) continue;
-    if (plane_tolerance < 0) plane_tolerance = ContactPlaneTolerance(in_);
-    const bool planar = loop.size > 3 && loop.off_plane <= plane_tolerance;
+    const bool planar = loop.size > 3 && loop.off_plane <= tolerance();
     const bool small =
         loop.size <= kMaxHoleEdges && loop.area <= kMaxHoleShare * component_area[comp];
     const uint32_t* vertices = &loop_vertices[loop.begin];
+    const auto why = [&]() -> std::string {
+      if (mode == HoleFill::kNone) return "hole filling is off (fill_holes none)";
+      if (mode == HoleFill::kPlanar || small)
+        if (auto it = why_open.find(comp); it != why_open.end()) return it->second;
+      if (small) return "another loop of its surface is too large to fill";
+      return absl::StrCat(
+          "larger than a few missing facets: the surface is not closed (tetgen and solid FE "
+          "models need it closed)",
+          planar && mode == HoleFill::kSmall ? "; --fill-holes planar fills a flat one" : "");
+    };
     Record(RepairKind::kHoleLeft, kept_[loop.first / 3], vertices[0], loop.centre, [&] {
       return absl::StrFormat(
           "a loop of %u open edges (from vertex %u) left open: a fill would take at least %.3g "
@@ -1009,15 +1105,13 @@ bool Repairer::FillHoles() {
           planar          ? "in one plane (a flat face missing?)"
           : loop.size > 3 ? "not in one plane"
                           : "a triangle",
-          small ? "another loop of its surface is too large to fill"
-                : "larger than a few missing facets: the surface is not closed (tetgen and "
-                  "solid FE models need it closed)");
+          why());
     });
   }
   bool any = false;
   for (const Hole& hole : holes) {
     const uint32_t comp = components.Find(hole.first / 3);
-    if (!fillable[comp]) continue;
+    if (!fillable[comp] || loops[hole.loop_index].flat) continue;
     any = true;
     const uint32_t facet = kept_[hole.first / 3];
     for (size_t c = 0; c < hole.fill.size(); c += 3) {
@@ -1035,6 +1129,49 @@ bool Repairer::FillHoles() {
           hole.loop.size(), absl::StrJoin(hole.loop, ", "), hole.fill.size() / 3,
           hole.fill.size() == 3 ? "" : "s", hole.area, 100 * hole.area / component_area[comp],
           facet);
+    });
+  }
+  for (const FlatFillOf& of : flat) {
+    any = true;
+    const Loop& first = loops[of.loops[0]];
+    const uint32_t facet = kept_[first.first / 3];
+    // Its own face group where the facets around it are of several (a CAD face of its own).
+    std::optional<uint32_t> group;
+    if (!in_.face_groups.empty()) {
+      absl::flat_hash_set<uint32_t> around;
+      for (uint32_t k : of.fill.rim_facets) around.insert(in_.face_groups[kept_[k]]);
+      if (around.size() > 1) {
+        if (next_group_ == 0)
+          next_group_ = *std::max_element(in_.face_groups.begin(), in_.face_groups.end()) + 1;
+        group = next_group_++;
+      }
+    }
+    for (size_t c = 0; c < of.fill.facets.size(); c += 3) {
+      if (group) own_group_[static_cast<uint32_t>(kept_.size())] = *group;
+      kept_.push_back(facet);
+      tri_.insert(tri_.end(), &of.fill.facets[c], &of.fill.facets[c] + 3);
+      orig_.insert(orig_.end(), &of.fill.facets[c], &of.fill.facets[c] + 3);
+    }
+    size_t corners = 0;
+    std::array<double, 3> at{};
+    for (size_t i : of.loops) corners += loops[i].size;
+    for (size_t i : of.loops)
+      for (int k = 0; k < 3; ++k)
+        at[k] += loops[i].centre[k] * double(loops[i].size) / double(corners);
+    Record(RepairKind::kFilledHole, facet, loop_vertices[first.begin], at, [&] {
+      return absl::StrFormat(
+          "an opening in one plane (%u edges in %u loop%s, from vertex %u) closed by %u facets of "
+          "area %.3g (%.2g%% of its surface's), %s; %s",
+          of.fill.rim_edges, of.loops.size(), of.loops.size() == 1 ? "" : "s",
+          loop_vertices[first.begin], of.fill.facets.size() / 3, of.fill.area,
+          100 * of.fill.area / component_area[of.comp],
+          group ? absl::StrCat("as new face group ", *group, ", with facet ", facet, "'s fields")
+                : absl::StrCat("with facet ", facet, "'s group and fields"),
+          of.fill.flush_edges == of.fill.rim_edges
+              ? "flush with the facets around it: a hole through a flat face, closed (was it "
+                "meant to be open?)"
+          : of.fill.flush_edges == 0 ? "at an edge of the surface all round: a flat face missing"
+                                     : "a flat face missing, or part of one");
     });
   }
   return any;
@@ -1466,7 +1603,10 @@ void Repairer::WriteOutput(RawMesh& mesh) {
   r.triangles.resize(tri_.size());
   for (size_t c = 0; c < tri_.size(); ++c) r.triangles[c] = out[tri_[c]];
   if (!in_.face_groups.empty())
-    for (uint32_t f : kept_) r.face_groups.push_back(in_.face_groups[f]);
+    for (uint32_t k = 0; k < kept_.size(); ++k) {
+      const auto own = own_group_.find(k);
+      r.face_groups.push_back(own != own_group_.end() ? own->second : in_.face_groups[kept_[k]]);
+    }
   for (const FaceField& field : in_.face_fields) {
     r.face_fields.push_back({field.name, {}});
     r.face_fields.back().values.reserve(kept_.size());

@@ -22,6 +22,14 @@ enum class RepairMode {
   kOn,   // repair what can be repaired without moving a point, and report it
 };
 
+// Which openings of a surface repair closes (a component is closed only when all of its can be).
+enum class HoleFill {
+  kSmall,   // loops of at most 6 edges and a tenth of the surface's area: facets an exporter lost
+  kPlanar,  // also loops in one plane, as a whole face an exporter dropped leaves (a solid's
+            // face with its holes: the loops of one plane filled together)
+  kNone,    // none: every opening stays, reported
+};
+
 struct RepairOptions {
   RepairMode mode = RepairMode::kOn;
   // Vertices closer than this fraction of the bounding-box diagonal (of the referenced vertices)
@@ -36,6 +44,7 @@ struct RepairOptions {
   // shared by both (engine/imprint.h), after the other repairs; off: such contacts stay as
   // exported (the output's report names them).
   bool imprint = false;
+  HoleFill fill_holes = HoleFill::kSmall;
 };
 
 enum class RepairKind : int {
@@ -50,7 +59,8 @@ enum class RepairKind : int {
                         // wall facing out (its facets are also listed)
   kSplitVertex,         // a vertex where several fans met, given one copy per fan
   kUnreferencedVertex,  // dropped: no facet uses it (any more)
-  kFilledHole,          // a small loop of open edges closed by new facets (a facet missing)
+  kFilledHole,          // a loop of open edges closed by new facets (a facet missing; with
+                        // HoleFill::kPlanar also a flat face missing)
   kImprintedContact,    // bodies exported apart that touch: their contact re-tiled as one shared
                         // surface (RepairOptions::imprint)
   kUnfoldedEdge,        // two facets lying on each other in their plane, one turned over (a
@@ -157,7 +167,9 @@ struct RepairResult {
 // it (within an eighth of its length: on a curved seam they are off its chord), where the
 // whole crack then closes (docs/FIDELITY.md, "Repair"). Holes: a component whose
 // every open loop is small (at most 6 edges, a tenth of its area) gets them filled with the
-// least-area triangulation that adds no existing edge.
+// least-area triangulation that adds no existing edge; with fill_holes kPlanar, loops in one
+// plane are filled too (engine/flat_openings.h), with kNone none is. Loops left open are
+// reported (kHoleLeft) where they would close their surface with under half its area.
 //
 // Folds (engine/fold.h): a manifold edge whose two facets lie in one plane, within the contact
 // tolerance (engine/crossings.h) or an opening angle of 0.06 degrees, and face opposite ways is

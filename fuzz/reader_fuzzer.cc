@@ -61,6 +61,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   }
   absl::StatusOr<femsimp::ParsedMeshFile> parsed = femsimp::ParseMeshFile(Extension(kReader), file);
   femsimp::fuzz::RequireMessage(parsed.status());
-  if (parsed.ok()) femsimp::fuzz::Prepare(std::move(parsed->mesh), femsimp::RepairOptions{});
+  // Each hole-fill mode in turn (by the input's size), so that the flat fill sees every corpus.
+  femsimp::RepairOptions options;
+  options.fill_holes = static_cast<femsimp::HoleFill>(size % 3);
+  if (parsed.ok()) femsimp::fuzz::Prepare(std::move(parsed->mesh), options);
   return 0;
 }

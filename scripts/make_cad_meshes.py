@@ -1051,6 +1051,29 @@ def break_missing(rng, pos, tris, groups):
                 "4 edges"}]
 
 
+def break_missing_face(rng, pos, tris, groups):
+    """A whole flat CAD face an exporter dropped: of the faces whose vertices lie in one plane
+    (within a ten-millionth of the diagonal), the one of most facets, with its holes (its rim
+    and its holes' rims are loops in one plane). The part stays open unless repair is told it is
+    a solid (--fill-holes planar)."""
+    diag = float(np.linalg.norm(pos.max(axis=0).astype(np.float64)
+                                - pos.min(axis=0).astype(np.float64)))
+    best, best_count = None, 0
+    for g in np.unique(groups).tolist():
+        faces = np.flatnonzero(groups == g)
+        p = pos[np.unique(tris[faces])].astype(np.float64)
+        centre = p.mean(axis=0)
+        normal = np.linalg.svd(p - centre)[2][2]
+        if np.abs((p - centre) @ normal).max() <= 1e-7 * diag and len(faces) > best_count:
+            best, best_count = g, len(faces)
+    if best is None:
+        raise RuntimeError("missing_face: the part has no flat face")
+    keep = groups != best
+    return pos, tris[keep], groups[keep], [{
+        "kind": "missing_face", "count": best_count, "cad_face": int(best),
+        "note": f"the flat CAD face of most facets dropped whole ({best_count} facets)"}]
+
+
 def break_unreferenced(rng, pos, tris, groups):
     lo, hi = pos.min(axis=0).astype(np.float64), pos.max(axis=0).astype(np.float64)
     free = (lo + rng.random((6, 3)) * (hi - lo)).astype(np.float32)
@@ -1168,6 +1191,7 @@ BREAKERS = {
     "bowtie": break_bowtie,
     "cavity_outward": break_cavity_outward,
     "fold": break_fold,
+    "missing_face": break_missing_face,
 }
 
 # The soup as written, per kind: (closed: every edge used by exactly two faces, manifold: and
@@ -1185,6 +1209,7 @@ BROKEN_SHAPE = {
     "bowtie": (True, False),  # every edge is fine; one vertex has two fans
     "cavity_outward": (True, True),  # each shell consistent, the inner one the wrong way
     "fold": (True, True),  # oriented alike, only turned over in their plane
+    "missing_face": (False, True),
 }
 
 # Which broken copies of which clean file (part_variant).
@@ -1213,6 +1238,9 @@ BROKEN = [
     # Several defects in one file, as CAD exports have them (a "+" list, made in that order).
     ("flange_export", "degenerate+fold+tjunction+crack+unwelded+flipped"),
     ("knob_export", "duplicate+unwelded+flipped+degenerate+missing+fold"),
+    # A whole flat face dropped: closed only with --fill-holes planar (the analyst says solid).
+    ("flange_export", "missing_face"),
+    ("knob_coarse", "missing_face"),
 ]
 
 # -------------------------------------------------------------------------------------- main
@@ -1377,7 +1405,9 @@ def generate(outdir, parts, log):
             "by_construction": {
                 "closed": closed, "manifold": manifold,
                 "after_repair": "closed 2-manifold" if source.split("_")[0] != "sheet"
-                else "open 2-manifold"},
+                else "open 2-manifold",
+                **({"after_repair_options": ["--fill-holes", "planar"]}
+                   if "missing_face" in kinds else {})},
             "measured": m})
     for entry in manifest["files"]:
         with open(os.path.join(outdir, entry["file"]), "rb") as f:

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "absl/strings/str_cat.h"
+#include "engine/plane_fill.h"
 #include "engine/vec.h"
 
 namespace femsimp {
@@ -40,13 +41,10 @@ void CutPolygon(const uint32_t* ids, uint32_t n, const RawMesh& mesh, std::vecto
   }
   // Newell's normal; the plane drops its largest axis, its sign keeping the winding counter-
   // clockwise in the plane.
-  DVec3 normal{0, 0, 0};
-  for (uint32_t i = 0; i < n; ++i) {
-    const DVec3& a = p[i];
-    const DVec3& b = p[(i + 1) % n];
-    normal = normal +
-             DVec3{(a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y)};
-  }
+  std::array<std::array<double, 3>, kMaxPolygonCorners> corners;
+  for (uint32_t i = 0; i < n; ++i) corners[i] = {p[i].x, p[i].y, p[i].z};
+  const std::array<double, 3> newell = NewellNormal(corners.data(), n);
+  const DVec3 normal{newell[0], newell[1], newell[2]};
   const double ax = std::fabs(normal.x), ay = std::fabs(normal.y), az = std::fabs(normal.z);
   const int drop = ax >= ay && ax >= az ? 0 : (ay >= az ? 1 : 2);
   const double sign = (drop == 0 ? normal.x : drop == 1 ? normal.y : normal.z) < 0 ? -1.0 : 1.0;

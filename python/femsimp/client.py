@@ -146,8 +146,9 @@ def _warn_if_open(result):
     where = (f" (the first at ({', '.join(f'{x:.6g}' for x in first.at)}): {first.detail})"
              if first is not None else "")
     warnings.warn(f"the surface is open: repair left {left} hole{'' if left == 1 else 's'} "
-                  f"larger than a few missing facets{where}; tetgen and solid FE models need a "
-                  f"closed surface", FemsimpWarning, stacklevel=3)
+                  f"open{where}; tetgen and solid FE models need a closed surface "
+                  f"(fill_holes='planar' closes a solid's openings that lie in one plane)",
+                  FemsimpWarning, stacklevel=3)
 
 
 class Client:

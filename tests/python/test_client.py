@@ -107,10 +107,18 @@ def test_a_missing_face_is_said_not_filled(client):
     # surface. Repair leaves it (a tray, or a face the exporter dropped) and says so.
     points, triangles, side = box_surface(4)
     with pytest.warns(femsimp.FemsimpWarning,
-                      match=r"the surface is open: repair left 1 hole larger than a few missing "
-                            r"facets \(the first at .*a loop of 16 open edges.*in one plane"):
+                      match=r"the surface is open: repair left 1 hole open \(the first at .*a "
+                            r"loop of 16 open edges.*in one plane.*fill_holes='planar'"):
         out = client.run((points, triangles[side != 5]), ratio=0.5)
     assert out.result.repair.counts["hole_left"] == 1
+    # The analyst says it is a solid: its flat face is filled in its plane, and it is closed.
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", femsimp.FemsimpWarning)
+        out = client.run((points, triangles[side != 5]), ratio=0.5, fill_holes="planar")
+    assert out.result.repair.counts["filled_hole"] == 1
+    assert out.result.repair.counts.get("hole_left", 0) == 0
+    filled = next(r for r in out.result.repair.records if r.kind == "filled_hole")
+    assert "an opening in one plane (16 edges in 1 loop" in filled.detail
     # Closed, nothing to say.
     with warnings.catch_warnings():
         warnings.simplefilter("error", femsimp.FemsimpWarning)

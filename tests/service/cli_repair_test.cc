@@ -511,6 +511,33 @@ TEST_F(CliRepairTest, ImprintSharesTheContactLocallyAndThroughTheServer) {
   }
 }
 
+// A box with its top face dropped: left open and said by default; --fill-holes planar closes it
+// in its plane, locally and through the server (the option travels in EngineOptions).
+TEST_F(CliRepairTest, FillHolesPlanarClosesADroppedFlatFace) {
+  RawMesh tray = testing::MakeBox({3, 2, 1}, {6, 4, 2});
+  tray.triangles.resize(tray.triangles.size() - 3 * 2 * 6 * 4);  // the +z side comes last
+  const std::string input = WriteSoup("tray.off", tray);
+  ASSERT_EQ(Run({input, Path("out.off"), "--stats-json", Path("s.json")}), cli::kExitOk) << err_;
+  EXPECT_HAS(out_, "  hole_left              1\n");
+  EXPECT_HAS(testing::ReadFileBytes(Path("s.json")), "; --fill-holes planar fills a flat one");
+  testing::InProcessServer s;
+  for (const bool remote : {false, true}) {
+    std::vector<std::string> args = {input,    Path("out.off"), "--fill-holes",
+                                     "planar", "--stats-json",  Path("s.json")};
+    if (remote) args.insert(args.end(), {"--server", s.address()});
+    ASSERT_EQ(Run(args), cli::kExitOk) << err_;
+    absl::StatusOr<RawMesh> out = ReadMeshFile(Path("out.off"));
+    ASSERT_TRUE(out.ok()) << out.status();
+    EXPECT_EQ(TopologyOf(*out).boundary_edges, 0);
+    EXPECT_NEAR(testing::SignedVolume(*out), 6.0, 6.0 * 0.005);  // the volume budget
+    const std::string json = testing::ReadFileBytes(Path("s.json"));
+    EXPECT_HAS(json, "\"filled_hole\": 1,");
+    EXPECT_HAS(json, "\"hole_left\": 0}");
+    EXPECT_HAS(json, "\"fill_holes\": \"planar\"");
+    EXPECT_HAS(json, "an opening in one plane (20 edges in 1 loop, from vertex ");
+  }
+}
+
 TEST_F(CliRepairTest, RemoteRunPrintsTheServersReport) {
   testing::InProcessServer s;
   ASSERT_EQ(Run({input_, Path("out.off"), "--ratio", "0.5", "--server", s.address(), "--stats-json",
