@@ -10,41 +10,50 @@
 
 namespace femsimp {
 
-// The open loops of one surface (a connected component), each as its vertices in order, and
-// whether repair's own small-hole fill could close it. Every loop must lie in one plane or be
-// small.
-struct OpeningSet {
-  std::vector<std::vector<uint32_t>> loops;
-  std::vector<bool> small;
+// An open loop: its vertices in order, the surface (connected component) it bounds, and whether
+// repair's own small-hole fill could close it.
+struct OpeningLoop {
+  std::vector<uint32_t> vertices;
+  uint32_t surface = 0;
+  bool small = false;
 };
 
 // The loops of one plane and the facets that close them.
 struct FlatFill {
-  std::vector<size_t> loops;  // indices into OpeningSet::loops
+  std::vector<size_t> loops;  // indices into the loops given
   // Vertex ids, three a facet, turned as the facets along the loops ask (against their edges).
   std::vector<uint32_t> facets;
   double area = 0;
-  size_t rim_edges = 0;              // the loops' edges
+  size_t loop_edges = 0;  // the loops' edges
+  // The last facets close notches (the loops' runs off the plane): per such facet, the facet
+  // along its notch's first edge (whose group and fields it takes).
+  std::vector<uint32_t> notch_origins;
+  size_t rim_edges = 0;              // the edges along the fill's plane region
   size_t flush_edges = 0;            // of those, the ones whose facet lies in the fill's plane
   std::vector<uint32_t> rim_facets;  // the facets along the loops (indices, ascending, once)
 };
 
-struct FlatFillResult {
-  std::vector<FlatFill> fills;  // empty when why_not is set
-  std::string why_not;          // why the surface stays open ("": it closes)
+struct FlatFills {
+  std::vector<FlatFill> fills;
+  // The surfaces that stay open, and why (each once, ascending); their loops are in no fill.
+  std::vector<std::pair<uint32_t, std::string>> open;
 };
 
-// For each set: its loops grouped by plane (a loop that is not small starts a group; every
-// loop whose corners all lie within `plane_tolerance` of that loop's plane joins it, small ones
-// too, so that a face's holes go with its rim), each group filled by FillPlaneRegion
-// (engine/plane_fill.h). Small loops in no group are left to the caller. A set gets no fill, and
-// the reason, where a loop that is not small is not in one plane, a group's loops bound no region
-// in their plane, a fill would add an edge the surface has or a facet of no area, or a fill's
-// facets would cross, overlap or fold onto a facet of the surface within their box
-// (engine/crossings.h). `positions` three floats a vertex, `facets` three vertex ids a facet.
-std::vector<FlatFillResult> FillFlatOpenings(const std::vector<float>& positions,
-                                             const std::vector<uint32_t>& facets,
-                                             const std::vector<OpeningSet>& sets,
-                                             double plane_tolerance);
+// The loops grouped by plane: a loop that is not small starts a group, and every loop whose
+// corners all lie within `plane_tolerance` of that loop's plane joins it, small ones and other
+// surfaces' too, so that a face's holes go with its rim and a face whose loss split its surface
+// in two (a shaft's shoulder) joins the two again. Each group is filled by FillPlaneRegion
+// (engine/plane_fill.h); small loops in no group are left to the caller. A loop off its plane
+// at a few corners only (a facet dropped beside the face) is cut there: each notch is closed by
+// its least-area triangulation (engine/least_area_fill.h) and the rest, in one plane, joins its
+// group. A surface stays open,
+// with the reason, where a loop of it that is not small is not in one plane, or a group holding
+// one of its loops is refused: the group's loops bound no region in their plane, or a fill would
+// add an edge the surface has or a facet of no area, or cross, overlap or fold onto a facet of
+// the surface or of another fill within its box (engine/crossings.h); a group holding a loop of
+// a surface that stays open is dropped, and the others of its surfaces stay open too.
+// `positions` three floats a vertex, `facets` three vertex ids a facet.
+FlatFills FillFlatOpenings(const std::vector<float>& positions, const std::vector<uint32_t>& facets,
+                           const std::vector<OpeningLoop>& loops, double plane_tolerance);
 
 }  // namespace femsimp

@@ -25,6 +25,7 @@
 #include "engine/flat_openings.h"
 #include "engine/fold.h"
 #include "engine/id_index.h"
+#include "engine/least_area_fill.h"
 #include "engine/plane_fill.h"
 #include "engine/point_in_shell.h"
 #include "engine/repair_imprint.h"
@@ -921,6 +922,39 @@ bool Repairer::FillHoles() {
     loop_vertices.insert(loop_vertices.end(), vertices.begin(), vertices.end());
     return Loop{first, loop_vertices.size() - n, n, 0.5 * length, off, centre};
   };
+  // The open half-edge at the other end of h's fan around v (an end of h): the next on its loop
+  // where v has one fan.
+  const auto fan_partner = [&](uint32_t h, uint32_t v) {
+    for (uint32_t cur = h, steps = 0; steps <= nk; ++steps) {
+      uint32_t other = kNoIndex;
+      for (uint32_t j = cur / 3 * 3; j < cur / 3 * 3 + 3; ++j)
+        if (j != cur && (tri_[j] == v || head(j) == v)) other = j;
+      if (other == kNoIndex) return kNoIndex;
+      const uint32_t e = edge_of_[other], uses = ebeg_[e + 1] - ebeg_[e];
+      if (uses == 1) return other;
+      if (uses != 2) return kNoIndex;  // a seam: no fan to follow
+      cur = ehe_[ebeg_[e]] == other ? ehe_[ebeg_[e] + 1] : ehe_[ebeg_[e]];
+    }
+    return kNoIndex;
+  };
+  // The open half-edge after h on its loop, at v. Where two fans meet at v (two holes touching
+  // there, as two dropped facets with a corner in common leave), the loop goes on across the gap
+  // to the other fan, on its edge that runs as h's partner does (leaving v where h arrives): so
+  // each hole is its own loop. Elsewhere it is h's fan partner (one fan; or more than two, where
+  // the loop may pass v twice and no fill takes it).
+  const auto next_open = [&](uint32_t h, uint32_t v) {
+    const uint32_t partner = fan_partner(h, v);
+    const std::vector<uint32_t>& at = open_at[v];
+    if (partner == kNoIndex || at.size() != 4) return partner;
+    uint32_t choice = kNoIndex;
+    size_t matches = 0;
+    for (uint32_t q : at)
+      if (q != h && q != partner && (tri_[q] == v) == (tri_[partner] == v)) {
+        choice = q;
+        ++matches;
+      }
+    return matches == 1 ? choice : partner;
+  };
   absl::flat_hash_map<uint32_t, bool> fillable;         // component -> every loop of it closable
   absl::flat_hash_map<uint32_t, std::string> why_open;  // component -> why not, where not plain
   absl::flat_hash_set<uint32_t> walked;                 // open half-edges already on a loop
@@ -934,20 +968,20 @@ bool Repairer::FillHoles() {
     const uint32_t comp = components.Find(h0 / 3);
     fillable.try_emplace(comp, mode != HoleFill::kNone);
     Hole hole{h0, {tri_[h0]}, {}, 0};
-    bool ok = open_at[tri_[h0]].size() == 2;
+    bool ok = true;
     size_t along = 0;  // loop edges whose facet runs along the loop (the rest are flipped)
-    for (uint32_t h = h0; ok;) {
+    for (uint32_t h = h0;;) {
       walked.insert(h);
       along += tri_[h] == hole.loop.back();
       const uint32_t v = tri_[h] == hole.loop.back() ? head(h) : tri_[h];
-      if (v == hole.loop.front()) break;
-      const std::vector<uint32_t>& at = open_at[v];
-      if (at.size() != 2) {
+      const uint32_t next = next_open(h, v);
+      if (next == h0) break;
+      if (next == kNoIndex || walked.contains(next)) {
         ok = false;
         break;
       }
       hole.loop.push_back(v);
-      h = at[0] == h ? at[1] : at[0];
+      h = next;
     }
     if (!ok || hole.loop.size() < 3) {
       fillable[comp] = false;
@@ -963,49 +997,32 @@ bool Repairer::FillHoles() {
       if (!may_be_flat) fillable[comp] = false;
       continue;
     }
-    // Least-area triangulation of the loop (n <= kMaxHoleEdges): best[i][j] fills the polygon
-    // i..j, cut[i][j] is its apex.
+    // Least-area triangulation of the loop (n <= kMaxHoleEdges).
     const size_t n = hole.loop.size();
     const auto& p = hole.loop;
-    std::vector<double> best(n * n, 0.0);
-    std::vector<uint32_t> cut(n * n, kNoIndex);
-    for (size_t span = 2; span < n; ++span)
-      for (size_t i = 0; i + span < n; ++i) {
-        const size_t j = i + span;
-        best[i * n + j] = HUGE_VAL;
-        for (size_t k = i + 1; k < j; ++k) {
+    const LeastAreaFill least = LeastAreaTriangulation(
+        n,
+        [&](size_t i, size_t k, size_t j) {
           // A side that is not on the loop is a new edge: one the mesh has would be a third use.
           // (Side i-j is the loop's closing edge, or a side its parent checked.)
-          if ((k > i + 1 && EdgeUses(p[i], p[k]) > 0) || (j > k + 1 && EdgeUses(p[k], p[j]) > 0) ||
-              IsZeroArea(Pos(p[i]), Pos(p[k]), Pos(p[j])))
-            continue;
-          const double a = best[i * n + k] + best[k * n + j] + area(p[i], p[k], p[j]);
-          if (a < best[i * n + j]) {
-            best[i * n + j] = a;
-            cut[i * n + j] = static_cast<uint32_t>(k);
-          }
-        }
-      }
-    hole.area = best[n - 1];
+          return !((k > i + 1 && EdgeUses(p[i], p[k]) > 0) ||
+                   (j > k + 1 && EdgeUses(p[k], p[j]) > 0) ||
+                   IsZeroArea(Pos(p[i]), Pos(p[k]), Pos(p[j])));
+        },
+        [&](size_t i, size_t k, size_t j) { return area(p[i], p[k], p[j]); });
+    hole.area = least.area;
     // Against the loop when most of its facets run along it (Orient turns the others).
     const bool against = 2 * along >= n;
     if (!(hole.area <= kMaxHoleShare * component_area[comp])) {
       if (!may_be_flat) fillable[comp] = false;
       continue;
     }
-    std::vector<std::pair<size_t, size_t>> todo = {{0, n - 1}};
-    while (!todo.empty()) {
-      const auto [i, j] = todo.back();
-      todo.pop_back();
-      if (j < i + 2) continue;
-      const size_t k = cut[i * n + j];
+    for (const auto& [i, k, j] : least.triangles) {
       if (against) {
         hole.fill.insert(hole.fill.end(), {p[j], p[k], p[i]});
       } else {
         hole.fill.insert(hole.fill.end(), {p[i], p[k], p[j]});
       }
-      todo.push_back({i, k});
-      todo.push_back({k, j});
     }
     hole.loop_index = loops.size() - 1;
     loops.back().small = true;
@@ -1025,58 +1042,56 @@ bool Repairer::FillHoles() {
     uint32_t comp;
     std::vector<size_t> loops;  // indices into `loops`
     FlatFill fill;
+    double surface_area = 0;  // of the surfaces it joins
   };
   std::vector<FlatFillOf> flat;
   if (mode == HoleFill::kPlanar) {
-    std::vector<OpeningSet> sets;
-    std::vector<uint32_t> set_comp;
-    std::vector<std::vector<size_t>> set_loops;
-    absl::flat_hash_map<uint32_t, size_t> set_of;
+    // The loops of the surfaces that a small fill alone does not close.
+    absl::flat_hash_set<uint32_t> needs_flat;
+    for (const Loop& loop : loops) {
+      const uint32_t comp = components.Find(loop.first / 3);
+      if (fillable[comp] && !loop.small) needs_flat.insert(comp);
+    }
+    std::vector<OpeningLoop> candidates;
+    std::vector<size_t> candidate_loop;  // index into `loops`
     for (size_t i = 0; i < loops.size(); ++i) {
       const uint32_t comp = components.Find(loops[i].first / 3);
-      if (!fillable[comp]) continue;
-      const auto [it, fresh] = set_of.try_emplace(comp, sets.size());
-      if (fresh) {
-        sets.emplace_back();
-        set_comp.push_back(comp);
-        set_loops.emplace_back();
-      }
+      if (!needs_flat.contains(comp)) continue;
       const uint32_t* v = &loop_vertices[loops[i].begin];
-      sets[it->second].loops.emplace_back(v, v + loops[i].size);
-      sets[it->second].small.push_back(loops[i].small);
-      set_loops[it->second].push_back(i);
+      candidates.push_back({std::vector<uint32_t>(v, v + loops[i].size), comp, loops[i].small});
+      candidate_loop.push_back(i);
     }
-    std::vector<OpeningSet> to_fill;
-    std::vector<size_t> to_fill_set;
-    for (size_t s = 0; s < sets.size(); ++s) {
-      const uint32_t comp = set_comp[s];
-      if (std::all_of(sets[s].small.begin(), sets[s].small.end(), [](bool b) { return b; }))
-        continue;  // the small fill alone closes it
-      if (!(open_area[comp] < 0.5 * component_area[comp])) {
-        fillable[comp] = false;  // a sheet's border: not reported either
-        continue;
-      }
-      to_fill.push_back(std::move(sets[s]));
-      to_fill_set.push_back(s);
+    FlatFills made =
+        FillFlatOpenings(in_.positions, tri_, candidates, candidates.empty() ? 0.0 : tolerance());
+    for (const auto& [comp, why] : made.open) {
+      fillable[comp] = false;
+      why_open[comp] = why;
     }
-    const std::vector<FlatFillResult> results =
-        FillFlatOpenings(in_.positions, tri_, to_fill, to_fill.empty() ? 0.0 : tolerance());
-    for (size_t r = 0; r < results.size(); ++r) {
-      const size_t s = to_fill_set[r];
-      const uint32_t comp = set_comp[s];
-      if (!results[r].why_not.empty()) {
-        fillable[comp] = false;
-        why_open[comp] = results[r].why_not;
-        continue;
+    // The surfaces a fill joins (a face whose loss split its surface) are one: their loops must
+    // close them with under half their area, as one surface's (a sheet's border is not filled).
+    UnionFind joined(nk);
+    for (const FlatFill& fill : made.fills)
+      for (size_t i : fill.loops)
+        joined.Union(candidates[fill.loops[0]].surface, candidates[i].surface);
+    absl::flat_hash_map<uint32_t, std::pair<double, double>> joined_area;  // open, all
+    for (uint32_t comp : needs_flat) {
+      auto& [open, all] = joined_area[joined.Find(comp)];
+      open += open_area[comp];
+      all += component_area[comp];
+    }
+    for (uint32_t comp : needs_flat) {
+      const auto& [open, all] = joined_area[joined.Find(comp)];
+      if (!(open < 0.5 * all)) fillable[comp] = false;  // not reported either
+    }
+    for (FlatFill& fill : made.fills) {
+      const uint32_t comp = candidates[fill.loops[0]].surface;
+      if (!fillable[comp]) continue;
+      FlatFillOf of{comp, {}, std::move(fill), joined_area[joined.Find(comp)].second};
+      for (size_t i : of.fill.loops) {
+        of.loops.push_back(candidate_loop[i]);
+        loops[candidate_loop[i]].flat = true;
       }
-      for (const FlatFill& fill : results[r].fills) {
-        FlatFillOf of{comp, {}, fill};
-        for (size_t i : fill.loops) {
-          of.loops.push_back(set_loops[s][i]);
-          loops[set_loops[s][i]].flat = true;
-        }
-        flat.push_back(std::move(of));
-      }
+      flat.push_back(std::move(of));
     }
   }
 
@@ -1146,9 +1161,15 @@ bool Repairer::FillHoles() {
         group = next_group_++;
       }
     }
+    const size_t notch_facets = of.fill.notch_origins.size(),
+                 flat_facets = of.fill.facets.size() / 3 - notch_facets;
     for (size_t c = 0; c < of.fill.facets.size(); c += 3) {
-      if (group) own_group_[static_cast<uint32_t>(kept_.size())] = *group;
-      kept_.push_back(facet);
+      if (c / 3 >= flat_facets) {  // a notch's: a facet of the face beside it
+        kept_.push_back(kept_[of.fill.notch_origins[c / 3 - flat_facets]]);
+      } else {
+        if (group) own_group_[static_cast<uint32_t>(kept_.size())] = *group;
+        kept_.push_back(facet);
+      }
       tri_.insert(tri_.end(), &of.fill.facets[c], &of.fill.facets[c] + 3);
       orig_.insert(orig_.end(), &of.fill.facets[c], &of.fill.facets[c] + 3);
     }
@@ -1160,11 +1181,14 @@ bool Repairer::FillHoles() {
         at[k] += loops[i].centre[k] * double(loops[i].size) / double(corners);
     Record(RepairKind::kFilledHole, facet, loop_vertices[first.begin], at, [&] {
       return absl::StrFormat(
-          "an opening in one plane (%u edges in %u loop%s, from vertex %u) closed by %u facets of "
-          "area %.3g (%.2g%% of its surface's), %s; %s",
-          of.fill.rim_edges, of.loops.size(), of.loops.size() == 1 ? "" : "s",
-          loop_vertices[first.begin], of.fill.facets.size() / 3, of.fill.area,
-          100 * of.fill.area / component_area[of.comp],
+          "an opening in one plane (%u edges in %u loop%s, from vertex %u) closed by %u facets%s "
+          "of area %.3g (%.2g%% of its surface's), %s; %s",
+          of.fill.loop_edges, of.loops.size(), of.loops.size() == 1 ? "" : "s",
+          loop_vertices[first.begin], of.fill.facets.size() / 3,
+          notch_facets == 0
+              ? ""
+              : absl::StrCat(" (", notch_facets, " of them closing notches off its plane)"),
+          of.fill.area, 100 * of.fill.area / of.surface_area,
           group ? absl::StrCat("as new face group ", *group, ", with facet ", facet, "'s fields")
                 : absl::StrCat("with facet ", facet, "'s group and fields"),
           of.fill.flush_edges == of.fill.rim_edges

@@ -190,20 +190,22 @@ TEST(RepairFillHoles, FillTakesTheGroupOfTheFacetsAroundWhenThereIsOne) {
   for (uint32_t g : box.face_groups) EXPECT_EQ(g, 7u);
 }
 
+// Point k of the boundary of the square [lo, hi]^2, counter-clockwise from its low corner, n
+// edges a side.
+std::array<float, 2> SquarePoint(int k, int n, float lo, float hi) {
+  const int side = k / n % 4;
+  const float t = float(k % n) / float(n), w = hi - lo;
+  const float corner[4][2] = {{lo, lo}, {hi, lo}, {hi, hi}, {lo, hi}};
+  const float dir[4][2] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
+  return {corner[side][0] + t * w * dir[side][0], corner[side][1] + t * w * dir[side][1]};
+}
+
 // A square frame 3 x 3 x 1 around a 1 x 1 hole, facing out, each square `n` edges a side; its
 // faces are groups 0 (top), 1 (bottom), 2 (outer walls), 3 (the hole's walls); volume 8.
 RawMesh Frame(int n) {
   RawMesh m;
   const int ring = 4 * n;
-  // Point k of a square's boundary (counter-clockwise from its low corner), n a side.
-  const auto along = [&](int k, float lo, float hi) {
-    const int side = k / n % 4;
-    const float t = float(k % n) / float(n), w = hi - lo;
-    const float corner[4][2] = {{lo, lo}, {hi, lo}, {hi, hi}, {lo, hi}};
-    const float dir[4][2] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
-    return std::array<float, 2>{corner[side][0] + t * w * dir[side][0],
-                                corner[side][1] + t * w * dir[side][1]};
-  };
+  const auto along = [&](int k, float lo, float hi) { return SquarePoint(k, n, lo, hi); };
   for (float z : {0.0f, 1.0f})
     for (const auto& [lo, hi] : {std::pair(0.0f, 3.0f), std::pair(1.0f, 2.0f)})
       for (int k = 0; k < ring; ++k) {
@@ -235,6 +237,88 @@ TEST(RepairFillHoles, AFaceWithAHoleIsFilledAsARing) {
   EXPECT_HAS(Records(r.report, RepairKind::kFilledHole), "(8 edges in 2 loops,");
 }
 
+// A stepped block: 3 x 3 x 1 with a 1 x 1 x 1 block on its middle, each square `n` edges a side;
+// the step's ring face (z = 1) is group 0, the rest group 1; volume 10.
+RawMesh Step(int n) {
+  RawMesh m;
+  const int ring = 4 * n;
+  const auto along = [&](int k, float lo, float hi) { return SquarePoint(k, n, lo, hi); };
+  // Rings of the boundary: 0 the base (z 0, outer), 1 the step's rim (z 1, outer), 2 the block's
+  // foot (z 1, inner), 3 its top (z 2, inner); then the centres of the base and the top.
+  const float rings[4][3] = {{0, 3, 0}, {0, 3, 1}, {1, 2, 1}, {1, 2, 2}};
+  for (const auto& r : rings)
+    for (int k = 0; k < ring; ++k) {
+      const std::array<float, 2> p = along(k, r[0], r[1]);
+      m.positions.insert(m.positions.end(), {p[0], p[1], r[2]});
+    }
+  m.positions.insert(m.positions.end(), {1.5f, 1.5f, 0.0f, 1.5f, 1.5f, 2.0f});
+  const uint32_t base = uint32_t(4 * ring), top = base + 1;
+  const auto v = [&](int r, int k) { return uint32_t(r * ring + k % ring); };
+  const auto tri = [&](uint32_t a, uint32_t b, uint32_t c, uint32_t group) {
+    m.triangles.insert(m.triangles.end(), {a, b, c});
+    m.face_groups.push_back(group);
+  };
+  const auto quad = [&](uint32_t a, uint32_t b, uint32_t c, uint32_t d, uint32_t group) {
+    tri(a, b, c, group);
+    tri(a, c, d, group);
+  };
+  for (int k = 0; k < ring; ++k) {
+    tri(base, v(0, k + 1), v(0, k), 1);                   // the base, facing down
+    quad(v(0, k), v(0, k + 1), v(1, k + 1), v(1, k), 1);  // outer walls
+    quad(v(1, k), v(1, k + 1), v(2, k + 1), v(2, k), 0);  // the step's ring
+    quad(v(2, k), v(2, k + 1), v(3, k + 1), v(3, k), 1);  // the block's walls
+    tri(top, v(3, k), v(3, k + 1), 1);                    // its top
+  }
+  return m;
+}
+
+TEST(RepairFillHoles, AFaceWhoseLossSplitTheSurfaceJoinsItAgain) {
+  RawMesh step = Step(2);
+  ExpectClosedSolid(step, 10.0);
+  DropGroup(step, 0);  // two surfaces now: the base block open at its rim, the block at its foot
+  EXPECT_EQ(TopologyOf(step).components, 2);
+  RepairResult r = RepairWith(step, HoleFill::kPlanar);
+  ExpectClosedSolid(step, 10.0);
+  EXPECT_EQ(TopologyOf(step).components, 1);  // one solid again, not two touching at z = 1
+  EXPECT_EQ(r.report.count(RepairKind::kFilledHole), 1u) << r.report.Details();
+  const std::string record = Records(r.report, RepairKind::kFilledHole);
+  EXPECT_HAS(record, "(16 edges in 2 loops,");
+  EXPECT_HAS(record, "closed by 16 facets of area 8 ");
+}
+
+TEST(RepairFillHoles, AFacetDroppedBesideTheFaceIsANotch) {
+  // The top of a 3 x 2 x 1 box dropped, and one facet of the +x side at the top edge too: the
+  // loop leaves the top's plane at that facet's lower corner. The notch gets its facet back and
+  // the top its fill.
+  RawMesh box = GroupedBox({3, 2, 1}, {3, 2, 2});
+  DropGroup(box, 5);
+  // The +x side (group 1) is the second block of 2 * 2 * 2 facets; the one with two corners on
+  // the top edge.
+  size_t notch = box.num_faces();
+  for (size_t f = 8; f < 16 && notch == box.num_faces(); ++f) {
+    int top = 0;
+    for (int c = 0; c < 3; ++c) top += box.positions[3 * box.triangles[3 * f + c] + 2] == 1.0f;
+    if (top == 2) notch = f;
+  }
+  ASSERT_LT(notch, box.num_faces());
+  box.triangles.erase(box.triangles.begin() + 3 * notch, box.triangles.begin() + 3 * notch + 3);
+  box.face_groups.erase(box.face_groups.begin() + notch);
+  RepairResult r = RepairWith(box, HoleFill::kPlanar);
+  ExpectClosedSolid(box, 6.0);
+  EXPECT_EQ(r.report.count(RepairKind::kFilledHole), 1u) << r.report.Details();
+  EXPECT_HAS(Records(r.report, RepairKind::kFilledHole),
+             "(11 edges in 1 loop, from vertex 5) closed by 9 facets (1 of them closing notches "
+             "off its plane) of area 6.25 ");
+  // The notch's facet is the side's again (group 1), the top's 8 a new face (group 5).
+  size_t side = 0, top = 0;
+  for (uint32_t g : box.face_groups) {
+    side += g == 1;
+    top += g == 5;
+  }
+  EXPECT_EQ(side, 8u);
+  EXPECT_EQ(top, 8u);
+}
+
 TEST(RepairFillHoles, AHoleThroughAFlatFaceIsClosedAndSaidSo) {
   RawMesh frame = Frame(2);
   ExpectClosedSolid(frame, 8.0);
@@ -248,14 +332,23 @@ TEST(RepairFillHoles, AHoleThroughAFlatFaceIsClosedAndSaidSo) {
 }
 
 TEST(RepairFillHoles, WhatIsNotAFlatFaceStaysOpen) {
-  // A cube without its top and one side: one loop of 6 edges, bent.
-  RawMesh bent = GroupedBox({1, 1, 1}, {1, 1, 1});
+  // A box without its top and one side: one loop of 12 edges, bent, whose corners off either
+  // plane are more than a notch.
+  RawMesh bent = GroupedBox({1, 1, 1}, {2, 2, 2});
   DropGroup(bent, 5);
   DropGroup(bent, 1);
   RepairResult r = RepairWith(bent, HoleFill::kPlanar);
-  EXPECT_EQ(TopologyOf(bent).boundary_edges, 6);
+  EXPECT_EQ(TopologyOf(bent).boundary_edges, 12);
   EXPECT_HAS(Records(r.report, RepairKind::kHoleLeft), "not in one plane;");
   EXPECT_HAS(Records(r.report, RepairKind::kHoleLeft), "is not in one plane");
+  // With one cell a side its 6 corners have a plane through 4 (the box's diagonal), leaving two
+  // notches that would close onto the sides: refused as folds.
+  RawMesh diagonal = GroupedBox({1, 1, 1}, {1, 1, 1});
+  DropGroup(diagonal, 5);
+  DropGroup(diagonal, 1);
+  r = RepairWith(diagonal, HoleFill::kPlanar);
+  EXPECT_EQ(TopologyOf(diagonal).boundary_edges, 6);
+  EXPECT_HAS(Records(r.report, RepairKind::kHoleLeft), "a fill would fold onto the surface");
 
   // A sheet: its border spans all of it.
   RawMesh sheet = testing::FlatGrid(4);

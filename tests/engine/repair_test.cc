@@ -882,27 +882,24 @@ TEST(Repair, MissingFacetsAreFilled) {
 }
 
 TEST(Repair, OpenSurfacesAreNotHoles) {
-  // A flat square (its border is all of it), a box without its lid (the opening is a fifth of
-  // its area) and two holes meeting at a vertex (four open edges there) stay open.
+  // A flat square (its border is all of it) and a box without its lid (the opening is a fifth of
+  // its area) stay open.
   RawMesh square;
   square.positions = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
   square.triangles = {0, 1, 2, 0, 2, 3};
   RawMesh tray = Cube();
   tray.triangles.resize(3 * 10);  // facets 10 and 11: the +z quad
-  RawMesh touching = Cube();      // without facets 9 (0, 3, 1) and 5 (0, 5, 4): they share vertex 0
-  touching.triangles.erase(touching.triangles.begin() + 3 * 9, touching.triangles.begin() + 30);
-  touching.triangles.erase(touching.triangles.begin() + 3 * 5, touching.triangles.begin() + 18);
-  for (RawMesh* m : {&square, &tray, &touching}) {
+  for (RawMesh* m : {&square, &tray}) {
     const int open = TopologyOf(*m).boundary_edges;
     const RawMesh before = *m;
     RepairResult r = Repair(*m);
     EXPECT_EQ(r.report.count(RepairKind::kFilledHole), 0u) << r.report.Details();
     EXPECT_EQ(TopologyOf(*m).boundary_edges, open);
     // The tray's opening would close it with a fifth of its area: a face missing from a solid,
-    // or a tray indeed; said, not filled. The square's border is the whole square (a sheet),
-    // and the loops meeting at a vertex (split there) cannot be told apart: nothing to say.
+    // or a tray indeed; said, not filled. The square's border is the whole square (a sheet):
+    // nothing to say.
     EXPECT_EQ(r.report.count(RepairKind::kHoleLeft), m == &tray ? 1u : 0u) << r.report.Details();
-    if (m != &touching) ExpectSameMesh(*m, before);
+    ExpectSameMesh(*m, before);
   }
   RepairResult r = Repair(tray);
   EXPECT_HAS(Records(r.report, RepairKind::kHoleLeft),
@@ -910,6 +907,24 @@ TEST(Repair, OpenSurfacesAreNotHoles) {
              "of its surface's area), in one plane (a flat face missing?); larger than a few "
              "missing facets: the surface is not closed");
   EXPECT_HAS(r.report.Summary(), "no changes; left 1 hole open");
+}
+
+TEST(Repair, HolesTouchingAtAVertexAreToldApart) {
+  // A cube without facets 9 (0, 3, 1) and 5 (0, 5, 4): two holes with vertex 0 in common, where
+  // the facets left make two fans. Each hole is its own loop (across the gap at vertex 0, not
+  // around a fan into the other hole) and gets its facet back.
+  RawMesh touching = Cube();
+  touching.triangles.erase(touching.triangles.begin() + 3 * 9, touching.triangles.begin() + 30);
+  touching.triangles.erase(touching.triangles.begin() + 3 * 5, touching.triangles.begin() + 18);
+  RepairResult r = Repair(touching);
+  EXPECT_EQ(r.report.count(RepairKind::kFilledHole), 2u) << r.report.Details();
+  EXPECT_EQ(r.report.count(RepairKind::kSplitVertex), 0u) << r.report.Details();
+  EXPECT_EQ(TopologyOf(touching).boundary_edges, 0);
+  ExpectBuilds(touching);
+  EXPECT_NEAR(testing::SignedVolume(touching), 1.0, 1e-6);
+  const std::string records = Records(r.report, RepairKind::kFilledHole);
+  EXPECT_HAS(records, "a hole of 3 edges (vertices 0, 4, 5) closed by 1 facet");
+  EXPECT_HAS(records, "a hole of 3 edges (vertices 1, 3, 0) closed by 1 facet");
 }
 
 TEST(Repair, FandiskHolesAreFilledAsMostFacetsAroundThemTurn) {
