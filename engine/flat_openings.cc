@@ -2,14 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <optional>
 
 #include "absl/container/btree_map.h"
 #include "absl/container/flat_hash_map.h"
 #include "absl/status/statusor.h"
 #include "absl/strings/str_cat.h"
-#include "absl/strings/str_format.h"
 #include "engine/crossings.h"
 #include "engine/least_area_fill.h"
 #include "engine/mesh_checks.h"
@@ -75,7 +73,9 @@ class Filler {
       if (loops[seed].small || grouped[seed] || !planar[seed]) continue;
       FlatFill fill;
       for (size_t i = 0; i < n; ++i) {
-        if (grouped[i] || !planar[i]) continue;
+        // Its centre first: most loops of a part lie in other planes.
+        if (grouped[i] || !planar[i] || Off(centre[i], normal[seed], centre[seed]) > tolerance_)
+          continue;
         const std::vector<Point> p = Corners(ring[i]);
         if (std::all_of(p.begin(), p.end(), [&](const Point& q) {
               return Off(q, normal[seed], centre[seed]) <= tolerance_;

@@ -899,6 +899,10 @@ bool Repairer::FillHoles() {
     std::array<double, 3> centre;  // of its vertices: where its report is
     bool small = false;            // a small fill of it is in `holes`
     bool flat = false;             // filled with its plane's loops (kPlanar)
+    // Half its Newell normal, turned the way most facets along it run it: the loops of a surface
+    // sum to the vector area of what would close it (with holes subtracted: a face's rim and its
+    // holes' rims run opposite ways).
+    std::array<double, 3> vector_area{};
   };
   std::vector<Loop> loops;
   std::vector<uint32_t> loop_vertices;  // one array for all: a soup may have millions of loops
@@ -920,7 +924,15 @@ bool Repairer::FillHoles() {
       off = std::max(off, length > 0 ? std::fabs(d) / length : HUGE_VAL);
     }
     loop_vertices.insert(loop_vertices.end(), vertices.begin(), vertices.end());
-    return Loop{first, loop_vertices.size() - n, n, 0.5 * length, off, centre};
+    return Loop{first,
+                loop_vertices.size() - n,
+                n,
+                0.5 * length,
+                off,
+                centre,
+                false,
+                false,
+                {0.5 * normal[0], 0.5 * normal[1], 0.5 * normal[2]}};
   };
   // The open half-edge at the other end of h's fan around v (an end of h): the next on its loop
   // where v has one fan.
@@ -991,6 +1003,8 @@ bool Repairer::FillHoles() {
       continue;
     }
     loops.push_back(describe(h0, hole.loop));
+    if (2 * along < hole.loop.size())
+      for (double& x : loops.back().vector_area) x = -x;
     // Loops too large for a small fill may still be flat ones (kPlanar, below).
     const bool may_be_flat = mode == HoleFill::kPlanar;
     if (mode == HoleFill::kNone || hole.loop.size() > kMaxHoleEdges) {
@@ -1046,11 +1060,27 @@ bool Repairer::FillHoles() {
   };
   std::vector<FlatFillOf> flat;
   if (mode == HoleFill::kPlanar) {
-    // The loops of the surfaces that a small fill alone does not close.
+    // The loops of the surfaces that a small fill alone does not close. A flat sheet (a facet
+    // welded to nothing) is no solid missing a face: its loops' vector area is all of its area.
+    absl::flat_hash_map<uint32_t, std::array<double, 3>> vector_open;  // per component
+    for (const Loop& loop : loops)
+      for (int k = 0; k < 3; ++k)
+        vector_open[components.Find(loop.first / 3)][k] += loop.vector_area[k];
+    const auto norm = [](const std::array<double, 3>& v) {
+      return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    };
     absl::flat_hash_set<uint32_t> needs_flat;
     for (const Loop& loop : loops) {
       const uint32_t comp = components.Find(loop.first / 3);
       if (fillable[comp] && !loop.small) needs_flat.insert(comp);
+    }
+    for (auto it = needs_flat.begin(); it != needs_flat.end();) {
+      if (norm(vector_open[*it]) < (1 - 1e-9) * component_area[*it]) {
+        ++it;
+        continue;
+      }
+      fillable[*it] = false;  // not reported either
+      needs_flat.erase(it++);
     }
     std::vector<OpeningLoop> candidates;
     std::vector<size_t> candidate_loop;  // index into `loops`
@@ -1067,29 +1097,32 @@ bool Repairer::FillHoles() {
       fillable[comp] = false;
       why_open[comp] = why;
     }
-    // The surfaces a fill joins (a face whose loss split its surface) are one: their loops must
-    // close them with under half their area, as one surface's (a sheet's border is not filled).
+    // The surfaces a fill joins (a face whose loss cut a piece off) are one: what would close
+    // them must be under half their area, as for one surface (a sheet's border is not filled).
     UnionFind joined(nk);
     for (const FlatFill& fill : made.fills)
       for (size_t i : fill.loops)
         joined.Union(candidates[fill.loops[0]].surface, candidates[i].surface);
-    absl::flat_hash_map<uint32_t, std::pair<double, double>> joined_area;  // open, all
+    absl::flat_hash_map<uint32_t, std::pair<std::array<double, 3>, double>> joined_area;
     for (uint32_t comp : needs_flat) {
       auto& [open, all] = joined_area[joined.Find(comp)];
-      open += open_area[comp];
+      for (int k = 0; k < 3; ++k) open[k] += vector_open[comp][k];
       all += component_area[comp];
     }
     for (uint32_t comp : needs_flat) {
       const auto& [open, all] = joined_area[joined.Find(comp)];
-      if (!(open < 0.5 * all)) fillable[comp] = false;  // not reported either
+      if (!(norm(open) < 0.5 * all)) fillable[comp] = false;  // not reported either
     }
     for (FlatFill& fill : made.fills) {
       const uint32_t comp = candidates[fill.loops[0]].surface;
       if (!fillable[comp]) continue;
-      FlatFillOf of{comp, {}, std::move(fill), joined_area[joined.Find(comp)].second};
+      FlatFillOf of{comp, {}, std::move(fill), 0.0};
+      absl::flat_hash_set<uint32_t> surfaces;  // those the fill joins
       for (size_t i : of.fill.loops) {
         of.loops.push_back(candidate_loop[i]);
         loops[candidate_loop[i]].flat = true;
+        if (surfaces.insert(candidates[i].surface).second)
+          of.surface_area += component_area[candidates[i].surface];
       }
       flat.push_back(std::move(of));
     }

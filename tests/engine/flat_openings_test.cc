@@ -366,6 +366,22 @@ TEST(RepairFillHoles, WhatIsNotAFlatFaceStaysOpen) {
   EXPECT_HAS(Records(r.report, RepairKind::kHoleLeft), "a fill would cross the surface");
 }
 
+TEST(RepairFillHoles, LooseFacetsAreNotOpenings) {
+  // 20,000 facets welded to nothing, as a soup exported without shared vertices: each is a
+  // surface whose border is all of it, in its own plane. None is filled, and the planar mode
+  // does not try them against each other (that would be 4e8 plane tests).
+  RawMesh soup;
+  for (uint32_t i = 0; i < 20000; ++i) {
+    const float x = float(i % 200) * 3, y = float(i / 200) * 3;
+    soup.positions.insert(soup.positions.end(), {x, y, 0, x + 1, y, 0, x, y + 1, 0.5f});
+    soup.triangles.insert(soup.triangles.end(), {3 * i, 3 * i + 1, 3 * i + 2});
+  }
+  RepairResult r = RepairWith(soup, HoleFill::kPlanar);
+  EXPECT_EQ(r.report.num_changes(), 0u) << r.report.Summary();
+  EXPECT_EQ(r.report.count(RepairKind::kHoleLeft), 0u);
+  EXPECT_EQ(soup.num_faces(), 20000u);
+}
+
 TEST(RepairFillHoles, NoneLeavesEvenASmallHole) {
   RawMesh cube = GroupedBox({1, 1, 1}, {2, 2, 2});
   cube.triangles.resize(cube.triangles.size() - 3);  // a facet missing
