@@ -841,14 +841,14 @@ bool Repairer::ZipTJunctions() {
 }
 
 // Fills the holes of a surface closed but for a few missing facets, as exporters drop them. A
-// component is filled only when every open loop of it is such a hole: at most kMaxHoleEdges
-// edges, each vertex on it with two open edges, and a fill of at most kMaxHoleShare of the
-// component's area; then each loop gets the triangulation of least area that adds no edge the
-// mesh has and no zero-area facet, oriented as most facets around it are, with the group and
-// fields of the facet across the loop's first edge. With HoleFill::kPlanar a loop may also be
-// larger where it lies in one plane and the component's loops would close it with under half its
-// area: the loops of each such plane are filled together (engine/flat_openings.h), a new face
-// group where the facets around them are of several. A sheet's border stays open. No point
+// component is filled only when every open loop of it is such a hole: whole (walked around the
+// fans of its vertices, next_open below), at most kMaxHoleEdges edges and a fill of at most
+// kMaxHoleShare of the component's area; then each loop gets the triangulation of least area that
+// adds no edge the mesh has and no zero-area facet, oriented as most facets around it are, with the
+// group and fields of the facet across the loop's first edge. With HoleFill::kPlanar a loop may
+// also be larger where it lies in one plane and the component's loops would close it with under
+// half its area: the loops of each such plane are filled together (engine/flat_openings.h), a new
+// face group where the facets around them are of several. A sheet's border stays open. No point
 // moves. Returns whether it added any facet (the edges are then stale).
 bool Repairer::FillHoles() {
   constexpr size_t kMaxHoleEdges = 6;
@@ -888,9 +888,9 @@ bool Repairer::FillHoles() {
     size_t loop_index = 0;  // in `loops`
   };
   std::vector<Hole> holes;
-  // Every whole loop (each vertex on it with two open edges), filled or not: those of a component
-  // left open are reported where they would close it with less than half its area (a solid with
-  // a face missing, not a sheet's border).
+  // Every whole loop (closed, at no seam or vertex of three fans), filled or not: those of a
+  // component left open are reported where they would close it with less than half its area (a
+  // solid with a face missing, not a sheet's border).
   struct Loop {
     uint32_t first;
     size_t begin, size;  // its vertices in loop_vertices
