@@ -288,8 +288,10 @@ std::string WallLines(const FidelityFigures& f, double max_wall_share) {
 
 std::string RepairSummary(const RepairReport& r, size_t max_records) {
   const size_t changes = r.num_changes();
-  // Folds and holes left are what the mesher next refuses: listed where nothing changed too.
-  if (changes == 0 && r.count(RepairKind::kFoldLeft) == 0 && r.count(RepairKind::kHoleLeft) == 0)
+  // Folds, holes and crossings left are what the mesher next refuses: listed where nothing
+  // changed too.
+  if (changes == 0 && r.count(RepairKind::kFoldLeft) == 0 && r.count(RepairKind::kHoleLeft) == 0 &&
+      r.count(RepairKind::kCrossingLeft) == 0)
     return "repair:   no changes\n";
   std::string s =
       changes == 0

@@ -110,8 +110,7 @@ double ContactPlaneTolerance(const RawMesh& soup) {
   return PlaneTolerance(lo, hi);
 }
 
-SoupCrossings FindCrossings(const RawMesh& soup,
-                            std::vector<std::pair<uint32_t, uint32_t>>* overlapping) {
+SoupCrossings FindCrossings(const RawMesh& soup, CrossingPairLists* lists) {
   SoupCrossings found;
   const size_t nf = soup.num_faces();
   if (nf < 2) return found;
@@ -254,6 +253,7 @@ SoupCrossings FindCrossings(const RawMesh& soup,
         if (shared == 2) {
           if (const std::optional<DVec3> at = Fold(first, second, plane_tolerance)) {
             SoupCrossings::Folds& fo = found.folds;
+            if (lists != nullptr) lists->folded.push_back(pair);
             if (fo.pairs++ == 0 || pair < std::pair(fo.face_a, fo.face_b)) {
               fo.face_a = pair.first;
               fo.face_b = pair.second;
@@ -268,7 +268,7 @@ SoupCrossings FindCrossings(const RawMesh& soup,
                     : std::nullopt) {
           SoupCrossings::Overlaps& ov = found.overlaps;
           ov.area += o->area;
-          if (overlapping != nullptr) overlapping->push_back(pair);
+          if (lists != nullptr) lists->overlapping.push_back(pair);
           if (ov.pairs++ == 0 || pair < std::pair(ov.face_a, ov.face_b)) {
             ov.face_a = pair.first;
             ov.face_b = pair.second;
@@ -280,6 +280,7 @@ SoupCrossings FindCrossings(const RawMesh& soup,
         if (!at || TouchesWithinTolerance(first, second, plane_tolerance) ||
             TouchesWithinTolerance(second, first, plane_tolerance))
           continue;
+        if (lists != nullptr) lists->crossing.push_back(pair);
         if (found.pairs++ == 0 || pair < std::pair(found.face_a, found.face_b)) {
           found.face_a = pair.first;
           found.face_b = pair.second;

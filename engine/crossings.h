@@ -59,10 +59,13 @@ double ContactPlaneTolerance(const RawMesh& soup);
 // face reaches through the other's plane by more than that tolerance on both its sides (a face
 // standing on another along a tilted contact pokes through it by its corners' rounding). The pairs
 // are found through a uniform grid of cells about twice the mean edge (coarser where large faces
-// would span many cells). `overlapping`, when given, receives every overlapping pair (lower face
-// first), in no particular order: what an imprint re-tiles (engine/imprint.h).
-SoupCrossings FindCrossings(const RawMesh& soup,
-                            std::vector<std::pair<uint32_t, uint32_t>>* overlapping = nullptr);
+// would span many cells). `lists`, when given, receives every pair of each kind (lower face
+// first), in no particular order: what an imprint re-tiles (the overlaps, engine/imprint.h) and
+// what the repair takes out and closes again (the crossings, engine/crossing_repair.h).
+struct CrossingPairLists {
+  std::vector<std::pair<uint32_t, uint32_t>> crossing, overlapping, folded;
+};
+SoupCrossings FindCrossings(const RawMesh& soup, CrossingPairLists* lists = nullptr);
 
 // "N face pairs cross (the first: faces A and B, at (x, y, z))": the words every report of them
 // uses (the summary, the FE check's refusal); meaningful when pairs > 0.

@@ -535,8 +535,9 @@ ImprintResult Imprinter::Run() {
   // A round that imprinted something is followed by another: its search for contacts is also
   // the check of the one before (what is left, what crosses).
   for (int round = 0;; ++round) {
-    std::vector<std::pair<uint32_t, uint32_t>> pairs;
-    const SoupCrossings found = FindCrossings(mesh_, &pairs);
+    CrossingPairLists lists;
+    const SoupCrossings found = FindCrossings(mesh_, &lists);
+    std::vector<std::pair<uint32_t, uint32_t>>& pairs = lists.overlapping;
     if (round == 0) crossings_before = found.pairs;
     crossings_now = found.pairs;
     if (pairs.empty()) break;

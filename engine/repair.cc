@@ -29,6 +29,7 @@
 #include "engine/plane_fill.h"
 #include "engine/point_in_shell.h"
 #include "engine/repair_imprint.h"
+#include "engine/repair_uncross.h"
 #include "engine/union_find.h"
 
 namespace femsimp {
@@ -69,6 +70,8 @@ constexpr KindInfo kKinds[kNumRepairKinds] = {
      " (re-tiled as one shared surface)"},
     {"unfolded_edge", "folded edge", "folded edges", "unfolded", "folded edge", "folded edges",
      " (two facets lay on each other: the other diagonal taken)"},
+    {"crossing_removed", "crossing taken out", "crossings taken out", "took out",
+     "patch of crossing facets", "patches of crossing facets", " (their holes closed again)"},
     {"seam_edge", "non-manifold edge", "non-manifold edges", "kept", "non-manifold edge",
      "non-manifold edges", " as seams"},
     {"non_orientable", "non-orientable component", "non-orientable components", "left",
@@ -79,6 +82,8 @@ constexpr KindInfo kKinds[kNumRepairKinds] = {
      "contact of bodies exported apart", "contacts of bodies exported apart", " as exported"},
     {"hole_left", "hole left open", "holes left open", "left", "hole", "holes",
      " open (the surface is not closed)"},
+    {"crossing_left", "crossing left", "crossings left", "left", "crossing", "crossings",
+     " as they were (facets crossing each other; FE meshers refuse them)"},
 };
 
 const KindInfo& Info(RepairKind kind) { return kKinds[static_cast<size_t>(kind)]; }
@@ -1800,7 +1805,8 @@ std::string SeamDetail(const std::array<double, 3>& to, size_t count,
 bool IsRepairChange(RepairKind kind) {
   return kind != RepairKind::kSeamEdge && kind != RepairKind::kNonOrientable &&
          kind != RepairKind::kFoldLeft && kind != RepairKind::kContactLeft &&
-         kind != RepairKind::kHoleLeft && kind != RepairKind::kCount;
+         kind != RepairKind::kHoleLeft && kind != RepairKind::kCrossingLeft &&
+         kind != RepairKind::kCount;
 }
 
 bool BlocksTheBuild(RepairKind kind) { return kind == RepairKind::kNonOrientable; }
@@ -1891,7 +1897,12 @@ std::string RepairReport::Details() const {
 absl::StatusOr<RepairResult> RepairMesh(RawMesh& mesh, const RepairOptions& options) {
   // The repairer reads the input while it works and replaces the mesh only at the end.
   absl::StatusOr<RepairResult> repaired = Repairer(mesh, options).Run(mesh);
-  if (!repaired.ok() || !options.imprint || options.mode == RepairMode::kOff) return repaired;
+  if (!repaired.ok() || options.mode == RepairMode::kOff) return repaired;
+  if (options.take_out_crossings) {
+    repaired = UncrossRepaired(mesh, options, *std::move(repaired));
+    if (!repaired.ok()) return repaired;
+  }
+  if (!options.imprint) return repaired;
   return ImprintRepaired(mesh, options, *std::move(repaired));
 }
 

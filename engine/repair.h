@@ -45,6 +45,10 @@ struct RepairOptions {
   // exported (the output's report names them).
   bool imprint = false;
   HoleFill fill_holes = HoleFill::kSmall;
+  // Facets of one surface that cross each other are taken out with the facets around them and
+  // the hole closed again (engine/crossing_repair.h), after the other repairs. Off only where a
+  // step runs the repairs again on what it made.
+  bool take_out_crossings = true;
 };
 
 enum class RepairKind : int {
@@ -65,6 +69,8 @@ enum class RepairKind : int {
                         // surface (RepairOptions::imprint)
   kUnfoldedEdge,        // two facets lying on each other in their plane, one turned over (a
                         // fold, engine/fold.h): their common edge flipped to the other diagonal
+  kCrossingRemoved,     // facets of one surface crossing each other: a patch around them taken
+                        // out and its rim closed again (engine/crossing_repair.h)
   // Left in place.
   kSeamEdge,       // an edge of 3 or more facets: kept, listed in RepairResult::seams
   kNonOrientable,  // a component that no choice of facet orientations makes consistent (the
@@ -74,6 +80,8 @@ enum class RepairKind : int {
   kContactLeft,    // a contact the imprint could not re-tile: it stays as exported
   kHoleLeft,       // a loop of open edges of a surface that it would close with under half its
                    // area, too large to fill (a face missing): the output stays open
+  kCrossingLeft,   // facets crossing each other that no patch took out (two bodies overlapping, a
+                   // thin wall tessellated coarser than its thickness): FE meshers refuse them
   kCount,
 };
 inline constexpr size_t kNumRepairKinds = static_cast<size_t>(RepairKind::kCount);

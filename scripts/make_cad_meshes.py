@@ -1178,6 +1178,50 @@ def break_fold(rng, pos, tris, groups, count=2):
                 "one turned over onto the other"}]
 
 
+def break_spike(rng, pos, tris, groups):
+    """A vertex an exporter wrote wrongly (a digit lost in one coordinate): of the vertices whose
+    facets all lie in one face group, one moved against its normal through the part and half an
+    edge beyond its far wall, so that its facets cross that wall. tetgen refuses the result."""
+    p64 = pos.astype(np.float64)
+    n = np.cross(p64[tris[:, 1]] - p64[tris[:, 0]], p64[tris[:, 2]] - p64[tris[:, 0]])
+    vnormal = np.zeros_like(p64)
+    for k in range(3):
+        np.add.at(vnormal, tris[:, k], n)
+    fan_groups = {}
+    for f, t in enumerate(tris.tolist()):
+        for v in t:
+            fan_groups.setdefault(v, set()).add(int(groups[f]))
+    a, b, c = p64[tris[:, 0]], p64[tris[:, 1]], p64[tris[:, 2]]
+    for v in rng.permutation(sorted(fan_groups)).tolist():
+        if len(fan_groups[v]) != 1:
+            continue
+        d = -vnormal[v] / np.linalg.norm(vnormal[v])
+        # Ray v + t d against every facet not at v (Moller-Trumbore).
+        e1, e2 = b - a, c - a
+        h = np.cross(d, e2)
+        det = np.einsum("ij,ij->i", e1, h)
+        ok = np.abs(det) > 1e-12
+        inv = np.where(ok, 1.0 / np.where(ok, det, 1.0), 0.0)
+        s = p64[v] - a
+        u = inv * np.einsum("ij,ij->i", s, h)
+        q = np.cross(s, e1)
+        w = inv * (q @ d)
+        t = inv * np.einsum("ij,ij->i", e2, q)
+        hit = ok & (u > 0.05) & (w > 0.05) & (u + w < 0.95) & (t > 0) & ~np.any(tris == v, axis=1)
+        if not hit.any():
+            continue
+        f = int(np.flatnonzero(hit)[np.argmin(t[hit])])
+        edge = float(np.linalg.norm(b[f] - a[f]))
+        to = p64[v] + (t[f] + 0.5 * edge) * d
+        pos = pos.copy()
+        pos[v] = to.astype(pos.dtype)
+        return pos, tris, groups, [{
+            "kind": "spike", "vertex": int(v), "facet_crossed": f, "coordinates": to.tolist(),
+            "note": "a vertex moved through the part and beyond its far wall: its facets cross "
+                    "that wall"}]
+    raise RuntimeError("no vertex whose ray leaves through a wall")
+
+
 BREAKERS = {
     "flipped": break_flipped,
     "duplicate": break_duplicate,
@@ -1192,6 +1236,7 @@ BREAKERS = {
     "cavity_outward": break_cavity_outward,
     "fold": break_fold,
     "missing_face": break_missing_face,
+    "spike": break_spike,
 }
 
 # The soup as written, per kind: (closed: every edge used by exactly two faces, manifold: and
@@ -1210,6 +1255,7 @@ BROKEN_SHAPE = {
     "cavity_outward": (True, True),  # each shell consistent, the inner one the wrong way
     "fold": (True, True),  # oriented alike, only turned over in their plane
     "missing_face": (False, True),
+    "spike": (True, True),  # closed and oriented; it crosses itself
 }
 
 # Which broken copies of which clean file (part_variant).
@@ -1241,6 +1287,9 @@ BROKEN = [
     # A whole flat face dropped: closed only with --fill-holes planar (the analyst says solid).
     ("flange_export", "missing_face"),
     ("knob_coarse", "missing_face"),
+    # A vertex written wrongly through the far wall: taken out by repair with its facets.
+    ("bracket_coarse", "spike"),
+    ("housing_export", "spike"),
 ]
 
 # -------------------------------------------------------------------------------------- main

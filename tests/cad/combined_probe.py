@@ -1,7 +1,8 @@
 """Several defects in one file, as CAD exports have them: for every part named, copies of its
 coarse and export meshes each broken by four to six of make_cad_meshes' breakers in turn
 (flipped, duplicate, degenerate, crack, T-junction, missing, unwelded, unreferenced,
-fold; with --drop-flat-face first a whole flat CAD face), each run through femsimp's plain call, judged by cad_judge against its clean source and
+fold; with --drop-flat-face first a whole flat CAD face, with --spike first a vertex moved
+through the far wall), each run through femsimp's plain call, judged by cad_judge against its clean source and
 checked with `tetgen -d`. One line per copy: name, the defects made, femsimp's exit code, the
 repair's changes, the output's crossings and folds, the judge, tetgen on the input and the
 output. docs/FIDELITY.md ("Repair", Several defects in one file) has the figures and the
@@ -43,6 +44,9 @@ ap.add_argument("--occ", action="store_true",
 ap.add_argument("--drop-flat-face", action="store_true",
                 help="first drop each copy's flat CAD face of most facets whole (the "
                 "missing_face breaker), for runs with --mode \"--fill-holes planar\"")
+ap.add_argument("--spike", action="store_true",
+                help="first move a vertex of each copy through the part's far wall (the spike "
+                "breaker: a vertex written wrongly), which repair takes out")
 ap.add_argument("--mode", default="", help="femsimp options beyond the plain call")
 ap.add_argument("--tolerance-relative", default="0.005", help="the judge's tolerance")
 ap.add_argument("--judge-volume", default="0.005",
@@ -109,6 +113,12 @@ for index, (stem, pos0, tris0, groups0) in enumerate(sources()):
                 made.append("missing_face")
             except RuntimeError:
                 break  # no flat face: no copy of this part
+        if args.spike:
+            try:
+                pos, tris, groups, _ = m.BREAKERS["spike"](rng, pos, tris, groups)
+                made.append("spike")
+            except RuntimeError:
+                break
         for kind in rng.permutation(KINDS)[: int(rng.integers(4, 7))]:
             try:
                 pos, tris, groups, _ = m.BREAKERS[str(kind)](rng, pos, tris, groups)

@@ -384,6 +384,8 @@ TEST_F(CliRepairTest, AnOutputThatIntersectsItselfIsReportedLocallyAndByTheServe
                                "faces %u and %u, at (",
                                c.pairs, c.face_a, c.face_b));
     EXPECT_HAS(out_, "the input's own crossings, kept (the simplification makes none)");
+    EXPECT_HAS(out_, "  crossing_left          1\n");
+    EXPECT_HAS(out_, "two surfaces cross each other (");
     if (!remote) {
       EXPECT_HAS(out_, "), crossings check ");  // its cost, beside the engine's
     }
@@ -397,6 +399,39 @@ TEST_F(CliRepairTest, AnOutputThatIntersectsItselfIsReportedLocallyAndByTheServe
   EXPECT_HAS(testing::ReadFileBytes(Path("s.json")),
              "\"output_crossings\": {\"pairs\": 0, \"overlaps\": {\"pairs\": 0}, \"folds\": "
              "{\"pairs\": 0}}");
+}
+
+// A vertex written wrongly, its facets through the part's far wall: repair takes it out with
+// its facets and closes its ring, locally and through the server; the output crosses nowhere.
+TEST_F(CliRepairTest, AVertexThroughTheFarWallIsTakenOutLocallyAndByTheServer) {
+  RawMesh slab = testing::MakeBox({4, 4, 1}, {4, 4, 1});
+  for (uint32_t v = 0; v < slab.num_vertices(); ++v)
+    if (slab.positions[3 * v] == 2 && slab.positions[3 * v + 1] == 2 &&
+        slab.positions[3 * v + 2] == 1) {
+      slab.positions[3 * v] = 2.1f;
+      slab.positions[3 * v + 1] = 2.2f;
+      slab.positions[3 * v + 2] = -0.5f;
+    }
+  ASSERT_GT(FindCrossings(slab).pairs, 0u);
+  const std::string spiked = WriteSoup("spiked.off", slab);
+  testing::InProcessServer s;
+  for (const bool remote : {false, true}) {
+    SCOPED_TRACE(remote ? "remote" : "local");
+    std::vector<std::string> args = {spiked, Path("out.off"), "--stats-json", Path("s.json")};
+    if (remote) args.insert(args.end(), {"--server", s.address()});
+    ASSERT_EQ(Run(args), cli::kExitOk) << err_;
+    absl::StatusOr<RawMesh> out = ReadMeshFile(Path("out.off"));
+    ASSERT_TRUE(out.ok()) << out.status();
+    EXPECT_EQ(FindCrossings(*out).pairs, 0u);
+    EXPECT_HAS(out_, "  crossing_removed       1\n");
+    EXPECT_HAS(out_,
+               "facets of one surface crossed each other: 6 facets around them taken out "
+               "(1 vertex with them, the farthest 1.5 off the new facets)");
+    EXPECT_EQ(out_.find("intersects itself"), std::string::npos) << out_;
+    const std::string json = testing::ReadFileBytes(Path("s.json"));
+    EXPECT_HAS(json, "\"crossing_removed\": 1,");
+    EXPECT_HAS(json, "\"output_crossings\": {\"pairs\": 0,");
+  }
 }
 
 // A block 2 x 1 x 2 standing on a plate 4 x 3 x 1, exported apart: the contact (area 2)
@@ -503,7 +538,7 @@ TEST_F(CliRepairTest, ImprintSharesTheContactLocallyAndThroughTheServer) {
     EXPECT_EQ(out_.find("overlapping faces"), std::string::npos) << out_;
     const std::string json = testing::ReadFileBytes(Path("s.json"));
     EXPECT_HAS(json, "\"imprinted_contact\": 1,");
-    EXPECT_HAS(json, "\"contact_left\": 0, \"hole_left\": 0}");
+    EXPECT_HAS(json, "\"contact_left\": 0, \"hole_left\": 0, \"crossing_left\": 0}");
     EXPECT_HAS(json, "\"kind\": \"imprinted_contact\"");
     EXPECT_HAS(json, "bodies exported apart touch over an area of 2:");
     EXPECT_HAS(json, "{\"input_volume\": 4, ");   // the block, 2 x 1 x 2
@@ -532,7 +567,7 @@ TEST_F(CliRepairTest, FillHolesPlanarClosesADroppedFlatFace) {
     EXPECT_NEAR(testing::SignedVolume(*out), 6.0, 6.0 * 0.005);  // the volume budget
     const std::string json = testing::ReadFileBytes(Path("s.json"));
     EXPECT_HAS(json, "\"filled_hole\": 1,");
-    EXPECT_HAS(json, "\"hole_left\": 0}");
+    EXPECT_HAS(json, "\"hole_left\": 0, \"crossing_left\": 0}");
     EXPECT_HAS(json, "\"fill_holes\": \"planar\"");
     EXPECT_HAS(json, "an opening in one plane (20 edges in 1 loop, from vertex ");
   }

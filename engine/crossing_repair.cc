@@ -1,0 +1,649 @@
+#include "engine/crossing_repair.h"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <utility>
+
+#include "absl/container/flat_hash_map.h"
+#include "absl/container/flat_hash_set.h"
+#include "absl/strings/str_format.h"
+#include "engine/crossings.h"
+#include "engine/least_area_fill.h"
+#include "engine/mesh_checks.h"
+#include "engine/triangle_distance.h"
+#include "engine/union_find.h"
+#include "engine/vec.h"
+
+namespace femsimp {
+namespace {
+
+using Facet = std::array<uint32_t, 3>;
+
+uint64_t EdgeKey(uint32_t a, uint32_t b) {
+  if (a > b) std::swap(a, b);
+  return (uint64_t{a} << 32) | b;
+}
+
+// A patch planned for taking out: its facets (current indices) and what closes it.
+struct Plan {
+  std::vector<uint32_t> facets;
+  std::vector<Facet> fill;
+  std::vector<uint32_t> fill_origin;  // per fill facet: the mesh given's facet it takes after
+  UncrossedPatch patch;
+  std::string refused;  // why not, where not empty
+};
+
+class Uncrosser {
+ public:
+  explicit Uncrosser(RawMesh& mesh) : mesh_(mesh) {}
+
+  UncrossResult Run() {
+    const size_t nf = mesh_.num_faces();
+    facets_.resize(nf);
+    origin_.resize(nf);
+    for (uint32_t f = 0; f < nf; ++f) {
+      facets_[f] = {mesh_.triangles[3 * f], mesh_.triangles[3 * f + 1], mesh_.triangles[3 * f + 2]};
+      origin_[f] = f;
+    }
+    CrossingPairLists lists;
+    FindCrossings(mesh_, &lists);
+    result_.pairs_before = lists.crossing.size();
+    if (lists.crossing.empty()) return std::move(result_);
+    tolerance_ = ContactPlaneTolerance(mesh_);
+    const CrossingPairLists given = lists;
+
+    // First the least change: one vertex taken out with its facets (a vertex written wrongly),
+    // where that frees every crossing pair of a cluster.
+    if (TakeOutVertices(lists.crossing)) {
+      lists = CrossingPairLists();
+      FindCrossings(Soup(facets_), &lists);
+    }
+    std::vector<Plan> last_refused;
+    for (int rings = 0; rings <= kMaxRings && !lists.crossing.empty(); ++rings) {
+      Index();
+      std::vector<uint32_t> seeds;
+      for (const auto& [a, b] : lists.crossing)
+        if (component_[a] == component_[b]) seeds.insert(seeds.end(), {a, b});
+      if (seeds.empty()) break;
+      std::vector<Plan> plans;
+      for (std::vector<uint32_t>& patch : Patches(Grow(seeds, rings)))
+        plans.push_back(PlanFill(std::move(patch), kMaxFillShare, kMaxPatchShare));
+      // Every fill is checked with the others in place: a plan whose new facets cross, overlap
+      // or fold onto anything waits for a larger patch.
+      std::vector<char> out(facets_.size(), 0);
+      for (const Plan& p : plans)
+        for (uint32_t f : p.facets) out[f] |= p.refused.empty();
+      for (size_t i = 0; i < plans.size(); ++i) {
+        if (!plans[i].refused.empty()) continue;
+        if (OverBudget()) {
+          plans[i].refused = kTooMany;
+        } else if (FillMeetsSomething(plans, i, out)) {
+          plans[i].refused = absl::StrFormat(
+              "its new facets would still cross the surface (%d rings of facets around the "
+              "crossing taken out)",
+              rings);
+        }
+      }
+      Apply(plans);
+      last_refused.clear();
+      for (Plan& p : plans)
+        if (!p.refused.empty()) last_refused.push_back(std::move(p));
+      lists = CrossingPairLists();
+      FindCrossings(Soup(facets_), &lists);
+    }
+    result_.pairs_after = lists.crossing.size();
+    if (result_.pairs_after >= result_.pairs_before) {  // nothing gained: all stays as it was
+      result_.patches.clear();
+      result_.pairs_after = result_.pairs_before;
+      for (uint32_t f = 0; f < mesh_.num_faces(); ++f) {
+        facets_[f] = {mesh_.triangles[3 * f], mesh_.triangles[3 * f + 1],
+                      mesh_.triangles[3 * f + 2]};
+        origin_[f] = f;
+      }
+      facets_.resize(mesh_.num_faces());
+      origin_.resize(mesh_.num_faces());
+      Leave(given, last_refused);
+      return std::move(result_);
+    }
+    Leave(lists, last_refused);
+    Write();
+    return std::move(result_);
+  }
+
+ private:
+  DVec3 Pos(uint32_t v) const {
+    const float* p = &mesh_.positions[3 * size_t{v}];
+    return {p[0], p[1], p[2]};
+  }
+  DVec3 AreaVector(const Facet& t) const {
+    return 0.5 * Cross(Pos(t[1]) - Pos(t[0]), Pos(t[2]) - Pos(t[0]));
+  }
+  // The facets with the vertices they use (renumbered in order of use).
+  RawMesh Soup(const std::vector<Facet>& facets) const {
+    RawMesh soup;
+    soup.origin = mesh_.origin;
+    soup.triangles.reserve(3 * facets.size());
+    absl::flat_hash_map<uint32_t, uint32_t> index;
+    for (const Facet& t : facets)
+      for (uint32_t v : t) {
+        const auto [it, fresh] = index.try_emplace(v, uint32_t(index.size()));
+        if (fresh)
+          soup.positions.insert(soup.positions.end(), &mesh_.positions[3 * size_t{v}],
+                                &mesh_.positions[3 * size_t{v}] + 3);
+        soup.triangles.push_back(it->second);
+      }
+    return soup;
+  }
+
+  // Edge uses, edge-connected components and their areas, facets per vertex: of facets_ now.
+  void Index() {
+    const size_t nf = facets_.size();
+    uses_.clear();
+    uses_.reserve(3 * nf / 2);
+    for (const Facet& t : facets_)
+      for (int i = 0; i < 3; ++i) ++uses_[EdgeKey(t[i], t[(i + 1) % 3])];
+    // Components through edges.
+    UnionFind parts(nf);
+    absl::flat_hash_map<uint64_t, uint32_t> first_on;
+    first_on.reserve(3 * nf / 2);
+    for (uint32_t f = 0; f < nf; ++f)
+      for (int i = 0; i < 3; ++i) {
+        const auto [it, fresh] =
+            first_on.try_emplace(EdgeKey(facets_[f][i], facets_[f][(i + 1) % 3]), f);
+        if (!fresh) parts.Union(f, it->second);
+      }
+    component_.resize(nf);
+    component_area_.assign(nf, 0.0);
+    for (uint32_t f = 0; f < nf; ++f) {
+      component_[f] = parts.Find(f);
+      component_area_[component_[f]] += Norm(AreaVector(facets_[f]));
+    }
+    const size_t nv = mesh_.num_vertices();
+    vertex_begin_.assign(nv + 1, 0);
+    for (const Facet& t : facets_)
+      for (uint32_t v : t) ++vertex_begin_[v + 1];
+    for (size_t v = 0; v < nv; ++v) vertex_begin_[v + 1] += vertex_begin_[v];
+    vertex_facets_.resize(3 * nf);
+    std::vector<uint32_t> fill(vertex_begin_.begin(), vertex_begin_.end() - 1);
+    for (uint32_t f = 0; f < nf; ++f)
+      for (uint32_t v : facets_[f]) vertex_facets_[fill[v]++] = f;
+  }
+
+  // The facets at vertex v, in facet order.
+  std::vector<uint32_t> Star(uint32_t v) const {
+    std::vector<uint32_t> star(vertex_facets_.begin() + vertex_begin_[v],
+                               vertex_facets_.begin() + vertex_begin_[v + 1]);
+    std::sort(star.begin(), star.end());
+    return star;
+  }
+
+  // How far v lies from the centre of its ring, over the ring's mean radius: a vertex written
+  // wrongly lies far off its neighbours; one of a surface, near their middle.
+  double Offset(uint32_t v) const {
+    std::vector<uint32_t> ring;
+    for (uint32_t f : Star(v))
+      for (uint32_t u : facets_[f])
+        if (u != v) ring.push_back(u);
+    std::sort(ring.begin(), ring.end());
+    ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
+    if (ring.empty()) return 0;
+    DVec3 c{0, 0, 0};
+    for (uint32_t u : ring) c += (1.0 / ring.size()) * Pos(u);
+    double radius = 0;
+    for (uint32_t u : ring) radius += Norm(Pos(u) - c) / ring.size();
+    return radius > 0 ? Norm(Pos(v) - c) / radius : 0;
+  }
+
+  // Per cluster of crossing facets (linked by the pairs; of one surface or of two: a vertex may
+  // poke into another body or a cavity), vertices of theirs taken out with their facets, where
+  // their facets hold a facet of every pair of the cluster and the rim closes without a new
+  // crossing: one vertex where one does (of several, the one nearest the closed surface), else
+  // the vertices farthest off their rings, one after another, until their facets hold every
+  // pair (vertices written wrongly side by side). Whether any was taken out.
+  bool TakeOutVertices(const std::vector<std::pair<uint32_t, uint32_t>>& pairs) {
+    Index();
+    UnionFind clusters(facets_.size());
+    for (const auto& [a, b] : pairs) clusters.Union(a, b);
+    absl::flat_hash_map<uint32_t, std::vector<std::pair<uint32_t, uint32_t>>> by_cluster;
+    for (const auto& pair : pairs) by_cluster[clusters.Find(pair.first)].push_back(pair);
+    std::vector<Plan> chosen;
+    std::vector<char> out(facets_.size(), 0);
+    std::vector<uint32_t> roots;
+    for (const auto& [root, list] : by_cluster) roots.push_back(root);
+    std::sort(roots.begin(), roots.end());
+    // The plan taking out `facets`, where it closes without meeting anything; else none.
+    const auto try_patch = [&](std::vector<uint32_t> facets) -> std::optional<Plan> {
+      if (OverBudget() ||
+          std::any_of(facets.begin(), facets.end(), [&](uint32_t f) { return out[f] != 0; }))
+        return std::nullopt;
+      std::vector<Plan> trial{PlanFill(std::move(facets), kMaxVertexFillShare, HUGE_VAL)};
+      if (!trial[0].refused.empty()) return std::nullopt;
+      std::vector<char> trial_out = out;
+      for (uint32_t f : trial[0].facets) trial_out[f] = 1;
+      for (const Plan& p : chosen) trial.push_back(p);
+      if (FillMeetsSomething(trial, 0, trial_out)) return std::nullopt;
+      return std::move(trial[0]);
+    };
+    for (uint32_t root : roots) {
+      const auto& list = by_cluster.at(root);
+      // A vertex's facets cross a few dozen at most: a larger cluster is bodies overlapping.
+      if (list.size() > kMaxVertexPairs || OverBudget()) continue;
+      std::vector<uint32_t> candidates;
+      for (const auto& [a, b] : list)
+        for (uint32_t f : {a, b})
+          candidates.insert(candidates.end(), facets_[f].begin(), facets_[f].end());
+      std::sort(candidates.begin(), candidates.end());
+      candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+      std::optional<Plan> best;
+      for (uint32_t v : candidates) {
+        std::vector<uint32_t> star = Star(v);
+        const auto holds = [&](uint32_t f) {
+          return std::binary_search(star.begin(), star.end(), f);
+        };
+        if (!std::all_of(list.begin(), list.end(),
+                         [&](const auto& p) { return holds(p.first) || holds(p.second); }))
+          continue;
+        std::optional<Plan> plan = try_patch(std::move(star));
+        if (plan && (!best || plan->patch.farthest < best->patch.farthest)) best = std::move(plan);
+      }
+      if (!best) {
+        std::vector<std::pair<double, uint32_t>> by_offset;
+        for (uint32_t v : candidates) by_offset.push_back({-Offset(v), v});
+        std::sort(by_offset.begin(), by_offset.end());
+        std::vector<std::pair<uint32_t, uint32_t>> left = list;
+        std::vector<uint32_t> patch;
+        for (const auto& [offset, v] : by_offset) {
+          if (left.empty() || patch.size() > kMaxLoopEdges) break;
+          const std::vector<uint32_t> star = Star(v);
+          const auto holds = [&](uint32_t f) {
+            return std::binary_search(star.begin(), star.end(), f);
+          };
+          if (std::erase_if(left,
+                            [&](const auto& p) { return holds(p.first) || holds(p.second); }) == 0)
+            continue;
+          patch.insert(patch.end(), star.begin(), star.end());
+        }
+        std::sort(patch.begin(), patch.end());
+        patch.erase(std::unique(patch.begin(), patch.end()), patch.end());
+        if (left.empty()) best = try_patch(std::move(patch));
+      }
+      if (!best) continue;
+      for (uint32_t f : best->facets) out[f] = 1;
+      chosen.push_back(*std::move(best));
+    }
+    if (chosen.empty()) return false;
+    Apply(chosen);
+    return true;
+  }
+
+  // The seeds and every facet within `rings` vertex rings of them.
+  std::vector<char> Grow(const std::vector<uint32_t>& seeds, int rings) const {
+    std::vector<char> in(facets_.size(), 0);
+    std::vector<uint32_t> front;
+    for (uint32_t f : seeds)
+      if (!in[f]) {
+        in[f] = 1;
+        front.push_back(f);
+      }
+    for (int r = 0; r < rings; ++r) {
+      std::vector<uint32_t> next;
+      for (uint32_t f : front)
+        for (uint32_t v : facets_[f])
+          for (uint32_t i = vertex_begin_[v]; i < vertex_begin_[v + 1]; ++i) {
+            const uint32_t g = vertex_facets_[i];
+            if (!in[g]) {
+              in[g] = 1;
+              next.push_back(g);
+            }
+          }
+      front = std::move(next);
+    }
+    return in;
+  }
+
+  // The marked facets in edge-connected patches, each in facet order.
+  std::vector<std::vector<uint32_t>> Patches(const std::vector<char>& in) const {
+    std::vector<std::vector<uint32_t>> patches;
+    std::vector<char> seen(facets_.size(), 0);
+    for (uint32_t s = 0; s < facets_.size(); ++s) {
+      if (!in[s] || seen[s]) continue;
+      std::vector<uint32_t> patch{s};
+      seen[s] = 1;
+      for (size_t i = 0; i < patch.size(); ++i) {
+        const Facet& t = facets_[patch[i]];
+        for (int e = 0; e < 3; ++e) {
+          const uint32_t a = t[e], b = t[(e + 1) % 3];
+          for (uint32_t k = vertex_begin_[a]; k < vertex_begin_[a + 1]; ++k) {
+            const uint32_t g = vertex_facets_[k];
+            if (!in[g] || seen[g]) continue;
+            const Facet& u = facets_[g];
+            if (std::find(u.begin(), u.end(), b) == u.end()) continue;
+            seen[g] = 1;
+            patch.push_back(g);
+          }
+        }
+      }
+      std::sort(patch.begin(), patch.end());
+      patches.push_back(std::move(patch));
+    }
+    return patches;
+  }
+
+  // `max_share`: the largest share of its surface's area the fill may take; `max_removed_share`:
+  // the facets taken out (a vertex written wrongly has facets as long as the part).
+  Plan PlanFill(std::vector<uint32_t> facets, double max_share, double max_removed_share) const {
+    Plan plan;
+    plan.facets = std::move(facets);
+    UncrossedPatch& patch = plan.patch;
+    patch.facets_removed = plan.facets.size();
+    uint32_t lowest = UINT32_MAX;
+    for (uint32_t f : plan.facets) lowest = std::min(lowest, origin_[f]);
+    patch.first_facet = lowest;
+    {
+      DVec3 c{0, 0, 0};
+      for (uint32_t v : facets_[plan.facets[0]]) c += (1.0 / 3) * Pos(v);
+      patch.at = {c.x, c.y, c.z};
+    }
+    // Its edges: how often the patch uses each, against the whole surface's uses.
+    absl::flat_hash_map<uint64_t, uint32_t> inner;
+    absl::flat_hash_set<uint32_t> vertices;
+    for (uint32_t f : plan.facets)
+      for (int i = 0; i < 3; ++i) {
+        ++inner[EdgeKey(facets_[f][i], facets_[f][(i + 1) % 3])];
+        vertices.insert(facets_[f][i]);
+      }
+    for (const auto& [key, n] : inner)
+      if (uses_.at(key) != 2) {
+        plan.refused = "its facets reach an open edge or a seam of the surface";
+        return plan;
+      }
+    // Its rim: the edges it uses once, as its facets run them; one simple loop, and the patch a
+    // disc (Euler characteristic 1), so that closing the loop keeps the surface's topology.
+    absl::flat_hash_map<uint32_t, uint32_t> next;
+    for (uint32_t f : plan.facets)
+      for (int i = 0; i < 3; ++i) {
+        const uint32_t a = facets_[f][i], b = facets_[f][(i + 1) % 3];
+        if (inner.at(EdgeKey(a, b)) == 1 && !next.try_emplace(a, b).second) {
+          plan.refused = "its rim passes a vertex twice";
+          return plan;
+        }
+      }
+    if (int64_t(vertices.size()) - int64_t(inner.size()) + int64_t(plan.facets.size()) != 1 ||
+        next.empty()) {
+      plan.refused = "it is not a disc (it wraps around a handle or holds a hole)";
+      return plan;
+    }
+    // From its lowest vertex, so that the fill does not depend on the map's order.
+    uint32_t start = UINT32_MAX;
+    for (const auto& [from, to] : next) start = std::min(start, from);
+    std::vector<uint32_t> loop{start};
+    while (loop.size() <= next.size()) {
+      const auto after = next.find(loop.back());
+      if (after == next.end() || after->second == loop.front()) break;
+      loop.push_back(after->second);
+    }
+    if (loop.size() != next.size()) {
+      plan.refused = "its rim is not one loop";
+      return plan;
+    }
+    const size_t n = loop.size();
+    patch.loop_edges = n;
+    if (n > kMaxLoopEdges) {
+      plan.refused =
+          absl::StrFormat("its rim is %u edges long (at most %u are closed)", n, kMaxLoopEdges);
+      return plan;
+    }
+    const auto area = [&](size_t i, size_t k, size_t j) {
+      return Norm(AreaVector({loop[i], loop[k], loop[j]}));
+    };
+    const auto taken = [&](size_t i, size_t j) {  // an edge the mesh keeps outside the patch
+      const auto it = uses_.find(EdgeKey(loop[i], loop[j]));
+      if (it == uses_.end()) return false;
+      const auto own = inner.find(EdgeKey(loop[i], loop[j]));
+      return it->second > (own == inner.end() ? 0u : own->second);
+    };
+    const LeastAreaFill least = LeastAreaTriangulation(
+        n,
+        [&](size_t i, size_t k, size_t j) {
+          const float* p = &mesh_.positions[0];
+          return !((k > i + 1 && taken(i, k)) || (j > k + 1 && taken(k, j)) ||
+                   IsZeroArea(p + 3 * size_t{loop[i]}, p + 3 * size_t{loop[k]},
+                              p + 3 * size_t{loop[j]}));
+        },
+        area);
+    if (least.triangles.empty()) {
+      plan.refused = absl::StrFormat(
+          "no triangulation of its rim of %u edges avoids the surface's edges and zero areas", n);
+      return plan;
+    }
+    const double surface_area = component_area_[component_[plan.facets[0]]];
+    double removed_area = 0;
+    for (uint32_t f : plan.facets) removed_area += Norm(AreaVector(facets_[f]));
+    if (removed_area > max_removed_share * surface_area) {
+      plan.refused = absl::StrFormat(
+          "its facets take %.3g%% of their surface's area (at most %g%% are rebuilt: a thin wall "
+          "tessellated coarser than its thickness is not)",
+          100 * removed_area / surface_area, 100 * max_removed_share);
+      return plan;
+    }
+    if (least.area > max_share * surface_area) {
+      plan.refused =
+          absl::StrFormat("closing its rim would take %.3g%% of its surface's area (at most %g%%)",
+                          100 * least.area / surface_area, 100 * max_share);
+      return plan;
+    }
+    // Volume change: both sides share the rim, so the difference of their cones from one point
+    // is the volume between them.
+    DVec3 apex{0, 0, 0};
+    for (uint32_t v : loop) apex += (1.0 / n) * Pos(v);
+    const auto cone = [&](const Facet& t) {
+      return Dot(Pos(t[0]) - apex, Cross(Pos(t[1]) - apex, Pos(t[2]) - apex)) / 6;
+    };
+    for (uint32_t f : plan.facets) {
+      patch.area_removed += Norm(AreaVector(facets_[f]));
+      patch.volume_change -= cone(facets_[f]);
+    }
+    for (const auto& [i, k, j] : least.triangles) {
+      const Facet t{loop[i], loop[k], loop[j]};
+      plan.fill.push_back(t);
+      patch.area_added += Norm(AreaVector(t));
+      patch.volume_change += cone(t);
+      // Group and fields: of the facet taken out nearest to it.
+      const DVec3 c = (1.0 / 3) * (Pos(t[0]) + Pos(t[1]) + Pos(t[2]));
+      uint32_t best = plan.facets[0];
+      double best_d = HUGE_VAL;
+      for (uint32_t f : plan.facets) {
+        const DVec3 d =
+            (1.0 / 3) * (Pos(facets_[f][0]) + Pos(facets_[f][1]) + Pos(facets_[f][2])) - c;
+        if (Dot(d, d) < best_d) {
+          best_d = Dot(d, d);
+          best = f;
+        }
+      }
+      plan.fill_origin.push_back(origin_[best]);
+    }
+    patch.facets_added = plan.fill.size();
+    const absl::flat_hash_set<uint32_t> rim(loop.begin(), loop.end());
+    for (uint32_t v : vertices) {
+      if (rim.contains(v)) continue;
+      ++patch.vertices_dropped;
+      double nearest = HUGE_VAL;
+      for (const Facet& t : plan.fill)
+        nearest =
+            std::min(nearest, SquaredDistanceToTriangle(Pos(v), Pos(t[0]), Pos(t[1]), Pos(t[2])));
+      patch.farthest = std::max(patch.farthest, std::sqrt(nearest));
+    }
+    return plan;
+  }
+
+  // Whether plan i's new facets cross, overlap or fold onto the facets kept or the other plans'
+  // new facets within their box (`out`: the facets the plans take out).
+  bool FillMeetsSomething(const std::vector<Plan>& plans, size_t i, const std::vector<char>& out) {
+    work_ += facets_.size();
+    DVec3 lo{HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+    for (const Facet& t : plans[i].fill)
+      for (uint32_t v : t) {
+        const DVec3 p = Pos(v);
+        lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+        hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+      }
+    const DVec3 pad{tolerance_, tolerance_, tolerance_};
+    lo -= pad;
+    hi += pad;
+    const auto near = [&](const Facet& t) {
+      DVec3 a{HUGE_VAL, HUGE_VAL, HUGE_VAL}, b{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+      for (uint32_t v : t) {
+        const DVec3 p = Pos(v);
+        a = {std::min(a.x, p.x), std::min(a.y, p.y), std::min(a.z, p.z)};
+        b = {std::max(b.x, p.x), std::max(b.y, p.y), std::max(b.z, p.z)};
+      }
+      return a.x <= hi.x && b.x >= lo.x && a.y <= hi.y && b.y >= lo.y && a.z <= hi.z && b.z >= lo.z;
+    };
+    std::vector<Facet> local;
+    for (uint32_t f = 0; f < facets_.size(); ++f)
+      if (!out[f] && near(facets_[f])) local.push_back(facets_[f]);
+    for (size_t j = 0; j < plans.size(); ++j)
+      if (j != i && plans[j].refused.empty())
+        for (const Facet& t : plans[j].fill)
+          if (near(t)) local.push_back(t);
+    const uint32_t own = uint32_t(local.size());
+    local.insert(local.end(), plans[i].fill.begin(), plans[i].fill.end());
+    CrossingPairLists found;
+    FindCrossings(Soup(local), &found);
+    for (const auto* pairs : {&found.crossing, &found.overlapping, &found.folded})
+      for (const auto& [a, b] : *pairs)
+        if (a >= own || b >= own) return true;
+    return false;
+  }
+
+  bool SameFacets(const Plan& p) const {
+    if (p.fill.size() != p.facets.size()) return false;
+    const auto canonical = [](Facet t) {
+      std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
+      return t;
+    };
+    std::vector<Facet> before, after;
+    for (uint32_t f : p.facets) before.push_back(canonical(facets_[f]));
+    for (const Facet& t : p.fill) after.push_back(canonical(t));
+    std::sort(before.begin(), before.end());
+    std::sort(after.begin(), after.end());
+    return before == after;
+  }
+
+  // The plans not refused replace their facets: the kept facets in their order, then the fills.
+  void Apply(const std::vector<Plan>& plans) {
+    std::vector<char> out(facets_.size(), 0);
+    for (const Plan& p : plans)
+      if (p.refused.empty())
+        for (uint32_t f : p.facets) out[f] = 1;
+    std::vector<Facet> facets;
+    std::vector<uint32_t> origin;
+    for (uint32_t f = 0; f < facets_.size(); ++f)
+      if (!out[f]) {
+        facets.push_back(facets_[f]);
+        origin.push_back(origin_[f]);
+      }
+    for (const Plan& p : plans) {
+      if (!p.refused.empty()) continue;
+      facets.insert(facets.end(), p.fill.begin(), p.fill.end());
+      origin.insert(origin.end(), p.fill_origin.begin(), p.fill_origin.end());
+      // A patch closed again as it was (a wall a crossing passed through, its facets fine) is
+      // no change to report.
+      if (!SameFacets(p)) result_.patches.push_back(p.patch);
+    }
+    facets_ = std::move(facets);
+    origin_ = std::move(origin);
+  }
+
+  // What still crosses: patches whose last try was refused, with its reason; crossings between
+  // two surfaces once per pair of surfaces.
+  void Leave(const CrossingPairLists& lists, const std::vector<Plan>& refused) {
+    if (lists.crossing.empty()) return;
+    Index();
+    absl::flat_hash_set<uint32_t> reported;
+    for (const Plan& p : refused) {
+      result_.left.push_back({p.patch.first_facet, p.patch.at,
+                              absl::StrFormat("facets of one surface cross each other; not "
+                                              "taken out: %s",
+                                              p.refused)});
+    }
+    absl::flat_hash_map<uint64_t, std::pair<size_t, std::pair<uint32_t, uint32_t>>> between;
+    size_t self = 0;
+    for (const auto& [a, b] : lists.crossing) {
+      if (component_[a] == component_[b]) {
+        ++self;
+        continue;
+      }
+      auto& [count, first] = between[EdgeKey(component_[a], component_[b])];
+      if (count++ == 0 || std::pair(a, b) < first) first = {a, b};
+    }
+    if (refused.empty() && self > 0) {
+      const auto& [a, b] = lists.crossing.front();
+      DVec3 c{0, 0, 0};
+      for (uint32_t v : facets_[a]) c += (1.0 / 3) * Pos(v);
+      result_.left.push_back(
+          {std::min(origin_[a], origin_[b]),
+           {c.x, c.y, c.z},
+           absl::StrFormat("facets of one surface cross each other (%u pairs) where no patch "
+                           "was tried",
+                           self)});
+    }
+    std::vector<uint64_t> pairs_of_surfaces;
+    for (const auto& [key, entry] : between) pairs_of_surfaces.push_back(key);
+    std::sort(pairs_of_surfaces.begin(), pairs_of_surfaces.end());
+    for (uint64_t key : pairs_of_surfaces) {
+      const auto& [count, first] = between.at(key);
+      DVec3 c{0, 0, 0};
+      for (uint32_t v : facets_[first.first]) c += (1.0 / 3) * Pos(v);
+      result_.left.push_back(
+          {std::min(origin_[first.first], origin_[first.second]),
+           {c.x, c.y, c.z},
+           absl::StrFormat("two surfaces cross each other (%u face pairs: bodies exported "
+                           "overlapping, or a part and its cavity's wall), and no vertex taken out "
+                           "frees them; not taken apart",
+                           count)});
+    }
+  }
+
+  void Write() {
+    result_.facet_origin = origin_;
+    RawMesh& m = mesh_;
+    m.triangles.clear();
+    for (const Facet& t : facets_) m.triangles.insert(m.triangles.end(), t.begin(), t.end());
+    if (!m.face_groups.empty()) {
+      std::vector<uint32_t> groups(origin_.size());
+      for (size_t f = 0; f < origin_.size(); ++f) groups[f] = m.face_groups[origin_[f]];
+      m.face_groups = std::move(groups);
+    }
+    for (FaceField& field : m.face_fields) {
+      std::vector<float> values(origin_.size());
+      for (size_t f = 0; f < origin_.size(); ++f) values[f] = field.values[origin_[f]];
+      field.values = std::move(values);
+    }
+  }
+
+  RawMesh& mesh_;
+  std::vector<Facet> facets_;
+  std::vector<uint32_t> origin_;
+  absl::flat_hash_map<uint64_t, uint32_t> uses_;
+  std::vector<uint32_t> component_;
+  std::vector<double> component_area_;
+  std::vector<uint32_t> vertex_begin_, vertex_facets_;
+  // Each fill's check reads every facet's box: the facets read so far, against a budget that
+  // keeps a soup crossing itself everywhere from taking minutes.
+  bool OverBudget() const { return work_ > kMaxFacetReads; }
+  static constexpr double kMaxFacetReads = 2e8;
+  static constexpr size_t kMaxVertexPairs = 256;
+  static constexpr const char* kTooMany =
+      "too many crossings to take out one by one (bodies overlapping, or a soup)";
+  double work_ = 0;
+  double tolerance_ = 0;
+  UncrossResult result_;
+};
+
+}  // namespace
+
+UncrossResult TakeOutCrossings(RawMesh& mesh) { return Uncrosser(mesh).Run(); }
+
+}  // namespace femsimp

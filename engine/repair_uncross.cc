@@ -1,0 +1,84 @@
+#include "engine/repair_uncross.h"
+
+#include <cstdint>
+#include <numeric>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "engine/crossing_repair.h"
+#include "engine/repair_recheck.h"
+
+namespace femsimp {
+
+absl::StatusOr<RepairResult> UncrossRepaired(RawMesh& mesh, const RepairOptions& options,
+                                             RepairResult repaired) {
+  RawMesh crossing = mesh;  // what stays should the result need what no repair fixes
+  UncrossResult uncross = TakeOutCrossings(mesh);
+  // The other repairs again: they drop the vertices only the patches used and check that the
+  // closed rims left nothing for them (an edge used three times, a component turned).
+  RepairOptions again = options;
+  again.take_out_crossings = false;
+  again.imprint = false;
+  absl::StatusOr<RepairResult> checked = absl::InternalError("not run");
+  if (!uncross.facet_origin.empty()) {
+    checked = RepairMesh(mesh, again);
+    std::string why;
+    if (!checked.ok()) {
+      why = std::string(checked.status().message());
+    } else {
+      // Only the vertices the patches used may go; any other change, or a defect more than the
+      // first run left, would be the fills' doing.
+      for (size_t k = 0; k < kNumRepairKinds && why.empty(); ++k) {
+        const auto kind = static_cast<RepairKind>(k);
+        const size_t allowed = kind == RepairKind::kUnreferencedVertex ? SIZE_MAX
+                               : IsRepairChange(kind)                  ? 0
+                                                      : repaired.report.count(kind);
+        if (checked->report.count(kind) > allowed)
+          why = absl::StrCat("the closed rims would need a repair of their own (",
+                             RepairKindName(kind), ")");
+      }
+    }
+    if (!why.empty()) {
+      mesh = std::move(crossing);
+      uncross.left.clear();
+      for (const UncrossedPatch& p : uncross.patches)
+        uncross.left.push_back({p.first_facet, p.at,
+                                absl::StrCat("facets of one surface cross each other; not taken "
+                                             "out: ",
+                                             why)});
+      uncross.patches.clear();
+      uncross.facet_origin.clear();
+    }
+  }
+  ReportMerger merge(repaired, mesh, options.max_records_per_kind);
+  const std::vector<uint32_t>& first_facet = repaired.facet_origin;
+  for (const CrossingLeft& left : uncross.left)
+    merge.Add(RepairKind::kCrossingLeft, first_facet[left.first_facet], -1, left.at, left.reason);
+  for (const UncrossedPatch& p : uncross.patches)
+    merge.Add(
+        RepairKind::kCrossingRemoved, first_facet[p.first_facet], -1, p.at,
+        absl::StrFormat(
+            "facets of one surface crossed each other: %u facets around them taken out%s "
+            "and their rim of %u edges closed by %u facets; area %.6g -> %.6g, enclosed "
+            "volume changed by %.6g",
+            p.facets_removed,
+            p.vertices_dropped == 0
+                ? std::string()
+                : absl::StrFormat(" (%u %s with them, the farthest %.6g off the new facets)",
+                                  p.vertices_dropped,
+                                  p.vertices_dropped == 1 ? "vertex" : "vertices", p.farthest),
+            p.loop_edges, p.facets_added, p.area_removed, p.area_added, p.volume_change));
+  if (uncross.facet_origin.empty()) {
+    SortRecords(repaired.report);
+    return repaired;
+  }
+  std::vector<uint32_t> same_vertex(crossing.num_vertices());
+  std::iota(same_vertex.begin(), same_vertex.end(), 0u);
+  FoldRecheck(repaired, *std::move(checked), uncross.facet_origin, same_vertex, mesh, merge);
+  return repaired;
+}
+
+}  // namespace femsimp
