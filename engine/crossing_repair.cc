@@ -53,42 +53,11 @@ class Uncrosser {
     tolerance_ = ContactPlaneTolerance(mesh_);
     const CrossingPairLists given = lists;
 
-    // First the least change: one vertex taken out with its facets (a vertex written wrongly),
-    // where that frees every crossing pair of a cluster.
-    if (TakeOutVertices(lists.crossing)) {
-      lists = CrossingPairLists();
-      FindCrossings(Soup(facets_), &lists);
-    }
-    std::vector<Plan> last_refused;
-    for (int rings = 0; rings <= kMaxRings && !lists.crossing.empty(); ++rings) {
-      Index();
-      std::vector<uint32_t> seeds;
-      for (const auto& [a, b] : lists.crossing)
-        if (component_[a] == component_[b]) seeds.insert(seeds.end(), {a, b});
-      if (seeds.empty()) break;
-      std::vector<Plan> plans;
-      for (std::vector<uint32_t>& patch : Patches(Grow(seeds, rings)))
-        plans.push_back(PlanFill(std::move(patch), kMaxFillShare, kMaxPatchShare));
-      // Every fill is checked with the others in place: a plan whose new facets cross, overlap
-      // or fold onto anything waits for a larger patch.
-      std::vector<char> out(facets_.size(), 0);
-      for (const Plan& p : plans)
-        for (uint32_t f : p.facets) out[f] |= p.refused.empty();
-      for (size_t i = 0; i < plans.size(); ++i) {
-        if (!plans[i].refused.empty()) continue;
-        if (OverBudget()) {
-          plans[i].refused = kTooMany;
-        } else if (FillMeetsSomething(plans, i, out)) {
-          plans[i].refused = absl::StrFormat(
-              "its new facets would still cross the surface (%d rings of facets around the "
-              "crossing taken out)",
-              rings);
-        }
-      }
-      Apply(plans);
-      last_refused.clear();
-      for (Plan& p : plans)
-        if (!p.refused.empty()) last_refused.push_back(std::move(p));
+    // One vertex taken out with its facets (a vertex written wrongly), or the vertices farthest
+    // off their rings together, where that frees every crossing pair of a cluster; a second
+    // round for what the first left (a cluster whose vertex lay in another's facets).
+    for (int round = 0; round < 2 && !lists.crossing.empty(); ++round) {
+      if (!TakeOutVertices(lists.crossing)) break;
       lists = CrossingPairLists();
       FindCrossings(Soup(facets_), &lists);
     }
@@ -96,17 +65,17 @@ class Uncrosser {
     if (result_.pairs_after >= result_.pairs_before) {  // nothing gained: all stays as it was
       result_.patches.clear();
       result_.pairs_after = result_.pairs_before;
+      facets_.resize(mesh_.num_faces());
+      origin_.resize(mesh_.num_faces());
       for (uint32_t f = 0; f < mesh_.num_faces(); ++f) {
         facets_[f] = {mesh_.triangles[3 * f], mesh_.triangles[3 * f + 1],
                       mesh_.triangles[3 * f + 2]};
         origin_[f] = f;
       }
-      facets_.resize(mesh_.num_faces());
-      origin_.resize(mesh_.num_faces());
-      Leave(given, last_refused);
+      Leave(given);
       return std::move(result_);
     }
-    Leave(lists, last_refused);
+    Leave(lists);
     Write();
     return std::move(result_);
   }
@@ -217,7 +186,7 @@ class Uncrosser {
       if (OverBudget() ||
           std::any_of(facets.begin(), facets.end(), [&](uint32_t f) { return out[f] != 0; }))
         return std::nullopt;
-      std::vector<Plan> trial{PlanFill(std::move(facets), kMaxVertexFillShare, HUGE_VAL)};
+      std::vector<Plan> trial{PlanFill(std::move(facets))};
       if (!trial[0].refused.empty()) return std::nullopt;
       std::vector<char> trial_out = out;
       for (uint32_t f : trial[0].facets) trial_out[f] = 1;
@@ -277,62 +246,7 @@ class Uncrosser {
     return true;
   }
 
-  // The seeds and every facet within `rings` vertex rings of them.
-  std::vector<char> Grow(const std::vector<uint32_t>& seeds, int rings) const {
-    std::vector<char> in(facets_.size(), 0);
-    std::vector<uint32_t> front;
-    for (uint32_t f : seeds)
-      if (!in[f]) {
-        in[f] = 1;
-        front.push_back(f);
-      }
-    for (int r = 0; r < rings; ++r) {
-      std::vector<uint32_t> next;
-      for (uint32_t f : front)
-        for (uint32_t v : facets_[f])
-          for (uint32_t i = vertex_begin_[v]; i < vertex_begin_[v + 1]; ++i) {
-            const uint32_t g = vertex_facets_[i];
-            if (!in[g]) {
-              in[g] = 1;
-              next.push_back(g);
-            }
-          }
-      front = std::move(next);
-    }
-    return in;
-  }
-
-  // The marked facets in edge-connected patches, each in facet order.
-  std::vector<std::vector<uint32_t>> Patches(const std::vector<char>& in) const {
-    std::vector<std::vector<uint32_t>> patches;
-    std::vector<char> seen(facets_.size(), 0);
-    for (uint32_t s = 0; s < facets_.size(); ++s) {
-      if (!in[s] || seen[s]) continue;
-      std::vector<uint32_t> patch{s};
-      seen[s] = 1;
-      for (size_t i = 0; i < patch.size(); ++i) {
-        const Facet& t = facets_[patch[i]];
-        for (int e = 0; e < 3; ++e) {
-          const uint32_t a = t[e], b = t[(e + 1) % 3];
-          for (uint32_t k = vertex_begin_[a]; k < vertex_begin_[a + 1]; ++k) {
-            const uint32_t g = vertex_facets_[k];
-            if (!in[g] || seen[g]) continue;
-            const Facet& u = facets_[g];
-            if (std::find(u.begin(), u.end(), b) == u.end()) continue;
-            seen[g] = 1;
-            patch.push_back(g);
-          }
-        }
-      }
-      std::sort(patch.begin(), patch.end());
-      patches.push_back(std::move(patch));
-    }
-    return patches;
-  }
-
-  // `max_share`: the largest share of its surface's area the fill may take; `max_removed_share`:
-  // the facets taken out (a vertex written wrongly has facets as long as the part).
-  Plan PlanFill(std::vector<uint32_t> facets, double max_share, double max_removed_share) const {
+  Plan PlanFill(std::vector<uint32_t> facets) const {
     Plan plan;
     plan.facets = std::move(facets);
     UncrossedPatch& patch = plan.patch;
@@ -418,19 +332,10 @@ class Uncrosser {
       return plan;
     }
     const double surface_area = component_area_[component_[plan.facets[0]]];
-    double removed_area = 0;
-    for (uint32_t f : plan.facets) removed_area += Norm(AreaVector(facets_[f]));
-    if (removed_area > max_removed_share * surface_area) {
-      plan.refused = absl::StrFormat(
-          "its facets take %.3g%% of their surface's area (at most %g%% are rebuilt: a thin wall "
-          "tessellated coarser than its thickness is not)",
-          100 * removed_area / surface_area, 100 * max_removed_share);
-      return plan;
-    }
-    if (least.area > max_share * surface_area) {
+    if (least.area > kMaxFillShare * surface_area) {
       plan.refused =
           absl::StrFormat("closing its rim would take %.3g%% of its surface's area (at most %g%%)",
-                          100 * least.area / surface_area, 100 * max_share);
+                          100 * least.area / surface_area, 100 * kMaxFillShare);
       return plan;
     }
     // Volume change: both sides share the rim, so the difference of their cones from one point
@@ -556,53 +461,45 @@ class Uncrosser {
     origin_ = std::move(origin);
   }
 
-  // What still crosses: patches whose last try was refused, with its reason; crossings between
-  // two surfaces once per pair of surfaces.
-  void Leave(const CrossingPairLists& lists, const std::vector<Plan>& refused) {
+  // What still crosses, once per surface crossing itself and per two surfaces crossing each
+  // other, with why no vertex took it out.
+  void Leave(const CrossingPairLists& lists) {
     if (lists.crossing.empty()) return;
     Index();
-    absl::flat_hash_set<uint32_t> reported;
-    for (const Plan& p : refused) {
-      result_.left.push_back({p.patch.first_facet, p.patch.at,
-                              absl::StrFormat("facets of one surface cross each other; not "
-                                              "taken out: %s",
-                                              p.refused)});
-    }
-    absl::flat_hash_map<uint64_t, std::pair<size_t, std::pair<uint32_t, uint32_t>>> between;
-    size_t self = 0;
+    struct Cluster {
+      size_t pairs = 0;
+      bool two_surfaces = false;
+      uint32_t first = UINT32_MAX;  // its lowest facet of the mesh given
+      uint32_t at = 0;              // a facet of its first pair
+    };
+    absl::flat_hash_map<uint64_t, Cluster> by_root;
     for (const auto& [a, b] : lists.crossing) {
-      if (component_[a] == component_[b]) {
-        ++self;
-        continue;
-      }
-      auto& [count, first] = between[EdgeKey(component_[a], component_[b])];
-      if (count++ == 0 || std::pair(a, b) < first) first = {a, b};
+      Cluster& c = by_root[EdgeKey(component_[a], component_[b])];
+      if (c.pairs++ == 0) c.at = a;
+      c.two_surfaces = component_[a] != component_[b];
+      c.first = std::min({c.first, origin_[a], origin_[b]});
     }
-    if (refused.empty() && self > 0) {
-      const auto& [a, b] = lists.crossing.front();
-      DVec3 c{0, 0, 0};
-      for (uint32_t v : facets_[a]) c += (1.0 / 3) * Pos(v);
+    std::vector<uint64_t> roots;
+    for (const auto& [root, c] : by_root) roots.push_back(root);
+    std::sort(roots.begin(), roots.end());
+    for (uint64_t root : roots) {
+      const Cluster& c = by_root.at(root);
+      const std::string why = OverBudget() ? kTooMany
+                              : c.pairs > kMaxVertexPairs
+                                  ? "more pairs than a vertex written wrongly makes"
+                                  : "no vertex of theirs taken out with its facets frees "
+                                    "them without a new crossing";
+      DVec3 centre{0, 0, 0};
+      for (uint32_t v : facets_[c.at]) centre += (1.0 / 3) * Pos(v);
       result_.left.push_back(
-          {std::min(origin_[a], origin_[b]),
-           {c.x, c.y, c.z},
-           absl::StrFormat("facets of one surface cross each other (%u pairs) where no patch "
-                           "was tried",
-                           self)});
-    }
-    std::vector<uint64_t> pairs_of_surfaces;
-    for (const auto& [key, entry] : between) pairs_of_surfaces.push_back(key);
-    std::sort(pairs_of_surfaces.begin(), pairs_of_surfaces.end());
-    for (uint64_t key : pairs_of_surfaces) {
-      const auto& [count, first] = between.at(key);
-      DVec3 c{0, 0, 0};
-      for (uint32_t v : facets_[first.first]) c += (1.0 / 3) * Pos(v);
-      result_.left.push_back(
-          {std::min(origin_[first.first], origin_[first.second]),
-           {c.x, c.y, c.z},
-           absl::StrFormat("two surfaces cross each other (%u face pairs: bodies exported "
-                           "overlapping, or a part and its cavity's wall), and no vertex taken out "
-                           "frees them; not taken apart",
-                           count)});
+          {c.first,
+           {centre.x, centre.y, centre.z},
+           absl::StrFormat("%s cross each other (%u face pairs; %s); left as they are: %s",
+                           c.two_surfaces ? "two surfaces" : "facets of one surface", c.pairs,
+                           c.two_surfaces ? "bodies exported overlapping, or a part and its "
+                                            "cavity's wall"
+                                          : "a thin wall tessellated coarser than its thickness",
+                           why)});
     }
   }
 

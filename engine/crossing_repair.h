@@ -1,16 +1,17 @@
-// Facets of a surface that cross each other, taken out and the hole closed again: a vertex an
-// exporter wrote wrongly (its facets poke through the part's far wall), two faces tessellated
-// apart whose chords cross where they meet at a small angle. No point moves: the facets around
-// the crossing come out as a patch bounded by one simple loop (a disc), and the loop is closed by
-// its triangulation of least area that adds no edge the mesh has; a patch whose fill still
-// crosses something grows by a ring of facets and is tried again (up to kMaxRings rings).
+// Facets that cross each other, taken out and the hole closed again, where a vertex written
+// wrongly made them (a digit lost: its facets poke through the part's far wall, into a cavity or
+// another body). No point moves: per cluster of crossing facets (linked by their pairs), the
+// vertex whose facets hold a facet of every pair goes with its facets, and its ring (a simple
+// loop: the facets a disc) is closed by its triangulation of least area that adds no edge the
+// mesh has; of several such vertices, the one nearest the closed surface. Where no one vertex
+// does, the vertices farthest off their rings (a vertex of a surface lies near its ring's
+// middle) are taken out together until their facets hold every pair. A fill that would cross,
+// overlap or fold onto anything near it is not made.
 //
-// Left as they are, with a reason: crossings between two surfaces (bodies exported overlapping:
-// which one is wrong the mesh cannot tell), patches that reach an open edge or a seam, that are
-// not discs, whose loop is longer than kMaxLoopEdges, whose facets take more than kMaxPatchShare
-// or whose fill would take more than kMaxFillShare of their surface's area (a thin wall
-// tessellated coarser than its thickness: docs/FIDELITY.md § 9), and patches no growth frees of
-// crossings.
+// Left as they are, with a reason: crossings no vertex taken out frees (a thin wall tessellated
+// coarser than its thickness, bodies exported overlapping: which one is off the mesh cannot
+// tell), rims that reach an open edge or a seam, that are not one simple loop, that are longer
+// than kMaxLoopEdges or whose fill would take more than kMaxFillShare of its surface's area.
 #pragma once
 
 #include <array>
@@ -23,12 +24,9 @@
 
 namespace femsimp {
 
-inline constexpr int kMaxRings = 3;
 inline constexpr size_t kMaxLoopEdges = 64;
-inline constexpr double kMaxFillShare = 0.02;
-inline constexpr double kMaxPatchShare = 0.05;  // of the facets a grown patch takes out
-// A vertex's facets on a coarse export span a face: its removal may close a larger share.
-inline constexpr double kMaxVertexFillShare = 0.25;
+// A vertex's facets on a coarse export span a face: their rim may close a large share of it.
+inline constexpr double kMaxFillShare = 0.25;
 
 struct UncrossedPatch {
   uint32_t first_facet = 0;    // the lowest facet (of the mesh given) it took out
@@ -55,9 +53,8 @@ struct UncrossResult {
 };
 
 // `mesh`: a repaired surface (welded, oriented, one fan per vertex). Its vertices stay as they
-// are (those only the patches used are left unreferenced); facets taken out go, new ones are
-// appended. Where the patches taken out leave no fewer crossing pairs than there were, nothing
-// changes.
+// are (those taken out are left unreferenced); facets taken out go, new ones are appended. Where
+// what is taken out leaves no fewer crossing pairs than there were, nothing changes.
 UncrossResult TakeOutCrossings(RawMesh& mesh);
 
 }  // namespace femsimp
