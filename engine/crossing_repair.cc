@@ -11,6 +11,7 @@
 #include "engine/crossings.h"
 #include "engine/least_area_fill.h"
 #include "engine/mesh_checks.h"
+#include "engine/plane_fill.h"
 #include "engine/triangle_distance.h"
 #include "engine/union_find.h"
 #include "engine/vec.h"
@@ -303,6 +304,9 @@ class Uncrosser {
     }
     const size_t n = loop.size();
     patch.loop_edges = n;
+    for (size_t i = 0; i < n; ++i)
+      for (size_t j = i + 1; j < n; ++j)
+        patch.across = std::max(patch.across, Norm(Pos(loop[i]) - Pos(loop[j])));
     if (n > kMaxLoopEdges) {
       plan.refused =
           absl::StrFormat("its rim is %u edges long (at most %u are closed)", n, kMaxLoopEdges);
@@ -317,18 +321,32 @@ class Uncrosser {
       const auto own = inner.find(EdgeKey(loop[i], loop[j]));
       return it->second > (own == inner.end() ? 0u : own->second);
     };
+    // Seen along the rim's normal, a vertex's ring is a simple polygon: every new facet must
+    // turn its way, so that the fill stays inside it (a diagonal outside a ring that bends
+    // around a hole would close the hole).
+    std::vector<std::array<double, 3>> corners;
+    for (uint32_t v : loop) corners.push_back({Pos(v).x, Pos(v).y, Pos(v).z});
+    const std::array<double, 3> nn = NewellNormal(corners.data(), n);
+    const DVec3 normal{nn[0], nn[1], nn[2]};
+    const auto turns_along = [&](size_t i, size_t k, size_t j) {
+      const DVec3 c = Cross(Pos(loop[k]) - Pos(loop[i]), Pos(loop[j]) - Pos(loop[i]));
+      return Dot(c, normal) > 1e-6 * Norm(c) * Norm(normal);
+    };
     const LeastAreaFill least = LeastAreaTriangulation(
         n,
         [&](size_t i, size_t k, size_t j) {
           const float* p = &mesh_.positions[0];
           return !((k > i + 1 && taken(i, k)) || (j > k + 1 && taken(k, j)) ||
                    IsZeroArea(p + 3 * size_t{loop[i]}, p + 3 * size_t{loop[k]},
-                              p + 3 * size_t{loop[j]}));
+                              p + 3 * size_t{loop[j]}) ||
+                   !turns_along(i, k, j));
         },
         area);
     if (least.triangles.empty()) {
       plan.refused = absl::StrFormat(
-          "no triangulation of its rim of %u edges avoids the surface's edges and zero areas", n);
+          "no triangulation of its rim of %u edges stays inside it (seen along its normal) and "
+          "avoids the surface's edges and zero areas",
+          n);
       return plan;
     }
     const double surface_area = component_area_[component_[plan.facets[0]]];

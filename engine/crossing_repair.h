@@ -35,6 +35,7 @@ struct UncrossedPatch {
   double area_removed = 0, area_added = 0;
   double volume_change = 0;  // of the region its surface encloses: added facets' less removed
   double farthest = 0;       // the largest distance of a dropped vertex from the new facets
+  double across = 0;         // the rim's largest extent: where the surface was rebuilt
 };
 
 struct CrossingLeft {

@@ -62,15 +62,15 @@ absl::StatusOr<RepairResult> UncrossRepaired(RawMesh& mesh, const RepairOptions&
         RepairKind::kCrossingRemoved, first_facet[p.first_facet], -1, p.at,
         absl::StrFormat(
             "facets of one surface crossed each other: %u facets around them taken out%s "
-            "and their rim of %u edges closed by %u facets; area %.6g -> %.6g, enclosed "
-            "volume changed by %.6g",
+            "and their rim of %u edges (%.6g across: where the vertex belonged is lost) closed "
+            "by %u facets; area %.6g -> %.6g, enclosed volume changed by %.6g",
             p.facets_removed,
             p.vertices_dropped == 0
                 ? std::string()
                 : absl::StrFormat(" (%u %s with them, the farthest %.6g off the new facets)",
                                   p.vertices_dropped,
                                   p.vertices_dropped == 1 ? "vertex" : "vertices", p.farthest),
-            p.loop_edges, p.facets_added, p.area_removed, p.area_added, p.volume_change));
+            p.loop_edges, p.across, p.facets_added, p.area_removed, p.area_added, p.volume_change));
   if (uncross.facet_origin.empty()) {
     SortRecords(repaired.report);
     return repaired;

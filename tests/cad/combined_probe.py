@@ -144,6 +144,17 @@ for index, (stem, pos0, tris0, groups0) in enumerate(sources()):
         volume = [] if args.judge_volume == "none" else ["--max-volume-change", args.judge_volume]
         j = run([args.judge, clean, out, "--tolerance-relative", args.tolerance_relative] + volume
                 + (["--repaired-input"] if args.occ else []))
+        if args.spike:  # where the vertex belonged is lost: judged against the repaired copy too
+            repaired = os.path.join(args.work, f"{name}.repaired.off")
+            run([args.femsimp, "simplify", inp, repaired, "--quiet", "--target-vertices",
+                 "4000000000"] + args.mode.split())
+            jr = run([args.judge, repaired, out, "--tolerance-relative", args.tolerance_relative]
+                     + volume)
+            lost = json.loads(run([args.judge, clean, repaired, "--tolerance-relative",
+                                   args.tolerance_relative]).stdout)["hausdorff_over_diagonal"]
+            j_line = (("judge ok" if j.returncode == 0 else "judge over") +
+                      f" (repaired copy off the source {100 * lost:.3f} %, output against it " +
+                      ("ok)" if jr.returncode == 0 else "FAILS)"))
         kept = ""
         if args.groups:
             named = lambda path: {ln.split()[1] for ln in open(path) if ln.startswith("g ")}
@@ -155,6 +166,7 @@ for index, (stem, pos0, tris0, groups0) in enumerate(sources()):
         rows.append((name, "+".join(made), "exit 0",
                      ",".join(f"{k}={v}" for k, v in sorted(changes.items())),
                      f"crossings={crossings['pairs']} folds={crossings['folds']['pairs']}",
+                     j_line if args.spike else
                      "judge ok" if j.returncode == 0 else "JUDGE " + (j.stderr or j.stdout)
                      .strip().replace("\n", " ")[:200],
                      "in:" + ("refused" if "intersects" in tin else "clean"),
