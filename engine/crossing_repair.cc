@@ -48,7 +48,7 @@ class Uncrosser {
       origin_[f] = f;
     }
     CrossingPairLists lists;
-    FindCrossings(mesh_, &lists);
+    FindCrossings(mesh_, &lists, /*crossings_only=*/true);
     result_.pairs_before = lists.crossing.size();
     if (lists.crossing.empty()) return std::move(result_);
     tolerance_ = ContactPlaneTolerance(mesh_);
@@ -60,7 +60,7 @@ class Uncrosser {
     for (int round = 0; round < 2 && !lists.crossing.empty(); ++round) {
       if (!TakeOutVertices(lists.crossing)) break;
       lists = CrossingPairLists();
-      FindCrossings(Soup(facets_), &lists);
+      FindCrossings(Soup(facets_), &lists, /*crossings_only=*/true);
     }
     result_.pairs_after = lists.crossing.size();
     if (result_.pairs_after >= result_.pairs_before) {  // nothing gained: all stays as it was
@@ -168,7 +168,7 @@ class Uncrosser {
   // Per cluster of crossing facets (linked by the pairs; of one surface or of two: a vertex may
   // poke into another body or a cavity), vertices of theirs taken out with their facets, where
   // their facets hold a facet of every pair of the cluster and the rim closes without a new
-  // crossing: one vertex where one does (of several, the one nearest the closed surface), else
+  // crossing: one vertex where one does (of several, the one farthest off its ring), else
   // the vertices farthest off their rings, one after another, until their facets hold every
   // pair (vertices written wrongly side by side). Whether any was taken out.
   bool TakeOutVertices(const std::vector<std::pair<uint32_t, uint32_t>>& pairs) {
@@ -206,6 +206,7 @@ class Uncrosser {
       std::sort(candidates.begin(), candidates.end());
       candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
       std::optional<Plan> best;
+      double best_offset = -1;
       for (uint32_t v : candidates) {
         std::vector<uint32_t> star = Star(v);
         const auto holds = [&](uint32_t f) {
@@ -215,7 +216,11 @@ class Uncrosser {
                          [&](const auto& p) { return holds(p.first) || holds(p.second); }))
           continue;
         std::optional<Plan> plan = try_patch(std::move(star));
-        if (plan && (!best || plan->patch.farthest < best->patch.farthest)) best = std::move(plan);
+        if (!plan) continue;
+        if (const double offset = Offset(v); offset > best_offset) {
+          best = std::move(plan);
+          best_offset = offset;
+        }
       }
       if (!best) {
         std::vector<std::pair<double, uint32_t>> by_offset;

@@ -3,10 +3,11 @@
 // another body). No point moves: per cluster of crossing facets (linked by their pairs), the
 // vertex whose facets hold a facet of every pair goes with its facets, and its ring (a simple
 // loop: the facets a disc) is closed by its triangulation of least area that adds no edge the
-// mesh has; of several such vertices, the one nearest the closed surface. Where no one vertex
-// does, the vertices farthest off their rings (a vertex of a surface lies near its ring's
-// middle) are taken out together until their facets hold every pair. A fill that would cross,
-// overlap or fold onto anything near it is not made.
+// mesh has, every new facet turning the ring's way seen along its normal; of several such vertices,
+// the one farthest off its ring (a vertex of a surface lies near its ring's middle, one written
+// wrongly far off it). Where no one vertex does, the vertices farthest off their rings are taken
+// out together until their facets hold every pair. A fill that would cross, overlap or fold onto
+// anything near it is not made.
 //
 // Left as they are, with a reason: crossings no vertex taken out frees (a thin wall tessellated
 // coarser than its thickness, bodies exported overlapping: which one is off the mesh cannot

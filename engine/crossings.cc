@@ -110,7 +110,7 @@ double ContactPlaneTolerance(const RawMesh& soup) {
   return PlaneTolerance(lo, hi);
 }
 
-SoupCrossings FindCrossings(const RawMesh& soup, CrossingPairLists* lists) {
+SoupCrossings FindCrossings(const RawMesh& soup, CrossingPairLists* lists, bool crossings_only) {
   SoupCrossings found;
   const size_t nf = soup.num_faces();
   if (nf < 2) return found;
@@ -220,6 +220,26 @@ SoupCrossings FindCrossings(const RawMesh& soup, CrossingPairLists* lists) {
     }
     return true;
   };
+  // Whether the corners of `other` reach through the plane of `of` by no more than the tolerance
+  // on one side, by the float planes: a margin of 8 float spacings of the largest coordinate
+  // covers their rounding, so that this says yes only where TouchesWithinTolerance would.
+  double magnitude = 0;
+  for (int k = 0; k < 3; ++k)
+    magnitude = std::max({magnitude, std::fabs(double{lo[k]}), std::fabs(double{hi[k]})});
+  const double sure_touch =
+      plane_tolerance - 8.0 * magnitude * std::numeric_limits<float>::epsilon();
+  const auto clearly_on_one_side = [&](uint32_t of, uint32_t other) {
+    const std::array<float, 4>& e = plane[of];
+    if (sure_touch <= 0 || (e[0] == 0 && e[1] == 0 && e[2] == 0)) return false;
+    double above = 0, below = 0;
+    for (int k = 0; k < 3; ++k) {
+      const float* q = corner(other, k);
+      const double d = double{e[0]} * q[0] + double{e[1]} * q[1] + double{e[2]} * q[2] - e[3];
+      above = std::max(above, d);
+      below = std::max(below, -d);
+    }
+    return std::min(above, below) <= sure_touch;
+  };
   const auto shared_corners = [&](uint32_t a, uint32_t b) {
     int shared = 0;
     for (int i = 0; i < 3; ++i)
@@ -251,6 +271,7 @@ SoupCrossings FindCrossings(const RawMesh& soup, CrossingPairLists* lists) {
         const std::pair<uint32_t, uint32_t> pair = std::minmax(a.face, b.face);
         const Triangle first = triangle(pair.first), second = triangle(pair.second);
         if (shared == 2) {
+          if (crossings_only) continue;
           if (const std::optional<DVec3> at = Fold(first, second, plane_tolerance)) {
             SoupCrossings::Folds& fo = found.folds;
             if (lists != nullptr) lists->folded.push_back(pair);
@@ -263,7 +284,7 @@ SoupCrossings FindCrossings(const RawMesh& soup, CrossingPairLists* lists) {
           continue;
         }
         if (const std::optional<PlanarOverlap> o =
-                shared == 0 && near_plane(a.face, b.face)
+                !crossings_only && shared == 0 && near_plane(a.face, b.face)
                     ? OverlapInPlane(first, second, plane_tolerance)
                     : std::nullopt) {
           SoupCrossings::Overlaps& ov = found.overlaps;
@@ -276,10 +297,13 @@ SoupCrossings FindCrossings(const RawMesh& soup, CrossingPairLists* lists) {
           }
           continue;
         }
-        const std::optional<DVec3> at = TransversalCrossing(first, second);
-        if (!at || TouchesWithinTolerance(first, second, plane_tolerance) ||
+        // Faces that do not reach through each other's planes are apart: the cheap tests first.
+        if (clearly_on_one_side(a.face, b.face) || clearly_on_one_side(b.face, a.face)) continue;
+        if (TouchesWithinTolerance(first, second, plane_tolerance) ||
             TouchesWithinTolerance(second, first, plane_tolerance))
           continue;
+        const std::optional<DVec3> at = TransversalCrossing(first, second);
+        if (!at) continue;
         if (lists != nullptr) lists->crossing.push_back(pair);
         if (found.pairs++ == 0 || pair < std::pair(found.face_a, found.face_b)) {
           found.face_a = pair.first;

@@ -65,7 +65,9 @@ double ContactPlaneTolerance(const RawMesh& soup);
 struct CrossingPairLists {
   std::vector<std::pair<uint32_t, uint32_t>> crossing, overlapping, folded;
 };
-SoupCrossings FindCrossings(const RawMesh& soup, CrossingPairLists* lists = nullptr);
+// `crossings_only`: the crossings alone (no fold or overlap tested, none counted).
+SoupCrossings FindCrossings(const RawMesh& soup, CrossingPairLists* lists = nullptr,
+                            bool crossings_only = false);
 
 // "N face pairs cross (the first: faces A and B, at (x, y, z))": the words every report of them
 // uses (the summary, the FE check's refusal); meaningful when pairs > 0.
