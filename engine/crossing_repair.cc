@@ -48,9 +48,23 @@ class Uncrosser {
       origin_[f] = f;
     }
     CrossingPairLists lists;
-    FindCrossings(mesh_, &lists, /*crossings_only=*/true);
+    lists.stop_after = kMaxPairs;
+    const SoupCrossings found = FindCrossings(mesh_, &lists, /*crossings_only=*/true);
     result_.pairs_before = lists.crossing.size();
     if (lists.crossing.empty()) return std::move(result_);
+    if (found.cut_short) {  // a soup crossing itself everywhere: not vertices written wrongly
+      const DVec3 at{found.at[0] - mesh_.origin[0], found.at[1] - mesh_.origin[1],
+                     found.at[2] - mesh_.origin[2]};
+      result_.left.push_back(
+          {found.face_a,
+           {at.x, at.y, at.z},
+           absl::StrFormat("more than %u face pairs cross; left as they are: far more than "
+                           "vertices written wrongly make (a soup of facets, or bodies exported "
+                           "overlapping)",
+                           kMaxPairs)});
+      result_.pairs_after = result_.pairs_before;
+      return std::move(result_);
+    }
     tolerance_ = ContactPlaneTolerance(mesh_);
     const CrossingPairLists given = lists;
 
@@ -555,6 +569,7 @@ class Uncrosser {
   bool OverBudget() const { return work_ > kMaxFacetReads; }
   static constexpr double kMaxFacetReads = 2e8;
   static constexpr size_t kMaxVertexPairs = 256;
+  static constexpr size_t kMaxPairs = 100000;
   static constexpr const char* kTooMany =
       "too many crossings to take out one by one (bodies overlapping, or a soup)";
   double work_ = 0;

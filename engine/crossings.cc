@@ -310,6 +310,10 @@ SoupCrossings FindCrossings(const RawMesh& soup, CrossingPairLists* lists, bool 
           found.face_b = pair.second;
           found.at = {soup.origin[0] + at->x, soup.origin[1] + at->y, soup.origin[2] + at->z};
         }
+        if (lists != nullptr && lists->crossing.size() > lists->stop_after) {
+          found.cut_short = true;  // enough to know: the count is a floor
+          return found;
+        }
       }
     }
   }

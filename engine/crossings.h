@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -17,7 +18,8 @@
 namespace femsimp {
 
 struct SoupCrossings {
-  uint64_t pairs = 0;  // face pairs that certainly cross (engine/transversal_crossing.h)
+  uint64_t pairs = 0;      // face pairs that certainly cross (engine/transversal_crossing.h)
+  bool cut_short = false;  // the scan stopped at CrossingPairLists::stop_after: pairs is a floor
   // The first such pair in face order (lowest face, then lowest partner), and a point where they
   // cross; meaningful when pairs > 0.
   uint32_t face_a = 0, face_b = 0;
@@ -64,6 +66,9 @@ double ContactPlaneTolerance(const RawMesh& soup);
 // what the repair takes out and closes again (the crossings, engine/crossing_repair.h).
 struct CrossingPairLists {
   std::vector<std::pair<uint32_t, uint32_t>> crossing, overlapping, folded;
+  // The scan stops once more crossing pairs than this are listed (SoupCrossings::cut_short):
+  // a soup crossing itself everywhere has tens of millions.
+  size_t stop_after = std::numeric_limits<size_t>::max();
 };
 // `crossings_only`: the crossings alone (no fold or overlap tested, none counted).
 SoupCrossings FindCrossings(const RawMesh& soup, CrossingPairLists* lists = nullptr,
