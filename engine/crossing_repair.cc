@@ -37,7 +37,7 @@ struct Plan {
 
 class Uncrosser {
  public:
-  explicit Uncrosser(RawMesh& mesh) : mesh_(mesh) {}
+  explicit Uncrosser(const RawMesh& mesh) : mesh_(mesh) {}
 
   UncrossResult Run() {
     const size_t nf = mesh_.num_faces();
@@ -540,9 +540,11 @@ class Uncrosser {
     }
   }
 
+  // The result, a copy of the mesh given with the facets replaced (made only where they change).
   void Write() {
     result_.facet_origin = origin_;
-    RawMesh& m = mesh_;
+    RawMesh& m = result_.mesh;
+    m = mesh_;
     m.triangles.clear();
     for (const Facet& t : facets_) m.triangles.insert(m.triangles.end(), t.begin(), t.end());
     if (!m.face_groups.empty()) {
@@ -557,7 +559,7 @@ class Uncrosser {
     }
   }
 
-  RawMesh& mesh_;
+  const RawMesh& mesh_;
   std::vector<Facet> facets_;
   std::vector<uint32_t> origin_;
   absl::flat_hash_map<uint64_t, uint32_t> uses_;
@@ -579,6 +581,6 @@ class Uncrosser {
 
 }  // namespace
 
-UncrossResult TakeOutCrossings(RawMesh& mesh) { return Uncrosser(mesh).Run(); }
+UncrossResult TakeOutCrossings(const RawMesh& mesh) { return Uncrosser(mesh).Run(); }
 
 }  // namespace femsimp

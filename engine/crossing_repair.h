@@ -52,11 +52,13 @@ struct UncrossResult {
   // Per facet of the result: the facet of the mesh given it is (a new facet: the facet taken out
   // nearest to it, whose group and fields it took). Empty where nothing changed.
   std::vector<uint32_t> facet_origin;
+  // Where facet_origin is not empty: the mesh given with its vertices as they are (those taken
+  // out left unreferenced), the facets taken out gone and the new ones appended.
+  RawMesh mesh;
 };
 
-// `mesh`: a repaired surface (welded, oriented, one fan per vertex). Its vertices stay as they
-// are (those taken out are left unreferenced); facets taken out go, new ones are appended. Where
-// what is taken out leaves no fewer crossing pairs than there were, nothing changes.
-UncrossResult TakeOutCrossings(RawMesh& mesh);
+// `mesh`: a repaired surface (welded, oriented, one fan per vertex); it is not changed. Where
+// what would be taken out leaves no fewer crossing pairs than there were, nothing is.
+UncrossResult TakeOutCrossings(const RawMesh& mesh);
 
 }  // namespace femsimp

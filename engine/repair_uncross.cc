@@ -15,16 +15,18 @@ namespace femsimp {
 
 absl::StatusOr<RepairResult> UncrossRepaired(RawMesh& mesh, const RepairOptions& options,
                                              RepairResult repaired) {
-  RawMesh crossing = mesh;  // what stays should the result need what no repair fixes
+  const size_t given_vertices = mesh.num_vertices();
   UncrossResult uncross = TakeOutCrossings(mesh);
-  // The other repairs again: they drop the vertices only the patches used and check that the
-  // closed rims left nothing for them (an edge used three times, a component turned).
+  // The other repairs again, on a copy made only where something was taken out: they drop the
+  // vertices taken out and check that the closed rims left nothing for them (an edge used three
+  // times, a component turned). Should they, the mesh stays as it was.
   RepairOptions again = options;
   again.take_out_crossings = false;
   again.imprint = false;
   absl::StatusOr<RepairResult> checked = absl::InternalError("not run");
   if (!uncross.facet_origin.empty()) {
-    checked = RepairMesh(mesh, again);
+    RawMesh next = std::move(uncross.mesh);
+    checked = RepairMesh(next, again);
     std::string why;
     if (!checked.ok()) {
       why = std::string(checked.status().message());
@@ -41,8 +43,9 @@ absl::StatusOr<RepairResult> UncrossRepaired(RawMesh& mesh, const RepairOptions&
                              RepairKindName(kind), ")");
       }
     }
-    if (!why.empty()) {
-      mesh = std::move(crossing);
+    if (why.empty()) {
+      mesh = std::move(next);
+    } else {
       uncross.left.clear();
       for (const UncrossedPatch& p : uncross.patches)
         uncross.left.push_back({p.first_facet, p.at,
@@ -75,7 +78,7 @@ absl::StatusOr<RepairResult> UncrossRepaired(RawMesh& mesh, const RepairOptions&
     SortRecords(repaired.report);
     return repaired;
   }
-  std::vector<uint32_t> same_vertex(crossing.num_vertices());
+  std::vector<uint32_t> same_vertex(given_vertices);
   std::iota(same_vertex.begin(), same_vertex.end(), 0u);
   FoldRecheck(repaired, *std::move(checked), uncross.facet_origin, same_vertex, mesh, merge);
   return repaired;
