@@ -840,9 +840,21 @@ class Probe:
         def unread_result(name):
             mesh = large()
             before = s.metrics().get('femsimp_jobs_total{status="DEADLINE_EXCEEDED"}', 0)
-            c = Call(s.stub, [spec_msg(mesh, preset=pb2.PRESET_PAPER, max_passes=1,
-                                       candidate_fraction=0.01, threads=1)] +
-                     chunks(mesh, per=8192), timeout=60, read=False)
+            # A connection of its own without BDP probing: the client's window then stays at
+            # gRPC's 4 MiB. With probing it may grow past the result (a server slow to answer
+            # pings, as under ASan, makes the estimate large): the whole result then fits unread
+            # and the call ends OK (CI on 5550440, the result then 4.8 MB).
+            channel = grpc.insecure_channel(
+                f"127.0.0.1:{s.port}", options=CHANNEL_OPTIONS + [
+                    ("grpc.http2.bdp_probe", 0), ("grpc.use_local_subchannel_pool", 1)])
+            # Three face fields make the result ~8.7 MB, twice that window (the mesh alone, 4.8 MB,
+            # is too close to it); 4096 faces a chunk stay under --max_request_bytes.
+            nf = len(mesh[1]) // 3
+            fields = [[float(k % 7 + f) for k in range(nf)] for f in range(3)]
+            c = Call(pb2_grpc.SimplifierStub(channel),
+                     [spec_msg(mesh, fields=["p", "q", "r"], preset=pb2.PRESET_PAPER, max_passes=1,
+                               candidate_fraction=0.01, threads=1)] +
+                     chunks(mesh, per=4096, fields=fields), timeout=60, read=False)
             c.accepted.wait(30)
             ids = []
 
@@ -853,6 +865,8 @@ class Probe:
             j = wait_for(find, 30, 0.1)
             if not j:
                 self.finding(name, "the job listed", "not found")
+                c.cancel()
+                channel.close()
                 return
             ids.append(j.job_id)
             self.job_ids.append(j.job_id)
@@ -872,6 +886,7 @@ class Probe:
                              f"{info.status_message!r}")
             c.cancel()
             c.wait()
+            channel.close()
 
         self.case("a result nobody reads", unread_result)
 
