@@ -14,6 +14,7 @@
 #include "engine/io/mesh_io.h"
 #include "engine/mesh.h"
 #include "engine/prepare.h"
+#include "engine/worker_pool.h"
 
 namespace femsimp::cli {
 namespace {
@@ -84,7 +85,10 @@ int RunLocal(const SimplifyArgs& args) {
     return kExitEngineFailed;
   }
   const auto crossings_start = std::chrono::steady_clock::now();
-  report.fidelity.output_crossings = FindCrossings(*out);
+  {
+    WorkerPool pool(args.options.threads);
+    report.fidelity.output_crossings = FindCrossings(*out, nullptr, false, &pool);
+  }
   report.crossings_seconds = SecondsSince(crossings_start);
   // The check runs before OUT is written, so that the summary and --stats-json hold it; OUT is
   // written whether it succeeds or not.

@@ -130,6 +130,7 @@ int FinishRun(const SimplifyArgs& args, RawMesh& output, const GroupNames& group
 RepairOptions RepairOptionsFor(const SimplifyArgs& args) {
   RepairOptions o = args.options.repair;
   o.max_records_per_kind = kReportRepairRecordsPerKind;
+  o.threads = args.options.threads;
   return o;
 }
 

@@ -15,6 +15,7 @@
 #include "engine/triangle_distance.h"
 #include "engine/union_find.h"
 #include "engine/vec.h"
+#include "engine/worker_pool.h"
 
 namespace femsimp {
 namespace {
@@ -37,7 +38,7 @@ struct Plan {
 
 class Uncrosser {
  public:
-  explicit Uncrosser(const RawMesh& mesh) : mesh_(mesh) {}
+  Uncrosser(const RawMesh& mesh, int threads) : mesh_(mesh), threads_(threads) {}
 
   UncrossResult Run() {
     const size_t nf = mesh_.num_faces();
@@ -49,7 +50,8 @@ class Uncrosser {
     }
     CrossingPairLists lists;
     lists.stop_after = kMaxPairs;
-    const SoupCrossings found = FindCrossings(mesh_, &lists, /*crossings_only=*/true);
+    if (threads_ > 1) pool_.emplace(threads_);
+    const SoupCrossings found = FindCrossings(mesh_, &lists, /*crossings_only=*/true, pool());
     result_.pairs_before = lists.crossing.size();
     if (lists.crossing.empty()) return std::move(result_);
     if (found.cut_short) {  // a soup crossing itself everywhere: not vertices written wrongly
@@ -74,7 +76,7 @@ class Uncrosser {
     for (int round = 0; round < 2 && !lists.crossing.empty(); ++round) {
       if (!TakeOutVertices(lists.crossing)) break;
       lists = CrossingPairLists();
-      FindCrossings(Soup(facets_), &lists, /*crossings_only=*/true);
+      FindCrossings(Soup(facets_), &lists, /*crossings_only=*/true, pool());
     }
     result_.pairs_after = lists.crossing.size();
     if (result_.pairs_after >= result_.pairs_before) {  // nothing gained: all stays as it was
@@ -559,7 +561,11 @@ class Uncrosser {
     }
   }
 
+  WorkerPool* pool() { return pool_ ? &*pool_ : nullptr; }
+
   const RawMesh& mesh_;
+  const int threads_;
+  std::optional<WorkerPool> pool_;  // the whole mesh's scans run on it
   std::vector<Facet> facets_;
   std::vector<uint32_t> origin_;
   absl::flat_hash_map<uint64_t, uint32_t> uses_;
@@ -581,6 +587,8 @@ class Uncrosser {
 
 }  // namespace
 
-UncrossResult TakeOutCrossings(const RawMesh& mesh) { return Uncrosser(mesh).Run(); }
+UncrossResult TakeOutCrossings(const RawMesh& mesh, int threads) {
+  return Uncrosser(mesh, threads).Run();
+}
 
 }  // namespace femsimp

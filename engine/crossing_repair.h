@@ -59,6 +59,7 @@ struct UncrossResult {
 
 // `mesh`: a repaired surface (welded, oriented, one fan per vertex); it is not changed. Where
 // what would be taken out leaves no fewer crossing pairs than there were, nothing is.
-UncrossResult TakeOutCrossings(const RawMesh& mesh);
+// The scan for crossing pairs runs on `threads` threads.
+UncrossResult TakeOutCrossings(const RawMesh& mesh, int threads = 1);
 
 }  // namespace femsimp

@@ -1,7 +1,9 @@
 #include "engine/crossings.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <optional>
 #include <utility>
@@ -11,14 +13,15 @@
 #include "engine/fold.h"
 #include "engine/planar_overlap.h"
 #include "engine/transversal_crossing.h"
+#include "engine/worker_pool.h"
 
 namespace femsimp {
 namespace {
 
 // Faces cover at most this many cells on average (the cells grow until they do), and a cell
-// coordinate fits 21 bits, so that three pack into one key.
+// coordinate fits a little over 20 bits, so that three pack into one key.
 constexpr double kCellsPerFace = 8.0;
-constexpr int kKeyBits = 21;
+constexpr int kCellBits = 20;
 constexpr double kPlaneTolerance = 1e-6;  // of the diagonal
 
 struct Box {
@@ -57,9 +60,19 @@ class Grid {
   double cell_;
 };
 
-uint64_t Key(int64_t x, int64_t y, int64_t z) {
-  return uint64_t(x) << (2 * kKeyBits) | uint64_t(y) << kKeyBits | uint64_t(z);
-}
+// A cell's key: its coordinates in (x, y, z) order, packed as tightly as the grid's extent
+// allows (fewer radix passes than fixed fields).
+struct CellKeys {
+  uint64_t ny, nz;
+  uint64_t Key(int64_t x, int64_t y, int64_t z) const {
+    return (uint64_t(x) * ny + uint64_t(y)) * nz + uint64_t(z);
+  }
+  void Cell(uint64_t key, int32_t (&at)[3]) const {
+    at[2] = int32_t(key % nz);
+    at[1] = int32_t(key / nz % ny);
+    at[0] = int32_t(key / nz / ny);
+  }
+};
 
 // Whether t reaches through the other's plane by no more than `tolerance` on one of its sides:
 // a face standing on another along a line (a block's side on the plate it touches) crosses it by
@@ -98,6 +111,39 @@ std::optional<DVec3> Fold(const Triangle& s, const Triangle& t, double plane_tol
   return 0.5 * (a + b);
 }
 
+// The (cell, face) list sorted by cell, faces in their order within a cell: what sorting the
+// pairs would give, by a stable radix sort on the cell keys' used bits (a million faces list
+// about two million cells; std::sort took a third of the scan).
+void SortByCell(std::vector<std::pair<uint64_t, uint32_t>>& listed) {
+  uint64_t all = 0;
+  for (const auto& e : listed) all |= e.first;
+  std::vector<std::pair<uint64_t, uint32_t>> other(listed.size());
+  constexpr int kDigitBits = 16;
+  std::vector<size_t> start(size_t{1} << kDigitBits);
+  for (int shift = 0; shift < 64 && (all >> shift) != 0; shift += kDigitBits) {
+    const auto digit = [shift](uint64_t key) {
+      return size_t((key >> shift) & ((uint64_t{1} << kDigitBits) - 1));
+    };
+    std::fill(start.begin(), start.end(), 0);
+    for (const auto& e : listed) ++start[digit(e.first)];
+    size_t at = 0;
+    for (size_t& s : start) at += std::exchange(s, at);
+    for (const auto& e : listed) other[start[digit(e.first)]++] = e;
+    listed.swap(other);
+  }
+}
+
+// What one stretch of cells found, kept apart so that the stretches run on any number of threads
+// and are joined in cell order: the same lists, first pairs and sums as one thread's scan.
+struct StretchFound {
+  SoupCrossings found;
+  CrossingPairLists lists;
+  std::vector<double> overlap_areas;  // summed in order when joined
+};
+
+// Cells per stretch: fixed, so that the stretches (and a cut-short scan's end) do not depend on
+// the thread count.
+constexpr uint32_t kCellsPerStretch = 512;
 }  // namespace
 
 double ContactPlaneTolerance(const RawMesh& soup) {
@@ -110,10 +156,10 @@ double ContactPlaneTolerance(const RawMesh& soup) {
   return PlaneTolerance(lo, hi);
 }
 
-SoupCrossings FindCrossings(const RawMesh& soup, CrossingPairLists* lists, bool crossings_only) {
-  SoupCrossings found;
+SoupCrossings FindCrossings(const RawMesh& soup, CrossingPairLists* lists, bool crossings_only,
+                            WorkerPool* pool) {
   const size_t nf = soup.num_faces();
-  if (nf < 2) return found;
+  if (nf < 2) return SoupCrossings{};
   const auto corner = [&](size_t f, int k) {
     return &soup.positions[3 * size_t{soup.triangles[3 * f + k]}];
   };
@@ -148,8 +194,7 @@ SoupCrossings FindCrossings(const RawMesh& soup, CrossingPairLists* lists, bool 
     origin[a] = std::nextafter(float(lo[a] - plane_tolerance), -HUGE_VALF);
   for (const Box& b : box)
     for (int a = 0; a < 3; ++a) origin[a] = std::min(origin[a], b.lo[a]);
-  Grid grid(origin,
-            std::max(2.0 * edges / (3.0 * double(nf)), extent / double(1 << (kKeyBits - 1))));
+  Grid grid(origin, std::max(2.0 * edges / (3.0 * double(nf)), extent / double(1 << kCellBits)));
   std::vector<CellRange> range(nf);
   for (;;) {  // large faces among small ones would each cover many cells
     double covered = 0;
@@ -157,15 +202,20 @@ SoupCrossings FindCrossings(const RawMesh& soup, CrossingPairLists* lists, bool 
     if (covered <= kCellsPerFace * double(nf)) break;
     grid = Grid(origin, 2 * grid.cell());
   }
+  int32_t cells_along[3] = {1, 1, 1};  // every box's cells are within [0, cells_along)
+  for (const CellRange& r : range)
+    for (int a = 0; a < 3; ++a) cells_along[a] = std::max(cells_along[a], r.hi[a] + 1);
+  const CellKeys keys{uint64_t(cells_along[1]), uint64_t(cells_along[2])};
   std::vector<std::pair<uint64_t, uint32_t>> listed;  // (cell, face), by cell
+  listed.reserve(nf * 2);
   for (size_t f = 0; f < nf; ++f) {
     const CellRange& r = range[f];
     for (int32_t x = r.lo[0]; x <= r.hi[0]; ++x)
       for (int32_t y = r.lo[1]; y <= r.hi[1]; ++y)
         for (int32_t z = r.lo[2]; z <= r.hi[2]; ++z)
-          listed.emplace_back(Key(x, y, z), static_cast<uint32_t>(f));
+          listed.emplace_back(keys.Key(x, y, z), static_cast<uint32_t>(f));
   }
-  std::sort(listed.begin(), listed.end());
+  SortByCell(listed);
   // What the pair loop reads of each listed face, in the list's order, so that each cell's
   // stretch can be sorted for the sweep below.
   struct Entry {
@@ -174,22 +224,26 @@ SoupCrossings FindCrossings(const RawMesh& soup, CrossingPairLists* lists, bool 
     uint32_t face;
   };
   std::vector<Entry> entries(listed.size());
-  for (size_t i = 0; i < listed.size(); ++i) {
-    const uint32_t f = listed[i].second;
-    entries[i] = {box[f], {range[f].lo[0], range[f].lo[1], range[f].lo[2]}, f};
-  }
-  const auto cell_end = [&](size_t begin) {
-    size_t end = begin;
-    while (end < listed.size() && listed[end].first == listed[begin].first) ++end;
-    return end;
-  };
+  constexpr uint32_t kItemsPerChunk = 1 << 16;
+  RunChunked(pool, static_cast<uint32_t>(listed.size()), kItemsPerChunk, {},
+             [&](uint32_t first, uint32_t last) {
+               for (size_t i = first; i < last; ++i) {
+                 const uint32_t f = listed[i].second;
+                 entries[i] = {box[f], {range[f].lo[0], range[f].lo[1], range[f].lo[2]}, f};
+               }
+             });
+  std::vector<size_t> cell_start;  // where each cell's stretch of `listed` begins, then the end
+  for (size_t i = 0; i < listed.size(); ++i)
+    if (i == 0 || listed[i].first != listed[i - 1].first) cell_start.push_back(i);
+  const uint32_t cells = static_cast<uint32_t>(cell_start.size());
+  cell_start.push_back(listed.size());
   // Each cell's faces by the low x of their boxes, so that the pair loop stops at the first
   // partner beyond a face's box (a cell of slivers holds hundreds of faces).
-  for (size_t begin = 0, end; begin < listed.size(); begin = end) {
-    end = cell_end(begin);
-    std::sort(entries.begin() + begin, entries.begin() + end,
-              [](const Entry& a, const Entry& b) { return a.box.lo[0] < b.box.lo[0]; });
-  }
+  RunChunked(pool, cells, kCellsPerStretch * 8, {}, [&](uint32_t first, uint32_t last) {
+    for (uint32_t c = first; c < last; ++c)
+      std::sort(entries.begin() + cell_start[c], entries.begin() + cell_start[c + 1],
+                [](const Entry& a, const Entry& b) { return a.box.lo[0] < b.box.lo[0]; });
+  });
   const auto triangle = [&](uint32_t f) {
     Triangle t;
     for (int k = 0; k < 3; ++k) {
@@ -203,13 +257,16 @@ SoupCrossings FindCrossings(const RawMesh& soup, CrossingPairLists* lists, bool 
   // planes, which this tells before OverlapInPlane's exact test (its rounding is far below the
   // doubled tolerance).
   std::vector<std::array<float, 4>> plane(nf);
-  for (size_t f = 0; f < nf; ++f) {
-    const Triangle t = triangle(static_cast<uint32_t>(f));
-    const DVec3 n = Cross(t.p[1] - t.p[0], t.p[2] - t.p[0]);
-    const double length = Norm(n);
-    const DVec3 unit = length > 0.0 ? (1.0 / length) * n : DVec3{0, 0, 0};
-    plane[f] = {float(unit.x), float(unit.y), float(unit.z), float(Dot(unit, t.p[0]))};
-  }
+  RunChunked(pool, static_cast<uint32_t>(nf), kItemsPerChunk, {},
+             [&](uint32_t first, uint32_t last) {
+               for (uint32_t f = first; f < last; ++f) {
+                 const Triangle t = triangle(f);
+                 const DVec3 n = Cross(t.p[1] - t.p[0], t.p[2] - t.p[0]);
+                 const double length = Norm(n);
+                 const DVec3 unit = length > 0.0 ? (1.0 / length) * n : DVec3{0, 0, 0};
+                 plane[f] = {float(unit.x), float(unit.y), float(unit.z), float(Dot(unit, t.p[0]))};
+               }
+             });
   const auto near_plane = [&](uint32_t of, uint32_t other) {
     const std::array<float, 4>& e = plane[of];
     for (int k = 0; k < 3; ++k) {
@@ -247,74 +304,123 @@ SoupCrossings FindCrossings(const RawMesh& soup, CrossingPairLists* lists, bool 
         shared += soup.triangles[3 * size_t{a} + i] == soup.triangles[3 * size_t{b} + j];
     return shared;
   };
-  const uint64_t mask = (uint64_t{1} << kKeyBits) - 1;
-  for (size_t begin = 0, end; begin < listed.size(); begin = end) {
-    end = cell_end(begin);
-    if (end - begin < 2) continue;
-    const uint64_t k = listed[begin].first;
-    const int32_t here[3] = {int32_t(k >> (2 * kKeyBits)), int32_t((k >> kKeyBits) & mask),
-                             int32_t(k & mask)};
-    for (size_t i = begin; i < end; ++i) {
-      const Entry& a = entries[i];
-      for (size_t j = i + 1; j < end; ++j) {
-        const Entry& b = entries[j];
-        if (b.box.lo[0] > a.box.hi[0]) break;
-        if (!a.box.Overlaps(b.box)) continue;
-        // A pair that shares several cells is tested in the first of them only.
-        if (std::max(a.first_cell[0], b.first_cell[0]) != here[0] ||
-            std::max(a.first_cell[1], b.first_cell[1]) != here[1] ||
-            std::max(a.first_cell[2], b.first_cell[2]) != here[2])
-          continue;
-        // Faces with a common edge meet along it or fold within one plane: never a crossing.
-        const int shared = shared_corners(a.face, b.face);
-        if (shared > 2) continue;
-        const std::pair<uint32_t, uint32_t> pair = std::minmax(a.face, b.face);
-        const Triangle first = triangle(pair.first), second = triangle(pair.second);
-        if (shared == 2) {
-          if (crossings_only) continue;
-          if (const std::optional<DVec3> at = Fold(first, second, plane_tolerance)) {
-            SoupCrossings::Folds& fo = found.folds;
-            if (lists != nullptr) lists->folded.push_back(pair);
-            if (fo.pairs++ == 0 || pair < std::pair(fo.face_a, fo.face_b)) {
-              fo.face_a = pair.first;
-              fo.face_b = pair.second;
-              fo.at = {soup.origin[0] + at->x, soup.origin[1] + at->y, soup.origin[2] + at->z};
+  // The pairs of one stretch of cells. A stretch stops once it has listed more crossing pairs
+  // than `stop_after` (its own count: what it finds does not depend on the other stretches).
+  const bool listing = lists != nullptr;
+  const size_t stop_after = listing ? lists->stop_after : SIZE_MAX;
+  const auto scan = [&](uint32_t first_cell, uint32_t last_cell, StretchFound& out) {
+    SoupCrossings& found = out.found;
+    for (uint32_t c = first_cell; c < last_cell; ++c) {
+      const size_t begin = cell_start[c], end = cell_start[c + 1];
+      if (end - begin < 2) continue;
+      int32_t here[3];
+      keys.Cell(listed[begin].first, here);
+      for (size_t i = begin; i < end; ++i) {
+        const Entry& a = entries[i];
+        for (size_t j = i + 1; j < end; ++j) {
+          const Entry& b = entries[j];
+          if (b.box.lo[0] > a.box.hi[0]) break;
+          if (!a.box.Overlaps(b.box)) continue;
+          // A pair that shares several cells is tested in the first of them only.
+          if (std::max(a.first_cell[0], b.first_cell[0]) != here[0] ||
+              std::max(a.first_cell[1], b.first_cell[1]) != here[1] ||
+              std::max(a.first_cell[2], b.first_cell[2]) != here[2])
+            continue;
+          // Faces with a common edge meet along it or fold within one plane: never a crossing.
+          const int shared = shared_corners(a.face, b.face);
+          if (shared > 2) continue;
+          const std::pair<uint32_t, uint32_t> pair = std::minmax(a.face, b.face);
+          const Triangle first = triangle(pair.first), second = triangle(pair.second);
+          if (shared == 2) {
+            if (crossings_only) continue;
+            if (const std::optional<DVec3> at = Fold(first, second, plane_tolerance)) {
+              SoupCrossings::Folds& fo = found.folds;
+              if (listing) out.lists.folded.push_back(pair);
+              if (fo.pairs++ == 0 || pair < std::pair(fo.face_a, fo.face_b)) {
+                fo.face_a = pair.first;
+                fo.face_b = pair.second;
+                fo.at = {soup.origin[0] + at->x, soup.origin[1] + at->y, soup.origin[2] + at->z};
+              }
             }
+            continue;
           }
-          continue;
-        }
-        if (const std::optional<PlanarOverlap> o =
-                !crossings_only && shared == 0 && near_plane(a.face, b.face)
-                    ? OverlapInPlane(first, second, plane_tolerance)
-                    : std::nullopt) {
-          SoupCrossings::Overlaps& ov = found.overlaps;
-          ov.area += o->area;
-          if (lists != nullptr) lists->overlapping.push_back(pair);
-          if (ov.pairs++ == 0 || pair < std::pair(ov.face_a, ov.face_b)) {
-            ov.face_a = pair.first;
-            ov.face_b = pair.second;
-            ov.at = {soup.origin[0] + o->at.x, soup.origin[1] + o->at.y, soup.origin[2] + o->at.z};
+          if (const std::optional<PlanarOverlap> o =
+                  !crossings_only && shared == 0 && near_plane(a.face, b.face)
+                      ? OverlapInPlane(first, second, plane_tolerance)
+                      : std::nullopt) {
+            SoupCrossings::Overlaps& ov = found.overlaps;
+            out.overlap_areas.push_back(o->area);
+            if (listing) out.lists.overlapping.push_back(pair);
+            if (ov.pairs++ == 0 || pair < std::pair(ov.face_a, ov.face_b)) {
+              ov.face_a = pair.first;
+              ov.face_b = pair.second;
+              ov.at = {soup.origin[0] + o->at.x, soup.origin[1] + o->at.y,
+                       soup.origin[2] + o->at.z};
+            }
+            continue;
           }
-          continue;
-        }
-        // Faces that do not reach through each other's planes are apart: the cheap tests first.
-        if (clearly_on_one_side(a.face, b.face) || clearly_on_one_side(b.face, a.face)) continue;
-        if (TouchesWithinTolerance(first, second, plane_tolerance) ||
-            TouchesWithinTolerance(second, first, plane_tolerance))
-          continue;
-        const std::optional<DVec3> at = TransversalCrossing(first, second);
-        if (!at) continue;
-        if (lists != nullptr) lists->crossing.push_back(pair);
-        if (found.pairs++ == 0 || pair < std::pair(found.face_a, found.face_b)) {
-          found.face_a = pair.first;
-          found.face_b = pair.second;
-          found.at = {soup.origin[0] + at->x, soup.origin[1] + at->y, soup.origin[2] + at->z};
-        }
-        if (lists != nullptr && lists->crossing.size() > lists->stop_after) {
-          found.cut_short = true;  // enough to know: the count is a floor
-          return found;
+          // Faces that do not reach through each other's planes are apart: the cheap tests first.
+          if (clearly_on_one_side(a.face, b.face) || clearly_on_one_side(b.face, a.face)) continue;
+          if (TouchesWithinTolerance(first, second, plane_tolerance) ||
+              TouchesWithinTolerance(second, first, plane_tolerance))
+            continue;
+          const std::optional<DVec3> at = TransversalCrossing(first, second);
+          if (!at) continue;
+          if (listing) out.lists.crossing.push_back(pair);
+          if (found.pairs++ == 0 || pair < std::pair(found.face_a, found.face_b)) {
+            found.face_a = pair.first;
+            found.face_b = pair.second;
+            found.at = {soup.origin[0] + at->x, soup.origin[1] + at->y, soup.origin[2] + at->z};
+          }
+          if (found.pairs > stop_after) return;
         }
       }
+    }
+  };
+  // Stretches are taken in order; once the crossings listed exceed `stop_after` the ones not yet
+  // begun are left. Those begun before are complete (or cut by their own count), so the join
+  // below ends at the same stretch on any number of threads.
+  std::vector<StretchFound> stretches((size_t{cells} + kCellsPerStretch - 1) / kCellsPerStretch);
+  std::vector<char> done(stretches.size(), 0);
+  std::atomic<size_t> crossings_listed{0};
+  RunChunked(pool, cells, kCellsPerStretch, {}, [&](uint32_t first, uint32_t last) {
+    if (crossings_listed.load(std::memory_order_relaxed) > stop_after) return;
+    StretchFound& out = stretches[first / kCellsPerStretch];
+    scan(first, last, out);
+    crossings_listed.fetch_add(out.found.pairs, std::memory_order_relaxed);
+    done[first / kCellsPerStretch] = 1;
+  });
+  SoupCrossings found;
+  const auto keep_first = [](uint64_t& pairs, uint32_t& a, uint32_t& b, std::array<double, 3>& at,
+                             uint64_t more, uint32_t more_a, uint32_t more_b,
+                             const std::array<double, 3>& more_at) {
+    if (more == 0) return;
+    if (pairs == 0 || std::pair(more_a, more_b) < std::pair(a, b)) {
+      a = more_a;
+      b = more_b;
+      at = more_at;
+    }
+    pairs += more;
+  };
+  for (size_t k = 0; k < stretches.size() && done[k]; ++k) {
+    const StretchFound& s = stretches[k];
+    keep_first(found.pairs, found.face_a, found.face_b, found.at, s.found.pairs, s.found.face_a,
+               s.found.face_b, s.found.at);
+    const SoupCrossings::Overlaps& so = s.found.overlaps;
+    SoupCrossings::Overlaps& o = found.overlaps;
+    keep_first(o.pairs, o.face_a, o.face_b, o.at, so.pairs, so.face_a, so.face_b, so.at);
+    for (double area : s.overlap_areas) o.area += area;
+    const SoupCrossings::Folds& sf = s.found.folds;
+    SoupCrossings::Folds& fo = found.folds;
+    keep_first(fo.pairs, fo.face_a, fo.face_b, fo.at, sf.pairs, sf.face_a, sf.face_b, sf.at);
+    if (lists != nullptr)
+      for (auto [to, from] : {std::pair(&lists->crossing, &s.lists.crossing),
+                              std::pair(&lists->overlapping, &s.lists.overlapping),
+                              std::pair(&lists->folded, &s.lists.folded)})
+        to->insert(to->end(), from->begin(), from->end());
+    if (found.pairs > stop_after) {
+      found.cut_short = true;  // enough to know: the count is a floor
+      break;
     }
   }
   return found;

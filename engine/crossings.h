@@ -17,6 +17,8 @@
 
 namespace femsimp {
 
+class WorkerPool;
+
 struct SoupCrossings {
   uint64_t pairs = 0;      // face pairs that certainly cross (engine/transversal_crossing.h)
   bool cut_short = false;  // the scan stopped at CrossingPairLists::stop_after: pairs is a floor
@@ -66,13 +68,16 @@ double ContactPlaneTolerance(const RawMesh& soup);
 // what the repair takes out and closes again (the crossings, engine/crossing_repair.h).
 struct CrossingPairLists {
   std::vector<std::pair<uint32_t, uint32_t>> crossing, overlapping, folded;
-  // The scan stops once more crossing pairs than this are listed (SoupCrossings::cut_short):
-  // a soup crossing itself everywhere has tens of millions.
+  // The scan stops once more crossing pairs than this are listed (SoupCrossings::cut_short), at
+  // the end of the stretch of cells where the count passed it: a soup crossing itself
+  // everywhere has tens of millions.
   size_t stop_after = std::numeric_limits<size_t>::max();
 };
-// `crossings_only`: the crossings alone (no fold or overlap tested, none counted).
+// `crossings_only`: the crossings alone (no fold or overlap tested, none counted). `pool`: the
+// cells are scanned on its contexts (none: on the caller alone); the result is the same on any
+// number of threads.
 SoupCrossings FindCrossings(const RawMesh& soup, CrossingPairLists* lists = nullptr,
-                            bool crossings_only = false);
+                            bool crossings_only = false, WorkerPool* pool = nullptr);
 
 // "N face pairs cross (the first: faces A and B, at (x, y, z))": the words every report of them
 // uses (the summary, the FE check's refusal); meaningful when pairs > 0.

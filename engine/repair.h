@@ -49,6 +49,9 @@ struct RepairOptions {
   // the hole closed again (engine/crossing_repair.h), after the other repairs. Off only where a
   // step runs the repairs again on what it made.
   bool take_out_crossings = true;
+  // Threads the scan for crossings may use: the caller's SimplifyOptions::threads (the CLI and
+  // the server set it); the result is the same on any number.
+  int threads = 1;
 };
 
 enum class RepairKind : int {

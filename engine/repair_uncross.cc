@@ -16,7 +16,7 @@ namespace femsimp {
 absl::StatusOr<RepairResult> UncrossRepaired(RawMesh& mesh, const RepairOptions& options,
                                              RepairResult repaired) {
   const size_t given_vertices = mesh.num_vertices();
-  UncrossResult uncross = TakeOutCrossings(mesh);
+  UncrossResult uncross = TakeOutCrossings(mesh, options.threads);
   // The other repairs again, on a copy made only where something was taken out: they drop the
   // vertices taken out and check that the closed rims left nothing for them (an edge used three
   // times, a component turned). Should they, the mesh stays as it was.

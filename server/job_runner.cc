@@ -5,6 +5,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "engine/crossings.h"
+#include "engine/worker_pool.h"
 #include "fecheck/fe_check.h"
 #include "proto/wire.h"
 #include "server/log.h"
@@ -139,7 +140,10 @@ void JobRunner::Run(const std::shared_ptr<Job>& job) {
     } catch (const std::bad_alloc&) {
       out = out_of_memory("to write the simplified mesh");
     }
-    if (out.ok()) result->output_crossings = FindCrossings(*out);
+    if (out.ok()) {
+      WorkerPool pool(o.threads);
+      result->output_crossings = FindCrossings(*out, nullptr, false, &pool);
+    }
     output_seconds = output_time.seconds();
     if (out.ok()) {
       output = *std::move(out);

@@ -58,6 +58,7 @@ Job::Clock::time_point NextWake(const grpc::ServerContext* ctx) {
 RepairOptions ServerRepairOptions(const Job& job) {
   RepairOptions o = job.options().repair;
   if (o.mode == RepairMode::kOff) o.max_records_per_kind = 5;
+  o.threads = job.options().threads;
   return o;
 }
 

@@ -9,6 +9,7 @@
 #include "absl/strings/str_cat.h"
 #include "engine/planar_overlap.h"
 #include "engine/transversal_crossing.h"
+#include "engine/worker_pool.h"
 #include "tests/support/meshes.h"
 
 namespace femsimp {
@@ -47,6 +48,86 @@ void ExpectAsBruteForce(const RawMesh& m) {
   EXPECT_EQ(grid.pairs, all.pairs);
   if (all.pairs == 0) return;
   EXPECT_EQ(std::pair(grid.face_a, grid.face_b), std::pair(all.face_a, all.face_b));
+}
+
+struct Scan {
+  SoupCrossings found;
+  CrossingPairLists lists;
+};
+
+Scan ScanOn(const RawMesh& m, WorkerPool* pool, size_t stop_after, bool crossings_only = false) {
+  Scan s;
+  s.lists.stop_after = stop_after;
+  s.found = FindCrossings(m, &s.lists, crossings_only, pool);
+  return s;
+}
+
+void ExpectSameScan(const Scan& a, const Scan& b) {
+  EXPECT_EQ(a.found.pairs, b.found.pairs);
+  EXPECT_EQ(a.found.cut_short, b.found.cut_short);
+  EXPECT_EQ(std::pair(a.found.face_a, a.found.face_b), std::pair(b.found.face_a, b.found.face_b));
+  EXPECT_EQ(a.found.at, b.found.at);
+  EXPECT_EQ(a.found.overlaps.pairs, b.found.overlaps.pairs);
+  EXPECT_EQ(a.found.overlaps.area, b.found.overlaps.area);  // summed in the same order
+  EXPECT_EQ(a.found.overlaps.at, b.found.overlaps.at);
+  EXPECT_EQ(a.found.folds.pairs, b.found.folds.pairs);
+  EXPECT_EQ(a.lists.crossing, b.lists.crossing);
+  EXPECT_EQ(a.lists.overlapping, b.lists.overlapping);
+  EXPECT_EQ(a.lists.folded, b.lists.folded);
+}
+
+// The cells are scanned in stretches on the pool's threads and joined in order: the counts, the
+// first pairs, the overlaps' area and every list are those of one thread.
+TEST(Crossings, ThreadsFindWhatOneThreadFinds) {
+  RawMesh m = MakeTorus(240, 80);  // thousands of cells: many stretches
+  Append(m, MakeTorus(240, 80), {0.6f, 0.4f, 0.3f});
+  Append(m, MakeBox({4, 3, 1}, {40, 30, 10}), {-2.0f, -1.5f, -6.0f});  // a block on a plate
+  Append(m, MakeBox({1.5, 1.25, 2}, {15, 12, 20}), {-1.25f, -1.0f, -5.0f});
+  const Scan one = ScanOn(m, nullptr, SIZE_MAX);
+  ASSERT_GT(one.found.pairs, 1000u);
+  ASSERT_GT(one.found.overlaps.pairs, 100u);
+  EXPECT_EQ(one.lists.crossing.size(), one.found.pairs);
+  for (int threads : {2, 3}) {
+    WorkerPool pool(threads);
+    SCOPED_TRACE(threads);
+    ExpectSameScan(ScanOn(m, &pool, SIZE_MAX), one);
+    ExpectSameScan(ScanOn(m, &pool, SIZE_MAX, /*crossings_only=*/true),
+                   ScanOn(m, nullptr, SIZE_MAX, /*crossings_only=*/true));
+    const SoupCrossings counted = FindCrossings(m, nullptr, false, &pool);
+    EXPECT_EQ(counted.pairs, one.found.pairs);
+    EXPECT_EQ(counted.overlaps.area, one.found.overlaps.area);
+  }
+}
+
+// A scan told to stop after so many crossing pairs ends at the same stretch of cells on any
+// number of threads: a soup's report does not depend on the machine.
+TEST(Crossings, AScanCutShortEndsAtTheSameStretchOnAnyThreads) {
+  RawMesh soup;  // small random facets all over a cube, crossing each other everywhere
+  uint32_t state = 777;
+  const auto next = [&] {
+    state = state * 1664525u + 1013904223u;
+    return float(state >> 8) / float(1 << 24);
+  };
+  for (uint32_t f = 0; f < 30000; ++f) {
+    const float centre[3] = {next(), next(), next()};
+    for (int c = 0; c < 3; ++c) {
+      for (int k = 0; k < 3; ++k) soup.positions.push_back(centre[k] + 0.05f * next());
+      soup.triangles.push_back(3 * f + c);
+    }
+  }
+  const Scan whole = ScanOn(soup, nullptr, SIZE_MAX);
+  const Scan one = ScanOn(soup, nullptr, 1000, /*crossings_only=*/true);
+  ASSERT_GT(whole.found.pairs, 5000u);
+  EXPECT_TRUE(one.found.cut_short);
+  EXPECT_FALSE(whole.found.cut_short);
+  EXPECT_GT(one.found.pairs, 1000u);
+  EXPECT_LT(one.found.pairs, whole.found.pairs / 2);
+  EXPECT_EQ(one.lists.crossing.size(), one.found.pairs);
+  for (int threads : {2, 3}) {
+    WorkerPool pool(threads);
+    SCOPED_TRACE(threads);
+    ExpectSameScan(ScanOn(soup, &pool, 1000, /*crossings_only=*/true), one);
+  }
 }
 
 TEST(Crossings, ClosedSurfacesHaveNone) {
