@@ -82,8 +82,9 @@ int main(int argc, char** argv) {
     for (Variant& v : variants) {
       Run run;
       const auto start = std::chrono::steady_clock::now();
-      run.found = femsimp::FindCrossings(*soup, v.repair ? &run.lists : nullptr, v.repair,
-                                         v.threads > 1 ? &pool : nullptr);
+      run.found = femsimp::FindCrossings(*soup, {.lists = v.repair ? &run.lists : nullptr,
+                                                 .crossings_only = v.repair,
+                                                 .pool = v.threads > 1 ? &pool : nullptr});
       v.seconds.push_back(
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
       v.last = std::move(run);

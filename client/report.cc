@@ -118,7 +118,8 @@ std::string CrossingsJson(const SoupCrossings& c) {
                    : absl::StrCat("{\"pairs\": ", f.pairs, ", \"faces\": [", f.face_a, ", ",
                                   f.face_b, "], \"at\": [", JsonNumber(f.at[0]), ", ",
                                   JsonNumber(f.at[1]), ", ", JsonNumber(f.at[2]), "]}");
-  const std::string apart = absl::StrCat(", \"overlaps\": ", overlaps, ", \"folds\": ", folds, "}");
+  const std::string apart = absl::StrCat(", \"overlaps\": ", overlaps, ", \"folds\": ", folds,
+                                         ", \"cut_short\": ", c.cut_short ? "true" : "false", "}");
   if (c.pairs == 0) return absl::StrCat("{\"pairs\": 0", apart);
   return absl::StrCat("{\"pairs\": ", c.pairs, ", \"faces\": [", c.face_a, ", ", c.face_b,
                       "], \"at\": [", JsonNumber(c.at[0]), ", ", JsonNumber(c.at[1]), ", ",

@@ -49,9 +49,11 @@ class Uncrosser {
       origin_[f] = f;
     }
     CrossingPairLists lists;
-    lists.stop_after = kMaxPairs;
     if (threads_ > 1) pool_.emplace(threads_);
-    const SoupCrossings found = FindCrossings(mesh_, &lists, /*crossings_only=*/true, pool());
+    const SoupCrossings found = FindCrossings(mesh_, {.lists = &lists,
+                                                      .crossings_only = true,
+                                                      .stop_after = kEnoughCrossingPairs,
+                                                      .pool = pool()});
     result_.pairs_before = lists.crossing.size();
     if (lists.crossing.empty()) return std::move(result_);
     if (found.cut_short) {  // a soup crossing itself everywhere: not vertices written wrongly
@@ -63,7 +65,7 @@ class Uncrosser {
            absl::StrFormat("more than %u face pairs cross; left as they are: far more than "
                            "vertices written wrongly make (a soup of facets, or bodies exported "
                            "overlapping)",
-                           kMaxPairs)});
+                           kEnoughCrossingPairs)});
       result_.pairs_after = result_.pairs_before;
       return std::move(result_);
     }
@@ -76,7 +78,7 @@ class Uncrosser {
     for (int round = 0; round < 2 && !lists.crossing.empty(); ++round) {
       if (!TakeOutVertices(lists.crossing)) break;
       lists = CrossingPairLists();
-      FindCrossings(Soup(facets_), &lists, /*crossings_only=*/true, pool());
+      FindCrossings(Soup(facets_), {.lists = &lists, .crossings_only = true, .pool = pool()});
     }
     result_.pairs_after = lists.crossing.size();
     if (result_.pairs_after >= result_.pairs_before) {  // nothing gained: all stays as it was
@@ -454,7 +456,7 @@ class Uncrosser {
     const uint32_t own = uint32_t(local.size());
     local.insert(local.end(), plans[i].fill.begin(), plans[i].fill.end());
     CrossingPairLists found;
-    FindCrossings(Soup(local), &found);
+    FindCrossings(Soup(local), {.lists = &found});
     for (const auto* pairs : {&found.crossing, &found.overlapping, &found.folded})
       for (const auto& [a, b] : *pairs)
         if (a >= own || b >= own) return true;
@@ -577,7 +579,6 @@ class Uncrosser {
   bool OverBudget() const { return work_ > kMaxFacetReads; }
   static constexpr double kMaxFacetReads = 2e8;
   static constexpr size_t kMaxVertexPairs = 256;
-  static constexpr size_t kMaxPairs = 100000;
   static constexpr const char* kTooMany =
       "too many crossings to take out one by one (bodies overlapping, or a soup)";
   double work_ = 0;

@@ -156,8 +156,10 @@ double ContactPlaneTolerance(const RawMesh& soup) {
   return PlaneTolerance(lo, hi);
 }
 
-SoupCrossings FindCrossings(const RawMesh& soup, CrossingPairLists* lists, bool crossings_only,
-                            WorkerPool* pool) {
+SoupCrossings FindCrossings(const RawMesh& soup, const CrossingScan& scan) {
+  CrossingPairLists* const lists = scan.lists;
+  const bool crossings_only = scan.crossings_only;
+  WorkerPool* const pool = scan.pool;
   const size_t nf = soup.num_faces();
   if (nf < 2) return SoupCrossings{};
   const auto corner = [&](size_t f, int k) {
@@ -304,11 +306,11 @@ SoupCrossings FindCrossings(const RawMesh& soup, CrossingPairLists* lists, bool 
         shared += soup.triangles[3 * size_t{a} + i] == soup.triangles[3 * size_t{b} + j];
     return shared;
   };
-  // The pairs of one stretch of cells. A stretch stops once it has listed more crossing pairs
+  // The pairs of one stretch of cells. A stretch stops once it has found more crossing pairs
   // than `stop_after` (its own count: what it finds does not depend on the other stretches).
   const bool listing = lists != nullptr;
-  const size_t stop_after = listing ? lists->stop_after : SIZE_MAX;
-  const auto scan = [&](uint32_t first_cell, uint32_t last_cell, StretchFound& out) {
+  const size_t stop_after = scan.stop_after;
+  const auto scan_stretch = [&](uint32_t first_cell, uint32_t last_cell, StretchFound& out) {
     SoupCrossings& found = out.found;
     for (uint32_t c = first_cell; c < last_cell; ++c) {
       const size_t begin = cell_start[c], end = cell_start[c + 1];
@@ -386,7 +388,7 @@ SoupCrossings FindCrossings(const RawMesh& soup, CrossingPairLists* lists, bool 
   RunChunked(pool, cells, kCellsPerStretch, {}, [&](uint32_t first, uint32_t last) {
     if (crossings_listed.load(std::memory_order_relaxed) > stop_after) return;
     StretchFound& out = stretches[first / kCellsPerStretch];
-    scan(first, last, out);
+    scan_stretch(first, last, out);
     crossings_listed.fetch_add(out.found.pairs, std::memory_order_relaxed);
     done[first / kCellsPerStretch] = 1;
   });
@@ -427,6 +429,11 @@ SoupCrossings FindCrossings(const RawMesh& soup, CrossingPairLists* lists, bool 
 }
 
 std::string DescribeCrossings(const SoupCrossings& c) {
+  if (c.cut_short)
+    return absl::StrFormat(
+        "at least %u face pairs cross (the check stopped there: a soup of facets, or bodies "
+        "exported overlapping; the first it found: faces %u and %u, at (%.6g, %.6g, %.6g))",
+        c.pairs, c.face_a, c.face_b, c.at[0], c.at[1], c.at[2]);
   return absl::StrFormat("%u face pair%s cross (the first: faces %u and %u, at (%.6g, %.6g, %.6g))",
                          c.pairs, c.pairs == 1 ? "" : "s", c.face_a, c.face_b, c.at[0], c.at[1],
                          c.at[2]);
@@ -435,18 +442,20 @@ std::string DescribeCrossings(const SoupCrossings& c) {
 std::string DescribeOverlaps(const SoupCrossings& c) {
   const SoupCrossings::Overlaps& o = c.overlaps;
   return absl::StrFormat(
-      "%u face pair%s overlap in their plane, over an area of %.6g (the first: faces %u and %u, "
-      "at (%.6g, %.6g, %.6g)): bodies exported apart that touch, each with its own "
+      "%s%u face pair%s overlap in their plane, over an area of %.6g (the first: faces %u and "
+      "%u, at (%.6g, %.6g, %.6g)): bodies exported apart that touch, each with its own "
       "triangulation of the contact",
-      o.pairs, o.pairs == 1 ? "" : "s", o.area, o.face_a, o.face_b, o.at[0], o.at[1], o.at[2]);
+      c.cut_short ? "at least " : "", o.pairs, o.pairs == 1 ? "" : "s", o.area, o.face_a, o.face_b,
+      o.at[0], o.at[1], o.at[2]);
 }
 
 std::string DescribeFolds(const SoupCrossings& c) {
   const SoupCrossings::Folds& f = c.folds;
   return absl::StrFormat(
-      "%u face pair%s lie on each other in their plane, one of each turned over (the first: "
+      "%s%u face pair%s lie on each other in their plane, one of each turned over (the first: "
       "faces %u and %u, along their common edge at (%.6g, %.6g, %.6g))",
-      f.pairs, f.pairs == 1 ? "" : "s", f.face_a, f.face_b, f.at[0], f.at[1], f.at[2]);
+      c.cut_short ? "at least " : "", f.pairs, f.pairs == 1 ? "" : "s", f.face_a, f.face_b, f.at[0],
+      f.at[1], f.at[2]);
 }
 
 }  // namespace femsimp

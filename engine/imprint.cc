@@ -536,7 +536,7 @@ ImprintResult Imprinter::Run() {
   // the check of the one before (what is left, what crosses).
   for (int round = 0;; ++round) {
     CrossingPairLists lists;
-    const SoupCrossings found = FindCrossings(mesh_, &lists);
+    const SoupCrossings found = FindCrossings(mesh_, {.lists = &lists});
     std::vector<std::pair<uint32_t, uint32_t>>& pairs = lists.overlapping;
     if (round == 0) crossings_before = found.pairs;
     crossings_now = found.pairs;

@@ -304,6 +304,7 @@ void FidelityToProto(const SimplifyResult& r, v1::Result* out) {
   out->set_thinnest_wall(r.thinnest_wall);
   v1::OutputCrossings* crossings = out->mutable_output_crossings();
   crossings->set_pairs(r.output_crossings.pairs);
+  crossings->set_cut_short(r.output_crossings.cut_short);
   if (r.output_crossings.pairs > 0) {
     crossings->set_face_a(r.output_crossings.face_a);
     crossings->set_face_b(r.output_crossings.face_b);
@@ -355,6 +356,7 @@ void FidelityFromProto(const v1::Result& in, SimplifyResult* out) {
     out->parts.push_back({p.input_volume(), p.output_volume()});
   const v1::OutputCrossings& crossings = in.output_crossings();
   out->output_crossings.pairs = crossings.pairs();
+  out->output_crossings.cut_short = crossings.cut_short();
   out->output_crossings.face_a = crossings.face_a();
   out->output_crossings.face_b = crossings.face_b();
   for (int i = 0; i < 3 && i < crossings.at_size(); ++i)

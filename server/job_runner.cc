@@ -142,7 +142,8 @@ void JobRunner::Run(const std::shared_ptr<Job>& job) {
     }
     if (out.ok()) {
       WorkerPool pool(o.threads);
-      result->output_crossings = FindCrossings(*out, nullptr, false, &pool);
+      result->output_crossings =
+          FindCrossings(*out, {.stop_after = kEnoughCrossingPairs, .pool = &pool});
     }
     output_seconds = output_time.seconds();
     if (out.ok()) {

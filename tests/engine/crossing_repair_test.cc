@@ -128,17 +128,7 @@ TEST(CrossingRepair, TwoBodiesOverlappingAreLeftAndSaidSo) {
 // A soup of large random facets crosses itself millions of times: the scan stops at its cap and
 // one record says so, instead of listing them all (minutes and gigabytes).
 TEST(CrossingRepair, ASoupCrossingItselfEverywhereIsOneRecord) {
-  RawMesh soup;
-  uint32_t state = 12345;
-  const auto next = [&] {
-    state = state * 1664525u + 1013904223u;
-    return float(state >> 8) / float(1 << 24);
-  };
-  for (uint32_t f = 0; f < 3000; ++f)
-    for (int c = 0; c < 3; ++c) {
-      for (int k = 0; k < 3; ++k) soup.positions.push_back(next());
-      soup.triangles.push_back(3 * f + c);
-    }
+  RawMesh soup = testing::RandomSoup(3000, 12345);
   const std::vector<uint32_t> triangles = soup.triangles;
   absl::StatusOr<RepairResult> r = RepairMesh(soup, RepairOptions{});
   ASSERT_TRUE(r.ok()) << r.status();

@@ -57,8 +57,10 @@ struct Scan {
 
 Scan ScanOn(const RawMesh& m, WorkerPool* pool, size_t stop_after, bool crossings_only = false) {
   Scan s;
-  s.lists.stop_after = stop_after;
-  s.found = FindCrossings(m, &s.lists, crossings_only, pool);
+  s.found = FindCrossings(m, {.lists = &s.lists,
+                              .crossings_only = crossings_only,
+                              .stop_after = stop_after,
+                              .pool = pool});
   return s;
 }
 
@@ -93,7 +95,7 @@ TEST(Crossings, ThreadsFindWhatOneThreadFinds) {
     ExpectSameScan(ScanOn(m, &pool, SIZE_MAX), one);
     ExpectSameScan(ScanOn(m, &pool, SIZE_MAX, /*crossings_only=*/true),
                    ScanOn(m, nullptr, SIZE_MAX, /*crossings_only=*/true));
-    const SoupCrossings counted = FindCrossings(m, nullptr, false, &pool);
+    const SoupCrossings counted = FindCrossings(m, {.pool = &pool});
     EXPECT_EQ(counted.pairs, one.found.pairs);
     EXPECT_EQ(counted.overlaps.area, one.found.overlaps.area);
   }
@@ -102,19 +104,8 @@ TEST(Crossings, ThreadsFindWhatOneThreadFinds) {
 // A scan told to stop after so many crossing pairs ends at the same stretch of cells on any
 // number of threads: a soup's report does not depend on the machine.
 TEST(Crossings, AScanCutShortEndsAtTheSameStretchOnAnyThreads) {
-  RawMesh soup;  // small random facets all over a cube, crossing each other everywhere
-  uint32_t state = 777;
-  const auto next = [&] {
-    state = state * 1664525u + 1013904223u;
-    return float(state >> 8) / float(1 << 24);
-  };
-  for (uint32_t f = 0; f < 30000; ++f) {
-    const float centre[3] = {next(), next(), next()};
-    for (int c = 0; c < 3; ++c) {
-      for (int k = 0; k < 3; ++k) soup.positions.push_back(centre[k] + 0.05f * next());
-      soup.triangles.push_back(3 * f + c);
-    }
-  }
+  // Small facets all over a cube, crossing each other everywhere.
+  const RawMesh soup = testing::RandomSoup(30000, 777, 0.05f);
   const Scan whole = ScanOn(soup, nullptr, SIZE_MAX);
   const Scan one = ScanOn(soup, nullptr, 1000, /*crossings_only=*/true);
   ASSERT_GT(whole.found.pairs, 5000u);

@@ -487,7 +487,7 @@ TEST(Report, SummaryWarnsWhereTheOutputIntersectsItself) {
       << s;
   EXPECT_NE(cli::ReportJson(r).find("\"output_crossings\": {\"pairs\": 1, \"faces\": [12, 57], "
                                     "\"at\": [1.5, -2, 3], \"overlaps\": {\"pairs\": 0}, "
-                                    "\"folds\": {\"pairs\": 0}}"),
+                                    "\"folds\": {\"pairs\": 0}, \"cut_short\": false}"),
             std::string::npos);
 }
 
@@ -508,7 +508,7 @@ TEST(Report, SummaryWarnsWhereTheOutputHasOverlappingFaces) {
   EXPECT_EQ(s.find("intersects itself"), std::string::npos) << s;
   EXPECT_NE(cli::ReportJson(r).find("\"output_crossings\": {\"pairs\": 0, \"overlaps\": "
                                     "{\"pairs\": 3, \"area\": 0.75, \"faces\": [4, 9], \"at\": "
-                                    "[1, 2, 3]}, \"folds\": {\"pairs\": 0}}"),
+                                    "[1, 2, 3]}, \"folds\": {\"pairs\": 0}, \"cut_short\": false}"),
             std::string::npos);
 }
 
@@ -530,7 +530,7 @@ TEST(Report, SummaryWarnsWhereTheOutputHasFoldedFaces) {
   EXPECT_EQ(s.find("overlapping faces"), std::string::npos) << s;
   EXPECT_NE(cli::ReportJson(r).find("\"output_crossings\": {\"pairs\": 0, \"overlaps\": "
                                     "{\"pairs\": 0}, \"folds\": {\"pairs\": 3, \"faces\": "
-                                    "[10, 11], \"at\": [0.5, 0.5, 1]}}"),
+                                    "[10, 11], \"at\": [0.5, 0.5, 1]}, \"cut_short\": false}"),
             std::string::npos);
   RepairReport repair;
   EXPECT_EQ(cli::RepairSummary(repair, 5), "repair:   no changes\n");
@@ -860,7 +860,7 @@ TEST(Report, JsonHasEveryField) {
                           "\"inertia_change\"",
                           "\"wall_limited_share\"",
                           "\"output_crossings\": {\"pairs\": 0, \"overlaps\": {\"pairs\": 0}, "
-                          "\"folds\": {\"pairs\": 0}}",
+                          "\"folds\": {\"pairs\": 0}, \"cut_short\": false}",
                           "\"tolerance_relative\"",
                           "\"feature_angle_deg\"",
                           "\"max_field_change\"",

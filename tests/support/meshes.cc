@@ -123,6 +123,25 @@ void Append(RawMesh& m, const RawMesh& add, const std::array<float, 3>& shift) {
   for (uint32_t v : add.triangles) m.triangles.push_back(base + v);
 }
 
+RawMesh RandomSoup(uint32_t facets, uint32_t seed, float size) {
+  RawMesh soup;
+  uint32_t state = seed;
+  const auto next = [&] {
+    state = state * 1664525u + 1013904223u;  // a linear congruential generator: any platform
+    return float(state >> 8) / float(1 << 24);
+  };
+  for (uint32_t f = 0; f < facets; ++f) {
+    float centre[3] = {0, 0, 0};
+    if (size < 1.0f)
+      for (float& c : centre) c = next();
+    for (int c = 0; c < 3; ++c) {
+      for (int k = 0; k < 3; ++k) soup.positions.push_back(centre[k] + size * next());
+      soup.triangles.push_back(3 * f + c);
+    }
+  }
+  return soup;
+}
+
 RawMesh TurnedSkew(RawMesh m) {
   const DVec3 axis = (1.0 / std::sqrt(1.0 + 0.49 + 0.09)) * DVec3{1.0, 0.7, 0.3};
   const double c = std::cos(0.61), s = std::sin(0.61);

@@ -37,6 +37,11 @@ void Append(RawMesh& m, const RawMesh& add, const std::array<float, 3>& shift);
 // as a CAD export of a tilted part is: planes that were exact are so only up to that rounding.
 RawMesh TurnedSkew(RawMesh m);
 
+// `facets` triangles with corners of their own, each within `size` of a point drawn in the
+// unit cube (size 1: anywhere in it), from a fixed generator seeded with `seed`: a soup whose
+// facets cross each other everywhere.
+RawMesh RandomSoup(uint32_t facets, uint32_t seed, float size = 1.0f);
+
 // Closed torus of n * m vertices and 2nm faces (a valid closed 2-manifold), radii R and r.
 RawMesh MakeTorus(int n, int m, double R = 3.0, double r = 1.0);
 
