@@ -131,10 +131,15 @@ def _warn_if_crossing(result, allowed):
     at = ", ".join(f"{x:.6g}" for x in c.at)
     cause = ("allow_self_intersections let the run make crossings" if allowed
              else "the input's own crossings, kept (the simplification makes none)")
-    warnings.warn(f"the output intersects itself: {c.pairs} face pair"
-                  f"{'' if c.pairs == 1 else 's'} cross (the first: faces {c.face_a} and "
-                  f"{c.face_b}, at ({at})); {cause}; a mesher such as tetgen refuses it",
-                  FemsimpWarning, stacklevel=3)
+    if c.cut_short:  # a soup of facets: the check stopped counting
+        what = (f"at least {c.pairs} face pairs cross (the check stopped there: a soup of "
+                f"facets, or bodies exported overlapping; the first it found: faces {c.face_a} "
+                f"and {c.face_b}, at ({at}))")
+    else:
+        what = (f"{c.pairs} face pair{'' if c.pairs == 1 else 's'} cross (the first: faces "
+                f"{c.face_a} and {c.face_b}, at ({at}))")
+    warnings.warn(f"the output intersects itself: {what}; {cause}; a mesher such as tetgen "
+                  f"refuses it", FemsimpWarning, stacklevel=3)
 
 
 def _warn_if_open(result):

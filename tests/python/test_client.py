@@ -60,6 +60,20 @@ def test_an_output_that_crosses_itself_warns(client):
         warnings.simplefilter("error", femsimp.FemsimpWarning)
         clean = client.run(box_surface(6)[:2], ratio=0.5)
     assert clean.result.output_crossings.pairs == 0
+    assert not clean.result.output_crossings.cut_short
+
+
+def test_a_soup_crossing_itself_everywhere_is_counted_to_a_floor(client):
+    # 3,000 random facets cross each other millions of times: the server's check stops at
+    # 100,000 pairs and says so.
+    points = np.random.default_rng(7).random((9000, 3))
+    triangles = np.arange(9000).reshape(-1, 3)
+    with pytest.warns(femsimp.FemsimpWarning,
+                      match=r"intersects itself: at least \d+ face pairs cross \(the check "
+                            r"stopped there"):
+        out = client.run((points, triangles), ratio=0.5)
+    assert out.result.output_crossings.cut_short
+    assert out.result.output_crossings.pairs > 100000
 
 
 def test_bodies_touching_without_shared_vertices_warn(client):
