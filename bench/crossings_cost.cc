@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "common/flags.h"
+#include "bench/mesh_args.h"
 #include "engine/crossings.h"
 #include "engine/io/mesh_io.h"
 #include "engine/option_table.h"
@@ -37,31 +37,16 @@ bool Same(const Run& a, const Run& b) {
 // MESH [REPEATS [THREADS]]
 int main(int argc, char** argv) {
   using femsimp::flags::NumberKind;
-  femsimp::flags::FlagSet flags("crossings_cost");
-  femsimp::flags::FlagSet::Parsed parsed;
-  if (std::optional<int> exit = flags.ParseMain(
-          argc, argv, "Usage: crossings_cost MESH [REPEATS=3] [THREADS=2]\n\n", "", &parsed))
+  std::vector<femsimp::bench::PositionalNumber> numbers = {
+      {"REPEATS", 3, NumberKind::kInteger, femsimp::Range::Closed(1, 1000)},
+      {"THREADS", 2, NumberKind::kInteger, femsimp::FindOption("threads")->range}};
+  std::string mesh;
+  if (std::optional<int> exit =
+          femsimp::bench::ParseMeshAndNumbers(argc, argv, "crossings_cost", numbers, &mesh))
     return *exit;
-  const std::vector<std::string>& args = parsed.positional;
-  if (args.empty() || args.size() > 3) {
-    std::fprintf(stderr, "crossings_cost: needs MESH and at most two numbers (see --help)\n");
-    return femsimp::flags::kUsageExit;
-  }
-  int numbers[2] = {3, 2};
-  const femsimp::Range ranges[2] = {femsimp::Range::Closed(1, 1000),
-                                    femsimp::FindOption("threads")->range};
-  const char* names[2] = {"REPEATS", "THREADS"};
-  for (size_t i = 1; i < args.size(); ++i) {
-    absl::StatusOr<double> v =
-        femsimp::flags::ParseNumberIn(names[i - 1], args[i], NumberKind::kInteger, ranges[i - 1]);
-    if (!v.ok()) {
-      std::fprintf(stderr, "crossings_cost: %s\n", std::string(v.status().message()).c_str());
-      return femsimp::flags::kUsageExit;
-    }
-    numbers[i - 1] = static_cast<int>(*v);
-  }
-  const int repeats = numbers[0], threads = numbers[1];
-  absl::StatusOr<femsimp::RawMesh> soup = femsimp::ReadMeshFile(args[0]);
+  const int repeats = static_cast<int>(numbers[0].value);
+  const int threads = static_cast<int>(numbers[1].value);
+  absl::StatusOr<femsimp::RawMesh> soup = femsimp::ReadMeshFile(mesh);
   if (!soup.ok()) {
     std::fprintf(stderr, "%s\n", std::string(soup.status().message()).c_str());
     return 1;
@@ -89,7 +74,7 @@ int main(int argc, char** argv) {
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
       v.last = std::move(run);
     }
-  std::printf("%s: %zu faces, best of %d\n\n", args[0].c_str(), soup->num_faces(), repeats);
+  std::printf("%s: %zu faces, best of %d\n\n", mesh.c_str(), soup->num_faces(), repeats);
   std::printf("| scan | threads | seconds | speedup | crossing pairs | same as 1 thread |\n");
   std::printf("|---|---:|---:|---:|---:|---|\n");
   bool all_same = true;

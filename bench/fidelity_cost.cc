@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "common/flags.h"
+#include "bench/mesh_args.h"
 #include "engine/io/mesh_io.h"
 #include "engine/option_table.h"
 #include "engine/simplify.h"
@@ -34,42 +34,19 @@ double Median(std::vector<double> v) {
 // tolerance in the option table's).
 int main(int argc, char** argv) {
   using femsimp::flags::NumberKind;
-  femsimp::flags::FlagSet flags("fidelity_cost");
-  femsimp::flags::FlagSet::Parsed parsed;
-  if (std::optional<int> exit = flags.ParseMain(
-          argc, argv,
-          "Usage: fidelity_cost MESH [REPEATS=3] [THREADS=2] [TOLERANCE_RELATIVE=0.01]\n\n", "",
-          &parsed))
-    return *exit;
-  const std::vector<std::string>& args = parsed.positional;
-  struct Positional {
-    const char* name;
-    double value;
-    NumberKind kind;
-    femsimp::Range range;
-  } numbers[] = {
+  std::vector<femsimp::bench::PositionalNumber> numbers = {
       {"REPEATS", 3, NumberKind::kInteger, femsimp::Range::Closed(1, 1000)},
       {"THREADS", 2, NumberKind::kInteger, femsimp::FindOption("threads")->range},
       {"TOLERANCE_RELATIVE", 0.01, NumberKind::kFraction,
-       femsimp::FindOption("tolerance_relative")->range},
-  };
-  if (args.empty() || args.size() > 4) {
-    std::fprintf(stderr, "fidelity_cost: needs MESH and at most three numbers (see --help)\n");
-    return femsimp::flags::kUsageExit;
-  }
-  for (size_t i = 1; i < args.size(); ++i) {
-    Positional& p = numbers[i - 1];
-    absl::StatusOr<double> v = femsimp::flags::ParseNumberIn(p.name, args[i], p.kind, p.range);
-    if (!v.ok()) {
-      std::fprintf(stderr, "fidelity_cost: %s\n", std::string(v.status().message()).c_str());
-      return femsimp::flags::kUsageExit;
-    }
-    p.value = *v;
-  }
+       femsimp::FindOption("tolerance_relative")->range}};
+  std::string mesh;
+  if (std::optional<int> exit =
+          femsimp::bench::ParseMeshAndNumbers(argc, argv, "fidelity_cost", numbers, &mesh))
+    return *exit;
   const int repeats = static_cast<int>(numbers[0].value);
   const int threads = static_cast<int>(numbers[1].value);
   const double tolerance = numbers[2].value;
-  absl::StatusOr<femsimp::RawMesh> raw = femsimp::ReadMeshFile(args[0]);
+  absl::StatusOr<femsimp::RawMesh> raw = femsimp::ReadMeshFile(mesh);
   if (!raw.ok()) {
     std::fprintf(stderr, "%s\n", std::string(raw.status().message()).c_str());
     return 1;
@@ -110,7 +87,7 @@ int main(int argc, char** argv) {
     }
   const double reference = Median(variants[1].seconds);
   std::printf("%s: %zu vertices, %d threads, %d repeats, tolerance %g of the diagonal\n\n",
-              args[0].c_str(), raw->num_vertices(), threads, repeats, tolerance);
+              mesh.c_str(), raw->num_vertices(), threads, repeats, tolerance);
   std::printf(
       "| variant | vertices out | deviation bound | engine s (median) | vs min-angle 0 |\n");
   std::printf("|---|--:|--:|--:|--:|\n");

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "common/flags.h"
+#include "bench/mesh_args.h"
 #include "engine/io/mesh_io.h"
 #include "engine/option_table.h"
 #include "engine/simplify.h"
@@ -31,31 +31,16 @@ double Best(std::vector<double> v) { return *std::min_element(v.begin(), v.end()
 // MESH [REPEATS [THREADS]]
 int main(int argc, char** argv) {
   using femsimp::flags::NumberKind;
-  femsimp::flags::FlagSet flags("schedule_cost");
-  femsimp::flags::FlagSet::Parsed parsed;
-  if (std::optional<int> exit = flags.ParseMain(
-          argc, argv, "Usage: schedule_cost MESH [REPEATS=3] [THREADS=2]\n\n", "", &parsed))
+  std::vector<femsimp::bench::PositionalNumber> numbers = {
+      {"REPEATS", 3, NumberKind::kInteger, femsimp::Range::Closed(1, 1000)},
+      {"THREADS", 2, NumberKind::kInteger, femsimp::FindOption("threads")->range}};
+  std::string mesh;
+  if (std::optional<int> exit =
+          femsimp::bench::ParseMeshAndNumbers(argc, argv, "schedule_cost", numbers, &mesh))
     return *exit;
-  const std::vector<std::string>& args = parsed.positional;
-  if (args.empty() || args.size() > 3) {
-    std::fprintf(stderr, "schedule_cost: needs MESH and at most two numbers (see --help)\n");
-    return femsimp::flags::kUsageExit;
-  }
-  int numbers[2] = {3, 2};
-  const femsimp::Range ranges[2] = {femsimp::Range::Closed(1, 1000),
-                                    femsimp::FindOption("threads")->range};
-  const char* names[2] = {"REPEATS", "THREADS"};
-  for (size_t i = 1; i < args.size(); ++i) {
-    absl::StatusOr<double> v =
-        femsimp::flags::ParseNumberIn(names[i - 1], args[i], NumberKind::kInteger, ranges[i - 1]);
-    if (!v.ok()) {
-      std::fprintf(stderr, "schedule_cost: %s\n", std::string(v.status().message()).c_str());
-      return femsimp::flags::kUsageExit;
-    }
-    numbers[i - 1] = static_cast<int>(*v);
-  }
-  const int repeats = numbers[0], threads = numbers[1];
-  absl::StatusOr<femsimp::RawMesh> raw = femsimp::ReadMeshFile(args[0]);
+  const int repeats = static_cast<int>(numbers[0].value);
+  const int threads = static_cast<int>(numbers[1].value);
+  absl::StatusOr<femsimp::RawMesh> raw = femsimp::ReadMeshFile(mesh);
   if (!raw.ok()) {
     std::fprintf(stderr, "%s\n", std::string(raw.status().message()).c_str());
     return 1;
@@ -91,7 +76,7 @@ int main(int argc, char** argv) {
       v.output = mesh->ToRaw().positions;
     }
   std::printf("%s: %zu vertices, a plain call (fe preset), best of %d interleaved repeats\n\n",
-              args[0].c_str(), raw->num_vertices(), repeats);
+              mesh.c_str(), raw->num_vertices(), repeats);
   std::printf(
       "| schedule, threads | vertices out | engine s (best) | vs free at the same threads "
       "| speedup over 1 thread |\n|---|--:|--:|--:|--:|\n");
