@@ -330,11 +330,18 @@ SoupCrossings FindCrossings(const RawMesh& soup, const CrossingScan& scan) {
             continue;
           // Faces with a common edge meet along it or fold within one plane: never a crossing.
           const int shared = shared_corners(a.face, b.face);
-          if (shared > 2) continue;
+          if (shared > 2 || (shared == 2 && crossings_only)) continue;
+          // Faces that do not reach through each other's planes are apart: the cheap tests
+          // first, on the float planes, before the faces are built in doubles (most pairs end
+          // here).
+          const bool may_overlap = !crossings_only && shared == 0 && near_plane(a.face, b.face);
+          const auto apart = [&] {
+            return clearly_on_one_side(a.face, b.face) || clearly_on_one_side(b.face, a.face);
+          };
+          if (shared < 2 && !may_overlap && apart()) continue;
           const std::pair<uint32_t, uint32_t> pair = std::minmax(a.face, b.face);
           const Triangle first = triangle(pair.first), second = triangle(pair.second);
           if (shared == 2) {
-            if (crossings_only) continue;
             if (const std::optional<DVec3> at = Fold(first, second, plane_tolerance)) {
               SoupCrossings::Folds& fo = found.folds;
               if (listing) out.lists.folded.push_back(pair);
@@ -347,9 +354,7 @@ SoupCrossings FindCrossings(const RawMesh& soup, const CrossingScan& scan) {
             continue;
           }
           if (const std::optional<PlanarOverlap> o =
-                  !crossings_only && shared == 0 && near_plane(a.face, b.face)
-                      ? OverlapInPlane(first, second, plane_tolerance)
-                      : std::nullopt) {
+                  may_overlap ? OverlapInPlane(first, second, plane_tolerance) : std::nullopt) {
             SoupCrossings::Overlaps& ov = found.overlaps;
             out.overlap_areas.push_back(o->area);
             if (listing) out.lists.overlapping.push_back(pair);
@@ -361,8 +366,7 @@ SoupCrossings FindCrossings(const RawMesh& soup, const CrossingScan& scan) {
             }
             continue;
           }
-          // Faces that do not reach through each other's planes are apart: the cheap tests first.
-          if (clearly_on_one_side(a.face, b.face) || clearly_on_one_side(b.face, a.face)) continue;
+          if (may_overlap && apart()) continue;
           if (TouchesWithinTolerance(first, second, plane_tolerance) ||
               TouchesWithinTolerance(second, first, plane_tolerance))
             continue;
