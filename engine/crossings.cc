@@ -165,32 +165,55 @@ SoupCrossings FindCrossings(const RawMesh& soup, const CrossingScan& scan) {
   const auto corner = [&](size_t f, int k) {
     return &soup.positions[3 * size_t{soup.triangles[3 * f + k]}];
   };
+  // Per chunk of faces: their boxes, and the chunk's bounds and edge lengths, joined in chunk
+  // order (the same sums on any number of threads).
+  constexpr uint32_t kItemsPerChunk = 1 << 16;
+  const uint32_t faces = static_cast<uint32_t>(nf);
   std::vector<Box> box(nf);
+  struct Bounds {
+    float lo[3] = {HUGE_VALF, HUGE_VALF, HUGE_VALF}, hi[3] = {-HUGE_VALF, -HUGE_VALF, -HUGE_VALF};
+    double edges = 0;
+  };
+  std::vector<Bounds> chunk_bounds((nf + kItemsPerChunk - 1) / kItemsPerChunk);
+  RunChunked(pool, faces, kItemsPerChunk, {}, [&](uint32_t first, uint32_t last) {
+    Bounds& c = chunk_bounds[first / kItemsPerChunk];
+    for (uint32_t f = first; f < last; ++f) {
+      const float* p[3] = {corner(f, 0), corner(f, 1), corner(f, 2)};
+      for (int a = 0; a < 3; ++a) {
+        box[f].lo[a] = std::min({p[0][a], p[1][a], p[2][a]});
+        box[f].hi[a] = std::max({p[0][a], p[1][a], p[2][a]});
+        c.lo[a] = std::min(c.lo[a], box[f].lo[a]);
+        c.hi[a] = std::max(c.hi[a], box[f].hi[a]);
+      }
+      for (int k = 0; k < 3; ++k) {
+        const float* q = p[(k + 1) % 3];
+        const double d[3] = {double{q[0]} - p[k][0], double{q[1]} - p[k][1],
+                             double{q[2]} - p[k][2]};
+        c.edges += std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+      }
+    }
+  });
   float lo[3] = {HUGE_VALF, HUGE_VALF, HUGE_VALF}, hi[3] = {-HUGE_VALF, -HUGE_VALF, -HUGE_VALF};
   double edges = 0;
-  for (size_t f = 0; f < nf; ++f) {
-    const float* p[3] = {corner(f, 0), corner(f, 1), corner(f, 2)};
+  for (const Bounds& c : chunk_bounds) {
     for (int a = 0; a < 3; ++a) {
-      box[f].lo[a] = std::min({p[0][a], p[1][a], p[2][a]});
-      box[f].hi[a] = std::max({p[0][a], p[1][a], p[2][a]});
-      lo[a] = std::min(lo[a], box[f].lo[a]);
-      hi[a] = std::max(hi[a], box[f].hi[a]);
+      lo[a] = std::min(lo[a], c.lo[a]);
+      hi[a] = std::max(hi[a], c.hi[a]);
     }
-    for (int k = 0; k < 3; ++k) {
-      const float* q = p[(k + 1) % 3];
-      edges += std::hypot(double{q[0]} - p[k][0], double{q[1]} - p[k][1], double{q[2]} - p[k][2]);
-    }
+    edges += c.edges;
   }
   const double extent =
       std::max({double{hi[0]} - lo[0], double{hi[1]} - lo[1], double{hi[2]} - lo[2], 1e-300});
   const double plane_tolerance = PlaneTolerance(lo, hi);
   // Faces in one plane up to that tolerance have boxes apart by it where the plane is on an axis
   // (a block's bottom a float spacing above the plate's top): the boxes are widened by it.
-  for (Box& b : box)
-    for (int a = 0; a < 3; ++a) {
-      b.lo[a] = std::nextafter(float(b.lo[a] - plane_tolerance), -HUGE_VALF);
-      b.hi[a] = std::nextafter(float(b.hi[a] + plane_tolerance), HUGE_VALF);
-    }
+  RunChunked(pool, faces, kItemsPerChunk, {}, [&](uint32_t first, uint32_t last) {
+    for (uint32_t f = first; f < last; ++f)
+      for (int a = 0; a < 3; ++a) {
+        box[f].lo[a] = std::nextafter(float(box[f].lo[a] - plane_tolerance), -HUGE_VALF);
+        box[f].hi[a] = std::nextafter(float(box[f].hi[a] + plane_tolerance), HUGE_VALF);
+      }
+  });
   float origin[3];  // below every widened box
   for (int a = 0; a < 3; ++a)
     origin[a] = std::nextafter(float(lo[a] - plane_tolerance), -HUGE_VALF);
@@ -198,9 +221,16 @@ SoupCrossings FindCrossings(const RawMesh& soup, const CrossingScan& scan) {
     for (int a = 0; a < 3; ++a) origin[a] = std::min(origin[a], b.lo[a]);
   Grid grid(origin, std::max(2.0 * edges / (3.0 * double(nf)), extent / double(1 << kCellBits)));
   std::vector<CellRange> range(nf);
+  std::vector<double> chunk_covered(chunk_bounds.size());  // doubles: a box may cover 2^60
   for (;;) {  // large faces among small ones would each cover many cells
+    RunChunked(pool, faces, kItemsPerChunk, {}, [&](uint32_t first, uint32_t last) {
+      double covered = 0;
+      for (uint32_t f = first; f < last; ++f)
+        covered += double((range[f] = grid.Of(box[f])).count());
+      chunk_covered[first / kItemsPerChunk] = covered;
+    });
     double covered = 0;
-    for (size_t f = 0; f < nf; ++f) covered += double((range[f] = grid.Of(box[f])).count());
+    for (double c : chunk_covered) covered += c;
     if (covered <= kCellsPerFace * double(nf)) break;
     grid = Grid(origin, 2 * grid.cell());
   }
@@ -208,15 +238,19 @@ SoupCrossings FindCrossings(const RawMesh& soup, const CrossingScan& scan) {
   for (const CellRange& r : range)
     for (int a = 0; a < 3; ++a) cells_along[a] = std::max(cells_along[a], r.hi[a] + 1);
   const CellKeys keys{uint64_t(cells_along[1]), uint64_t(cells_along[2])};
-  std::vector<std::pair<uint64_t, uint32_t>> listed;  // (cell, face), by cell
-  listed.reserve(nf * 2);
-  for (size_t f = 0; f < nf; ++f) {
-    const CellRange& r = range[f];
-    for (int32_t x = r.lo[0]; x <= r.hi[0]; ++x)
-      for (int32_t y = r.lo[1]; y <= r.hi[1]; ++y)
-        for (int32_t z = r.lo[2]; z <= r.hi[2]; ++z)
-          listed.emplace_back(keys.Key(x, y, z), static_cast<uint32_t>(f));
-  }
+  // (cell, face), each face's cells at its own offset, then sorted by cell.
+  std::vector<size_t> listed_at(nf + 1, 0);
+  for (size_t f = 0; f < nf; ++f) listed_at[f + 1] = listed_at[f] + size_t(range[f].count());
+  std::vector<std::pair<uint64_t, uint32_t>> listed(listed_at[nf]);
+  RunChunked(pool, faces, kItemsPerChunk, {}, [&](uint32_t first, uint32_t last) {
+    for (uint32_t f = first; f < last; ++f) {
+      const CellRange& r = range[f];
+      size_t at = listed_at[f];
+      for (int32_t x = r.lo[0]; x <= r.hi[0]; ++x)
+        for (int32_t y = r.lo[1]; y <= r.hi[1]; ++y)
+          for (int32_t z = r.lo[2]; z <= r.hi[2]; ++z) listed[at++] = {keys.Key(x, y, z), f};
+    }
+  });
   SortByCell(listed);
   // What the pair loop reads of each listed face, in the list's order, so that each cell's
   // stretch can be sorted for the sweep below.
@@ -226,7 +260,6 @@ SoupCrossings FindCrossings(const RawMesh& soup, const CrossingScan& scan) {
     uint32_t face;
   };
   std::vector<Entry> entries(listed.size());
-  constexpr uint32_t kItemsPerChunk = 1 << 16;
   RunChunked(pool, static_cast<uint32_t>(listed.size()), kItemsPerChunk, {},
              [&](uint32_t first, uint32_t last) {
                for (size_t i = first; i < last; ++i) {
