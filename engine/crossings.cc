@@ -141,8 +141,10 @@ struct StretchFound {
   std::vector<double> overlap_areas;  // summed in order when joined
 };
 
-// Cells per stretch: fixed, so that the stretches (and a cut-short scan's end) do not depend on
-// the thread count.
+// A stretch of cells ends once its faces make this many pairs (a cell of n faces, n^2 / 2: a
+// sliver output has few cells, crowded) or it holds kCellsPerStretch cells: by the data alone,
+// so that the stretches (and a cut-short scan's end) do not depend on the thread count.
+constexpr double kPairsPerStretch = 1 << 18;
 constexpr uint32_t kCellsPerStretch = 512;
 }  // namespace
 
@@ -419,15 +421,27 @@ SoupCrossings FindCrossings(const RawMesh& soup, const CrossingScan& scan) {
   // Stretches are taken in order; once the crossings listed exceed `stop_after` the ones not yet
   // begun are left. Those begun before are complete (or cut by their own count), so the join
   // below ends at the same stretch on any number of threads.
-  std::vector<StretchFound> stretches((size_t{cells} + kCellsPerStretch - 1) / kCellsPerStretch);
-  std::vector<char> done(stretches.size(), 0);
+  std::vector<uint32_t> stretch_start;  // the first cell of each stretch, then `cells`
+  double pairs_in_stretch = 0;
+  for (uint32_t c = 0; c < cells; ++c) {
+    if (c == 0 || pairs_in_stretch >= kPairsPerStretch ||
+        c - stretch_start.back() >= kCellsPerStretch) {
+      stretch_start.push_back(c);
+      pairs_in_stretch = 0;
+    }
+    const double n = double(cell_start[c + 1] - cell_start[c]);
+    pairs_in_stretch += 0.5 * n * n;
+  }
+  const uint32_t num_stretches = static_cast<uint32_t>(stretch_start.size());
+  stretch_start.push_back(cells);
+  std::vector<StretchFound> stretches(num_stretches);
+  std::vector<char> done(num_stretches, 0);
   std::atomic<size_t> crossings_listed{0};
-  RunChunked(pool, cells, kCellsPerStretch, {}, [&](uint32_t first, uint32_t last) {
+  RunChunked(pool, num_stretches, 1, {}, [&](uint32_t k, uint32_t) {
     if (crossings_listed.load(std::memory_order_relaxed) > stop_after) return;
-    StretchFound& out = stretches[first / kCellsPerStretch];
-    scan_stretch(first, last, out);
-    crossings_listed.fetch_add(out.found.pairs, std::memory_order_relaxed);
-    done[first / kCellsPerStretch] = 1;
+    scan_stretch(stretch_start[k], stretch_start[k + 1], stretches[k]);
+    crossings_listed.fetch_add(stretches[k].found.pairs, std::memory_order_relaxed);
+    done[k] = 1;
   });
   SoupCrossings found;
   const auto keep_first = [](uint64_t& pairs, uint32_t& a, uint32_t& b, std::array<double, 3>& at,
