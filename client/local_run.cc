@@ -14,7 +14,6 @@
 #include "engine/io/mesh_io.h"
 #include "engine/mesh.h"
 #include "engine/prepare.h"
-#include "engine/worker_pool.h"
 
 namespace femsimp::cli {
 namespace {
@@ -85,11 +84,7 @@ int RunLocal(const SimplifyArgs& args) {
     return kExitEngineFailed;
   }
   const auto crossings_start = std::chrono::steady_clock::now();
-  {
-    WorkerPool pool(args.options.threads);
-    report.fidelity.output_crossings =
-        FindCrossings(*out, {.stop_after = kEnoughCrossingPairs, .pool = &pool});
-  }
+  report.fidelity.output_crossings = CheckOutputCrossings(*out, args.options.threads);
   report.crossings_seconds = SecondsSince(crossings_start);
   // The check runs before OUT is written, so that the summary and --stats-json hold it; OUT is
   // written whether it succeeds or not.

@@ -479,6 +479,11 @@ SoupCrossings FindCrossings(const RawMesh& soup, const CrossingScan& scan) {
   return found;
 }
 
+SoupCrossings CheckOutputCrossings(const RawMesh& output, int threads) {
+  WorkerPool pool(std::max(threads, 1));
+  return FindCrossings(output, {.stop_after = kEnoughCrossingPairs, .pool = &pool});
+}
+
 std::string DescribeCrossings(const SoupCrossings& c) {
   if (c.cut_short)
     return absl::StrFormat(

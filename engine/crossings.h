@@ -90,6 +90,10 @@ struct CrossingScan {
 };
 SoupCrossings FindCrossings(const RawMesh& soup, const CrossingScan& scan = {});
 
+// The check of an output before it is written (the CLI's and the server's): every kind, on
+// `threads` threads, stopped at kEnoughCrossingPairs.
+SoupCrossings CheckOutputCrossings(const RawMesh& output, int threads);
+
 // "N face pairs cross (the first: faces A and B, at (x, y, z))": the words every report of them
 // uses (the summary, the FE check's refusal); meaningful when pairs > 0. Each count reads "at
 // least N" where the scan was cut short.

@@ -5,7 +5,6 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "engine/crossings.h"
-#include "engine/worker_pool.h"
 #include "fecheck/fe_check.h"
 #include "proto/wire.h"
 #include "server/log.h"
@@ -140,11 +139,7 @@ void JobRunner::Run(const std::shared_ptr<Job>& job) {
     } catch (const std::bad_alloc&) {
       out = out_of_memory("to write the simplified mesh");
     }
-    if (out.ok()) {
-      WorkerPool pool(o.threads);
-      result->output_crossings =
-          FindCrossings(*out, {.stop_after = kEnoughCrossingPairs, .pool = &pool});
-    }
+    if (out.ok()) result->output_crossings = CheckOutputCrossings(*out, o.threads);
     output_seconds = output_time.seconds();
     if (out.ok()) {
       output = *std::move(out);
