@@ -9,6 +9,7 @@
 #include "absl/container/flat_hash_set.h"
 #include "absl/strings/str_format.h"
 #include "engine/crossings.h"
+#include "engine/facet_box_grid.h"
 #include "engine/least_area_fill.h"
 #include "engine/mesh_checks.h"
 #include "engine/plane_fill.h"
@@ -104,6 +105,15 @@ class Uncrosser {
     const float* p = &mesh_.positions[3 * size_t{v}];
     return {p[0], p[1], p[2]};
   }
+  FacetBox BoxOf(const Facet& t) const {
+    FacetBox b{{HUGE_VAL, HUGE_VAL, HUGE_VAL}, {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL}};
+    for (uint32_t v : t)
+      for (int k = 0; k < 3; ++k) {
+        b.lo[k] = std::min(b.lo[k], double(mesh_.positions[3 * size_t{v} + k]));
+        b.hi[k] = std::max(b.hi[k], double(mesh_.positions[3 * size_t{v} + k]));
+      }
+    return b;
+  }
   DVec3 AreaVector(const Facet& t) const {
     return 0.5 * Cross(Pos(t[1]) - Pos(t[0]), Pos(t[2]) - Pos(t[0]));
   }
@@ -124,29 +134,11 @@ class Uncrosser {
     return soup;
   }
 
-  // Edge uses, edge-connected components and their areas, facets per vertex: of facets_ now.
+  // Facets per vertex, edge-connected components and their areas: of facets_ now. Edges are
+  // found through the facets at their first vertex (a few each), not a table of all edges: on a
+  // mesh of a million facets the two tables took a second.
   void Index() {
     const size_t nf = facets_.size();
-    uses_.clear();
-    uses_.reserve(3 * nf / 2);
-    for (const Facet& t : facets_)
-      for (int i = 0; i < 3; ++i) ++uses_[EdgeKey(t[i], t[(i + 1) % 3])];
-    // Components through edges.
-    UnionFind parts(nf);
-    absl::flat_hash_map<uint64_t, uint32_t> first_on;
-    first_on.reserve(3 * nf / 2);
-    for (uint32_t f = 0; f < nf; ++f)
-      for (int i = 0; i < 3; ++i) {
-        const auto [it, fresh] =
-            first_on.try_emplace(EdgeKey(facets_[f][i], facets_[f][(i + 1) % 3]), f);
-        if (!fresh) parts.Union(f, it->second);
-      }
-    component_.resize(nf);
-    component_area_.assign(nf, 0.0);
-    for (uint32_t f = 0; f < nf; ++f) {
-      component_[f] = parts.Find(f);
-      component_area_[component_[f]] += Norm(AreaVector(facets_[f]));
-    }
     const size_t nv = mesh_.num_vertices();
     vertex_begin_.assign(nv + 1, 0);
     for (const Facet& t : facets_)
@@ -156,6 +148,29 @@ class Uncrosser {
     std::vector<uint32_t> fill(vertex_begin_.begin(), vertex_begin_.end() - 1);
     for (uint32_t f = 0; f < nf; ++f)
       for (uint32_t v : facets_[f]) vertex_facets_[fill[v]++] = f;
+    UnionFind parts(nf);
+    for (uint32_t f = 0; f < nf; ++f)
+      for (int i = 0; i < 3; ++i) {
+        const uint32_t a = facets_[f][i], b = facets_[f][(i + 1) % 3];
+        for (uint32_t k = vertex_begin_[a]; k < vertex_begin_[a + 1]; ++k) {
+          const uint32_t g = vertex_facets_[k];
+          if (g > f && Uses(facets_[g], b)) parts.Union(f, g);
+        }
+      }
+    component_.resize(nf);
+    component_area_.assign(nf, 0.0);
+    for (uint32_t f = 0; f < nf; ++f) {
+      component_[f] = parts.Find(f);
+      component_area_[component_[f]] += Norm(AreaVector(facets_[f]));
+    }
+  }
+  static bool Uses(const Facet& t, uint32_t v) { return t[0] == v || t[1] == v || t[2] == v; }
+  // How many facets use the edge a-b, either way.
+  uint32_t EdgeUses(uint32_t a, uint32_t b) const {
+    uint32_t n = 0;
+    for (uint32_t k = vertex_begin_[a]; k < vertex_begin_[a + 1]; ++k)
+      n += Uses(facets_[vertex_facets_[k]], b);
+    return n;
   }
 
   // The facets at vertex v, in facet order.
@@ -191,6 +206,9 @@ class Uncrosser {
   // pair (vertices written wrongly side by side). Whether any was taken out.
   bool TakeOutVertices(const std::vector<std::pair<uint32_t, uint32_t>>& pairs) {
     Index();
+    std::vector<FacetBox> boxes(facets_.size());
+    for (size_t f = 0; f < facets_.size(); ++f) boxes[f] = BoxOf(facets_[f]);
+    grid_.emplace(std::move(boxes));
     UnionFind clusters(facets_.size());
     for (const auto& [a, b] : pairs) clusters.Union(a, b);
     absl::flat_hash_map<uint32_t, std::vector<std::pair<uint32_t, uint32_t>>> by_cluster;
@@ -207,10 +225,12 @@ class Uncrosser {
         return std::nullopt;
       std::vector<Plan> trial{PlanFill(std::move(facets))};
       if (!trial[0].refused.empty()) return std::nullopt;
-      std::vector<char> trial_out = out;
-      for (uint32_t f : trial[0].facets) trial_out[f] = 1;
       for (const Plan& p : chosen) trial.push_back(p);
-      if (FillMeetsSomething(trial, 0, trial_out)) return std::nullopt;
+      // Out for the check only (a copy of `out` per try would read every facet).
+      for (uint32_t f : trial[0].facets) out[f] = 1;
+      const bool meets = FillMeetsSomething(trial, 0, out);
+      for (uint32_t f : trial[0].facets) out[f] = 0;
+      if (meets) return std::nullopt;
       return std::move(trial[0]);
     };
     for (uint32_t root : roots) {
@@ -292,7 +312,7 @@ class Uncrosser {
         vertices.insert(facets_[f][i]);
       }
     for (const auto& [key, n] : inner)
-      if (uses_.at(key) != 2) {
+      if (EdgeUses(uint32_t(key >> 32), uint32_t(key)) != 2) {
         plan.refused = "its facets reach an open edge or a seam of the surface";
         return plan;
       }
@@ -339,10 +359,8 @@ class Uncrosser {
       return Norm(AreaVector({loop[i], loop[k], loop[j]}));
     };
     const auto taken = [&](size_t i, size_t j) {  // an edge the mesh keeps outside the patch
-      const auto it = uses_.find(EdgeKey(loop[i], loop[j]));
-      if (it == uses_.end()) return false;
       const auto own = inner.find(EdgeKey(loop[i], loop[j]));
-      return it->second > (own == inner.end() ? 0u : own->second);
+      return EdgeUses(loop[i], loop[j]) > (own == inner.end() ? 0u : own->second);
     };
     // Seen along the rim's normal, a vertex's ring is a simple polygon: every new facet must
     // turn its way, so that the fill stays inside it (a diagonal outside a ring that bends
@@ -426,33 +444,25 @@ class Uncrosser {
   // Whether plan i's new facets cross, overlap or fold onto the facets kept or the other plans'
   // new facets within their box (`out`: the facets the plans take out).
   bool FillMeetsSomething(const std::vector<Plan>& plans, size_t i, const std::vector<char>& out) {
-    work_ += facets_.size();
-    DVec3 lo{HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-    for (const Facet& t : plans[i].fill)
-      for (uint32_t v : t) {
-        const DVec3 p = Pos(v);
-        lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
-        hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+    FacetBox box = BoxOf(plans[i].fill[0]);
+    for (const Facet& t : plans[i].fill) {
+      const FacetBox b = BoxOf(t);
+      for (int k = 0; k < 3; ++k) {
+        box.lo[k] = std::min(box.lo[k], b.lo[k] - tolerance_);
+        box.hi[k] = std::max(box.hi[k], b.hi[k] + tolerance_);
       }
-    const DVec3 pad{tolerance_, tolerance_, tolerance_};
-    lo -= pad;
-    hi += pad;
-    const auto near = [&](const Facet& t) {
-      DVec3 a{HUGE_VAL, HUGE_VAL, HUGE_VAL}, b{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-      for (uint32_t v : t) {
-        const DVec3 p = Pos(v);
-        a = {std::min(a.x, p.x), std::min(a.y, p.y), std::min(a.z, p.z)};
-        b = {std::max(b.x, p.x), std::max(b.y, p.y), std::max(b.z, p.z)};
-      }
-      return a.x <= hi.x && b.x >= lo.x && a.y <= hi.y && b.y >= lo.y && a.z <= hi.z && b.z >= lo.z;
-    };
+    }
+    std::vector<uint32_t> near;
+    work_ += double(grid_->ForEachMeeting(box, [&](uint32_t f) {
+      if (!out[f]) near.push_back(f);
+    }));
+    std::sort(near.begin(), near.end());  // the check's soup in facet order, as it always was
     std::vector<Facet> local;
-    for (uint32_t f = 0; f < facets_.size(); ++f)
-      if (!out[f] && near(facets_[f])) local.push_back(facets_[f]);
+    for (uint32_t f : near) local.push_back(facets_[f]);
     for (size_t j = 0; j < plans.size(); ++j)
       if (j != i && plans[j].refused.empty())
         for (const Facet& t : plans[j].fill)
-          if (near(t)) local.push_back(t);
+          if (BoxOf(t).Meets(box)) local.push_back(t);
     const uint32_t own = uint32_t(local.size());
     local.insert(local.end(), plans[i].fill.begin(), plans[i].fill.end());
     CrossingPairLists found;
@@ -570,12 +580,12 @@ class Uncrosser {
   std::optional<WorkerPool> pool_;  // the whole mesh's scans run on it
   std::vector<Facet> facets_;
   std::vector<uint32_t> origin_;
-  absl::flat_hash_map<uint64_t, uint32_t> uses_;
   std::vector<uint32_t> component_;
   std::vector<double> component_area_;
   std::vector<uint32_t> vertex_begin_, vertex_facets_;
-  // Each fill's check reads every facet's box: the facets read so far, against a budget that
-  // keeps a soup crossing itself everywhere from taking minutes.
+  std::optional<FacetBoxGrid> grid_;  // facets_'s boxes, while TakeOutVertices tries fills
+  // Each fill's check reads the facets in its box's cells: the entries read so far, against a
+  // budget that keeps a soup crossing itself everywhere from taking minutes.
   bool OverBudget() const { return work_ > kMaxFacetReads; }
   static constexpr double kMaxFacetReads = 2e8;
   static constexpr size_t kMaxVertexPairs = 256;
