@@ -9,6 +9,7 @@
 #include "absl/status/statusor.h"
 #include "absl/strings/str_cat.h"
 #include "engine/crossings.h"
+#include "engine/facet_box_grid.h"
 #include "engine/least_area_fill.h"
 #include "engine/mesh_checks.h"
 #include "engine/plane_fill.h"
@@ -338,20 +339,21 @@ class Filler {
         near.triangles.push_back(it->second);
       }
     };
-    for (const std::vector<uint32_t>* list : {&facets_, &filled})
-      for (size_t f = 0; f < list->size(); f += 3) {
-        const uint32_t* t = &(*list)[f];
-        bool meets = true;
-        for (int k = 0; k < 3 && meets; ++k) {
-          double a = HUGE_VAL, b = -HUGE_VAL;
-          for (int c = 0; c < 3; ++c) {
-            a = std::min(a, double{positions_[3 * size_t{t[c]} + k]});
-            b = std::max(b, double{positions_[3 * size_t{t[c]} + k]});
-          }
-          meets = a <= hi[k] && b >= lo[k];
-        }
-        if (meets) add(t);
-      }
+    const FacetBox box{lo, hi};
+    // The surface's facets through the grid of their boxes (made once, at the first fill: a
+    // read of every facet per fill made many openings on a large mesh quadratic), in their
+    // order; then the earlier fills' (a few).
+    if (!grid_) {
+      std::vector<FacetBox> boxes(facets_.size() / 3);
+      for (size_t f = 0; f < boxes.size(); ++f) boxes[f] = BoxOf(&facets_[3 * f]);
+      grid_.emplace(std::move(boxes));
+    }
+    std::vector<uint32_t> meeting;
+    grid_->ForEachMeeting(box, [&](uint32_t f) { meeting.push_back(f); });
+    std::sort(meeting.begin(), meeting.end());
+    for (uint32_t f : meeting) add(&facets_[3 * size_t{f}]);
+    for (size_t f = 0; f < filled.size(); f += 3)
+      if (BoxOf(&filled[f]).Meets(box)) add(&filled[f]);
     const SoupCrossings before = FindCrossings(near);
     for (size_t f = 0; f < fill.facets.size(); f += 3) add(&fill.facets[f]);
     const SoupCrossings after = FindCrossings(near);
@@ -361,9 +363,20 @@ class Filler {
     return "";
   }
 
+  FacetBox BoxOf(const uint32_t* t) const {
+    FacetBox b{{HUGE_VAL, HUGE_VAL, HUGE_VAL}, {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL}};
+    for (int c = 0; c < 3; ++c)
+      for (int k = 0; k < 3; ++k) {
+        b.lo[k] = std::min(b.lo[k], double{positions_[3 * size_t{t[c]} + k]});
+        b.hi[k] = std::max(b.hi[k], double{positions_[3 * size_t{t[c]} + k]});
+      }
+    return b;
+  }
+
   const std::vector<float>& positions_;
   const std::vector<uint32_t>& facets_;
   const double tolerance_;
+  mutable std::optional<FacetBoxGrid> grid_;             // facets_'s boxes, once a fill is checked
   absl::flat_hash_map<uint64_t, uint32_t> facet_along_;  // directed edge -> first facet on it
   absl::flat_hash_map<uint64_t, uint32_t> uses_;         // undirected edge -> facets on it
 };
