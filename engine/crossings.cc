@@ -208,15 +208,20 @@ SoupCrossings FindCrossings(const RawMesh& soup, const CrossingScan& scan) {
       std::max({double{hi[0]} - lo[0], double{hi[1]} - lo[1], double{hi[2]} - lo[2], 1e-300});
   const double plane_tolerance = PlaneTolerance(lo, hi);
   // Faces in one plane up to that tolerance have boxes apart by it where the plane is on an axis
-  // (a block's bottom a float spacing above the plate's top): the boxes are widened by it.
-  RunChunked(pool, faces, kItemsPerChunk, {}, [&](uint32_t first, uint32_t last) {
-    for (uint32_t f = first; f < last; ++f)
-      for (int a = 0; a < 3; ++a) {
-        box[f].lo[a] = std::nextafter(float(box[f].lo[a] - plane_tolerance), -HUGE_VALF);
-        box[f].hi[a] = std::nextafter(float(box[f].hi[a] + plane_tolerance), HUGE_VALF);
-      }
-  });
-  float origin[3];  // below every widened box
+  // (a block's bottom a float spacing above the plate's top): for overlaps and folds the boxes
+  // are widened by it. A certain crossing has a point inside both faces, so inside both exact
+  // boxes: a scan for crossings only keeps them exact. Where the tolerance is the coordinates'
+  // rounding on a part far from the origin (16 float spacings), widened boxes could each span
+  // the part and make every pair a candidate.
+  if (!crossings_only)
+    RunChunked(pool, faces, kItemsPerChunk, {}, [&](uint32_t first, uint32_t last) {
+      for (uint32_t f = first; f < last; ++f)
+        for (int a = 0; a < 3; ++a) {
+          box[f].lo[a] = std::nextafter(float(box[f].lo[a] - plane_tolerance), -HUGE_VALF);
+          box[f].hi[a] = std::nextafter(float(box[f].hi[a] + plane_tolerance), HUGE_VALF);
+        }
+    });
+  float origin[3];  // below every box
   for (int a = 0; a < 3; ++a)
     origin[a] = std::nextafter(float(lo[a] - plane_tolerance), -HUGE_VALF);
   for (const Box& b : box)
