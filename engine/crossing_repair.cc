@@ -134,9 +134,10 @@ class Uncrosser {
     return soup;
   }
 
-  // Facets per vertex, edge-connected components and their areas: of facets_ now. Edges are
-  // found through the facets at their first vertex (a few each), not a table of all edges: on a
-  // mesh of a million facets the two tables took a second.
+  // Facets per vertex, edge-connected components and their areas: of facets_ now. An edge's
+  // facets are found among those of its vertex with fewer (a few; a fan's apex may have
+  // thousands, its rim vertices not), not in a table of all edges: on a mesh of a million facets
+  // the two tables took a second.
   void Index() {
     const size_t nf = facets_.size();
     const size_t nv = mesh_.num_vertices();
@@ -151,7 +152,7 @@ class Uncrosser {
     UnionFind parts(nf);
     for (uint32_t f = 0; f < nf; ++f)
       for (int i = 0; i < 3; ++i) {
-        const uint32_t a = facets_[f][i], b = facets_[f][(i + 1) % 3];
+        const auto [a, b] = FewerFacetsFirst(facets_[f][i], facets_[f][(i + 1) % 3]);
         for (uint32_t k = vertex_begin_[a]; k < vertex_begin_[a + 1]; ++k) {
           const uint32_t g = vertex_facets_[k];
           if (g > f && Uses(facets_[g], b)) parts.Union(f, g);
@@ -165,8 +166,13 @@ class Uncrosser {
     }
   }
   static bool Uses(const Facet& t, uint32_t v) { return t[0] == v || t[1] == v || t[2] == v; }
-  // How many facets use the edge a-b, either way.
-  uint32_t EdgeUses(uint32_t a, uint32_t b) const {
+  std::pair<uint32_t, uint32_t> FewerFacetsFirst(uint32_t a, uint32_t b) const {
+    const uint32_t at_a = vertex_begin_[a + 1] - vertex_begin_[a];
+    return at_a <= vertex_begin_[b + 1] - vertex_begin_[b] ? std::pair(a, b) : std::pair(b, a);
+  }
+  // How many facets use the edge u-v, either way.
+  uint32_t EdgeUses(uint32_t u, uint32_t v) const {
+    const auto [a, b] = FewerFacetsFirst(u, v);
     uint32_t n = 0;
     for (uint32_t k = vertex_begin_[a]; k < vertex_begin_[a + 1]; ++k)
       n += Uses(facets_[vertex_facets_[k]], b);
