@@ -105,15 +105,7 @@ class Uncrosser {
     const float* p = &mesh_.positions[3 * size_t{v}];
     return {p[0], p[1], p[2]};
   }
-  FacetBox BoxOf(const Facet& t) const {
-    FacetBox b{{HUGE_VAL, HUGE_VAL, HUGE_VAL}, {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL}};
-    for (uint32_t v : t)
-      for (int k = 0; k < 3; ++k) {
-        b.lo[k] = std::min(b.lo[k], double(mesh_.positions[3 * size_t{v} + k]));
-        b.hi[k] = std::max(b.hi[k], double(mesh_.positions[3 * size_t{v} + k]));
-      }
-    return b;
-  }
+  FacetBox BoxOf(const Facet& t) const { return FacetBoxOf(mesh_.positions, t.data()); }
   DVec3 AreaVector(const Facet& t) const {
     return 0.5 * Cross(Pos(t[1]) - Pos(t[0]), Pos(t[2]) - Pos(t[0]));
   }

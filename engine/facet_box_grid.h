@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -22,6 +23,17 @@ struct FacetBox {
            lo[2] <= o.hi[2] && hi[2] >= o.lo[2];
   }
 };
+
+// The box of the facet with corners c[0..2] in `positions` (x, y, z per vertex).
+inline FacetBox FacetBoxOf(const std::vector<float>& positions, const uint32_t* c) {
+  FacetBox b{{HUGE_VAL, HUGE_VAL, HUGE_VAL}, {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL}};
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k) {
+      b.lo[k] = std::min(b.lo[k], double{positions[3 * size_t{c[i]} + k]});
+      b.hi[k] = std::max(b.hi[k], double{positions[3 * size_t{c[i]} + k]});
+    }
+  return b;
+}
 
 class FacetBoxGrid {
  public:

@@ -345,7 +345,7 @@ class Filler {
     // order; then the earlier fills' (a few).
     if (!grid_) {
       std::vector<FacetBox> boxes(facets_.size() / 3);
-      for (size_t f = 0; f < boxes.size(); ++f) boxes[f] = BoxOf(&facets_[3 * f]);
+      for (size_t f = 0; f < boxes.size(); ++f) boxes[f] = FacetBoxOf(positions_, &facets_[3 * f]);
       grid_.emplace(std::move(boxes));
     }
     std::vector<uint32_t> meeting;
@@ -353,7 +353,7 @@ class Filler {
     std::sort(meeting.begin(), meeting.end());
     for (uint32_t f : meeting) add(&facets_[3 * size_t{f}]);
     for (size_t f = 0; f < filled.size(); f += 3)
-      if (BoxOf(&filled[f]).Meets(box)) add(&filled[f]);
+      if (FacetBoxOf(positions_, &filled[f]).Meets(box)) add(&filled[f]);
     const SoupCrossings before = FindCrossings(near);
     for (size_t f = 0; f < fill.facets.size(); f += 3) add(&fill.facets[f]);
     const SoupCrossings after = FindCrossings(near);
@@ -361,16 +361,6 @@ class Filler {
     if (after.overlaps.pairs > before.overlaps.pairs) return "a fill would overlap the surface";
     if (after.folds.pairs > before.folds.pairs) return "a fill would fold onto the surface";
     return "";
-  }
-
-  FacetBox BoxOf(const uint32_t* t) const {
-    FacetBox b{{HUGE_VAL, HUGE_VAL, HUGE_VAL}, {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL}};
-    for (int c = 0; c < 3; ++c)
-      for (int k = 0; k < 3; ++k) {
-        b.lo[k] = std::min(b.lo[k], double{positions_[3 * size_t{t[c]} + k]});
-        b.hi[k] = std::max(b.hi[k], double{positions_[3 * size_t{t[c]} + k]});
-      }
-    return b;
   }
 
   const std::vector<float>& positions_;
