@@ -246,7 +246,8 @@ std::string CrossingsWarning(const SoupCrossings& c, bool allowed) {
       overlaps, "warning:  OUT intersects itself: ", DescribeCrossings(c), "; ",
       allowed ? "--allow-self-intersections let the run make crossings"
               : "the input's own crossings, kept (the simplification makes none)",
-      "; a mesher such as tetgen refuses it (a finer export of the part avoids it)\n");
+      "; a mesher such as tetgen refuses it (a finer export avoids crossings within a part; "
+      "--unite-overlaps replaces closed bodies exported overlapping by their union)\n");
 }
 
 // A solid's mean thickness against the tolerance. Each side of a wall may move by the

@@ -545,8 +545,9 @@ class Uncrosser {
            {centre.x, centre.y, centre.z},
            absl::StrFormat("%s cross each other (%u face pairs; %s); left as they are: %s",
                            c.two_surfaces ? "two surfaces" : "facets of one surface", c.pairs,
-                           c.two_surfaces ? "bodies exported overlapping, or a part and its "
-                                            "cavity's wall"
+                           c.two_surfaces ? "bodies exported overlapping (--unite-overlaps "
+                                            "replaces closed ones by their union), or a part "
+                                            "and its cavity's wall"
                                           : "a thin wall tessellated coarser than its thickness",
                            why)});
     }

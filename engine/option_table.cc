@@ -162,6 +162,13 @@ std::vector<OptionSpec> MakeTable() {
                "writes it), so that tetgen and FE meshers take the assembly; off: such contacts "
                "stay as exported, faces overlapping",
        .field = &R::imprint},
+      {.name = "unite_overlaps", .flag = "--unite-overlaps", .section = "repair",
+       .type = T::kBool,
+       .help = "repair: closed bodies that cross each other (a part exported as solids never "
+               "fused) are replaced by their union, cut where their surfaces cross, so that "
+               "tetgen and FE meshers take it and the overlap's volume counts once; off: they "
+               "stay crossing",
+       .field = &R::unite_overlaps},
       {.name = "fill_holes", .flag = "--fill-holes", .section = "repair", .type = T::kEnum,
        .help = "repair: which openings are closed; small: loops of a few facets an exporter lost "
                "(at most 6 edges, a tenth of the surface); planar: also openings in one plane "

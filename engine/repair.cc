@@ -30,6 +30,7 @@
 #include "engine/point_in_shell.h"
 #include "engine/repair_imprint.h"
 #include "engine/repair_uncross.h"
+#include "engine/repair_union.h"
 #include "engine/union_find.h"
 
 namespace femsimp {
@@ -72,6 +73,8 @@ constexpr KindInfo kKinds[kNumRepairKinds] = {
      " (two facets lay on each other: the other diagonal taken)"},
     {"crossing_removed", "crossing taken out", "crossings taken out", "took out",
      "patch of crossing facets", "patches of crossing facets", " (their holes closed again)"},
+    {"united_bodies", "united bodies", "united bodies", "united", "group of overlapping bodies",
+     "groups of overlapping bodies", " (replaced by their union)"},
     {"seam_edge", "non-manifold edge", "non-manifold edges", "kept", "non-manifold edge",
      "non-manifold edges", " as seams"},
     {"non_orientable", "non-orientable component", "non-orientable components", "left",
@@ -84,6 +87,8 @@ constexpr KindInfo kKinds[kNumRepairKinds] = {
      " open (the surface is not closed)"},
     {"crossing_left", "crossing left", "crossings left", "left", "crossing", "crossings",
      " as they were (facets crossing each other; FE meshers refuse them)"},
+    {"overlap_left", "overlap left", "overlaps left", "left", "group of overlapping bodies",
+     "groups of overlapping bodies", " not united (FE meshers refuse them)"},
 };
 
 const KindInfo& Info(RepairKind kind) { return kKinds[static_cast<size_t>(kind)]; }
@@ -1806,7 +1811,7 @@ bool IsRepairChange(RepairKind kind) {
   return kind != RepairKind::kSeamEdge && kind != RepairKind::kNonOrientable &&
          kind != RepairKind::kFoldLeft && kind != RepairKind::kContactLeft &&
          kind != RepairKind::kHoleLeft && kind != RepairKind::kCrossingLeft &&
-         kind != RepairKind::kCount;
+         kind != RepairKind::kOverlapLeft && kind != RepairKind::kCount;
 }
 
 bool BlocksTheBuild(RepairKind kind) { return kind == RepairKind::kNonOrientable; }
@@ -1819,8 +1824,8 @@ std::string RepairRecord::ToString() const {
     case RepairKind::kUnreferencedVertex:
       if (vertex >= 0) {
         absl::StrAppend(&s, " ", vertex);
-      } else {  // a point the imprint added
-        absl::StrAppend(&s, " (an imprint's point)");
+      } else {  // a point the imprint or the union added
+        absl::StrAppend(&s, " (a point a repair step added)");
       }
       if (facet >= 0) absl::StrAppend(&s, " (facet ", facet, ")");
       break;
@@ -1832,6 +1837,8 @@ std::string RepairRecord::ToString() const {
       break;
     case RepairKind::kImprintedContact:
     case RepairKind::kContactLeft:
+    case RepairKind::kUnitedBodies:
+    case RepairKind::kOverlapLeft:
       absl::StrAppend(&s, " of facet ", facet);
       break;
     case RepairKind::kDegenerateFacet:
@@ -1898,6 +1905,10 @@ absl::StatusOr<RepairResult> RepairMesh(RawMesh& mesh, const RepairOptions& opti
   // The repairer reads the input while it works and replaces the mesh only at the end.
   absl::StatusOr<RepairResult> repaired = Repairer(mesh, options).Run(mesh);
   if (!repaired.ok() || options.mode == RepairMode::kOff) return repaired;
+  if (options.unite_overlaps) {
+    repaired = UniteRepaired(mesh, options, *std::move(repaired));
+    if (!repaired.ok()) return repaired;
+  }
   if (options.take_out_crossings) {
     repaired = UncrossRepaired(mesh, options, *std::move(repaired));
     if (!repaired.ok()) return repaired;

@@ -45,6 +45,10 @@ struct RepairOptions {
   // exported (the output's report names them).
   bool imprint = false;
   HoleFill fill_holes = HoleFill::kSmall;
+  // Closed bodies that cross each other (a part exported as solids never fused) are replaced by
+  // their union (engine/overlap_union.h), after the first repairs and before crossings are taken
+  // out; off: they stay crossing (the report names them).
+  bool unite_overlaps = false;
   // Facets of one surface that cross each other are taken out with the facets around them and
   // the hole closed again (engine/crossing_repair.h), after the other repairs. Off only where a
   // step runs the repairs again on what it made.
@@ -74,6 +78,8 @@ enum class RepairKind : int {
                         // fold, engine/fold.h): their common edge flipped to the other diagonal
   kCrossingRemoved,     // facets of one surface crossing each other: a patch around them taken
                         // out and its rim closed again (engine/crossing_repair.h)
+  kUnitedBodies,        // closed bodies crossing each other replaced by their union
+                        // (RepairOptions::unite_overlaps)
   // Left in place.
   kSeamEdge,       // an edge of 3 or more facets: kept, listed in RepairResult::seams
   kNonOrientable,  // a component that no choice of facet orientations makes consistent (the
@@ -85,6 +91,8 @@ enum class RepairKind : int {
                    // area, too large to fill (a face missing): the output stays open
   kCrossingLeft,   // facets crossing each other that no patch took out (two bodies overlapping, a
                    // thin wall tessellated coarser than its thickness): FE meshers refuse them
+  kOverlapLeft,    // bodies crossing each other that the union left (one not closed, crossing
+                   // itself, or a union that is not a closed surface): FE meshers refuse them
   kCount,
 };
 inline constexpr size_t kNumRepairKinds = static_cast<size_t>(RepairKind::kCount);
@@ -155,7 +163,9 @@ struct RepairResult {
 // duplicate facets; close T-junctions; zip T-junction cracks; fill small holes; orient each
 // component consistently (closed ones to bound a volume: outward, cavities inward); unfold
 // folds (below); split
-// non-manifold vertices; drop unreferenced vertices; with `imprint`, re-tile the planar contacts
+// non-manifold vertices; drop unreferenced vertices; with `unite_overlaps`, replace closed bodies
+// that cross each other by their union (engine/overlap_union.h); take out facets of one surface
+// that cross each other (engine/crossing_repair.h); with `imprint`, re-tile the planar contacts
 // of bodies exported apart (engine/imprint.h) and check the result with the steps above again
 // (their changes, if any, are counted too; records then name the input facets the changed
 // facets came from). Faces keep their input order, groups and

@@ -31,6 +31,9 @@ writes the triangle soups, then makes broken copies the way CAD exports break:
              bowtie (two parts welded at one vertex: non-manifold vertex); the assembly (non-manifold edges),
              assembly_apart_solids (its boxes meshed body by body, one named STL solid each:
              contacts whose facets overlap in their plane, as an assembly exported to STL has),
+             ribbed_plate_bodies (a plate, a rib and a turned block of one part, never fused,
+             written one after another into one STL: their surfaces cross; its clean source
+             ribbed_plate_fused is the fused part),
              bottle_export_crossing (self-intersecting) and every occ_stl file are not clean
 
   held out   shaft (stepped, filleted, keyway, cross hole), elbow (thick-walled pipe bend),
@@ -1337,6 +1340,67 @@ def assembly_apart(outdir):
         "measured": measure(welded, tris)}
 
 
+# A plate, a rib standing through its top and a block turned 30 degrees about z crossing both:
+# three bodies of one part that were never fused. Flat faces only, so that the union of their
+# tessellations is the fused solid's surface exactly (no chord of a curve between them).
+RIBBED_PLATE = {"plate": (0, 0, 0, 60, 40, 8), "rib": (10, 17, 3, 40, 6, 17),
+                "block": (25, 5, 5, 14, 12, 11)}
+
+
+def ribbed_plate(outdir):
+    """The ribbed plate twice: fused (occ.fuse, a clean part, the reference) and as its bodies
+    exported one after another into one STL, each closed on its own but crossing the others (as
+    a multi-body part is written without a boolean union): the plain call must say so and leave
+    them; --unite-overlaps must give the fused part's surface."""
+    entries = []
+    for fused in (True, False):
+        gmsh.clear()
+        gmsh.model.add("ribbed_plate")
+        occ = gmsh.model.occ
+        tags = {name: occ.addBox(*box) for name, box in RIBBED_PLATE.items()}
+        occ.rotate([(3, tags["block"])], 32, 11, 10, 0, 0, 1, math.radians(30))
+        if fused:
+            occ.fuse([(3, tags["plate"])], [(3, tags["rib"]), (3, tags["block"])])
+        occ.synchronize()
+        xmin, ymin, zmin, xmax, ymax, zmax = gmsh.model.getBoundingBox(-1, -1)
+        diag = math.dist((xmin, ymin, zmin), (xmax, ymax, zmax))
+        pos, tris, groups = mesh_surfaces(VARIANTS["coarse"], diag)
+        if fused:
+            tris = orient(pos, tris)
+            path = os.path.join(outdir, "ribbed_plate_fused.off")
+            write_off(path, pos, tris)
+            m = measure(pos, tris)
+            if not m["closed"] or not m["manifold_edges"] or m["components"] != 1:
+                raise RuntimeError(f"ribbed_plate_fused: not a clean part: {m}")
+            entries.append({
+                "file": os.path.basename(path), "part": "ribbed_plate", "variant": "fused",
+                "format": "off", "clean": True, "broken": [],
+                "by_construction": {"closed": True, "manifold": True, "shells": 1},
+                "cad_faces": int(len(np.unique(groups))), "volumes": 1, "measured": m})
+            continue
+        body = np.zeros(len(tris), dtype=np.int64)
+        for tag in tags.values():
+            surfs = [abs(t) for _, t in gmsh.model.getBoundary([(3, tag)], oriented=False)]
+            body[np.isin(groups, surfs)] = tag
+        for tag in tags.values():  # each body outward on its own
+            tris = orient(pos, tris, np.flatnonzero(body == tag))
+        path = os.path.join(outdir, "ribbed_plate_bodies.stl")
+        write_stl(path, pos, tris)
+        entries.append({
+            "file": os.path.basename(path), "part": "ribbed_plate", "variant": "bodies",
+            "format": "stl", "clean": False, "source": "ribbed_plate_fused", "broken": [{
+                "kind": "bodies_overlapping",
+                "note": "a plate, a rib through its top and a turned block through both, each "
+                        "body closed, never fused, written one after another into one STL: "
+                        "their surfaces cross"}],
+            "by_construction": {"closed": True, "manifold": True,
+                                "after_repair": "bodies crossing each other",
+                                "after_repair_options": ["--unite-overlaps"]},
+            "cad_faces": int(len(np.unique(groups))), "volumes": len(tags),
+            "measured": measure(pos, tris)})
+    return entries
+
+
 def build_part(part):
     gmsh.clear()
     gmsh.model.add(part)
@@ -1426,6 +1490,7 @@ def generate(outdir, parts, log):
             "cad_faces": len(gmsh.model.getEntities(2)), "measured": measure(pos, tris)})
         if part == "assembly":
             manifest["files"].append(assembly_apart(outdir))
+            manifest["files"] += ribbed_plate(outdir)
         log(f"{part}: {time.time() - t0:.1f} s")
     gmsh.finalize()
     shutil.rmtree(tmpdir)

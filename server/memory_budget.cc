@@ -27,6 +27,7 @@ uint64_t EstimateJobBytes(uint64_t vertices, uint64_t faces, const SimplifyOptio
   if (options.max_wall_share > 0.0) bytes += kWallBytesPerFace * faces;
   if (options.deviation_check == DeviationCheck::kMeasured) bytes += kMeasuredBytesPerFace * faces;
   if (options.repair.imprint) bytes += kImprintBytesPerFace * faces;
+  if (options.repair.unite_overlaps) bytes += kUnionBytesPerFace * faces;
   return bytes;
 }
 

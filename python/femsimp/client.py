@@ -139,7 +139,8 @@ def _warn_if_crossing(result, allowed):
         what = (f"{c.pairs} face pair{'' if c.pairs == 1 else 's'} cross (the first: faces "
                 f"{c.face_a} and {c.face_b}, at ({at}))")
     warnings.warn(f"the output intersects itself: {what}; {cause}; a mesher such as tetgen "
-                  f"refuses it", FemsimpWarning, stacklevel=3)
+                  f"refuses it (unite_overlaps=True replaces closed bodies exported overlapping "
+                  f"by their union)", FemsimpWarning, stacklevel=3)
 
 
 def _warn_if_open(result):

@@ -223,18 +223,39 @@ def part_volume_failures(tetgen, parts, src, dst, scratch, budget):
     return failures
 
 
-def plain_call_failures(femsimp, settings, src, dst):
-    """What is wrong with the plain call on a copy that only an option closes: it must succeed,
-    leave the surface open and report every loop it left (hole_left), filling none."""
+def plain_call_failures(femsimp, settings, src, dst, told):
+    """What is wrong with the plain call on a copy that only an option (`told`) makes a solid: it
+    must succeed and leave what the option would change, saying so: a dropped face (--fill-holes
+    planar) every loop it left open (hole_left), filling none; bodies crossing each other
+    (--unite-overlaps) their crossings (crossing_left), uniting none."""
     p, _ = run_femsimp(femsimp, src, dst, settings.femsimp_args() + ["--stats-json",
                                                                       stats_path(dst)])
     if p.returncode != 0:
         return [f"the plain call exited {p.returncode}: {p.stderr.strip()[:200]}"]
     with open(stats_path(dst)) as f:
         counts = json.load(f)["repair"]["counts"]
+    if "--unite-overlaps" in told:
+        if counts.get("crossing_left", 0) == 0 or counts["united_bodies"] != 0:
+            return [f"the plain call left {counts.get('crossing_left', 0)} crossings and united "
+                    f"{counts['united_bodies']} groups of bodies: crossing bodies must be said, "
+                    "not united"]
+        return []
     if counts["hole_left"] == 0 or counts["filled_hole"] != 0:
         return [f"the plain call left {counts['hole_left']} holes and filled "
                 f"{counts['filled_hole']}: a dropped face must be said, not filled"]
+    return []
+
+
+def option_failures(told, stdout):
+    """What the run with the option (`told`) did not do: --unite-overlaps must unite the bodies
+    and leave none crossing."""
+    if "--unite-overlaps" not in told:
+        return []
+    m = re.search(r"^  united_bodies +(\d+)$", stdout, re.M)
+    left = re.search(r"^  (crossing_left|overlap_left) +(\d+)$", stdout, re.M)
+    if not m or left:
+        return [f"--unite-overlaps united {m.group(1) if m else 0} groups of bodies"
+                + (f" and left {left.group(2)} ({left.group(1)})" if left else "")]
     return []
 
 
@@ -385,13 +406,16 @@ def main():
         told = entry.get("by_construction", {}).get("after_repair_options", [])
         if told:
             failures += [f"{entry['file']}: {problem}" for problem in plain_call_failures(
-                args.femsimp, settings, src, dst + ".plain" + os.path.splitext(dst)[1])]
+                args.femsimp, settings, src, dst + ".plain" + os.path.splitext(dst)[1], told)]
         fargs = settings.femsimp_args() + told
         p, seconds = run_femsimp(args.femsimp, src, dst, fargs + ["--stats-json", stats_path(dst)])
         message = (p.stderr.strip() or p.stdout.strip()).splitlines()
         message = message[0] if message else ""
         row = {"entry": entry, "exit": p.returncode, "message": message, "seconds": seconds,
                "args": " ".join(fargs), "repair": repair_line(p.stdout)}
+        if p.returncode == 0:
+            failures += [f"{entry['file']}: {problem}" for problem in option_failures(told,
+                                                                                      p.stdout)]
         if entry["clean"]:
             clean_rows.append(row)
             if p.returncode != 0:

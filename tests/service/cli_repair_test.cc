@@ -562,11 +562,43 @@ TEST_F(CliRepairTest, ImprintSharesTheContactLocallyAndThroughTheServer) {
     EXPECT_EQ(out_.find("overlapping faces"), std::string::npos) << out_;
     const std::string json = testing::ReadFileBytes(Path("s.json"));
     EXPECT_HAS(json, "\"imprinted_contact\": 1,");
-    EXPECT_HAS(json, "\"contact_left\": 0, \"hole_left\": 0, \"crossing_left\": 0}");
+    EXPECT_HAS(json,
+               "\"contact_left\": 0, \"hole_left\": 0, \"crossing_left\": 0, \"overlap_left\": 0}");
     EXPECT_HAS(json, "\"kind\": \"imprinted_contact\"");
     EXPECT_HAS(json, "bodies exported apart touch over an area of 2:");
     EXPECT_HAS(json, "{\"input_volume\": 4, ");   // the block, 2 x 1 x 2
     EXPECT_HAS(json, "{\"input_volume\": 12, ");  // the plate, 4 x 3 x 1
+  }
+}
+
+// Two boxes crossing each other (a part exported as solids never fused): said and left by default;
+// --unite-overlaps replaces them by their union, locally and through the server (the option
+// travels in EngineOptions): no crossing left, one solid of the union's volume, 8 + 8 - 1.
+TEST_F(CliRepairTest, UniteOverlapsReplacesCrossingBodiesByTheirUnion) {
+  RawMesh boxes = testing::MakeBox({2, 2, 2}, {3, 3, 3});
+  testing::Append(boxes, testing::MakeBox({2, 2, 2}, {3, 3, 3}), {1, 1, 1});
+  const std::string input = WriteSoup("crossing.off", boxes);
+  ASSERT_EQ(Run({input, Path("out.off")}), cli::kExitOk) << err_;
+  EXPECT_HAS(out_, "  crossing_left          1\n");
+  EXPECT_HAS(out_, "--unite-overlaps replaces closed bodies exported overlapping by their union");
+  testing::InProcessServer s;
+  for (const bool remote : {false, true}) {
+    std::vector<std::string> args = {input, Path("out.off"), "--unite-overlaps", "--stats-json",
+                                     Path("s.json")};
+    if (remote) args.insert(args.end(), {"--server", s.address()});
+    ASSERT_EQ(Run(args), cli::kExitOk) << err_;
+    absl::StatusOr<RawMesh> out = ReadMeshFile(Path("out.off"));
+    ASSERT_TRUE(out.ok()) << out.status();
+    EXPECT_EQ(FindCrossings(*out).pairs, 0u);
+    EXPECT_EQ(TopologyOf(*out).boundary_edges, 0);
+    EXPECT_NEAR(testing::SignedVolume(*out), 15.0, 15.0 * 0.005);  // the volume budget
+    EXPECT_EQ(out_.find("intersects itself"), std::string::npos) << out_;
+    const std::string json = testing::ReadFileBytes(Path("s.json"));
+    EXPECT_HAS(json, "\"united_bodies\": 1,");
+    EXPECT_HAS(json, "\"crossing_left\": 0");
+    EXPECT_HAS(json, "\"unite_overlaps\": true");
+    EXPECT_HAS(json, "2 bodies exported overlapping united: their 216 facets re-made as ");
+    EXPECT_HAS(json, "\"input_mass\": {\"solid\": true, \"volume\": 15,");
   }
 }
 
@@ -591,7 +623,7 @@ TEST_F(CliRepairTest, FillHolesPlanarClosesADroppedFlatFace) {
     EXPECT_NEAR(testing::SignedVolume(*out), 6.0, 6.0 * 0.005);  // the volume budget
     const std::string json = testing::ReadFileBytes(Path("s.json"));
     EXPECT_HAS(json, "\"filled_hole\": 1,");
-    EXPECT_HAS(json, "\"hole_left\": 0, \"crossing_left\": 0}");
+    EXPECT_HAS(json, "\"hole_left\": 0, \"crossing_left\": 0, \"overlap_left\": 0}");
     EXPECT_HAS(json, "\"fill_holes\": \"planar\"");
     EXPECT_HAS(json, "an opening in one plane (20 edges in 1 loop, from vertex ");
   }

@@ -921,6 +921,9 @@ TEST(MemoryBudget, EstimateGrowsWithTheDeclaredSizeAndWhatTheOptionsKeep) {
   imprint.repair.imprint = true;
   EXPECT_EQ(server::EstimateJobBytes(1000, 2000, imprint),
             small + 2000 * server::kImprintBytesPerFace);
+  SimplifyOptions unite;
+  unite.repair.unite_overlaps = true;
+  EXPECT_EQ(server::EstimateJobBytes(1000, 2000, unite), small + 2000 * server::kUnionBytesPerFace);
 }
 
 TEST(MemoryBudget, DefaultIsThreeQuartersOfTheMemoryTheServerMayUse) {
