@@ -696,8 +696,8 @@ uint32_t Repairer::EdgeUses(uint32_t u, uint32_t v) const {
 // at each) or, along a curve, off it by the chord's sagitta. An open edge is split at the
 // vertices of the open edges along it (within an eighth of its length of the segment): its
 // facet (a, b, c) becomes the fan (a, m, c), (m, .., c), (.., b, c), with its orientation, group
-// and fields; no point moves. A split is made only where every piece of the crack then has
-// exactly two facets, no piece or fan edge exists already and no piece has zero area or turns
+// and fields; no point moves. A split is made only where some piece then has exactly two facets
+// and none more, no piece or fan edge exists already and no piece has zero area or turns
 // over; one edge per facet a call. Returns whether it split any (the edges are then stale).
 bool Repairer::ZipTJunctions() {
   const uint32_t ne = static_cast<uint32_t>(ebeg_.size() - 1);
@@ -785,8 +785,10 @@ bool Repairer::ZipTJunctions() {
     plan.split = true;
   }
 
-  // A crack closes only as a whole: drop the splits whose pieces would not have exactly two
-  // facets (an open edge left whole counts as one piece), until none is left to drop.
+  // Drop the splits that would close nothing (no piece with exactly two facets) or make an edge
+  // of three (an open edge left whole counts as one piece), until none is left to drop. A crack
+  // may close in part: where a facet beside it is missing, its pieces there stay open, on the
+  // hole's loop, which then no longer runs along the crack and back.
   absl::flat_hash_map<uint32_t, size_t> facet_plan;  // one edge per facet a call
   for (size_t i = 0; i < plans.size(); ++i)
     if (plans[i].split && !facet_plan.try_emplace(plans[i].h / 3, i).second) plans[i].split = false;
@@ -806,11 +808,15 @@ bool Repairer::ZipTJunctions() {
     absl::flat_hash_map<uint64_t, uint32_t> fan_edges;
     for (Plan& p : plans) {
       if (!p.split) continue;
-      bool whole = true;
-      pieces(p, [&](uint32_t u, uint32_t v) { whole = whole && count[key(u, v)] == 2; });
+      bool manifold = true, closes = false;
+      pieces(p, [&](uint32_t u, uint32_t v) {
+        const uint32_t n = count[key(u, v)];
+        manifold = manifold && n <= 2;
+        closes = closes || n == 2;
+      });
       const uint32_t c = tri_[3 * (p.h / 3) + (p.h % 3 + 2) % 3];
-      for (uint32_t v : p.cut) whole = whole && ++fan_edges[key(v, c)] == 1;
-      if (!whole) {
+      for (uint32_t v : p.cut) manifold = manifold && ++fan_edges[key(v, c)] == 1;
+      if (!manifold || !closes) {
         p.split = false;
         changed = true;
       }
@@ -1438,9 +1444,14 @@ void Repairer::UnfoldEdges() {
     const uint32_t a = tri_[3 * f.k0 + f.ja];
     const uint32_t b = tri_[3 * f.k0 + (f.ja + 1) % 3];
     const std::array<double, 3> pb = PosD(Origin(b));
-    Record(kind, std::min(kept_[f.k0], kept_[f.k1]), orig_[3 * f.k0 + f.ja], PosD(Origin(a)), [&] {
-      return absl::StrCat("to ", Point(World(pb)), ": facets ", std::min(kept_[f.k0], kept_[f.k1]),
-                          " and ", std::max(kept_[f.k0], kept_[f.k1]),
+    const uint32_t f0 = std::min(kept_[f.k0], kept_[f.k1]), f1 = std::max(kept_[f.k0], kept_[f.k1]);
+    Record(kind, f0, orig_[3 * f.k0 + f.ja], PosD(Origin(a)), [&] {
+      // Split pieces and hole fills carry the input facet they came from.
+      const std::string facets = f0 == f1
+                                     ? absl::StrCat("two facets made from facet ", f0,
+                                                    " (pieces of it, or a hole's fill beside it)")
+                                     : absl::StrCat("facets ", f0, " and ", f1);
+      return absl::StrCat("to ", Point(World(pb)), ": ", facets,
                           " lie on each other in their plane, one turned over", why);
     });
   };

@@ -992,6 +992,28 @@ def break_tjunction(rng, pos, tris, groups):
                 f" vertex at the midpoint of each of its {len(edges)} edges, face {ga}'s not"}]
 
 
+def break_tjunction_missing(rng, pos, tris, groups):
+    """A T-junction seam (break_tjunction) with two of B's facets beside it dropped: a piece of
+    a seam edge and its neighbour away from the seam. The crack can close only along the rest
+    of the seam, and the hole's loop takes the edge's other piece on A's side (zipped as a whole
+    or not at all, the loop would run along the crack to the edge's far end and back)."""
+    n_before = len(tris)
+    pos, tris, groups, made = break_tjunction(rng, pos, tris, groups)
+    second = n_before + (len(tris) - n_before) // 2  # B's second pieces come last, in seam order
+    m, y, c = (int(v) for v in tris[second])
+    # Its first piece (x, m, c), and the facet beside that across x-c.
+    piece = next(f for f in range(n_before) if groups[f] == groups[second] and m in tris[f])
+    x = next(int(v) for v in tris[piece] if v not in (m, c))
+    beside = next(f for f in range(len(tris)) if f != piece and groups[f] == groups[piece]
+                  and x in tris[f] and c in tris[f])
+    keep = np.ones(len(tris), dtype=bool)
+    keep[[piece, beside]] = False
+    made.append({"kind": "missing_facets", "count": 2, "facets": sorted([piece, beside]),
+                 "note": f"face {made[0]['cad_faces'][1]}'s piece of a seam edge beside its T "
+                         f"vertex and the facet next to it, dropped (facets {piece}, {beside})"})
+    return pos, tris[keep], groups[keep], made
+
+
 def break_tjunction_curved(rng, pos, tris, groups):
     """The same along a circular seam, B's new vertices on the circle itself (as a mesher that
     samples the CAD curve puts them): each is off A's chord by its sagitta, a narrow gap."""
@@ -1232,6 +1254,7 @@ BREAKERS = {
     "crack": break_crack,
     "tjunction": break_tjunction,
     "tjunction_curved": break_tjunction_curved,
+    "tjunction_missing": break_tjunction_missing,
     "missing": break_missing,
     "unwelded": break_unwelded,
     "unreferenced": break_unreferenced,
@@ -1251,6 +1274,7 @@ BROKEN_SHAPE = {
     "crack": (False, True),
     "tjunction": (False, True),
     "tjunction_curved": (False, True),
+    "tjunction_missing": (False, True),
     "missing": (False, True),
     "unwelded": (False, True),
     "unreferenced": (True, True),
@@ -1293,6 +1317,9 @@ BROKEN = [
     # A vertex written wrongly through the far wall: taken out by repair with its facets.
     ("bracket_coarse", "spike"),
     ("housing_export", "spike"),
+    # Appended: each entry's seed is its index. A facet dropped beside a T vertex: the crack
+    # closes in part, the hole is the facet.
+    ("housing_coarse", "tjunction_missing"),
 ]
 
 # -------------------------------------------------------------------------------------- main

@@ -479,6 +479,25 @@ TEST(Repair, TJunctionCracksAreZipped) {
   }
 }
 
+TEST(Repair, CrackBesideAMissingFacetIsZippedWhereItCloses) {
+  // As TJunctionCracksAreZipped, but the fan's last facet (10, 1, 5) is missing: the crack
+  // closes along 0-8-9-10 only. Facet 9 is split there all the same, and the hole left is the
+  // missing facet's triangle, not a loop running along the crack to vertex 1 and back (whose
+  // fill would lie on facet 9's pieces, folded).
+  RawMesh m = TJunctionCube({0.25f, 0.5f, 0.75f});  // facets 12-14 the fan
+  m.triangles.resize(3 * 14);
+  m.face_groups.resize(14);
+  m.face_fields[0].values.resize(14);
+  RepairResult r = Repair(m);
+  ExpectClosedCube(m);
+  EXPECT_EQ(r.report.count(RepairKind::kSplitEdge), 3u) << r.report.Details();
+  EXPECT_EQ(r.report.count(RepairKind::kFilledHole), 1u) << r.report.Details();
+  EXPECT_EQ(r.report.count(RepairKind::kFoldLeft), 0u) << r.report.Details();
+  EXPECT_EQ(r.report.num_changes(), 4u) << r.report.Details();
+  EXPECT_HAS(Records(r.report, RepairKind::kFilledHole), "a hole of 3 edges (vertices ");
+  EXPECT_HAS(Records(r.report, RepairKind::kFilledHole), " closed by 1 facet of area 0.125 ");
+}
+
 TEST(Repair, TJunctionZipTakesFloatRoundingAndNarrowGaps) {
   // Edge (0, 1) slanted, so that its third is not a float: the T vertex, rounded, lies off the
   // segment by the float coordinates' rounding, which the zip takes even without a weld
