@@ -279,7 +279,7 @@ RawMesh Assemble(const RawMesh& mesh, const std::vector<GroupUnion*>& applied,
 
 }  // namespace
 
-UnionResult UniteOverlaps(RawMesh& mesh) {
+UnionResult UniteOverlaps(const RawMesh& mesh) {
   UnionResult result;
   // Seams, locked vertices and parts are made after the repair; a mesh that has them is not one
   // this step is for.
@@ -374,7 +374,7 @@ UnionResult UniteOverlaps(RawMesh& mesh) {
     united = Assemble(mesh, applied, result.facet_origin, result.vertex_origin);
   }
   for (const GroupUnion* u : applied) result.united.push_back(u->record);
-  mesh = std::move(united);
+  result.mesh = std::move(united);
   return result;
 }
 

@@ -44,6 +44,7 @@ struct UnionResult {
   // vertex of the mesh given, or kNoUnionSource for a point added where surfaces cross. Both
   // empty when nothing changed.
   std::vector<uint32_t> facet_origin, vertex_origin;
+  RawMesh mesh;  // the mesh with the unions; empty when `united` is
 };
 
 // Unites the bodies of `mesh` that cross each other. A body is a closed, consistently oriented
@@ -53,7 +54,8 @@ struct UnionResult {
 // body or crosses itself, when the union is not a closed surface (bodies touching along an edge
 // or at a point), or when rounding the new points to floats makes facets cross. Facets of bodies
 // not united keep their place and order; a group's union comes after them, each facet with the
-// group and field values of the facet it lies in. A mesh with no crossing bodies is not touched.
-UnionResult UniteOverlaps(RawMesh& mesh);
+// group and field values of the facet it lies in. The mesh given stays as it was, so that a
+// caller can keep it should it refuse the union.
+UnionResult UniteOverlaps(const RawMesh& mesh);
 
 }  // namespace femsimp

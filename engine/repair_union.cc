@@ -15,7 +15,6 @@ static_assert(kNoUnionSource == kNoStepVertex);
 
 absl::StatusOr<RepairResult> UniteRepaired(RawMesh& mesh, const RepairOptions& options,
                                            RepairResult repaired) {
-  RawMesh given = mesh;  // what stays should the union need what no repair fixes
   UnionResult u = UniteOverlaps(mesh);
   // The other repairs again, on the united mesh: a new point closer to a corner than the weld
   // tolerance, a needle where the surfaces cross at a corner. Should they fail or leave a defect
@@ -26,7 +25,7 @@ absl::StatusOr<RepairResult> UniteRepaired(RawMesh& mesh, const RepairOptions& o
   again.imprint = false;
   absl::StatusOr<RepairResult> checked = absl::InternalError("not run");
   if (!u.united.empty()) {
-    checked = RepairMesh(mesh, again);
+    checked = RepairMesh(u.mesh, again);
     std::string why;
     if (!checked.ok()) {
       why = std::string(checked.status().message());
@@ -38,10 +37,11 @@ absl::StatusOr<RepairResult> UniteRepaired(RawMesh& mesh, const RepairOptions& o
       }
     }
     if (!why.empty()) {
-      mesh = std::move(given);
       for (const UnitedBodies& b : u.united)
         u.left.push_back({b.first_facet, b.at, absl::StrCat("after the union: ", why)});
       u.united.clear();
+    } else {
+      mesh = std::move(u.mesh);
     }
   }
   ReportMerger merge(repaired, mesh, options.max_records_per_kind);

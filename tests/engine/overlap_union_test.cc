@@ -59,9 +59,9 @@ bool ClosedAndOriented(const RawMesh& m) {
 
 TEST(OverlapUnion, TwoCubesBecomeTheirUnion) {
   const RawMesh given = CubesOverlapping();
-  RawMesh mesh = given;
-  const UnionResult u = UniteOverlaps(mesh);
+  const UnionResult u = UniteOverlaps(given);
   ASSERT_EQ(u.united.size(), 1u);
+  const RawMesh& mesh = u.mesh;
   EXPECT_TRUE(u.left.empty());
   const UnitedBodies& b = u.united[0];
   EXPECT_EQ(b.bodies, 2u);
@@ -115,8 +115,10 @@ TEST(OverlapUnion, ATorusThroughATiltedBox) {
   const double torus = testing::SignedVolume(torus_alone);
   const double tilted = testing::SignedVolume(box);
   const RawMesh given = soup;
-  const UnionResult u = UniteOverlaps(soup);
+  UnionResult u = UniteOverlaps(soup);
   ASSERT_EQ(u.united.size(), 1u);
+  EXPECT_EQ(soup.triangles, given.triangles);  // the union is beside it
+  soup = std::move(u.mesh);
   EXPECT_NEAR(u.united[0].volume_before, torus + tilted, 1e-6 * (torus + tilted));
   const double after = testing::SignedVolume(soup);
   EXPECT_NEAR(after, u.united[0].volume_after, 1e-5 * after);
@@ -138,6 +140,7 @@ TEST(OverlapUnion, BodiesApartAreNotTouched) {
   EXPECT_TRUE(u.united.empty());
   EXPECT_TRUE(u.left.empty());
   EXPECT_TRUE(u.facet_origin.empty());
+  EXPECT_EQ(u.mesh.num_faces(), 0u);
   EXPECT_EQ(soup.positions, given.positions);
   EXPECT_EQ(soup.triangles, given.triangles);
 }
