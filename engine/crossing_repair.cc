@@ -39,7 +39,8 @@ struct Plan {
 
 class Uncrosser {
  public:
-  Uncrosser(const RawMesh& mesh, int threads) : mesh_(mesh), threads_(threads) {}
+  Uncrosser(const RawMesh& mesh, int threads, CrossingScope scope)
+      : mesh_(mesh), threads_(threads), scope_(scope) {}
 
   UncrossResult Run() {
     const size_t nf = mesh_.num_faces();
@@ -55,6 +56,7 @@ class Uncrosser {
                                                       .crossings_only = true,
                                                       .stop_after = kEnoughCrossingPairs,
                                                       .pool = pool()});
+    InScope(lists.crossing);
     result_.pairs_before = lists.crossing.size();
     if (lists.crossing.empty()) return std::move(result_);
     if (found.cut_short) {  // a soup crossing itself everywhere: not vertices written wrongly
@@ -80,6 +82,7 @@ class Uncrosser {
       if (!TakeOutVertices(lists.crossing)) break;
       lists = CrossingPairLists();
       FindCrossings(Soup(facets_), {.lists = &lists, .crossings_only = true, .pool = pool()});
+      InScope(lists.crossing);
     }
     result_.pairs_after = lists.crossing.size();
     if (result_.pairs_after >= result_.pairs_before) {  // nothing gained: all stays as it was
@@ -156,6 +159,13 @@ class Uncrosser {
       component_[f] = parts.Find(f);
       component_area_[component_[f]] += Norm(AreaVector(facets_[f]));
     }
+  }
+  // Drops the pairs of two surfaces where only those of one are taken out (facets_ now).
+  void InScope(std::vector<std::pair<uint32_t, uint32_t>>& pairs) {
+    if (scope_ == CrossingScope::kAll || pairs.empty()) return;
+    Index();
+    std::erase_if(pairs,
+                  [&](const auto& p) { return component_[p.first] != component_[p.second]; });
   }
   static bool Uses(const Facet& t, uint32_t v) { return t[0] == v || t[1] == v || t[2] == v; }
   std::pair<uint32_t, uint32_t> FewerFacetsFirst(uint32_t a, uint32_t b) const {
@@ -576,6 +586,7 @@ class Uncrosser {
 
   const RawMesh& mesh_;
   const int threads_;
+  const CrossingScope scope_;
   std::optional<WorkerPool> pool_;  // the whole mesh's scans run on it
   std::vector<Facet> facets_;
   std::vector<uint32_t> origin_;
@@ -597,8 +608,8 @@ class Uncrosser {
 
 }  // namespace
 
-UncrossResult TakeOutCrossings(const RawMesh& mesh, int threads) {
-  return Uncrosser(mesh, threads).Run();
+UncrossResult TakeOutCrossings(const RawMesh& mesh, int threads, CrossingScope scope) {
+  return Uncrosser(mesh, threads, scope).Run();
 }
 
 }  // namespace femsimp

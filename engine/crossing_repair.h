@@ -57,9 +57,15 @@ struct UncrossResult {
   RawMesh mesh;
 };
 
+// Which crossing pairs are taken out: all, or only those of facets of one surface (before the
+// union of bodies exported overlapping, which takes no body that crosses itself: the pairs
+// between two surfaces are the union's, and are neither taken out nor reported).
+enum class CrossingScope { kAll, kWithinSurfaces };
+
 // `mesh`: a repaired surface (welded, oriented, one fan per vertex); it is not changed. Where
 // what would be taken out leaves no fewer crossing pairs than there were, nothing is.
 // The scan for crossing pairs runs on `threads` threads.
-UncrossResult TakeOutCrossings(const RawMesh& mesh, int threads = 1);
+UncrossResult TakeOutCrossings(const RawMesh& mesh, int threads = 1,
+                               CrossingScope scope = CrossingScope::kAll);
 
 }  // namespace femsimp

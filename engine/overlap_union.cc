@@ -155,10 +155,15 @@ struct GroupUnion {
   SurfaceMesh surface;
 };
 
+struct NoUnion {
+  std::string reason;
+  bool body_crosses_itself = false;
+};
+
 // The union of one group's bodies, or why there is none.
-std::variant<GroupUnion, std::string> Unite(const RawMesh& mesh,
-                                            const std::vector<std::vector<uint32_t>>& components,
-                                            const std::vector<uint32_t>& group) {
+std::variant<GroupUnion, NoUnion> Unite(const RawMesh& mesh,
+                                        const std::vector<std::vector<uint32_t>>& components,
+                                        const std::vector<uint32_t>& group) {
   GroupUnion u;
   std::optional<SurfaceMesh> acc;
   for (size_t i = 0; i < group.size(); ++i) {
@@ -166,14 +171,15 @@ std::variant<GroupUnion, std::string> Unite(const RawMesh& mesh,
     u.members.insert(u.members.end(), facets.begin(), facets.end());
     const std::string why = NotABody(mesh, facets);
     if (!why.empty())
-      return absl::StrCat("the surface of facet ", facets[0],
-                          " is not a body a union takes: ", why);
+      return NoUnion{
+          absl::StrCat("the surface of facet ", facets[0], " is not a body a union takes: ", why)};
     std::optional<SurfaceMesh> built = ToSurfaceMesh(mesh, facets);
     if (!built)
-      return absl::StrCat("the surface of facet ", facets[0], " is not manifold at a vertex");
+      return NoUnion{
+          absl::StrCat("the surface of facet ", facets[0], " is not manifold at a vertex")};
     SurfaceMesh body = *std::move(built);
     if (PMP::does_self_intersect(body))
-      return absl::StrCat("the surface of facet ", facets[0], " crosses itself");
+      return NoUnion{absl::StrCat("the surface of facet ", facets[0], " crosses itself"), true};
     u.record.volume_before += CGAL::to_double(PMP::volume(body));
     if (!acc) {
       acc = std::move(body);
@@ -186,8 +192,8 @@ std::variant<GroupUnion, std::string> Unite(const RawMesh& mesh,
             *acc, body, out, CGAL::parameters::visitor(SourceVisitor{}),
             CGAL::parameters::visitor(SourceVisitor{}), CGAL::parameters::all_default()) ||
         !CGAL::is_closed(out))
-      return std::string(
-          "their union is not a closed surface (bodies touching along an edge or at a point)");
+      return NoUnion{
+          "their union is not a closed surface (bodies touching along an edge or at a point)"};
     acc = std::move(out);
   }
   std::sort(u.members.begin(), u.members.end());
@@ -320,15 +326,15 @@ UnionResult UniteOverlaps(const RawMesh& mesh) {
   unions.reserve(groups.size());
   for (const std::vector<uint32_t>& group : groups) {
     const uint32_t where = crossing_facet.at(group.front());
-    std::variant<GroupUnion, std::string> u;
+    std::variant<GroupUnion, NoUnion> u;
     try {
       u = Unite(mesh, components, group);
     } catch (const std::exception& e) {
-      u = absl::StrCat("the union failed: ", e.what());
+      u = NoUnion{absl::StrCat("the union failed: ", e.what())};
     }
-    if (std::holds_alternative<std::string>(u)) {
+    if (NoUnion* no = std::get_if<NoUnion>(&u)) {
       result.left.push_back({components[group.front()].front(), Centroid(mesh, where),
-                             std::get<std::string>(std::move(u))});
+                             std::move(no->reason), no->body_crosses_itself});
       continue;
     }
     unions.push_back(std::get<GroupUnion>(std::move(u)));

@@ -33,6 +33,7 @@ struct UnionLeft {
   uint32_t first_facet = 0;
   std::array<double, 3> at{};
   std::string reason;
+  bool body_crosses_itself = false;  // the reason: one of its surfaces crosses itself
 };
 
 inline constexpr uint32_t kNoUnionSource = std::numeric_limits<uint32_t>::max();

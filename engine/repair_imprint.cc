@@ -23,6 +23,7 @@ absl::StatusOr<RepairResult> ImprintRepaired(RawMesh& mesh, const RepairOptions&
   RepairOptions again = options;
   again.imprint = false;
   again.take_out_crossings = false;  // the imprint's rounds have looked for them
+  again.unite_overlaps = false;
   absl::StatusOr<RepairResult> checked = absl::InternalError("not run");
   if (!imprint.contacts.empty()) {
     checked = RepairMesh(mesh, again);

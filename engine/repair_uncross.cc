@@ -14,15 +14,16 @@
 namespace femsimp {
 
 absl::StatusOr<RepairResult> UncrossRepaired(RawMesh& mesh, const RepairOptions& options,
-                                             RepairResult repaired) {
+                                             RepairResult repaired, CrossingScope scope) {
   const size_t given_vertices = mesh.num_vertices();
-  UncrossResult uncross = TakeOutCrossings(mesh, options.threads);
+  UncrossResult uncross = TakeOutCrossings(mesh, options.threads, scope);
   // The other repairs again, on a copy made only where something was taken out: they drop the
   // vertices taken out and check that the closed rims left nothing for them (an edge used three
   // times, a component turned). Should they, the mesh stays as it was.
   RepairOptions again = options;
   again.take_out_crossings = false;
   again.imprint = false;
+  again.unite_overlaps = false;
   absl::StatusOr<RepairResult> checked = absl::InternalError("not run");
   if (!uncross.facet_origin.empty()) {
     RawMesh next = std::move(uncross.mesh);
@@ -56,6 +57,7 @@ absl::StatusOr<RepairResult> UncrossRepaired(RawMesh& mesh, const RepairOptions&
       uncross.facet_origin.clear();
     }
   }
+  if (scope == CrossingScope::kWithinSurfaces) uncross.left.clear();
   ReportMerger merge(repaired, mesh, options.max_records_per_kind);
   const std::vector<uint32_t>& first_facet = repaired.facet_origin;
   for (const CrossingLeft& left : uncross.left)

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "absl/status/statusor.h"
+#include "engine/crossing_repair.h"
 #include "engine/raw_mesh.h"
 #include "engine/repair.h"
 
@@ -12,8 +13,10 @@ namespace femsimp {
 // `mesh` as RepairMesh left it, `repaired` what it said; returns the report with the patches
 // taken out (kCrossingRemoved) and the crossings left (kCrossingLeft) added, and the seams,
 // provenance and counts of the result. Where the result would need what no repair fixes, the
-// mesh stays as it was and its crossings are reported as left.
+// mesh stays as it was and its crossings are reported as left. With CrossingScope::kWithinSurfaces
+// (a pass before the union) nothing is reported left: the pass after the union does that.
 absl::StatusOr<RepairResult> UncrossRepaired(RawMesh& mesh, const RepairOptions& options,
-                                             RepairResult repaired);
+                                             RepairResult repaired,
+                                             CrossingScope scope = CrossingScope::kAll);
 
 }  // namespace femsimp

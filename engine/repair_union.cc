@@ -1,5 +1,6 @@
 #include "engine/repair_union.h"
 
+#include <algorithm>
 #include <string>
 #include <utility>
 #include <vector>
@@ -8,6 +9,7 @@
 #include "absl/strings/str_format.h"
 #include "engine/overlap_union.h"
 #include "engine/repair_recheck.h"
+#include "engine/repair_uncross.h"
 
 namespace femsimp {
 
@@ -16,6 +18,19 @@ static_assert(kNoUnionSource == kNoStepVertex);
 absl::StatusOr<RepairResult> UniteRepaired(RawMesh& mesh, const RepairOptions& options,
                                            RepairResult repaired) {
   UnionResult u = UniteOverlaps(mesh);
+  // A body crossing itself (a vertex written wrongly) is none a union takes: where one is, the
+  // crossings within surfaces are taken out first (as the step after the union would), then
+  // the bodies united.
+  if (options.take_out_crossings &&
+      std::any_of(u.left.begin(), u.left.end(),
+                  [](const UnionLeft& left) { return left.body_crosses_itself; })) {
+    const size_t removed = repaired.report.count(RepairKind::kCrossingRemoved);
+    absl::StatusOr<RepairResult> uncrossed =
+        UncrossRepaired(mesh, options, std::move(repaired), CrossingScope::kWithinSurfaces);
+    if (!uncrossed.ok()) return uncrossed;
+    repaired = *std::move(uncrossed);
+    if (repaired.report.count(RepairKind::kCrossingRemoved) > removed) u = UniteOverlaps(mesh);
+  }
   // The other repairs again, on the united mesh: a new point closer to a corner than the weld
   // tolerance, a needle where the surfaces cross at a corner. Should they fail or leave a defect
   // the first run did not, the bodies stay as exported.

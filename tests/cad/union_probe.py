@@ -66,6 +66,10 @@ ap.add_argument("work")
 ap.add_argument("--femsimp", default="build/client/femsimp")
 ap.add_argument("--tetgen", default="tetgen")
 ap.add_argument("--divisor", type=float, default=40.0, help="mesh size: the diagonal over this")
+ap.add_argument("--break", dest="breakers", default="",
+                help="make_cad_meshes breakers applied in turn to each soup before it is written "
+                     "(e.g. spike, or crack+flipped+missing)")
+ap.add_argument("--seed", type=int, default=1, help="of the breakers' random choices")
 args = ap.parse_args()
 os.makedirs(args.work, exist_ok=True)
 gmsh.initialize()
@@ -91,9 +95,15 @@ for name, build in CASES.items():
             body[np.isin(groups, surfs)] = tag
         for tag in tags:
             tris = m.orient(pos, tris, np.flatnonzero(body == tag))
+        broken = []
+        rng = np.random.default_rng(args.seed)
+        for kind in filter(None, args.breakers.split("+")):
+            pos, tris, groups, made = m.BREAKERS[kind](rng, pos, tris, groups)
+            broken += [b["kind"] for b in made]
         src = os.path.join(args.work, name + ".stl")
         m.write_stl(src, pos, tris)
-    line = [f"{name}: {len(pos)} V, fused volume {fused_volume:.6g}"]
+    line = [f"{name}: {len(pos)} V{', broken: ' + '+'.join(broken) if broken else ''}, fused "
+            f"volume {fused_volume:.6g}"]
     for label, extra in (("plain", []), ("unite", ["--unite-overlaps"])):
         dst = os.path.join(args.work, f"{name}_{label}.off")
         stats = dst + ".json"

@@ -204,5 +204,41 @@ TEST(OverlapUnion, RepairUnitesOnlyWhenAsked) {
   EXPECT_NEAR(result->output_mass.measure, 15.0, 15.0 * 0.005);
 }
 
+// The first cube with a vertex written wrongly: the one at (2/3, 2/3, 0) of its bottom, moved
+// through its top wall (and the second cube's bottom) to z = 3.1. That body crosses itself, which
+// no union takes: its crossing is taken out first (the vertex with its facets, the bottom closed
+// again), then the bodies united.
+TEST(OverlapUnion, ABodyWithAVertexWrittenWronglyIsMendedThenUnited) {
+  RawMesh soup = CubesOverlapping();
+  const size_t first_cube_vertices = MakeBox({2, 2, 2}, {3, 3, 3}).num_vertices();
+  size_t spike = first_cube_vertices;
+  for (size_t v = 0; v < first_cube_vertices; ++v) {
+    const float* p = &soup.positions[3 * v];
+    if (std::abs(p[0] - 2.f / 3) < 1e-6f && std::abs(p[1] - 2.f / 3) < 1e-6f && p[2] == 0.f)
+      spike = v;
+  }
+  ASSERT_LT(spike, first_cube_vertices);
+  // Off the grid's lines, so that its facets cross the top's inside theirs, not at their edges.
+  soup.positions[3 * spike] = 0.61f;
+  soup.positions[3 * spike + 1] = 0.73f;
+  soup.positions[3 * spike + 2] = 3.1f;
+
+  RepairOptions options;
+  options.unite_overlaps = true;
+  absl::StatusOr<RepairResult> r = RepairMesh(soup, options);
+  ASSERT_TRUE(r.ok()) << r.status();
+  EXPECT_EQ(r->report.count(RepairKind::kCrossingRemoved), 1u) << r->report.Details();
+  EXPECT_EQ(r->report.count(RepairKind::kUnitedBodies), 1u) << r->report.Details();
+  EXPECT_EQ(r->report.count(RepairKind::kOverlapLeft), 0u) << r->report.Details();
+  EXPECT_EQ(r->report.count(RepairKind::kCrossingLeft), 0u) << r->report.Details();
+  EXPECT_NE(r->report.Details().find("facets of one surface crossed each other"), std::string::npos)
+      << r->report.Details();
+  EXPECT_TRUE(ClosedAndOriented(soup));
+  EXPECT_EQ(FindCrossings(soup).pairs, 0u);
+  EXPECT_NEAR(testing::SignedVolume(soup), 15.0, 1e-5);
+  ASSERT_EQ(r->facet_origin.size(), soup.num_faces());
+  for (uint32_t from : r->facet_origin) EXPECT_LT(from, CubesOverlapping().num_faces());
+}
+
 }  // namespace
 }  // namespace femsimp
