@@ -1317,8 +1317,8 @@ BROKEN = [
     # A vertex written wrongly through the far wall: taken out by repair with its facets.
     ("bracket_coarse", "spike"),
     ("housing_export", "spike"),
-    # Appended: each entry's seed is its index. A facet dropped beside a T vertex: the crack
-    # closes in part, the hole is the facet.
+    # Appended: each entry's seed is its index. Two facets dropped beside a T vertex: the crack
+    # closes in part, the hole is the two facets' outline.
     ("housing_coarse", "tjunction_missing"),
 ]
 
