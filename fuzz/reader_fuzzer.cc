@@ -41,7 +41,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   absl::string_view file(reinterpret_cast<const char*>(data), size);
   // The STL reader takes a file as binary exactly when its size matches the triangle count in
   // its header, which random bytes almost never do: the ASCII target leaves those to the binary
-  // one, and the binary target writes the count that fits the (cut) size into the header.
+  // one (and reaches the reading of a binary file whose count does not fit its size with the
+  // rest), and the binary target writes the count that fits the (cut) size into the header.
   std::string binary;
   if constexpr (kReader == Reader::kStlAscii || kReader == Reader::kStlBinary) {
     const bool binary_sized = size >= 84 && [&] {

@@ -29,6 +29,7 @@ namespace femsimp {
 namespace {
 
 using io_internal::Bad;
+using io_internal::Excerpt;
 using io_internal::FiniteAsFloat;
 using io_internal::LoadBytes;
 using io_internal::ParseCoordinate;
@@ -104,8 +105,9 @@ absl::Status AddPosition(const std::vector<absl::string_view>& tok, size_t first
   for (size_t i = first; i < first + 3; ++i) {
     double x;
     if (!ParseCoordinate(tok[i], &x))
-      return Bad(where(), ": cannot parse '", tok[i], "' as a number");
-    if (!FiniteAsFloat(x)) return Bad(where(), ": coordinate '", tok[i], "' is not a finite float");
+      return Bad(where(), ": cannot parse '", Excerpt(tok[i]), "' as a number");
+    if (!FiniteAsFloat(x))
+      return Bad(where(), ": coordinate '", Excerpt(tok[i]), "' is not a finite float");
     xyz->push_back(x);
   }
   return absl::OkStatus();
@@ -201,7 +203,7 @@ absl::Status ParseOff(absl::string_view data, Reading* out) {
   const absl::string_view key = tok[0];
   // OFF with optional ST (texture), C (colour), N (normal) prefixes; 4OFF/nOFF are not 3D.
   if (!absl::EndsWith(key, "OFF") || absl::StrContains(key, "4") || key[0] == 'n')
-    return Bad("line ", lines.number(), ": expected an OFF header, found '", key, "'");
+    return Bad("line ", lines.number(), ": expected an OFF header, found '", Excerpt(key), "'");
   if (tok.size() > 1 && tok[1] == "BINARY")
     return ParseOffBinary(data.substr(lines.offset()), key, out);
   tok.erase(tok.begin());
@@ -211,7 +213,8 @@ absl::Status ParseOff(absl::string_view data, Reading* out) {
   }
   int64_t nv, nf;
   if (tok.size() < 2 || !ParseInt(tok[0], &nv) || !ParseInt(tok[1], &nf) || nv < 0 || nf < 0)
-    return Bad("line ", lines.number(), ": expected vertex and face counts, found '", line, "'");
+    return Bad("line ", lines.number(), ": expected vertex and face counts, found '", Excerpt(line),
+               "'");
   const auto truncated = [&](absl::string_view what, size_t got) {
     return Bad("truncated: header announces ", nv, " vertices and ", nf,
                " faces but the file ends after ", got, " ", what, " (line ", lines.number(), ")");
@@ -234,7 +237,7 @@ absl::Status ParseOff(absl::string_view data, Reading* out) {
     const auto where = [&] { return absl::StrCat(" (line ", lines.number(), ")"); };
     int64_t n;
     if (!ParseInt(tok[0], &n))
-      return Bad("face ", f, where(), ": cannot parse '", tok[0], "' as a vertex count");
+      return Bad("face ", f, where(), ": cannot parse '", Excerpt(tok[0]), "' as a vertex count");
     if (!Readable(n)) return Polygon(f, size_t(std::max<int64_t>(n, 0)), where());
     if (tok.size() < size_t(n) + 1)
       return Bad("face ", f, where(), ": expected ", n, " vertex indices");
@@ -242,7 +245,7 @@ absl::Status ParseOff(absl::string_view data, Reading* out) {
     for (size_t i = 1; i <= size_t(n); ++i) {
       int64_t idx;
       if (!ParseInt(tok[i], &idx))
-        return Bad("face ", f, where(), ": cannot parse '", tok[i], "' as a vertex index");
+        return Bad("face ", f, where(), ": cannot parse '", Excerpt(tok[i]), "' as a vertex index");
       if (idx < 0) return Bad("face ", f, where(), " has a negative vertex index ", idx);
       if (!FitsIndex(idx)) return Bad("face ", f, where(), ": vertex index ", idx, " is too large");
       if (idx >= nv) return OutOfRange(f, where(), idx, nv);
@@ -343,17 +346,17 @@ absl::Status ParseObj(absl::string_view data, Reading* out) {
         int64_t idx;
         absl::string_view t = tok[i].substr(0, tok[i].find('/'));
         if (!ParseInt(t, &idx) || idx == 0)
-          return Bad("face ", f, where(), ": invalid vertex index '", tok[i], "'");
+          return Bad("face ", f, where(), ": invalid vertex index '", Excerpt(tok[i]), "'");
         if (idx < 0) idx += int64_t(out->xyz.size() / 3) + 1;  // relative to the last vertex
         if (idx <= 0)
-          return Bad("face ", f, where(), ": relative index '", tok[i],
+          return Bad("face ", f, where(), ": relative index '", Excerpt(tok[i]),
                      "' points before the first vertex");
         if (!FitsIndex(idx - 1))
-          return Bad("face ", f, where(), ": vertex index '", tok[i], "' is too large");
+          return Bad("face ", f, where(), ": vertex index '", Excerpt(tok[i]), "' is too large");
         mesh.triangles.push_back(uint32_t(idx - 1));
       }
     } else if (std::find(std::begin(kIgnored), std::end(kIgnored), tok[0]) == std::end(kIgnored)) {
-      return Bad("line ", lines.number(), ": unknown OBJ statement '", tok[0], "'");
+      return Bad("line ", lines.number(), ": unknown OBJ statement '", Excerpt(tok[0]), "'");
     }
   }
   if (any_group_statement) groups.AssignTo(&out->file);
@@ -452,7 +455,7 @@ absl::Status ParseStlAscii(absl::string_view data, Reading* out) {
     }
     if (is("facet") || is("endloop") || is("endfacet")) continue;
     if (!is("outer"))
-      return Bad("line ", lines.number(), ": unexpected '", tok[0], "' in ASCII STL");
+      return Bad("line ", lines.number(), ": unexpected '", Excerpt(tok[0]), "' in ASCII STL");
     // The three lines after "outer loop" are the corners.
     const size_t t = out->face_lines.size();
     for (int k = 0; k < 3; ++k) {
@@ -477,20 +480,58 @@ absl::Status ParseStlAscii(absl::string_view data, Reading* out) {
   return absl::OkStatus();
 }
 
+// Whether an STL that begins with "solid" is text. CAD exporters often start a binary file's
+// free 80-byte header with "solid" too; text STL never holds a NUL byte, while a binary one does
+// within its first facets (the count's high byte under 2^24 facets, each facet's attribute word,
+// zero normal components).
+bool StlIsText(absl::string_view data) {
+  constexpr size_t kLooked = 84 + 4 * 50;
+  return data.substr(0, kLooked).find('\0') == absl::string_view::npos;
+}
+
+// A binary STL whose facet count does not match its size. Writers that stream and never seek
+// back leave the count 0; others pad the file. The facets a count announces are read and
+// whatever follows them left out; a count of 0 reads every whole facet; a count the bytes
+// cannot hold is a truncated file. Each is a warning, never silent.
+absl::Status ParseStlBinaryMismatched(absl::string_view data, uint32_t n, Reading* out) {
+  const uint64_t whole = (data.size() - 84) / 50;
+  const uint64_t rest = (data.size() - 84) % 50;
+  if (n > whole)
+    return Bad("binary STL size mismatch (truncated?): header announces ", n, " triangles (",
+               84 + 50 * uint64_t(n), " bytes) but the file has ", data.size(), " bytes (", whole,
+               " whole facets)");
+  if (n == 0) {
+    if (whole > std::numeric_limits<uint32_t>::max())
+      return Bad("binary STL: the header announces 0 facets and the file holds ", whole,
+                 ", more than 2^32 - 1");
+    n = uint32_t(whole);
+    out->file.warnings.push_back(absl::StrCat(
+        "binary STL: the header announces 0 facets but the file holds ", whole, "; read them all",
+        rest ? absl::StrCat(" and left out the ", rest, " bytes after them") : ""));
+  } else {
+    out->file.warnings.push_back(
+        absl::StrCat("binary STL: left out the ", data.size() - 84 - 50 * uint64_t(n),
+                     " bytes after the ", n, " facets the header announces"));
+  }
+  return ParseStlBinary(data, n, out);
+}
+
 absl::Status ParseStl(absl::string_view data, Reading* out) {
-  // Binary exactly when the size matches the triangle count (OpenMesh's rule).
+  // Binary exactly when the size matches the triangle count (OpenMesh's rule), whatever the
+  // header says; then text when it begins with "solid" and is text.
   uint32_t n = 0;
   if (data.size() >= 84) {
     std::memcpy(&n, data.data() + 80, 4);
     if (data.size() == 84 + 50 * uint64_t(n)) return ParseStlBinary(data, n, out);
   }
   absl::string_view head = absl::StripLeadingAsciiWhitespace(data.substr(0, 512));
-  if (absl::StartsWithIgnoreCase(head, "solid")) return ParseStlAscii(data, out);
+  const bool solid = absl::StartsWithIgnoreCase(head, "solid");
+  if (solid && StlIsText(data)) return ParseStlAscii(data, out);
   if (data.size() < 84)
-    return Bad("not an ASCII STL (no 'solid') and too short for a binary STL (", data.size(),
+    return Bad("not an ASCII STL (", solid ? "it holds NUL bytes" : "no 'solid'",
+               ") and too short for a binary STL (", data.size(),
                " bytes, the header alone takes 84)");
-  return Bad("binary STL size mismatch (truncated?): header announces ", n, " triangles (",
-             84 + 50 * uint64_t(n), " bytes) but the file has ", data.size(), " bytes");
+  return ParseStlBinaryMismatched(data, n, out);
 }
 
 // ---------------------------------------------------------------------------------- PLY
@@ -726,7 +767,8 @@ absl::Status ParsePly(absl::string_view data, Reading* out) {
       format = std::string(tok[1]);
     } else if (tok[0] == "element" && tok.size() == 3) {
       int64_t n;
-      if (!ParseInt(tok[2], &n) || n < 0) return Bad(where, ": bad element count '", tok[2], "'");
+      if (!ParseInt(tok[2], &n) || n < 0)
+        return Bad(where, ": bad element count '", Excerpt(tok[2]), "'");
       elements.push_back({std::string(tok[1]), size_t(n), {}});
     } else if (tok[0] == "property" && !elements.empty() && tok.size() == 3 &&
                ParsePlyType(tok[1]) != PlyType::kNone) {
@@ -736,7 +778,7 @@ absl::Status ParsePly(absl::string_view data, Reading* out) {
       elements.back().props.push_back(
           {std::string(tok[4]), ParsePlyType(tok[3]), ParsePlyType(tok[2])});
     } else {
-      return Bad(where, ": cannot parse '", line, "'");
+      return Bad(where, ": cannot parse '", Excerpt(line), "'");
     }
   }
   if (!header_done)
@@ -744,7 +786,7 @@ absl::Status ParsePly(absl::string_view data, Reading* out) {
                ")");
   const bool ascii = format == "ascii";
   if (!ascii && format != "binary_little_endian" && format != "binary_big_endian")
-    return Bad("unknown PLY format '", format, "'");
+    return Bad("unknown PLY format '", Excerpt(format), "'");
   const bool swap = format == (std::endian::native == std::endian::little ? "binary_big_endian"
                                                                           : "binary_little_endian");
   size_t announced_vertices = 0, announced_faces = 0;
@@ -778,7 +820,7 @@ absl::Status ParsePly(absl::string_view data, Reading* out) {
           return p.name == name && p.count_type == PlyType::kNone;
         });
         if (it == e.props.end())
-          return Bad("PLY header: the vertex element has no scalar property '", name, "'");
+          return Bad("PLY header: the vertex element has no scalar property '", Excerpt(name), "'");
         role[size_t(it - e.props.begin())] = axis;
       }
       if (coordinates != nullptr) {
@@ -794,7 +836,7 @@ absl::Status ParsePly(absl::string_view data, Reading* out) {
         const PlyProperty& p = e.props[k];
         for (size_t j = 0; j < k; ++j)
           if (e.props[j].name == p.name)
-            return Bad("PLY header: face property '", p.name, "' is declared twice");
+            return Bad("PLY header: face property '", Excerpt(p.name), "' is declared twice");
         const bool scalar = p.count_type == PlyType::kNone;
         const bool floating = p.type == PlyType::kF32 || p.type == PlyType::kF64;
         if (!scalar && !corners && (p.name == "vertex_indices" || p.name == "vertex_index")) {
@@ -839,7 +881,7 @@ absl::Status ParsePly(absl::string_view data, Reading* out) {
         const auto where = [&] { return values.Where(header_lines); };
         const auto fail = [&]() {
           if (values.error())
-            return Bad(e.name, " ", i, where(), ": cannot parse '", values.token(),
+            return Bad(e.name, " ", i, where(), ": cannot parse '", Excerpt(values.token()),
                        "' as a number");
           return Bad("truncated: header announces ", announced_vertices, " vertices and ",
                      announced_faces, " faces but the data ends in ", e.name, " ", i, where());
@@ -863,7 +905,7 @@ absl::Status ParsePly(absl::string_view data, Reading* out) {
             mesh.face_groups.push_back(uint32_t(v));
           } else if (role[k] >= 0) {
             if (!FiniteAsFloat(v))
-              return Bad("face ", i, where(), ": field '", p.name, "' = ", v,
+              return Bad("face ", i, where(), ": field '", Excerpt(p.name), "' = ", v,
                          " is not a finite float");
             mesh.face_fields[size_t(role[k])].values.push_back(float(v));
           }

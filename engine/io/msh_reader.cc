@@ -25,6 +25,7 @@ namespace femsimp {
 namespace {
 
 using io_internal::Bad;
+using io_internal::Excerpt;
 using io_internal::FiniteAsFloat;
 using io_internal::LoadBytes;
 using io_internal::ParseCoordinate;
@@ -126,7 +127,7 @@ class MshReader {
       absl::string_view header = RestOfLine();
       header = absl::StripTrailingAsciiWhitespace(header);
       if (header.empty() || header[0] != '$' || absl::StartsWith(header, "$End"))
-        return Bad("expected a section ('$Name')", Where(at), ", found '", Clip(header), "'");
+        return Bad("expected a section ('$Name')", Where(at), ", found '", Excerpt(header), "'");
       section_ = std::string(header);
       absl::Status s;
       if (header == "$PhysicalNames") {
@@ -154,9 +155,6 @@ class MshReader {
     if (binary_) return absl::StrCat(" (byte ", at, ")");
     while (at < data_.size() && absl::ascii_isspace(data_[at])) ++at;
     return absl::StrCat(" (line ", 1 + std::count(data_.begin(), data_.begin() + at, '\n'), ")");
-  }
-  static std::string Clip(absl::string_view s) {
-    return s.size() <= 40 ? std::string(s) : absl::StrCat(s.substr(0, 40), "...");
   }
   absl::Status Truncated() const {
     return Bad("truncated: the file ends inside ", section_, Where(data_.size()));
@@ -188,7 +186,7 @@ class MshReader {
     absl::string_view t;
     if (!Token(&t)) return Truncated();
     if (!ParseInt(t, v))
-      return Bad(section_, Where(pos_ - t.size()), ": cannot parse '", Clip(t), "' as ", what);
+      return Bad(section_, Where(pos_ - t.size()), ": cannot parse '", Excerpt(t), "' as ", what);
     return absl::OkStatus();
   }
 
@@ -244,7 +242,7 @@ class MshReader {
     absl::string_view t;
     if (!Token(&t)) return Truncated();
     if (!ParseDouble(t, v))
-      return Bad(section_, Where(pos_ - t.size()), ": cannot parse '", Clip(t), "' as ", what);
+      return Bad(section_, Where(pos_ - t.size()), ": cannot parse '", Excerpt(t), "' as ", what);
     return absl::OkStatus();
   }
   // A coordinate of node `tag`, in double until the part is placed at its local origin.
@@ -259,10 +257,10 @@ class MshReader {
     absl::string_view t;
     if (!Token(&t)) return Truncated();
     if (!ParseCoordinate(t, x))
-      return Bad("node ", tag, Where(pos_ - t.size()), ": cannot parse '", Clip(t),
+      return Bad("node ", tag, Where(pos_ - t.size()), ": cannot parse '", Excerpt(t),
                  "' as a coordinate");
     if (!FiniteAsFloat(*x))
-      return Bad("node ", tag, Where(pos_ - t.size()), ": coordinate '", Clip(t),
+      return Bad("node ", tag, Where(pos_ - t.size()), ": coordinate '", Excerpt(t),
                  "' is not a finite float");
     return absl::OkStatus();
   }
@@ -282,7 +280,7 @@ class MshReader {
     absl::string_view line = absl::StripTrailingAsciiWhitespace(RestOfLine());
     if (line == end) return absl::OkStatus();
     if (at >= data_.size()) return Truncated();
-    return Bad("expected '", end, "'", Where(at), ", found '", Clip(line), "'");
+    return Bad("expected '", end, "'", Where(at), ", found '", Excerpt(line), "'");
   }
   absl::Status SkipSection() {
     const std::string end = absl::StrCat("$End", section_.substr(1));
@@ -302,8 +300,8 @@ class MshReader {
     if (line == "$NOD" || line == "$NOE")
       return Bad("MSH version 1 is not supported (2.2 and 4.1 are): save the mesh as 4.1");
     if (line != "$MeshFormat")
-      return Bad("not a gmsh MSH file: expected '$MeshFormat'", Where(at), ", found '", Clip(line),
-                 "'");
+      return Bad("not a gmsh MSH file: expected '$MeshFormat'", Where(at), ", found '",
+                 Excerpt(line), "'");
     section_ = "$MeshFormat";
     const size_t version_at = pos_;
     std::vector<absl::string_view> tok = absl::StrSplit(absl::StripAsciiWhitespace(RestOfLine()),
@@ -320,11 +318,11 @@ class MshReader {
       return Bad("MSH version ", version,
                  " is not supported (2.2 and 4.1 are): save the mesh as 4.1 (gmsh -format msh41)");
     } else {
-      return Bad("unknown MSH version '", Clip(version), "'", Where(version_at),
+      return Bad("unknown MSH version '", Excerpt(version), "'", Where(version_at),
                  ": femsimp reads 2.2 and 4.1");
     }
     if (tok[1] != "0" && tok[1] != "1")
-      return Bad("$MeshFormat", Where(version_at), ": file-type '", Clip(tok[1]),
+      return Bad("$MeshFormat", Where(version_at), ": file-type '", Excerpt(tok[1]),
                  "' is neither 0 (ASCII) nor 1 (binary)");
     binary_ = tok[1] == "1";
     if (tok[2] == "8") {
@@ -332,7 +330,7 @@ class MshReader {
     } else if (tok[2] == "4" && v4_) {
       size_bytes_ = 4;
     } else {
-      return Bad("$MeshFormat", Where(version_at), ": data-size '", Clip(tok[2]), "' is not ",
+      return Bad("$MeshFormat", Where(version_at), ": data-size '", Excerpt(tok[2]), "' is not ",
                  v4_ ? "4 or 8" : "8");
     }
     if (binary_) {

@@ -14,6 +14,7 @@
 #include <system_error>
 
 #include "absl/status/status.h"
+#include "absl/strings/escaping.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/string_view.h"
 
@@ -21,6 +22,14 @@ namespace femsimp::io_internal {
 
 // A reader's refusal: InvalidArgument with the message made of `parts`.
 absl::Status Bad(auto&&... parts) { return absl::InvalidArgumentError(absl::StrCat(parts...)); }
+
+// A piece of the file quoted in a message: at most 40 bytes, with control and non-ASCII bytes
+// escaped (\x00), so that a binary file read as text names what it found in one short line.
+inline std::string Excerpt(absl::string_view s) {
+  constexpr size_t kMost = 40;
+  const std::string shown = absl::CHexEscape(s.substr(0, kMost));
+  return s.size() <= kMost ? shown : absl::StrCat(shown, "...");
+}
 
 // A coordinate, as a C++ stream reads a double: correctly rounded; beyond the double range it
 // reads as an infinity, for the caller to report, below it as a denormal or zero. Accepts a

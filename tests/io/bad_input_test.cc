@@ -14,6 +14,7 @@
 #include <string>
 
 #include "absl/strings/str_cat.h"
+#include "absl/strings/str_join.h"
 #include "engine/io/mesh_io.h"
 #include "engine/mesh.h"
 #include "gtest/gtest.h"
@@ -109,6 +110,59 @@ TEST_F(BadInputTest, TruncatedBinaryStl) {
   ExpectReadError(Truncate(path, 30), kInvalid,
                   "binary STL size mismatch (truncated?): header announces 4 triangles (284 "
                   "bytes) but the file has 254 bytes");
+}
+
+// What CAD exporters write as binary STL: a header that begins with "solid", a facet count of 0
+// (a writer that streams and never seeks back) or padding after the facets. Each reads the
+// facets the file holds, and says what it did.
+TEST_F(BadInputTest, BinaryStlWithAWrongCountReadsItsFacetsAndSaysSo) {
+  const std::string path = Path("tet.stl");
+  ASSERT_TRUE(WriteMeshFile(path, testing::PreciseTetrahedron()).ok());
+  std::ifstream in(path, std::ios::binary);
+  const std::string tet((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_EQ(tet.size(), 84u + 4 * 50);
+  absl::StatusOr<RawMesh> plain = ReadMeshFile(path);
+  ASSERT_TRUE(plain.ok()) << plain.status();
+  const std::string header = std::string("solid part1 exported").append(60, ' ');
+  const std::string facets = tet.substr(84);
+  const auto read = [&](const std::string& name, const std::string& count,
+                        const std::string& tail) {
+    std::vector<std::string> warnings;
+    absl::StatusOr<RawMesh> m =
+        ReadMeshFile(Write(name, header + count + facets + tail), nullptr, &warnings);
+    EXPECT_TRUE(m.ok()) << name << ": " << m.status();
+    if (m.ok()) {
+      EXPECT_EQ(m->triangles, plain->triangles) << name;
+      EXPECT_EQ(m->positions, plain->positions) << name;
+    }
+    return absl::StrJoin(warnings, "; ");
+  };
+  const std::string four("\x04\0\0\0", 4), none(4, '\0');
+  EXPECT_EQ(read("solid_header.stl", four, ""), "");
+  EXPECT_EQ(read("count0.stl", none, ""),
+            "binary STL: the header announces 0 facets but the file holds 4; read them all");
+  EXPECT_EQ(read("count0_padded.stl", none, std::string(7, '\0')),
+            "binary STL: the header announces 0 facets but the file holds 4; read them all and "
+            "left out the 7 bytes after them");
+  EXPECT_EQ(read("padded.stl", four, std::string(57, '\0')),
+            "binary STL: left out the 57 bytes after the 4 facets the header announces");
+  // More facets announced than the bytes hold is a cut file, "solid" or not.
+  ExpectReadError(Write("five.stl", header + std::string("\x05\0\0\0", 4) + facets + "xx"),
+                  kInvalid,
+                  "header announces 5 triangles (334 bytes) but the file has 286 bytes (4 whole "
+                  "facets)");
+}
+
+// A binary file read as text is quoted escaped and cut short, not dumped into the message.
+TEST_F(BadInputTest, BinaryBytesInATextFileAreQuotedEscaped) {
+  std::string junk = "solid x\n";
+  junk += "\x01\x02\xff";
+  junk += std::string(100, 'z');
+  ExpectReadError(Write("junk.stl", junk + "\n"), kInvalid,
+                  "line 2: unexpected '\\x01\\x02\\xffzzzzzzzzzzzzzzzzzzzzzzzzzzzzzzzzzzzzz...' in "
+                  "ASCII STL");
+  ExpectReadError(Write("junk.obj", junk.substr(8) + "\n"), kInvalid,
+                  "line 1: unknown OBJ statement '\\x01\\x02\\xffzzz");
 }
 
 TEST_F(BadInputTest, TruncatedAsciiStl) {
