@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <vector>
 
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
@@ -305,12 +306,24 @@ std::string RepairSummary(const RepairReport& r, size_t max_records) {
     if (r.counts[k] > 0)
       absl::StrAppend(&s, absl::StrFormat("  %-22s %u\n",
                                           RepairKindName(static_cast<RepairKind>(k)), r.counts[k]));
+  // The first record of every kind, then the rest in order, up to max_records: a kind with
+  // many records (the vertices a removal left unused) does not hide the others' one.
+  std::vector<bool> shown(r.records.size(), false);
   size_t listed = 0;
-  for (const RepairRecord& rec : r.records) {
-    if (listed == max_records) break;
-    absl::StrAppend(&s, "  ", rec.ToString(), "\n");
-    ++listed;
-  }
+  for (size_t k = 0; k < kNumRepairKinds; ++k)
+    for (size_t i = 0; i < r.records.size() && listed < max_records; ++i)
+      if (static_cast<size_t>(r.records[i].kind) == k) {
+        shown[i] = true;
+        ++listed;
+        break;
+      }
+  for (size_t i = 0; i < r.records.size() && listed < max_records; ++i)
+    if (!shown[i]) {
+      shown[i] = true;
+      ++listed;
+    }
+  for (size_t i = 0; i < r.records.size(); ++i)
+    if (shown[i]) absl::StrAppend(&s, "  ", r.records[i].ToString(), "\n");
   size_t recorded = 0;
   for (size_t k = 0; k < kNumRepairKinds; ++k) recorded += r.counts[k];
   if (recorded > listed)

@@ -169,6 +169,14 @@ std::vector<OptionSpec> MakeTable() {
                "tetgen and FE meshers take it and the overlap's volume counts once; off: they "
                "stay crossing",
        .field = &R::unite_overlaps},
+      {.name = "loose_piece_share", .flag = "--loose-piece-share", .metavar = "F",
+       .section = "repair", .type = T::kFraction, .range = Range::Closed(0, 1),
+       .unit = "of the closed bodies' area", .zero_means = "keep them",
+       .help = "repair: open pieces joined to nothing beside closed bodies (a stray facet, a "
+               "leftover face a CAD export wrote with the solid) smaller than this are removed "
+               "and reported, so that the part stays a solid with its volume; a sheet part, "
+               "with no closed body, keeps every piece",
+       .field = &R::loose_piece_share},
       {.name = "fill_holes", .flag = "--fill-holes", .section = "repair", .type = T::kEnum,
        .help = "repair: which openings are closed; small: loops of a few facets an exporter lost "
                "(at most 6 edges, a tenth of the surface); planar: also openings in one plane "

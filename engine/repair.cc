@@ -26,6 +26,7 @@
 #include "engine/fold.h"
 #include "engine/id_index.h"
 #include "engine/least_area_fill.h"
+#include "engine/loose_pieces.h"
 #include "engine/plane_fill.h"
 #include "engine/point_in_shell.h"
 #include "engine/repair_imprint.h"
@@ -75,6 +76,8 @@ constexpr KindInfo kKinds[kNumRepairKinds] = {
      "patch of crossing facets", "patches of crossing facets", " (their holes closed again)"},
     {"united_bodies", "united bodies", "united bodies", "united", "group of overlapping bodies",
      "groups of overlapping bodies", " (replaced by their union)"},
+    {"loose_piece", "loose piece", "loose pieces", "removed", "loose piece", "loose pieces",
+     " (open bits apart from the closed bodies)"},
     {"seam_edge", "non-manifold edge", "non-manifold edges", "kept", "non-manifold edge",
      "non-manifold edges", " as seams"},
     {"non_orientable", "non-orientable component", "non-orientable components", "left",
@@ -174,6 +177,9 @@ class Repairer {
   bool FillHoles();
   void PlaceSplitPieces(const std::vector<uint32_t>& after, uint32_t nk0);
   void Orient();
+  // Removes the loose pieces (engine/loose_pieces.h) of the oriented facets; returns whether it
+  // removed any (the edges are then stale).
+  bool DropLoosePieces();
   // Flips folded edges (engine/fold.h) where that unfolds them (strict: records them), leaving
   // the edges built for what the facets are then.
   void UnfoldEdges();
@@ -1395,6 +1401,44 @@ void Repairer::Orient() {
   }
 }
 
+bool Repairer::DropLoosePieces() {
+  const uint32_t ne = static_cast<uint32_t>(ebeg_.size() - 1);
+  std::vector<uint32_t> uses(ne);
+  for (uint32_t e = 0; e < ne; ++e) uses[e] = ebeg_[e + 1] - ebeg_[e];
+  const std::vector<LoosePiece> pieces =
+      FindLoosePieces(in_.positions.data(), tri_, edge_of_, uses, options_.loose_piece_share);
+  if (pieces.empty()) return false;
+  const uint32_t nk = static_cast<uint32_t>(kept_.size());
+  std::vector<uint8_t> drop(nk, 0);
+  for (const LoosePiece& piece : pieces) {
+    for (uint32_t k : piece.faces) drop[k] = 1;
+    Record(RepairKind::kLoosePiece, kept_[piece.faces[0]], -1, piece.centre, [&] {
+      return absl::StrFormat(
+          "%u facet%s of area %.3g (%.2g%% of the closed bodies' area), open and joined to "
+          "nothing: removed (a stray facet or a leftover face; --loose-piece-share 0 keeps it)",
+          piece.faces.size(), piece.faces.size() == 1 ? "" : "s", piece.area,
+          100 * piece.area / piece.closed_area);
+    });
+  }
+  absl::flat_hash_map<uint32_t, uint32_t> own_group;
+  uint32_t kept = 0;
+  for (uint32_t k = 0; k < nk; ++k) {
+    if (drop[k]) continue;
+    if (const auto own = own_group_.find(k); own != own_group_.end()) own_group[kept] = own->second;
+    kept_[kept] = kept_[k];
+    for (int i = 0; i < 3; ++i) {
+      tri_[3 * kept + i] = tri_[3 * k + i];
+      orig_[3 * kept + i] = orig_[3 * k + i];
+    }
+    ++kept;
+  }
+  kept_.resize(kept);
+  tri_.resize(3 * size_t(kept));
+  orig_.resize(3 * size_t(kept));
+  own_group_ = std::move(own_group);
+  return true;
+}
+
 // Each round finds every fold and flips those whose flip unfolds them, one per facet (a flip
 // changes its facets' other edges), so a fan turned over may take several rounds.
 void Repairer::UnfoldEdges() {
@@ -1774,6 +1818,7 @@ absl::StatusOr<RepairResult> Repairer::Run(RawMesh& mesh) {
   for (int call = 0; call < 3 && !strict_ && ZipTJunctions(); ++call) BuildEdges();
   if (!strict_ && FillHoles()) BuildEdges();
   Orient();
+  if (!strict_ && DropLoosePieces()) BuildEdges();
   UnfoldEdges();
   SplitVertices();
   ReportEdges();

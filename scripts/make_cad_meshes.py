@@ -1247,6 +1247,31 @@ def break_spike(rng, pos, tris, groups):
     raise RuntimeError("no vertex whose ray leaves through a wall")
 
 
+def break_loose(rng, pos, tris, groups):
+    """Open bits a CAD export writes with the solid, joined to nothing: a stray facet beyond
+    the part's box and a leftover square face (two facets) beyond its other corner, each a
+    fiftieth of the diagonal across. repair removes them; the part stays a solid."""
+    lo, hi = pos.min(axis=0).astype(np.float64), pos.max(axis=0).astype(np.float64)
+    diag = float(np.linalg.norm(hi - lo))
+    side = diag / 50
+    tilt = rng.random(3) * 0.5
+    at_hi = hi + 0.1 * diag
+    at_lo = lo - 0.1 * diag
+    stray = [at_hi, at_hi + side * np.array([1, tilt[0], 0]), at_hi + side * np.array([0, 1, tilt[1]])]
+    square = [at_lo, at_lo + side * np.array([1, 0, 0]), at_lo + side * np.array([1, 1, tilt[2]]),
+              at_lo + side * np.array([0, 1, tilt[2]])]
+    n = len(pos)
+    pos = np.concatenate([pos, np.array(stray + square, dtype=pos.dtype)])
+    tris = np.concatenate([tris, np.array([[n, n + 1, n + 2], [n + 3, n + 4, n + 5],
+                                           [n + 3, n + 5, n + 6]], dtype=tris.dtype)])
+    groups = np.concatenate([groups, np.full(3, groups[0], dtype=groups.dtype)])
+    return pos, tris, groups, [
+        {"kind": "loose_facet", "count": 1, "at": at_hi.tolist(),
+         "note": "a stray facet beyond the part, joined to nothing"},
+        {"kind": "loose_face", "count": 2, "at": at_lo.tolist(),
+         "note": "a leftover square face of two facets beyond the part, joined to nothing"}]
+
+
 BREAKERS = {
     "flipped": break_flipped,
     "duplicate": break_duplicate,
@@ -1263,6 +1288,7 @@ BREAKERS = {
     "fold": break_fold,
     "missing_face": break_missing_face,
     "spike": break_spike,
+    "loose": break_loose,
 }
 
 # The soup as written, per kind: (closed: every edge used by exactly two faces, manifold: and
@@ -1283,6 +1309,7 @@ BROKEN_SHAPE = {
     "fold": (True, True),  # oriented alike, only turned over in their plane
     "missing_face": (False, True),
     "spike": (True, True),  # closed and oriented; it crosses itself
+    "loose": (False, True),  # the bits' borders are open edges
 }
 
 # Which broken copies of which clean file (part_variant).
@@ -1320,6 +1347,9 @@ BROKEN = [
     # Appended: each entry's seed is its index. Two facets dropped beside a T vertex: the crack
     # closes in part, the hole is the two facets' outline.
     ("housing_coarse", "tjunction_missing"),
+    # A stray facet and a leftover face beside the solid: removed, the part stays a solid.
+    ("bracket_export", "loose"),
+    ("knob_coarse", "loose"),
 ]
 
 # -------------------------------------------------------------------------------------- main

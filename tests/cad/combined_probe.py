@@ -2,7 +2,7 @@
 coarse and export meshes each broken by four to six of make_cad_meshes' breakers in turn
 (flipped, duplicate, degenerate, crack, T-junction, missing, unwelded, unreferenced,
 fold; with --drop-flat-face first a whole flat CAD face, with --spike first a vertex moved
-through the far wall), each run through femsimp's plain call, judged by cad_judge against its clean source and
+through the far wall, with --loose last a stray facet and a leftover face), each run through femsimp's plain call, judged by cad_judge against its clean source and
 checked with `tetgen -d`. One line per copy: name, the defects made, femsimp's exit code, the
 repair's changes, the output's crossings and folds, the judge, tetgen on the input and the
 output. docs/FIDELITY.md ("Repair", Several defects in one file) has the figures and the
@@ -47,6 +47,9 @@ ap.add_argument("--drop-flat-face", action="store_true",
 ap.add_argument("--spike", action="store_true",
                 help="first move a vertex of each copy through the part's far wall (the spike "
                 "breaker: a vertex written wrongly), which repair takes out")
+ap.add_argument("--loose", action="store_true",
+                help="last add a stray facet and a leftover face beyond the part (the loose "
+                "breaker: open bits joined to nothing), which repair removes")
 ap.add_argument("--mode", default="", help="femsimp options beyond the plain call")
 ap.add_argument("--tolerance-relative", default="0.005", help="the judge's tolerance")
 ap.add_argument("--judge-volume", default="0.005",
@@ -125,6 +128,9 @@ for index, (stem, pos0, tris0, groups0) in enumerate(sources()):
                 made.append(str(kind))
             except (RuntimeError, ValueError, IndexError, StopIteration):
                 pass  # nothing of that kind left to break in this copy
+        if args.loose:
+            pos, tris, groups, _ = m.BREAKERS["loose"](rng, pos, tris, groups)
+            made.append("loose")
         name = f"{stem}_mix{seed}"
         ext = "obj" if args.groups else "off"
         inp = os.path.join(args.work, f"{name}.{ext}")

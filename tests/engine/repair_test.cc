@@ -928,6 +928,64 @@ TEST(Repair, OpenSurfacesAreNotHoles) {
   EXPECT_HAS(r.report.Summary(), "no changes; left 1 hole open");
 }
 
+// A stray facet outside a solid and a leftover face inside it (CAD exports write such bits with
+// the part) are removed: the part stays a closed solid. A sheet that is not small beside the
+// solid, a small body with a face missing, a sheet part with no solid, and every piece with
+// loose_piece_share 0 stay.
+TEST(Repair, LoosePiecesBesideAClosedBodyAreRemoved) {
+  RawMesh m;
+  AddCube(m, 0, 0, 0, 10);  // area 600
+  const RawMesh cube = m;
+  const auto add_square = [](RawMesh& mesh, float x, float y, float z, float side) {
+    const uint32_t b = static_cast<uint32_t>(mesh.num_vertices());
+    mesh.positions.insert(mesh.positions.end(),
+                          {x, y, z, x + side, y, z, x + side, y + side, z, x, y + side, z});
+    mesh.triangles.insert(mesh.triangles.end(), {b, b + 1, b + 2, b, b + 2, b + 3});
+  };
+  const uint32_t b = static_cast<uint32_t>(m.num_vertices());
+  m.positions.insert(m.positions.end(), {20, 20, 20, 21, 20, 20, 20, 21, 20});
+  AppendFacet(m, {b, b + 1, b + 2});  // facet 12, area 0.5
+  add_square(m, 4, 4, 5, 2);          // facets 13 and 14 inside the cube, area 4
+  RawMesh with_pieces = m;
+  RepairResult r = Repair(m);
+  ExpectSameMesh(m, cube);
+  ExpectBuilds(m);
+  EXPECT_EQ(r.report.count(RepairKind::kLoosePiece), 2u) << r.report.Details();
+  EXPECT_EQ(r.report.count(RepairKind::kUnreferencedVertex), 7u);
+  const std::string records = Records(r.report, RepairKind::kLoosePiece);
+  EXPECT_HAS(records,
+             "loose piece (facet 12) at (20.3333333, 20.3333333, 20): 1 facet of area 0.5 "
+             "(0.083% of the closed bodies' area), open and joined to nothing: removed");
+  EXPECT_HAS(records, "loose piece (facet 13) at (5, 5, 5): 2 facets of area 4 (0.67%");
+  EXPECT_HAS(r.report.Summary(), "removed 2 loose pieces (open bits apart from the closed bodies)");
+
+  RepairOptions keep;
+  keep.loose_piece_share = 0;
+  RawMesh kept = with_pieces;
+  EXPECT_EQ(Repair(kept, keep).report.count(RepairKind::kLoosePiece), 0u);
+  EXPECT_EQ(kept.num_faces(), 15u);
+
+  // A sheet of 1.5 % of the solid's area is part of the model; so is a small box without its
+  // lid (what would close it is a fifth of its area: a face missing, not a sheet's border).
+  RawMesh sheet = cube;
+  add_square(sheet, 20, 0, 0, 3);
+  RawMesh tray = cube;
+  AddCube(tray, 20, 0, 0, 0.5);
+  tray.triangles.resize(3 * 22);
+  for (RawMesh* mesh : {&sheet, &tray}) {
+    const size_t faces = mesh->num_faces();
+    RepairResult left = Repair(*mesh);
+    EXPECT_EQ(left.report.count(RepairKind::kLoosePiece), 0u) << left.report.Details();
+    EXPECT_EQ(mesh->num_faces(), faces);
+  }
+  // Without a closed body, a small sheet beside a large one is a sheet part's.
+  RawMesh sheets;
+  add_square(sheets, 0, 0, 0, 10);
+  add_square(sheets, 20, 0, 0, 0.5);
+  EXPECT_EQ(Repair(sheets).report.count(RepairKind::kLoosePiece), 0u);
+  EXPECT_EQ(sheets.num_faces(), 4u);
+}
+
 TEST(Repair, HolesTouchingAtAVertexAreToldApart) {
   // A cube without facets 9 (0, 3, 1) and 5 (0, 5, 4): two holes with vertex 0 in common, where
   // the facets left make two fans. Each hole is its own loop (across the gap at vertex 0, not

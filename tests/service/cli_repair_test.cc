@@ -458,6 +458,40 @@ TEST_F(CliRepairTest, AVertexThroughTheFarWallIsTakenOutLocallyAndByTheServer) {
   }
 }
 
+// A stray facet written with a solid: removed, locally and by the server, so that the part keeps
+// its volume (and the volume budget its meaning); --loose-piece-share 0 keeps it, and the part is
+// then an open surface.
+TEST_F(CliRepairTest, AStrayFacetBesideASolidIsRemovedLocallyAndByTheServer) {
+  RawMesh part = testing::MakeBox({4, 4, 1}, {4, 4, 1});
+  const uint32_t b = static_cast<uint32_t>(part.num_vertices());
+  part.positions.insert(part.positions.end(), {6, 6, 3, 6.5f, 6, 3, 6, 6.5f, 3});
+  part.triangles.insert(part.triangles.end(), {b, b + 1, b + 2});
+  const std::string stray = WriteSoup("stray.off", part);
+  testing::InProcessServer s;
+  for (const bool remote : {false, true}) {
+    SCOPED_TRACE(remote ? "remote" : "local");
+    std::vector<std::string> args = {stray, Path("out.off"), "--stats-json", Path("s.json")};
+    if (remote) args.insert(args.end(), {"--server", s.address()});
+    ASSERT_EQ(Run(args), cli::kExitOk) << err_;
+    absl::StatusOr<RawMesh> out = ReadMeshFile(Path("out.off"));
+    ASSERT_TRUE(out.ok()) << out.status();
+    EXPECT_EQ(TopologyOf(*out).boundary_edges, 0);
+    EXPECT_HAS(out_, "  loose_piece            1\n");
+    EXPECT_HAS(out_,
+               "1 facet of area 0.125 (0.26% of the closed bodies' area), open and joined "
+               "to nothing: removed");
+    EXPECT_HAS(out_, "mass:     volume 16 -> 16");
+    const std::string json = testing::ReadFileBytes(Path("s.json"));
+    EXPECT_HAS(json, "\"loose_piece\": 1,");
+    EXPECT_HAS(json, "\"kind\": \"loose_piece\"");
+
+    args.insert(args.end(), {"--loose-piece-share", "0"});
+    ASSERT_EQ(Run(args), cli::kExitOk) << err_;
+    EXPECT_EQ(out_.find("loose_piece"), std::string::npos) << out_;
+    EXPECT_HAS(out_, "mass:     area (open surface)");
+  }
+}
+
 // A block 2 x 1 x 2 standing on a plate 4 x 3 x 1, exported apart: the contact (area 2)
 // triangulated by both, no vertex shared.
 RawMesh StackedBoxes() {

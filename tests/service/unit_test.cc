@@ -552,6 +552,25 @@ TEST(Report, RepairSummaryListsHolesLeftOpen) {
             "(0.5, 0.5, 1): a loop of 4 open edges\n");
 }
 
+// Six unreferenced vertices do not hide the loose piece whose removal left them: every kind's
+// first record is listed, then the others in order, in the report's order.
+TEST(Report, RepairSummaryListsEveryKindsFirstRecord) {
+  RepairReport repair;
+  repair.counts[static_cast<size_t>(RepairKind::kUnreferencedVertex)] = 6;
+  repair.counts[static_cast<size_t>(RepairKind::kLoosePiece)] = 1;
+  for (int64_t v = 0; v < 6; ++v)
+    repair.records.push_back({RepairKind::kUnreferencedVertex, 9, v, {0, 0, 0}, "unused"});
+  repair.records.push_back({RepairKind::kLoosePiece, 9, -1, {1, 1, 1}, "1 facet"});
+  EXPECT_EQ(cli::RepairSummary(repair, 3),
+            absl::StrCat("repair:   7 changes (weld tolerance 0 of the diagonal = 0)\n",
+                         "  unreferenced_vertex    6\n  loose_piece            1\n",
+                         "  unreferenced vertex 0 (facet 9) at (0, 0, 0): unused\n",
+                         "  unreferenced vertex 1 (facet 9) at (0, 0, 0): unused\n",
+                         "  loose piece (facet 9) at (1, 1, 1): 1 facet\n",
+                         "  ... 4 more (--repair-details lists them, --stats-json has them under "
+                         "\"repair\")\n"));
+}
+
 // A part far from the origin lost the detail finer than the floats' spacing there when it was
 // read: the summary says so from 1e-4 of the part's size on, and not below.
 // Where the engine's positions lie is reported as figures (the readers hold a far part relative

@@ -1,0 +1,95 @@
+#include "engine/loose_pieces.h"
+
+#include <cmath>
+#include <limits>
+
+#include "engine/union_find.h"
+
+namespace femsimp {
+
+std::vector<LoosePiece> FindLoosePieces(const float* positions, std::span<const uint32_t> tri,
+                                        std::span<const uint32_t> edge_of,
+                                        std::span<const uint32_t> edge_uses, double max_share) {
+  constexpr uint32_t kNone = std::numeric_limits<uint32_t>::max();
+  const uint32_t nf = static_cast<uint32_t>(tri.size() / 3);
+  if (max_share <= 0 || nf == 0) return {};
+  UnionFind components(nf);
+  std::vector<uint32_t> first_face(edge_uses.size(), kNone);
+  for (uint32_t h = 0; h < 3 * nf; ++h) {
+    uint32_t& first = first_face[edge_of[h]];
+    if (first == kNone) {
+      first = h / 3;
+    } else {
+      components.Union(first, h / 3);
+    }
+  }
+  struct Component {
+    double area = 0;
+    double vector_area[3] = {0, 0, 0};
+    double moment[3] = {0, 0, 0};  // area times centroid
+    bool open = false, seam = false;
+  };
+  // Components numbered in order of their first face.
+  std::vector<uint32_t> component_of(nf);
+  std::vector<uint32_t> number(nf, kNone);  // by root
+  std::vector<Component> of;
+  for (uint32_t f = 0; f < nf; ++f) {
+    uint32_t& n = number[components.Find(f)];
+    if (n == kNone) {
+      n = static_cast<uint32_t>(of.size());
+      of.emplace_back();
+    }
+    component_of[f] = n;
+  }
+  number = {};
+  for (uint32_t f = 0; f < nf; ++f) {
+    Component& c = of[component_of[f]];
+    const float* p[3];
+    for (int i = 0; i < 3; ++i) {
+      p[i] = positions + 3 * size_t(tri[3 * f + i]);
+      const uint32_t uses = edge_uses[edge_of[3 * f + i]];
+      c.open |= uses == 1;
+      c.seam |= uses > 2;
+    }
+    double u[3], w[3];
+    for (int k = 0; k < 3; ++k) {
+      u[k] = double(p[1][k]) - p[0][k];
+      w[k] = double(p[2][k]) - p[0][k];
+    }
+    const double n[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
+                         u[0] * w[1] - u[1] * w[0]};
+    const double area = 0.5 * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    c.area += area;
+    for (int k = 0; k < 3; ++k) {
+      c.vector_area[k] += 0.5 * n[k];
+      c.moment[k] += area * (double(p[0][k]) + p[1][k] + p[2][k]) / 3.0;
+    }
+  }
+  double closed_area = 0;
+  for (const Component& c : of)
+    if (!c.open) closed_area += c.area;
+  if (closed_area <= 0) return {};
+
+  std::vector<uint32_t> piece_of(of.size(), kNone);
+  std::vector<LoosePiece> pieces;
+  for (uint32_t f = 0; f < nf; ++f) {
+    const uint32_t id = component_of[f];
+    const Component& c = of[id];
+    if (!c.open || c.seam || c.area >= max_share * closed_area) continue;
+    const double closing =
+        std::sqrt(c.vector_area[0] * c.vector_area[0] + c.vector_area[1] * c.vector_area[1] +
+                  c.vector_area[2] * c.vector_area[2]);
+    if (closing < 0.5 * c.area) continue;  // a body with a face missing: the hole fill's case
+    if (piece_of[id] == kNone) {
+      piece_of[id] = static_cast<uint32_t>(pieces.size());
+      LoosePiece& p = pieces.emplace_back();
+      p.area = c.area;
+      p.closed_area = closed_area;
+      for (int k = 0; k < 3; ++k) p.centre[k] = c.area > 0 ? c.moment[k] / c.area : 0.0;
+    }
+    pieces[piece_of[id]].faces.push_back(f);
+  }
+  return pieces;
+}
+
+}  // namespace femsimp

@@ -1,0 +1,36 @@
+// Loose pieces: open bits of surface apart from a part's closed bodies, as CAD exports carry them
+// (a stray facet, a leftover face, construction geometry written with the solid). One makes the
+// whole mesh an open surface, so it would lose its volume, its mass budgets and its FE model; the
+// repair stage removes them and says so (RepairKind::kLoosePiece,
+// RepairOptions::loose_piece_share).
+//
+// A piece is loose when it is a component of its own (joined to nothing by an edge), has open
+// edges and no edge of three facets or more, is a sheet rather than a body with a face missing
+// (the vector area of its facets, which is what would close it, is at least half its area: the
+// rule the hole fill uses to tell a border from a hole), and its area is under `max_share` of
+// the area of the closed components. A mesh without a closed component has no loose pieces: a
+// sheet part keeps every sheet.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace femsimp {
+
+struct LoosePiece {
+  std::vector<uint32_t> faces;  // ascending
+  double area = 0;
+  double closed_area = 0;          // of every closed component, for the share
+  std::array<double, 3> centre{};  // area-weighted centroid of its facets
+};
+
+// `tri`: three vertex ids per face, each manifold component oriented consistently; `edge_of`:
+// per half-edge (3 * face + corner, from that corner to the next) its undirected edge;
+// `edge_uses`: per edge, how many half-edges it has. Pieces in order of their first face.
+std::vector<LoosePiece> FindLoosePieces(const float* positions, std::span<const uint32_t> tri,
+                                        std::span<const uint32_t> edge_of,
+                                        std::span<const uint32_t> edge_uses, double max_share);
+
+}  // namespace femsimp
