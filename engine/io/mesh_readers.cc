@@ -472,9 +472,12 @@ absl::Status ParseStlAscii(absl::string_view data, Reading* out) {
     out->face_lines.push_back(lines.number());
     solids.AddFace(solid);
   }
+  // Some writers leave 'endsolid' out; a file cut between two facets looks the same, so its
+  // facets are read and the warning says both.
   if (!ended)
-    return Bad("truncated: ASCII STL without 'endsolid' (", out->face_lines.size(),
-               " facets read; the file ends at line ", lines.number(), ")");
+    out->file.warnings.push_back(absl::StrCat(
+        "ASCII STL: no 'endsolid' (the file ends at line ", lines.number(), " after ",
+        out->face_lines.size(), " whole facets): read them all; was the file cut short?"));
   // One name is the file's, not a grouping.
   if (solids.distinct_names() > 1) solids.AssignTo(&out->file);
   return absl::OkStatus();

@@ -6,6 +6,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -168,7 +169,24 @@ TEST_F(BadInputTest, BinaryBytesInATextFileAreQuotedEscaped) {
 TEST_F(BadInputTest, TruncatedAsciiStl) {
   const std::string path = Path("tet.stl");
   ASSERT_TRUE(WriteMeshFileAscii(path, testing::PreciseTetrahedron()).ok());
-  ExpectReadError(Truncate(path, 40), kInvalid, "truncated");  // into the last facet
+  std::ifstream in(path, std::ios::binary);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  // Cut before the last facet's third corner.
+  ExpectReadError(Write("cut.stl", text.substr(0, text.rfind("vertex"))), kInvalid,
+                  "truncated: the file ends inside facet 3");
+  // Without 'endsolid' (some writers leave it out; a cut between facets looks the same): every
+  // whole facet is read, and the warning says both.
+  const size_t last = text.rfind("endfacet");
+  ASSERT_NE(last, std::string::npos);
+  const std::string cut = text.substr(0, text.find('\n', last) + 1);
+  const size_t lines = std::count(cut.begin(), cut.end(), '\n');
+  std::vector<std::string> warnings;
+  absl::StatusOr<RawMesh> m = ReadMeshFile(Write("no_end.stl", cut), nullptr, &warnings);
+  ASSERT_TRUE(m.ok()) << m.status();
+  EXPECT_EQ(m->num_faces(), 4u);
+  EXPECT_EQ(absl::StrJoin(warnings, "; "),
+            absl::StrCat("ASCII STL: no 'endsolid' (the file ends at line ", lines,
+                         " after 4 whole facets): read them all; was the file cut short?"));
 }
 
 TEST_F(BadInputTest, TruncatedPly) {
