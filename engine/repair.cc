@@ -1404,7 +1404,12 @@ void Repairer::Orient() {
 bool Repairer::DropLoosePieces() {
   const uint32_t ne = static_cast<uint32_t>(ebeg_.size() - 1);
   std::vector<uint32_t> uses(ne);
-  for (uint32_t e = 0; e < ne; ++e) uses[e] = ebeg_[e + 1] - ebeg_[e];
+  bool open = false;  // a closed mesh, the common case, has no piece to look for
+  for (uint32_t e = 0; e < ne; ++e) {
+    uses[e] = ebeg_[e + 1] - ebeg_[e];
+    open |= uses[e] == 1;
+  }
+  if (!open) return false;
   const std::vector<LoosePiece> pieces =
       FindLoosePieces(in_.positions.data(), tri_, edge_of_, uses, options_.loose_piece_share);
   if (pieces.empty()) return false;
