@@ -1,7 +1,9 @@
 #include "engine/loose_pieces.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include "engine/union_find.h"
 
@@ -13,43 +15,52 @@ std::vector<LoosePiece> FindLoosePieces(const float* positions, std::span<const 
   constexpr uint32_t kNone = std::numeric_limits<uint32_t>::max();
   const uint32_t nf = static_cast<uint32_t>(tri.size() / 3);
   if (max_share <= 0 || nf == 0) return {};
+  // Surfaces: faces joined through edges of two facets. A seam (three or more) joins nothing,
+  // so a facet dangling from a solid's edge is a surface of its own.
   UnionFind components(nf);
-  std::vector<uint32_t> first_face(edge_uses.size(), kNone);
-  for (uint32_t h = 0; h < 3 * nf; ++h) {
-    uint32_t& first = first_face[edge_of[h]];
-    if (first == kNone) {
-      first = h / 3;
-    } else {
-      components.Union(first, h / 3);
+  {
+    std::vector<uint32_t> first_face(edge_uses.size(), kNone);
+    for (uint32_t h = 0; h < 3 * nf; ++h) {
+      const uint32_t e = edge_of[h];
+      if (edge_uses[e] != 2) continue;
+      if (first_face[e] == kNone) {
+        first_face[e] = h / 3;
+      } else {
+        components.Union(first_face[e], h / 3);
+      }
     }
   }
   struct Component {
     double area = 0;
     double vector_area[3] = {0, 0, 0};
     double moment[3] = {0, 0, 0};  // area times centroid
-    bool open = false, seam = false;
+    bool open = false;
+    bool detachable = true;  // each of its seams keeps two facets without it
+    uint32_t attached = 0;   // its seam edges
   };
   // Components numbered in order of their first face.
   std::vector<uint32_t> component_of(nf);
-  std::vector<uint32_t> number(nf, kNone);  // by root
   std::vector<Component> of;
-  for (uint32_t f = 0; f < nf; ++f) {
-    uint32_t& n = number[components.Find(f)];
-    if (n == kNone) {
-      n = static_cast<uint32_t>(of.size());
-      of.emplace_back();
+  {
+    std::vector<uint32_t> number(nf, kNone);  // by root
+    for (uint32_t f = 0; f < nf; ++f) {
+      uint32_t& n = number[components.Find(f)];
+      if (n == kNone) {
+        n = static_cast<uint32_t>(of.size());
+        of.emplace_back();
+      }
+      component_of[f] = n;
     }
-    component_of[f] = n;
   }
-  number = {};
+  std::vector<std::pair<uint32_t, uint32_t>> on_seams;  // (edge, component) per seam half-edge
   for (uint32_t f = 0; f < nf; ++f) {
     Component& c = of[component_of[f]];
     const float* p[3];
     for (int i = 0; i < 3; ++i) {
       p[i] = positions + 3 * size_t(tri[3 * f + i]);
-      const uint32_t uses = edge_uses[edge_of[3 * f + i]];
+      const uint32_t e = edge_of[3 * f + i], uses = edge_uses[e];
       c.open |= uses == 1;
-      c.seam |= uses > 2;
+      if (uses > 2) on_seams.emplace_back(e, component_of[f]);
     }
     double u[3], w[3];
     for (int k = 0; k < 3; ++k) {
@@ -65,6 +76,17 @@ std::vector<LoosePiece> FindLoosePieces(const float* positions, std::span<const 
       c.moment[k] += area * (double(p[0][k]) + p[1][k] + p[2][k]) / 3.0;
     }
   }
+  // A surface on a seam comes off where the seam keeps two facets without it (a facet dangling
+  // from a solid's edge), not where it is one of three or more walls that meet there.
+  std::sort(on_seams.begin(), on_seams.end());
+  for (size_t i = 0; i < on_seams.size();) {
+    size_t j = i;
+    while (j < on_seams.size() && on_seams[j] == on_seams[i]) ++j;
+    Component& c = of[on_seams[i].second];
+    c.detachable &= edge_uses[on_seams[i].first] - (j - i) == 2;
+    ++c.attached;
+    i = j;
+  }
   double closed_area = 0;
   for (const Component& c : of)
     if (!c.open) closed_area += c.area;
@@ -75,7 +97,7 @@ std::vector<LoosePiece> FindLoosePieces(const float* positions, std::span<const 
   for (uint32_t f = 0; f < nf; ++f) {
     const uint32_t id = component_of[f];
     const Component& c = of[id];
-    if (!c.open || c.seam || c.area >= max_share * closed_area) continue;
+    if (!c.open || !c.detachable || c.area >= max_share * closed_area) continue;
     const double closing =
         std::sqrt(c.vector_area[0] * c.vector_area[0] + c.vector_area[1] * c.vector_area[1] +
                   c.vector_area[2] * c.vector_area[2]);
@@ -85,6 +107,7 @@ std::vector<LoosePiece> FindLoosePieces(const float* positions, std::span<const 
       LoosePiece& p = pieces.emplace_back();
       p.area = c.area;
       p.closed_area = closed_area;
+      p.attached_edges = c.attached;
       for (int k = 0; k < 3; ++k) p.centre[k] = c.area > 0 ? c.moment[k] / c.area : 0.0;
     }
     pieces[piece_of[id]].faces.push_back(f);

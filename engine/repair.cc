@@ -1419,10 +1419,16 @@ bool Repairer::DropLoosePieces() {
     for (uint32_t k : piece.faces) drop[k] = 1;
     Record(RepairKind::kLoosePiece, kept_[piece.faces[0]], -1, piece.centre, [&] {
       return absl::StrFormat(
-          "%u facet%s of area %.3g (%.2g%% of the closed bodies' area), open and joined to "
-          "nothing: removed (a stray facet or a leftover face; --loose-piece-share 0 keeps it)",
+          "%u facet%s of area %.3g (%.2g%% of the closed bodies' area), open and %s: removed "
+          "(%s; --loose-piece-share 0 keeps it)",
           piece.faces.size(), piece.faces.size() == 1 ? "" : "s", piece.area,
-          100 * piece.area / piece.closed_area);
+          100 * piece.area / piece.closed_area,
+          piece.attached_edges == 0
+              ? std::string("joined to nothing")
+              : absl::StrCat("hanging from ", piece.attached_edges, " edge",
+                             piece.attached_edges == 1 ? "" : "s",
+                             " of a closed surface, which it made non-manifold"),
+          piece.attached_edges == 0 ? "a stray facet or a leftover face" : "a dangling facet");
     });
   }
   absl::flat_hash_map<uint32_t, uint32_t> own_group;

@@ -1248,9 +1248,11 @@ def break_spike(rng, pos, tris, groups):
 
 
 def break_loose(rng, pos, tris, groups):
-    """Open bits a CAD export writes with the solid, joined to nothing: a stray facet beyond
-    the part's box and a leftover square face (two facets) beyond its other corner, each a
-    fiftieth of the diagonal across. repair removes them; the part stays a solid."""
+    """Open bits a CAD export writes with the solid: a stray facet beyond the part's box and a
+    leftover square face (two facets) beyond its other corner, each a fiftieth of the diagonal
+    across, joined to nothing; and a facet dangling from an edge of the part, its apex a
+    hundredth of the diagonal out along the edge's two facets' mean normal. repair removes
+    them; the part stays a solid."""
     lo, hi = pos.min(axis=0).astype(np.float64), pos.max(axis=0).astype(np.float64)
     diag = float(np.linalg.norm(hi - lo))
     side = diag / 50
@@ -1260,16 +1262,36 @@ def break_loose(rng, pos, tris, groups):
     stray = [at_hi, at_hi + side * np.array([1, tilt[0], 0]), at_hi + side * np.array([0, 1, tilt[1]])]
     square = [at_lo, at_lo + side * np.array([1, 0, 0]), at_lo + side * np.array([1, 1, tilt[2]]),
               at_lo + side * np.array([0, 1, tilt[2]])]
+    # The dangling facet: on an edge of two facets, turned the way the first of them runs it.
+    p64 = pos.astype(np.float64)
+    edges = {}
+    for f, t in enumerate(tris.tolist()):
+        for k in range(3):
+            edges.setdefault(tuple(sorted((t[k], t[(k + 1) % 3]))), []).append(f)
+    shared = sorted(e for e, fs in edges.items() if len(fs) == 2)
+    a, b = shared[int(rng.integers(len(shared)))]
+    normal = np.zeros(3)
+    for f in edges[(a, b)]:
+        t = tris[f]
+        n_f = np.cross(p64[t[1]] - p64[t[0]], p64[t[2]] - p64[t[0]])
+        normal += n_f / np.linalg.norm(n_f)
+    apex = 0.5 * (p64[a] + p64[b]) + 0.01 * diag * normal / np.linalg.norm(normal)
+    first = tris[edges[(a, b)][0]].tolist()
+    runs_ab = first[(first.index(a) + 1) % 3] == b
     n = len(pos)
-    pos = np.concatenate([pos, np.array(stray + square, dtype=pos.dtype)])
+    pos = np.concatenate([pos, np.array(stray + square + [apex], dtype=pos.dtype)])
     tris = np.concatenate([tris, np.array([[n, n + 1, n + 2], [n + 3, n + 4, n + 5],
-                                           [n + 3, n + 5, n + 6]], dtype=tris.dtype)])
-    groups = np.concatenate([groups, np.full(3, groups[0], dtype=groups.dtype)])
+                                           [n + 3, n + 5, n + 6],
+                                           [b, a, n + 7] if runs_ab else [a, b, n + 7]],
+                                          dtype=tris.dtype)])
+    groups = np.concatenate([groups, np.full(4, groups[0], dtype=groups.dtype)])
     return pos, tris, groups, [
         {"kind": "loose_facet", "count": 1, "at": at_hi.tolist(),
          "note": "a stray facet beyond the part, joined to nothing"},
         {"kind": "loose_face", "count": 2, "at": at_lo.tolist(),
-         "note": "a leftover square face of two facets beyond the part, joined to nothing"}]
+         "note": "a leftover square face of two facets beyond the part, joined to nothing"},
+        {"kind": "dangling_facet", "count": 1, "edge": [int(a), int(b)],
+         "note": "a facet hanging from an edge of the part (the edge has three facets)"}]
 
 
 BREAKERS = {
@@ -1309,7 +1331,8 @@ BROKEN_SHAPE = {
     "fold": (True, True),  # oriented alike, only turned over in their plane
     "missing_face": (False, True),
     "spike": (True, True),  # closed and oriented; it crosses itself
-    "loose": (False, True),  # the bits' borders are open edges
+    "loose": (False, False),  # the bits' borders are open edges; the dangling facet's edge
+    # has three facets
 }
 
 # Which broken copies of which clean file (part_variant).
@@ -1347,7 +1370,8 @@ BROKEN = [
     # Appended: each entry's seed is its index. Two facets dropped beside a T vertex: the crack
     # closes in part, the hole is the two facets' outline.
     ("housing_coarse", "tjunction_missing"),
-    # A stray facet and a leftover face beside the solid: removed, the part stays a solid.
+    # A stray facet, a leftover face and a facet dangling from an edge: removed, the part stays
+    # a solid.
     ("bracket_export", "loose"),
     ("knob_coarse", "loose"),
 ]

@@ -482,10 +482,10 @@ ROWS = [{'path': 'preset',
   'unit': "of the closed bodies' area",
   'zero_means': 'keep them',
   'default_text': '0.01',
-  'help': 'repair: open pieces joined to nothing beside closed bodies (a stray facet, a leftover '
-          'face a CAD export wrote with the solid) smaller than this are removed and reported, so '
-          'that the part stays a solid with its volume; a sheet part, with no closed body, keeps '
-          'every piece',
+  'help': 'repair: open pieces beside closed bodies, joined to nothing or dangling from an edge (a '
+          'stray facet, a leftover face a CAD export wrote with the solid), smaller than this are '
+          'removed and reported, so that the part stays a solid with its volume; a sheet part, '
+          'with no closed body, keeps every piece',
   'kind': 'real',
   'default': 0.01,
   'percent': True},

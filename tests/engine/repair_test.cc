@@ -978,6 +978,29 @@ TEST(Repair, LoosePiecesBesideAClosedBodyAreRemoved) {
     EXPECT_EQ(left.report.count(RepairKind::kLoosePiece), 0u) << left.report.Details();
     EXPECT_EQ(mesh->num_faces(), faces);
   }
+  // A facet dangling from an edge of the solid (the edge then has three facets) comes off, and
+  // the edge is the solid's again; two facets on one edge are not one dangling facet (the edge
+  // keeps three facets without either) and stay, as a seam.
+  const auto add_fin = [](RawMesh& mesh, uint32_t a, uint32_t b, std::array<float, 3> apex) {
+    const uint32_t v = static_cast<uint32_t>(mesh.num_vertices());
+    mesh.positions.insert(mesh.positions.end(), apex.begin(), apex.end());
+    mesh.triangles.insert(mesh.triangles.end(), {a, b, v});
+  };
+  RawMesh fin = cube;
+  add_fin(fin, 4, 5, {5, -0.5f, 10.5f});  // on the edge (0, 0, 10) - (10, 0, 10)
+  r = Repair(fin);
+  ExpectSameMesh(fin, cube);
+  EXPECT_EQ(r.report.count(RepairKind::kSeamEdge), 0u) << r.report.Details();
+  EXPECT_HAS(Records(r.report, RepairKind::kLoosePiece),
+             "loose piece (facet 12) at (5, -0.166666667, 10.1666667): 1 facet of area 3.54 "
+             "(0.59% of the closed bodies' area), open and hanging from 1 edge of a closed "
+             "surface, which it made non-manifold: removed (a dangling facet;");
+  RawMesh fins = cube;
+  add_fin(fins, 4, 5, {5, -0.5f, 10.5f});
+  add_fin(fins, 5, 4, {5, -0.7f, 9.3f});
+  EXPECT_EQ(Repair(fins).report.count(RepairKind::kLoosePiece), 0u);
+  EXPECT_EQ(fins.num_faces(), 14u);
+
   // Without a closed body, a small sheet beside a large one is a sheet part's.
   RawMesh sheets;
   add_square(sheets, 0, 0, 0, 10);
