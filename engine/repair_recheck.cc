@@ -4,6 +4,8 @@
 #include <tuple>
 #include <utility>
 
+#include "absl/strings/str_cat.h"
+
 namespace femsimp {
 
 ReportMerger::ReportMerger(RepairResult& result, const RawMesh& mesh, size_t max_records_per_kind)
@@ -31,6 +33,18 @@ void ReportMerger::DropRecords(RepairKind kind) {
 
 std::array<double, 3> ReportMerger::World(const std::array<double, 3>& p) const {
   return {mesh_.origin[0] + p[0], mesh_.origin[1] + p[1], mesh_.origin[2] + p[2]};
+}
+
+std::string RecheckObjection(const absl::StatusOr<RepairResult>& checked,
+                             absl::FunctionRef<size_t(RepairKind)> allowed,
+                             absl::string_view what) {
+  if (!checked.ok()) return std::string(checked.status().message());
+  for (size_t k = 0; k < kNumRepairKinds; ++k) {
+    const auto kind = static_cast<RepairKind>(k);
+    if (checked->report.count(kind) > allowed(kind))
+      return absl::StrCat(what, " (", RepairKindName(kind), ")");
+  }
+  return "";
 }
 
 void SortRecords(RepairReport& report) {

@@ -1,6 +1,7 @@
 // What the repair steps that rewrite a repaired mesh (the imprint, engine/repair_imprint.h; taking
-// out crossing facets, engine/crossing_repair.h) share: their records in the input's numbering,
-// and the other repairs run again on what they made, folded into the report of the first run.
+// out crossing facets, engine/repair_uncross.h; the union, engine/repair_union.h) share: their
+// records in the input's numbering, and the other repairs run again on what they made, judged
+// and folded into the report of the first run.
 #pragma once
 
 #include <array>
@@ -10,6 +11,9 @@
 #include <string>
 #include <vector>
 
+#include "absl/functional/function_ref.h"
+#include "absl/status/statusor.h"
+#include "absl/strings/string_view.h"
 #include "engine/raw_mesh.h"
 #include "engine/repair.h"
 
@@ -49,6 +53,11 @@ void FoldRecheck(RepairResult& repaired, RepairResult checked,
                  const std::vector<uint32_t>& step_facet_origin,
                  const std::vector<uint32_t>& step_vertex_origin, const RawMesh& mesh,
                  ReportMerger& merge);
+
+// Why a step's result is refused after the repairs ran again on it: the recheck's error, or
+// "`what` (kind)" for the first kind it counted more of than `allowed(kind)`; empty when neither.
+std::string RecheckObjection(const absl::StatusOr<RepairResult>& checked,
+                             absl::FunctionRef<size_t(RepairKind)> allowed, absl::string_view what);
 
 // Sorts the records by kind, then facet, then vertex: how reports list them.
 void SortRecords(RepairReport& report);

@@ -28,22 +28,16 @@ absl::StatusOr<RepairResult> UncrossRepaired(RawMesh& mesh, const RepairOptions&
   if (!uncross.facet_origin.empty()) {
     RawMesh next = std::move(uncross.mesh);
     checked = RepairMesh(next, again);
-    std::string why;
-    if (!checked.ok()) {
-      why = std::string(checked.status().message());
-    } else {
-      // Only the vertices the patches used may go; any other change, or a defect more than the
-      // first run left, would be the fills' doing.
-      for (size_t k = 0; k < kNumRepairKinds && why.empty(); ++k) {
-        const auto kind = static_cast<RepairKind>(k);
-        const size_t allowed = kind == RepairKind::kUnreferencedVertex ? SIZE_MAX
-                               : IsRepairChange(kind)                  ? 0
-                                                      : repaired.report.count(kind);
-        if (checked->report.count(kind) > allowed)
-          why = absl::StrCat("the closed rims would need a repair of their own (",
-                             RepairKindName(kind), ")");
-      }
-    }
+    // Only the vertices the patches used may go; any other change, or a defect more than the
+    // first run left, would be the fills' doing.
+    const std::string why = RecheckObjection(
+        checked,
+        [&](RepairKind kind) -> size_t {
+          return kind == RepairKind::kUnreferencedVertex ? SIZE_MAX
+                 : IsRepairChange(kind)                  ? 0
+                                                         : repaired.report.count(kind);
+        },
+        "the closed rims would need a repair of their own");
     if (why.empty()) {
       mesh = std::move(next);
     } else {

@@ -1,6 +1,7 @@
 #include "engine/repair_union.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
@@ -41,16 +42,12 @@ absl::StatusOr<RepairResult> UniteRepaired(RawMesh& mesh, const RepairOptions& o
   absl::StatusOr<RepairResult> checked = absl::InternalError("not run");
   if (!u.united.empty()) {
     checked = RepairMesh(u.mesh, again);
-    std::string why;
-    if (!checked.ok()) {
-      why = std::string(checked.status().message());
-    } else {
-      for (size_t k = 0; k < kNumRepairKinds && why.empty(); ++k) {
-        const auto kind = static_cast<RepairKind>(k);
-        if (!IsRepairChange(kind) && checked->report.count(kind) > repaired.report.count(kind))
-          why = absl::StrCat("the union would leave a defect (", RepairKindName(kind), ")");
-      }
-    }
+    const std::string why = RecheckObjection(
+        checked,
+        [&](RepairKind kind) {
+          return IsRepairChange(kind) ? SIZE_MAX : repaired.report.count(kind);
+        },
+        "the union would leave a defect");
     if (!why.empty()) {
       for (const UnitedBodies& b : u.united)
         u.left.push_back({b.first_facet, b.at, absl::StrCat("after the union: ", why)});
