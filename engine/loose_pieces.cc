@@ -87,26 +87,30 @@ std::vector<LoosePiece> FindLoosePieces(const float* positions, std::span<const 
     ++c.attached;
     i = j;
   }
-  double closed_area = 0;
+  // A sheet's facets span it (what would close it is at least half its area); a body's do not:
+  // closed, or open where holes are (a facet or a face missing), the hole fill's rule.
+  const auto sheet = [](const Component& c) {
+    const double closing =
+        std::sqrt(c.vector_area[0] * c.vector_area[0] + c.vector_area[1] * c.vector_area[1] +
+                  c.vector_area[2] * c.vector_area[2]);
+    return c.open && closing >= 0.5 * c.area;
+  };
+  double body_area = 0;
   for (const Component& c : of)
-    if (!c.open) closed_area += c.area;
-  if (closed_area <= 0) return {};
+    if (!sheet(c)) body_area += c.area;
+  if (body_area <= 0) return {};
 
   std::vector<uint32_t> piece_of(of.size(), kNone);
   std::vector<LoosePiece> pieces;
   for (uint32_t f = 0; f < nf; ++f) {
     const uint32_t id = component_of[f];
     const Component& c = of[id];
-    if (!c.open || !c.detachable || c.area >= max_share * closed_area) continue;
-    const double closing =
-        std::sqrt(c.vector_area[0] * c.vector_area[0] + c.vector_area[1] * c.vector_area[1] +
-                  c.vector_area[2] * c.vector_area[2]);
-    if (closing < 0.5 * c.area) continue;  // a body with a face missing: the hole fill's case
+    if (!sheet(c) || !c.detachable || c.area >= max_share * body_area) continue;
     if (piece_of[id] == kNone) {
       piece_of[id] = static_cast<uint32_t>(pieces.size());
       LoosePiece& p = pieces.emplace_back();
       p.area = c.area;
-      p.closed_area = closed_area;
+      p.body_area = body_area;
       p.attached_edges = c.attached;
       for (int k = 0; k < 3; ++k) p.centre[k] = c.area > 0 ? c.moment[k] / c.area : 0.0;
     }

@@ -1,17 +1,17 @@
-// Loose pieces: open bits of surface beside a part's closed bodies, as CAD exports carry them (a
+// Loose pieces: open bits of surface beside a part's bodies, as CAD exports carry them (a
 // stray facet, a leftover face, construction geometry written with the solid, a facet dangling
 // from an edge). One makes the whole mesh an open surface, so it would lose its volume, its mass
 // budgets and its FE model; the repair stage removes them and says so (RepairKind::kLoosePiece,
 // RepairOptions::loose_piece_share).
 //
 // A piece is a surface: facets joined through edges of two facets (an edge of three facets or
-// more, a seam, joins nothing). It is loose when it has open edges; each of its seams keeps two
-// facets without it (it dangles from a solid's edge, rather than being one of three walls that
-// meet there); it is a sheet rather than a body with a face missing (the vector area of its
-// facets, which is what would close it, is at least half its area: the rule the hole fill uses
-// to tell a border from a hole); and its area is under `max_share` of the area of the closed
-// surfaces (no open edge). A mesh without a closed surface has no loose pieces: a sheet part
-// keeps every sheet.
+// more, a seam, joins nothing). A surface is a sheet when it has open edges and the vector area
+// of its facets, which is what would close it, is at least half its area (the rule the hole
+// fill uses to tell a border from a hole); any other surface is a body: closed, or with holes
+// (a facet or a face missing). A sheet is loose when each of its seams keeps two facets without
+// it (joined to nothing, or dangling from a body's edge; not one of three walls that meet there)
+// and its area is under `max_share` of the bodies' area. A mesh without a body has no loose
+// pieces: a sheet part keeps every sheet.
 #pragma once
 
 #include <array>
@@ -24,7 +24,7 @@ namespace femsimp {
 struct LoosePiece {
   std::vector<uint32_t> faces;  // ascending
   double area = 0;
-  double closed_area = 0;          // of every closed surface, for the share
+  double body_area = 0;            // of every body, for the share
   uint32_t attached_edges = 0;     // seams it dangled from (0: joined to nothing)
   std::array<double, 3> centre{};  // area-weighted centroid of its facets
 };

@@ -171,11 +171,11 @@ std::vector<OptionSpec> MakeTable() {
        .field = &R::unite_overlaps},
       {.name = "loose_piece_share", .flag = "--loose-piece-share", .metavar = "F",
        .section = "repair", .type = T::kFraction, .range = Range::Closed(0, 1),
-       .unit = "of the closed bodies' area", .zero_means = "keep them",
-       .help = "repair: open pieces beside closed bodies, joined to nothing or dangling from "
-               "an edge (a stray facet, a leftover face a CAD export wrote with the solid), "
-               "smaller than this are removed and reported, so that the part stays a solid with "
-               "its volume; a sheet part, with no closed body, keeps every piece",
+       .unit = "of the bodies' area", .zero_means = "keep them",
+       .help = "repair: open sheets beside bodies, joined to nothing or dangling from an edge "
+               "(a stray facet, a leftover face a CAD export wrote with the solid), smaller "
+               "than this are removed and reported, so that the part stays a solid with its "
+               "volume; a sheet part, with no body, keeps every sheet",
        .field = &R::loose_piece_share},
       {.name = "fill_holes", .flag = "--fill-holes", .section = "repair", .type = T::kEnum,
        .help = "repair: which openings are closed; small: loops of a few facets an exporter lost "

@@ -77,7 +77,7 @@ constexpr KindInfo kKinds[kNumRepairKinds] = {
     {"united_bodies", "united bodies", "united bodies", "united", "group of overlapping bodies",
      "groups of overlapping bodies", " (replaced by their union)"},
     {"loose_piece", "loose piece", "loose pieces", "removed", "loose piece", "loose pieces",
-     " (open bits apart from the closed bodies)"},
+     " (open bits beside the bodies)"},
     {"seam_edge", "non-manifold edge", "non-manifold edges", "kept", "non-manifold edge",
      "non-manifold edges", " as seams"},
     {"non_orientable", "non-orientable component", "non-orientable components", "left",
@@ -176,7 +176,8 @@ class Repairer {
   bool ZipTJunctions();
   bool FillHoles();
   void PlaceSplitPieces(const std::vector<uint32_t>& after, uint32_t nk0);
-  void Orient();
+  // again: after a first call, whose non-orientable components are recorded already.
+  void Orient(bool again = false);
   // Removes the loose pieces (engine/loose_pieces.h) of the oriented facets; returns whether it
   // removed any (the edges are then stale).
   bool DropLoosePieces();
@@ -1261,7 +1262,7 @@ bool Repairer::FillHoles() {
 // of the majority of its facets, or, when it is closed (kOn), the one that makes the mesh bound a
 // volume: outward, and inward where it lies inside an odd number of other closed components (a
 // cavity's wall faces into the cavity; CGAL's orient_to_bound_a_volume rule).
-void Repairer::Orient() {
+void Repairer::Orient(bool again) {
   const uint32_t nk = static_cast<uint32_t>(kept_.size());
   std::vector<uint32_t> comp(nk, kNoIndex), order;
   std::vector<uint8_t> parity(nk, 0), flip(nk, 0);
@@ -1303,9 +1304,10 @@ void Repairer::Orient() {
     }
     const uint32_t end = static_cast<uint32_t>(order.size());
     if (conflict) {  // a Moebius band or worse: no flip makes it consistent
-      Record(RepairKind::kNonOrientable, kept_[seed], -1, Centroid(&tri_[3 * seed]),
-             absl::StrCat("component of ", end - begin,
-                          " facets: no orientation is consistent; left as it was"));
+      if (!again)
+        Record(RepairKind::kNonOrientable, kept_[seed], -1, Centroid(&tri_[3 * seed]),
+               absl::StrCat("component of ", end - begin,
+                            " facets: no orientation is consistent; left as it was"));
       continue;
     }
     size_t odd = 0;
@@ -1419,15 +1421,14 @@ bool Repairer::DropLoosePieces() {
     for (uint32_t k : piece.faces) drop[k] = 1;
     Record(RepairKind::kLoosePiece, kept_[piece.faces[0]], -1, piece.centre, [&] {
       return absl::StrFormat(
-          "%u facet%s of area %.3g (%.2g%% of the closed bodies' area), open and %s: removed "
+          "%u facet%s of area %.3g (%.2g%% of the bodies' area), open and %s: removed "
           "(%s; --loose-piece-share 0 keeps it)",
           piece.faces.size(), piece.faces.size() == 1 ? "" : "s", piece.area,
-          100 * piece.area / piece.closed_area,
-          piece.attached_edges == 0
-              ? std::string("joined to nothing")
-              : absl::StrCat("hanging from ", piece.attached_edges, " edge",
-                             piece.attached_edges == 1 ? "" : "s",
-                             " of a closed surface, which it made non-manifold"),
+          100 * piece.area / piece.body_area,
+          piece.attached_edges == 0 ? std::string("joined to nothing")
+                                    : absl::StrCat("hanging from ", piece.attached_edges, " edge",
+                                                   piece.attached_edges == 1 ? "" : "s",
+                                                   " of a body, which it made non-manifold"),
           piece.attached_edges == 0 ? "a stray facet or a leftover face" : "a dangling facet");
     });
   }
@@ -1829,7 +1830,15 @@ absl::StatusOr<RepairResult> Repairer::Run(RawMesh& mesh) {
   for (int call = 0; call < 3 && !strict_ && ZipTJunctions(); ++call) BuildEdges();
   if (!strict_ && FillHoles()) BuildEdges();
   Orient();
-  if (!strict_ && DropLoosePieces()) BuildEdges();
+  // A dangling facet joins a body to a sheet that is not a hole, so the body's holes were left;
+  // without it they are filled, and the fills oriented.
+  if (!strict_ && DropLoosePieces()) {
+    BuildEdges();
+    if (FillHoles()) {
+      BuildEdges();
+      Orient(/*again=*/true);
+    }
+  }
   UnfoldEdges();
   SplitVertices();
   ReportEdges();

@@ -53,8 +53,8 @@ struct RepairOptions {
   // the hole closed again (engine/crossing_repair.h), after the other repairs. Off only where a
   // step runs the repairs again on what it made.
   bool take_out_crossings = true;
-  // Open pieces apart from the closed bodies (engine/loose_pieces.h) whose area is under this
-  // share of the closed bodies' area are removed; 0 keeps them.
+  // Open sheets beside the bodies (engine/loose_pieces.h) whose area is under this share of the
+  // bodies' area are removed; 0 keeps them.
   double loose_piece_share = 0.01;
   // Threads the scan for crossings may use: the caller's SimplifyOptions::threads (the CLI and
   // the server set it); the result is the same on any number.
@@ -83,8 +83,9 @@ enum class RepairKind : int {
                         // out and its rim closed again (engine/crossing_repair.h)
   kUnitedBodies,        // closed bodies crossing each other replaced by their union
                         // (RepairOptions::unite_overlaps)
-  kLoosePiece,          // removed: an open piece apart from the closed bodies, small beside
-                        // them (a stray facet, a leftover face: engine/loose_pieces.h)
+  kLoosePiece,          // removed: a small open sheet beside the bodies, joined to nothing or
+                        // dangling from an edge (a stray facet, a leftover face:
+                        // engine/loose_pieces.h)
   // Left in place.
   kSeamEdge,       // an edge of 3 or more facets: kept, listed in RepairResult::seams
   kNonOrientable,  // a component that no choice of facet orientations makes consistent (the

@@ -479,13 +479,13 @@ ROWS = [{'path': 'preset',
   'hi': 1.0,
   'lo_closed': True,
   'hi_closed': True,
-  'unit': "of the closed bodies' area",
+  'unit': "of the bodies' area",
   'zero_means': 'keep them',
   'default_text': '0.01',
-  'help': 'repair: open pieces beside closed bodies, joined to nothing or dangling from an edge (a '
-          'stray facet, a leftover face a CAD export wrote with the solid), smaller than this are '
+  'help': 'repair: open sheets beside bodies, joined to nothing or dangling from an edge (a stray '
+          'facet, a leftover face a CAD export wrote with the solid), smaller than this are '
           'removed and reported, so that the part stays a solid with its volume; a sheet part, '
-          'with no closed body, keeps every piece',
+          'with no body, keeps every sheet',
   'kind': 'real',
   'default': 0.01,
   'percent': True},

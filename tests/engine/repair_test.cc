@@ -955,9 +955,9 @@ TEST(Repair, LoosePiecesBesideAClosedBodyAreRemoved) {
   const std::string records = Records(r.report, RepairKind::kLoosePiece);
   EXPECT_HAS(records,
              "loose piece (facet 12) at (20.3333333, 20.3333333, 20): 1 facet of area 0.5 "
-             "(0.083% of the closed bodies' area), open and joined to nothing: removed");
+             "(0.083% of the bodies' area), open and joined to nothing: removed");
   EXPECT_HAS(records, "loose piece (facet 13) at (5, 5, 5): 2 facets of area 4 (0.67%");
-  EXPECT_HAS(r.report.Summary(), "removed 2 loose pieces (open bits apart from the closed bodies)");
+  EXPECT_HAS(r.report.Summary(), "removed 2 loose pieces (open bits beside the bodies)");
 
   RepairOptions keep;
   keep.loose_piece_share = 0;
@@ -993,8 +993,20 @@ TEST(Repair, LoosePiecesBesideAClosedBodyAreRemoved) {
   EXPECT_EQ(r.report.count(RepairKind::kSeamEdge), 0u) << r.report.Details();
   EXPECT_HAS(Records(r.report, RepairKind::kLoosePiece),
              "loose piece (facet 12) at (5, -0.166666667, 10.1666667): 1 facet of area 3.54 "
-             "(0.59% of the closed bodies' area), open and hanging from 1 edge of a closed "
-             "surface, which it made non-manifold: removed (a dangling facet;");
+             "(0.59% of the bodies' area), open and hanging from 1 edge of a body, which "
+             "it made non-manifold: removed (a dangling facet;");
+  // A facet missing too: the fin joined the solid to a sheet that is no hole, so the hole was
+  // left open; once the fin is off, the hole is filled.
+  RawMesh holed = cube;
+  holed.triangles.erase(holed.triangles.begin() + 3 * 4, holed.triangles.begin() + 3 * 5);
+  add_fin(holed, 4, 5, {5, -0.5f, 10.5f});
+  r = Repair(holed);
+  EXPECT_EQ(r.report.count(RepairKind::kLoosePiece), 1u) << r.report.Details();
+  EXPECT_EQ(r.report.count(RepairKind::kFilledHole), 1u) << r.report.Details();
+  EXPECT_EQ(r.report.count(RepairKind::kHoleLeft), 0u) << r.report.Details();
+  EXPECT_EQ(holed.num_faces(), 12u);
+  EXPECT_EQ(TopologyOf(holed).boundary_edges, 0);
+  ExpectBuilds(holed);
   RawMesh fins = cube;
   add_fin(fins, 4, 5, {5, -0.5f, 10.5f});
   add_fin(fins, 5, 4, {5, -0.7f, 9.3f});

@@ -478,7 +478,7 @@ TEST_F(CliRepairTest, AStrayFacetBesideASolidIsRemovedLocallyAndByTheServer) {
     EXPECT_EQ(TopologyOf(*out).boundary_edges, 0);
     EXPECT_HAS(out_, "  loose_piece            1\n");
     EXPECT_HAS(out_,
-               "1 facet of area 0.125 (0.26% of the closed bodies' area), open and joined "
+               "1 facet of area 0.125 (0.26% of the bodies' area), open and joined "
                "to nothing: removed");
     EXPECT_HAS(out_, "mass:     volume 16 -> 16");
     const std::string json = testing::ReadFileBytes(Path("s.json"));
