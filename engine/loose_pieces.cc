@@ -5,8 +5,6 @@
 #include <limits>
 #include <utility>
 
-#include "engine/union_find.h"
-
 namespace femsimp {
 
 std::vector<LoosePiece> FindLoosePieces(const float* positions, std::span<const uint32_t> tri,
@@ -15,43 +13,63 @@ std::vector<LoosePiece> FindLoosePieces(const float* positions, std::span<const 
   constexpr uint32_t kNone = std::numeric_limits<uint32_t>::max();
   const uint32_t nf = static_cast<uint32_t>(tri.size() / 3);
   if (max_share <= 0 || nf == 0) return {};
-  // Surfaces: faces joined through edges of two facets. A seam (three or more) joins nothing,
-  // so a facet dangling from a solid's edge is a surface of its own.
-  UnionFind components(nf);
-  {
-    std::vector<uint32_t> first_face(edge_uses.size(), kNone);
-    for (uint32_t h = 0; h < 3 * nf; ++h) {
-      const uint32_t e = edge_of[h];
-      if (edge_uses[e] != 2) continue;
-      if (first_face[e] == kNone) {
-        first_face[e] = h / 3;
-      } else {
-        components.Union(first_face[e], h / 3);
-      }
-    }
-  }
   struct Component {
     double area = 0;
-    double vector_area[3] = {0, 0, 0};
-    double moment[3] = {0, 0, 0};  // area times centroid
+    double vector_area[3] = {0, 0, 0};  // with the facets turned as its first one
+    double moment[3] = {0, 0, 0};       // area times centroid
     bool open = false;
+    bool orientable = true;
     bool detachable = true;  // each of its seams keeps two facets without it
     uint32_t attached = 0;   // its seam edges
   };
-  // Components numbered in order of their first face.
-  std::vector<uint32_t> component_of(nf);
-  std::vector<Component> of;
+  // Surfaces: faces joined through edges of two facets. A seam (three or more) joins nothing,
+  // so a facet dangling from a solid's edge is a surface of its own. Each facet's parity says
+  // whether it runs against its surface's first facet (the facets may not be oriented yet).
+  std::vector<uint32_t> partner(3 * size_t(nf), kNone);  // the other half-edge of a two-facet edge
   {
-    std::vector<uint32_t> number(nf, kNone);  // by root
-    for (uint32_t f = 0; f < nf; ++f) {
-      uint32_t& n = number[components.Find(f)];
-      if (n == kNone) {
-        n = static_cast<uint32_t>(of.size());
-        of.emplace_back();
+    std::vector<uint32_t> first_half(edge_uses.size(), kNone);
+    for (uint32_t h = 0; h < 3 * nf; ++h) {
+      const uint32_t e = edge_of[h];
+      if (edge_uses[e] != 2) continue;
+      if (first_half[e] == kNone) {
+        first_half[e] = h;
+      } else {
+        partner[h] = first_half[e];
+        partner[first_half[e]] = h;
       }
-      component_of[f] = n;
     }
   }
+  std::vector<uint32_t> component_of(nf, kNone);  // numbered in order of their first face
+  std::vector<uint8_t> parity(nf, 0);
+  std::vector<Component> of;
+  {
+    std::vector<uint32_t> queue;
+    for (uint32_t seed = 0; seed < nf; ++seed) {
+      if (component_of[seed] != kNone) continue;
+      const uint32_t id = static_cast<uint32_t>(of.size());
+      Component& c = of.emplace_back();
+      component_of[seed] = id;
+      queue.assign(1, seed);
+      for (size_t q = 0; q < queue.size(); ++q) {
+        const uint32_t x = queue[q];
+        for (uint32_t h = 3 * x; h < 3 * x + 3; ++h) {
+          const uint32_t g = partner[h];
+          if (g == kNone) continue;
+          const uint32_t y = g / 3;
+          // Two facets that agree run their common edge opposite ways.
+          const uint8_t want = parity[x] ^ uint8_t(tri[h] == tri[g]);
+          if (component_of[y] == kNone) {
+            component_of[y] = id;
+            parity[y] = want;
+            queue.push_back(y);
+          } else if (parity[y] != want) {
+            c.orientable = false;
+          }
+        }
+      }
+    }
+  }
+  partner = {};
   std::vector<std::pair<uint32_t, uint32_t>> on_seams;  // (edge, component) per seam half-edge
   for (uint32_t f = 0; f < nf; ++f) {
     Component& c = of[component_of[f]];
@@ -71,8 +89,9 @@ std::vector<LoosePiece> FindLoosePieces(const float* positions, std::span<const 
                          u[0] * w[1] - u[1] * w[0]};
     const double area = 0.5 * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
     c.area += area;
+    const double sign = parity[f] ? -0.5 : 0.5;
     for (int k = 0; k < 3; ++k) {
-      c.vector_area[k] += 0.5 * n[k];
+      c.vector_area[k] += sign * n[k];
       c.moment[k] += area * (double(p[0][k]) + p[1][k] + p[2][k]) / 3.0;
     }
   }
@@ -93,7 +112,7 @@ std::vector<LoosePiece> FindLoosePieces(const float* positions, std::span<const 
     const double closing =
         std::sqrt(c.vector_area[0] * c.vector_area[0] + c.vector_area[1] * c.vector_area[1] +
                   c.vector_area[2] * c.vector_area[2]);
-    return c.open && closing >= 0.5 * c.area;
+    return c.open && c.orientable && closing >= 0.5 * c.area;
   };
   double body_area = 0;
   for (const Component& c : of)

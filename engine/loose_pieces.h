@@ -29,8 +29,8 @@ struct LoosePiece {
   std::array<double, 3> centre{};  // area-weighted centroid of its facets
 };
 
-// `tri`: three vertex ids per face, each manifold component oriented consistently; `edge_of`:
-// per half-edge (3 * face + corner, from that corner to the next) its undirected edge;
+// `tri`: three vertex ids per face, in any orientation (a non-orientable surface is a body);
+// `edge_of`: per half-edge (3 * face + corner, from that corner to the next) its undirected edge;
 // `edge_uses`: per edge, how many half-edges it has. Pieces in order of their first face.
 std::vector<LoosePiece> FindLoosePieces(const float* positions, std::span<const uint32_t> tri,
                                         std::span<const uint32_t> edge_of,

@@ -176,10 +176,9 @@ class Repairer {
   bool ZipTJunctions();
   bool FillHoles();
   void PlaceSplitPieces(const std::vector<uint32_t>& after, uint32_t nk0);
-  // again: after a first call, whose non-orientable components are recorded already.
-  void Orient(bool again = false);
-  // Removes the loose pieces (engine/loose_pieces.h) of the oriented facets; returns whether it
-  // removed any (the edges are then stale).
+  void Orient();
+  // Removes the loose pieces (engine/loose_pieces.h); returns whether it removed any (the edges
+  // are then stale).
   bool DropLoosePieces();
   // Flips folded edges (engine/fold.h) where that unfolds them (strict: records them), leaving
   // the edges built for what the facets are then.
@@ -1262,7 +1261,7 @@ bool Repairer::FillHoles() {
 // of the majority of its facets, or, when it is closed (kOn), the one that makes the mesh bound a
 // volume: outward, and inward where it lies inside an odd number of other closed components (a
 // cavity's wall faces into the cavity; CGAL's orient_to_bound_a_volume rule).
-void Repairer::Orient(bool again) {
+void Repairer::Orient() {
   const uint32_t nk = static_cast<uint32_t>(kept_.size());
   std::vector<uint32_t> comp(nk, kNoIndex), order;
   std::vector<uint8_t> parity(nk, 0), flip(nk, 0);
@@ -1304,10 +1303,9 @@ void Repairer::Orient(bool again) {
     }
     const uint32_t end = static_cast<uint32_t>(order.size());
     if (conflict) {  // a Moebius band or worse: no flip makes it consistent
-      if (!again)
-        Record(RepairKind::kNonOrientable, kept_[seed], -1, Centroid(&tri_[3 * seed]),
-               absl::StrCat("component of ", end - begin,
-                            " facets: no orientation is consistent; left as it was"));
+      Record(RepairKind::kNonOrientable, kept_[seed], -1, Centroid(&tri_[3 * seed]),
+             absl::StrCat("component of ", end - begin,
+                          " facets: no orientation is consistent; left as it was"));
       continue;
     }
     size_t odd = 0;
@@ -1829,16 +1827,14 @@ absl::StatusOr<RepairResult> Repairer::Run(RawMesh& mesh) {
   // A split can leave a facet's other open edge for the next call: a triangle has three.
   for (int call = 0; call < 3 && !strict_ && ZipTJunctions(); ++call) BuildEdges();
   if (!strict_ && FillHoles()) BuildEdges();
-  Orient();
-  // A dangling facet joins a body to a sheet that is not a hole, so the body's holes were left;
-  // without it they are filled, and the fills oriented.
+  // Before the orientation, whose cavity test needs the bodies closed: a dangling facet makes
+  // its edge a seam. It also joined the body to a sheet that is no hole, so the hole fill left
+  // the body's holes; without it they are filled.
   if (!strict_ && DropLoosePieces()) {
     BuildEdges();
-    if (FillHoles()) {
-      BuildEdges();
-      Orient(/*again=*/true);
-    }
+    if (FillHoles()) BuildEdges();
   }
+  Orient();
   UnfoldEdges();
   SplitVertices();
   ReportEdges();

@@ -1007,6 +1007,17 @@ TEST(Repair, LoosePiecesBesideAClosedBodyAreRemoved) {
   EXPECT_EQ(holed.num_faces(), 12u);
   EXPECT_EQ(TopologyOf(holed).boundary_edges, 0);
   ExpectBuilds(holed);
+  // A cavity's wall faces into the cavity: the fin on the outer shell once made that shell a
+  // seam's, not closed, so the cavity's wall counted as a body of its own and was turned out.
+  RawMesh cavity = cube;
+  AddCube(cavity, 4, 4, 4, 2);
+  for (size_t f = 12; f < 24; ++f) Flip(cavity, f);
+  add_fin(cavity, 4, 5, {5, -0.5f, 10.5f});
+  r = Repair(cavity);
+  EXPECT_EQ(r.report.count(RepairKind::kLoosePiece), 1u) << r.report.Details();
+  EXPECT_EQ(r.report.count(RepairKind::kReversedComponent), 0u) << r.report.Details();
+  EXPECT_EQ(r.report.count(RepairKind::kFlippedFacet), 0u) << r.report.Details();
+  EXPECT_NEAR(testing::SignedVolume(cavity), 1000 - 8, 1e-3);
   RawMesh fins = cube;
   add_fin(fins, 4, 5, {5, -0.5f, 10.5f});
   add_fin(fins, 5, 4, {5, -0.7f, 9.3f});
