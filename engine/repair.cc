@@ -1832,6 +1832,10 @@ absl::StatusOr<RepairResult> Repairer::Run(RawMesh& mesh) {
   // the body's holes; without it they are filled.
   if (!strict_ && DropLoosePieces()) {
     BuildEdges();
+    // The holes it left are looked at again: filled now, or reported again.
+    result_.report.counts[static_cast<size_t>(RepairKind::kHoleLeft)] = 0;
+    std::erase_if(result_.report.records,
+                  [](const RepairRecord& r) { return r.kind == RepairKind::kHoleLeft; });
     if (FillHoles()) BuildEdges();
   }
   Orient();

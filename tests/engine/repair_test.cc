@@ -998,12 +998,13 @@ TEST(Repair, LoosePiecesBesideAClosedBodyAreRemoved) {
   // A facet missing too: the fin joined the solid to a sheet that is no hole, so the hole was
   // left open; once the fin is off, the hole is filled.
   RawMesh holed = cube;
-  holed.triangles.erase(holed.triangles.begin() + 3 * 4, holed.triangles.begin() + 3 * 5);
+  holed.triangles.erase(holed.triangles.begin() + 3 * 1, holed.triangles.begin() + 3 * 2);
   add_fin(holed, 4, 5, {5, -0.5f, 10.5f});
   r = Repair(holed);
   EXPECT_EQ(r.report.count(RepairKind::kLoosePiece), 1u) << r.report.Details();
   EXPECT_EQ(r.report.count(RepairKind::kFilledHole), 1u) << r.report.Details();
   EXPECT_EQ(r.report.count(RepairKind::kHoleLeft), 0u) << r.report.Details();
+  EXPECT_HAS_NOT(r.report.Details(), "hole left open");
   EXPECT_EQ(holed.num_faces(), 12u);
   EXPECT_EQ(TopologyOf(holed).boundary_edges, 0);
   ExpectBuilds(holed);
