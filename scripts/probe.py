@@ -1378,12 +1378,18 @@ class Probe:
                 ("nul-section.msh", b"$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Entit\x00\x1b[31mies\n"
                                     b"0 0 0 0\n$EndEntities\n"),
                 ("nul-token.off", b"OFF\n3 1 0\n0 0 0\n1 0 0\x00\x1b[2J\n0 1 0\n3 0 1 2\n"),
-                ("no-endsolid.stl", b"solid x\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n"
-                                    b"   vertex 1 0 0\n   vertex 0 1 0\n  endloop\n endfacet\n"),
+                ("cut-in-facet.stl", b"solid x\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n"
+                                     b"   vertex 1 0 0\n"),
                 ("no-end-header.ply", b"ply\nformat ascii 1.0\nelement vertex 3\n")):
             path = os.path.join(d, fname)
             open(path, "wb").write(content)
             self.case(f"{fname}: refused with its line", lambda n, path=path: run_cli(n, path, {3}))
+        # Without 'endsolid' but every facet whole: read, with a warning (some writers leave it
+        # out).
+        path = os.path.join(d, "no-endsolid.stl")
+        open(path, "wb").write(b"solid x\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n"
+                               b"   vertex 1 0 0\n   vertex 0 1 0\n  endloop\n endfacet\n")
+        self.case("no-endsolid.stl: read", lambda n, path=path: run_cli(n, path, {0}))
         # A file name carrying control characters, with bad content.
         evil = os.path.join(d, "evil\x1b[2J\x07name\x1b]0;t\x07.off")
         open(evil, "wb").write(b"OFF\n3 1 0\n0 0 0\n1 0 \x1b[31mx\n0 1 0\n3 0 1 2\n")
