@@ -5,6 +5,8 @@
 #include <limits>
 #include <utility>
 
+#include "engine/surfaces.h"
+
 namespace femsimp {
 
 std::vector<LoosePiece> FindLoosePieces(const float* positions, std::span<const uint32_t> tri,
@@ -22,54 +24,11 @@ std::vector<LoosePiece> FindLoosePieces(const float* positions, std::span<const 
     bool detachable = true;  // each of its seams keeps two facets without it
     uint32_t attached = 0;   // its seam edges
   };
-  // Surfaces: faces joined through edges of two facets. A seam (three or more) joins nothing,
-  // so a facet dangling from a solid's edge is a surface of its own. Each facet's parity says
-  // whether it runs against its surface's first facet (the facets may not be oriented yet).
-  std::vector<uint32_t> partner(3 * size_t(nf), kNone);  // the other half-edge of a two-facet edge
-  {
-    std::vector<uint32_t> first_half(edge_uses.size(), kNone);
-    for (uint32_t h = 0; h < 3 * nf; ++h) {
-      const uint32_t e = edge_of[h];
-      if (edge_uses[e] != 2) continue;
-      if (first_half[e] == kNone) {
-        first_half[e] = h;
-      } else {
-        partner[h] = first_half[e];
-        partner[first_half[e]] = h;
-      }
-    }
-  }
-  std::vector<uint32_t> component_of(nf, kNone);  // numbered in order of their first face
-  std::vector<uint8_t> parity(nf, 0);
-  std::vector<Component> of;
-  {
-    std::vector<uint32_t> queue;
-    for (uint32_t seed = 0; seed < nf; ++seed) {
-      if (component_of[seed] != kNone) continue;
-      const uint32_t id = static_cast<uint32_t>(of.size());
-      Component& c = of.emplace_back();
-      component_of[seed] = id;
-      queue.assign(1, seed);
-      for (size_t q = 0; q < queue.size(); ++q) {
-        const uint32_t x = queue[q];
-        for (uint32_t h = 3 * x; h < 3 * x + 3; ++h) {
-          const uint32_t g = partner[h];
-          if (g == kNone) continue;
-          const uint32_t y = g / 3;
-          // Two facets that agree run their common edge opposite ways.
-          const uint8_t want = parity[x] ^ uint8_t(tri[h] == tri[g]);
-          if (component_of[y] == kNone) {
-            component_of[y] = id;
-            parity[y] = want;
-            queue.push_back(y);
-          } else if (parity[y] != want) {
-            c.orientable = false;
-          }
-        }
-      }
-    }
-  }
-  partner = {};
+  const Surfaces surfaces = FindSurfaces(tri, edge_of, edge_uses);
+  const std::vector<uint32_t>& component_of = surfaces.of_facet;
+  const std::vector<uint8_t>& parity = surfaces.parity;
+  std::vector<Component> of(surfaces.count());
+  for (uint32_t id = 0; id < surfaces.count(); ++id) of[id].orientable = surfaces.orientable[id];
   std::vector<std::pair<uint32_t, uint32_t>> on_seams;  // (edge, component) per seam half-edge
   for (uint32_t f = 0; f < nf; ++f) {
     Component& c = of[component_of[f]];

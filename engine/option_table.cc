@@ -177,6 +177,14 @@ std::vector<OptionSpec> MakeTable() {
                "than this are removed and reported, so that the part stays a solid with its "
                "volume; a sheet part, with no body, keeps every sheet",
        .field = &R::loose_piece_share},
+      {.name = "duplicate_body_offset", .flag = "--duplicate-body-offset", .metavar = "F",
+       .section = "repair", .type = T::kFraction, .range = Range::Closed(0, 0.5),
+       .unit = "of the bodies' mean thickness 2V/A", .zero_means = "keep them",
+       .help = "repair: a closed body written twice (a part inserted twice at one place, or "
+               "exported again tessellated anew) whose copy lies within this share of its "
+               "thickness of it is removed and reported, so that the volume counts once and "
+               "FE meshers take the part; bodies stacked on each other are not copies",
+       .field = &R::duplicate_body_offset},
       {.name = "fill_holes", .flag = "--fill-holes", .section = "repair", .type = T::kEnum,
        .help = "repair: which openings are closed; small: loops of a few facets an exporter lost "
                "(at most 6 edges, a tenth of the surface); planar: also openings in one plane "

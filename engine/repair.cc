@@ -22,6 +22,7 @@
 #include "engine/box_containment.h"
 #include "engine/coordinate_precision.h"
 #include "engine/crossings.h"
+#include "engine/duplicate_bodies.h"
 #include "engine/flat_openings.h"
 #include "engine/fold.h"
 #include "engine/id_index.h"
@@ -78,6 +79,8 @@ constexpr KindInfo kKinds[kNumRepairKinds] = {
      "groups of overlapping bodies", " (replaced by their union)"},
     {"loose_piece", "loose piece", "loose pieces", "removed", "loose piece", "loose pieces",
      " (open bits beside the bodies)"},
+    {"duplicate_body", "duplicate body", "duplicate bodies", "removed", "duplicate body",
+     "duplicate bodies", " (closed bodies written twice; the first copy kept)"},
     {"seam_edge", "non-manifold edge", "non-manifold edges", "kept", "non-manifold edge",
      "non-manifold edges", " as seams"},
     {"non_orientable", "non-orientable component", "non-orientable components", "left",
@@ -180,6 +183,11 @@ class Repairer {
   // Removes the loose pieces (engine/loose_pieces.h); returns whether it removed any (the edges
   // are then stale).
   bool DropLoosePieces();
+  // Removes the later copies of closed bodies written twice (engine/duplicate_bodies.h); returns
+  // whether it removed any (the edges are then stale).
+  bool DropDuplicateBodies();
+  // Removes the kept facets marked in `drop`, keeping the others' order.
+  void RemoveFacets(const std::vector<uint8_t>& drop);
   // Flips folded edges (engine/fold.h) where that unfolds them (strict: records them), leaving
   // the edges built for what the facets are then.
   void UnfoldEdges();
@@ -212,6 +220,8 @@ class Repairer {
   // next such group's id (0: not chosen yet).
   absl::flat_hash_map<uint32_t, uint32_t> own_group_;
   uint32_t next_group_ = 0;
+  // Per input vertex: used by a duplicate body's copy that was removed (empty: none was).
+  std::vector<uint8_t> went_with_copy_;
 };
 
 absl::Status Repairer::CheckInput() const {
@@ -1430,6 +1440,12 @@ bool Repairer::DropLoosePieces() {
           piece.attached_edges == 0 ? "a stray facet or a leftover face" : "a dangling facet");
     });
   }
+  RemoveFacets(drop);
+  return true;
+}
+
+void Repairer::RemoveFacets(const std::vector<uint8_t>& drop) {
+  const uint32_t nk = static_cast<uint32_t>(kept_.size());
   absl::flat_hash_map<uint32_t, uint32_t> own_group;
   uint32_t kept = 0;
   for (uint32_t k = 0; k < nk; ++k) {
@@ -1446,6 +1462,33 @@ bool Repairer::DropLoosePieces() {
   tri_.resize(3 * size_t(kept));
   orig_.resize(3 * size_t(kept));
   own_group_ = std::move(own_group);
+}
+
+bool Repairer::DropDuplicateBodies() {
+  const uint32_t ne = static_cast<uint32_t>(ebeg_.size() - 1);
+  std::vector<uint32_t> uses(ne);
+  for (uint32_t e = 0; e < ne; ++e) uses[e] = ebeg_[e + 1] - ebeg_[e];
+  const std::vector<DuplicateBody> copies = FindDuplicateBodies(
+      in_.positions.data(), tri_, edge_of_, uses, options_.duplicate_body_offset);
+  if (copies.empty()) return false;
+  std::vector<uint8_t> drop(kept_.size(), 0);
+  for (const DuplicateBody& copy : copies) {
+    for (uint32_t k : copy.faces) drop[k] = 1;
+    Record(RepairKind::kDuplicateBody, kept_[copy.faces[0]], -1, copy.centre, [&] {
+      return absl::StrFormat(
+          "closed body of %u facets (volume %.6g) repeats the body of %u facets at facet %u: "
+          "each lies within %.3g of the other (%.2g of its mean thickness 2V/A = %.3g); "
+          "removed, the first kept (--duplicate-body-offset 0 keeps both)",
+          copy.faces.size(), copy.volume, copy.kept_faces, kept_[copy.kept_face], copy.distance,
+          copy.distance / copy.thickness, copy.thickness);
+    });
+  }
+  // The copy's vertices go with it: its record stands for them (no weld or unreferenced record).
+  went_with_copy_.resize(nv_, 0);
+  for (uint32_t k = 0; k < drop.size(); ++k)
+    if (drop[k])
+      for (int i = 0; i < 3; ++i) went_with_copy_[orig_[3 * k + i]] = 1;
+  RemoveFacets(drop);
   return true;
 }
 
@@ -1659,6 +1702,7 @@ void Repairer::ReportVertices() {
     if (went[o] == kNoIndex) went[o] = origin;
   }
   for (uint32_t o = 0; o < nv_; ++o) {
+    if (went[o] == kNoIndex && !went_with_copy_.empty() && went_with_copy_[o]) continue;
     if (went[o] == kNoIndex && rep_[o] != o) {  // all its facets were removed after the weld
       moved[o] = 1;
       went[o] = rep_[o];
@@ -1838,6 +1882,9 @@ absl::StatusOr<RepairResult> Repairer::Run(RawMesh& mesh) {
                   [](const RepairRecord& r) { return r.kind == RepairKind::kHoleLeft; });
     if (FillHoles()) BuildEdges();
   }
+  // Before the orientation too: with a body's copy beside it, a cavity's wall lay inside two
+  // shells and was turned to face outward.
+  if (!strict_ && DropDuplicateBodies()) BuildEdges();
   Orient();
   UnfoldEdges();
   SplitVertices();

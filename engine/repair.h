@@ -56,6 +56,9 @@ struct RepairOptions {
   // Open sheets beside the bodies (engine/loose_pieces.h) whose area is under this share of the
   // bodies' area are removed; 0 keeps them.
   double loose_piece_share = 0.01;
+  // Closed bodies written twice (engine/duplicate_bodies.h): a later body within this share of
+  // the bodies' mean thickness 2V/A of an earlier one is removed; 0 keeps them.
+  double duplicate_body_offset = 0.1;
   // Threads the scan for crossings may use: the caller's SimplifyOptions::threads (the CLI and
   // the server set it); the result is the same on any number.
   int threads = 1;
@@ -86,6 +89,8 @@ enum class RepairKind : int {
   kLoosePiece,          // removed: a small open sheet beside the bodies, joined to nothing or
                         // dangling from an edge (a stray facet, a leftover face:
                         // engine/loose_pieces.h)
+  kDuplicateBody,       // removed: a closed body repeating an earlier one within a small share
+                        // of its thickness (engine/duplicate_bodies.h)
   // Left in place.
   kSeamEdge,       // an edge of 3 or more facets: kept, listed in RepairResult::seams
   kNonOrientable,  // a component that no choice of facet orientations makes consistent (the

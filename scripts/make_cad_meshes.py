@@ -710,6 +710,18 @@ def write_off(path, pos, tris):
         f.write("\n".join(lines) + "\n")
 
 
+def read_soup(path):
+    """A mesh file (any format meshio reads) with its exactly coincident vertices welded, as an
+    STL reader leaves it: (float32 positions, int64 triangles). For the probes."""
+    import meshio  # only the probes read meshes back
+
+    mesh = meshio.read(path)
+    pos = mesh.points.astype(np.float32)
+    tris = mesh.cells_dict["triangle"].astype(np.int64)
+    uniq, inv = np.unique(pos, axis=0, return_inverse=True)
+    return uniq.astype(np.float32), inv.ravel()[tris]
+
+
 def write_obj(path, pos, tris, groups):
     lines = ["# femsimp CAD-like test part; one group per CAD face"]
     lines += ["v " + " ".join(fmt(c) for c in p) for p in pos.tolist()]
@@ -1294,6 +1306,31 @@ def break_loose(rng, pos, tris, groups):
          "note": "a facet hanging from an edge of the part (the edge has three facets)"}]
 
 
+def break_twice(rng, pos, tris, groups):
+    """The part written twice, as an assembly export writes a part inserted twice at one place:
+    the copy's vertices moved by its placement's rounding (turned by 1e-5 rad about the part's
+    centre and moved by 2e-5 of the diagonal, both far beyond the weld tolerance), so the copies
+    cross each other everywhere. repair keeps the first."""
+    p64 = pos.astype(np.float64)
+    lo, hi = p64.min(axis=0), p64.max(axis=0)
+    diag = float(np.linalg.norm(hi - lo))
+    centre = 0.5 * (lo + hi)
+    axis = rng.random(3) - 0.5
+    axis /= np.linalg.norm(axis)
+    angle = 1e-5
+    k = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+    turn = np.eye(3) + np.sin(angle) * k + (1 - np.cos(angle)) * (k @ k)
+    shift = 2e-5 * diag * (rng.random(3) - 0.5) / 0.5
+    copy = (p64 - centre) @ turn.T + centre + shift
+    n = len(pos)
+    pos = np.concatenate([pos, copy.astype(pos.dtype)])
+    tris = np.concatenate([tris, tris + n])
+    groups = np.concatenate([groups, groups])
+    return pos, tris, groups, [
+        {"kind": "duplicate_body", "count": 1, "facets": int(len(tris) // 2),
+         "note": "the whole part written again, moved by a placement's rounding"}]
+
+
 BREAKERS = {
     "flipped": break_flipped,
     "duplicate": break_duplicate,
@@ -1311,6 +1348,7 @@ BREAKERS = {
     "missing_face": break_missing_face,
     "spike": break_spike,
     "loose": break_loose,
+    "twice": break_twice,
 }
 
 # The soup as written, per kind: (closed: every edge used by exactly two faces, manifold: and
@@ -1333,6 +1371,7 @@ BROKEN_SHAPE = {
     "spike": (True, True),  # closed and oriented; it crosses itself
     "loose": (False, False),  # the bits' borders are open edges; the dangling facet's edge
     # has three facets
+    "twice": (True, True),  # two closed copies, no vertex shared
 }
 
 # Which broken copies of which clean file (part_variant).
@@ -1374,6 +1413,9 @@ BROKEN = [
     # a solid.
     ("bracket_export", "loose"),
     ("knob_coarse", "loose"),
+    # The part written twice, the copy moved by a placement's rounding: the copy comes off.
+    ("flange_export", "twice"),
+    ("knob_coarse", "twice"),
 ]
 
 # -------------------------------------------------------------------------------------- main

@@ -11,7 +11,6 @@ import os
 import subprocess
 import sys
 
-import meshio
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "scripts"))
@@ -26,15 +25,6 @@ ap.add_argument("--tetgen", default="tetgen")
 args = ap.parse_args()
 SRC, OUT, FEMSIMP, JUDGE = args.meshes, args.work, args.femsimp, args.judge
 os.makedirs(OUT, exist_ok=True)
-
-
-def load(path):
-    """The mesh with its exactly coincident vertices welded (an STL reader's soup)."""
-    mesh = meshio.read(path)
-    pos = mesh.points.astype(np.float32)
-    tris = mesh.cells_dict["triangle"].astype(np.int64)
-    uniq, inv = np.unique(pos, axis=0, return_inverse=True)
-    return uniq.astype(np.float32), inv.ravel()[tris]
 
 
 def break_fan(rng, pos, tris):
@@ -58,7 +48,7 @@ rows = []
 for src in sorted(os.listdir(SRC)):
     if not (src.endswith("_export.stl") or src.endswith("_coarse.off")):
         continue
-    pos, tris = load(os.path.join(SRC, src))
+    pos, tris = m.read_soup(os.path.join(SRC, src))
     stem = src.split(".")[0]
     for seed in range(2):
         rng = np.random.default_rng(100 + seed)

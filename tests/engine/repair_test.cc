@@ -1033,6 +1033,123 @@ TEST(Repair, LoosePiecesBesideAClosedBodyAreRemoved) {
   EXPECT_EQ(sheets.num_faces(), 4u);
 }
 
+// A closed body written twice (a part inserted twice at one place, or exported again and
+// tessellated anew) comes off: the first copy stays, and the volume counts once. Bodies stacked
+// on each other, a copy far away, a coating over a part (its cavity's wall between the two), a
+// thin hollow body, and every copy with duplicate_body_offset 0 stay.
+TEST(Repair, DuplicateBodiesAreRemoved) {
+  const auto add_box = [](RawMesh& mesh, std::array<float, 3> at, std::array<float, 3> size) {
+    const uint32_t b = static_cast<uint32_t>(mesh.num_vertices());
+    AddCube(mesh, 0, 0, 0);
+    for (uint32_t v = b; v < mesh.num_vertices(); ++v)
+      for (int k = 0; k < 3; ++k)
+        mesh.positions[3 * v + k] = at[k] + size[k] * mesh.positions[3 * v + k];
+  };
+  // The same cube with each face cut into four about its centre: another tessellation.
+  const auto add_fan_cube = [](RawMesh& mesh, float at, float size) {
+    RawMesh cube;
+    AddCube(cube, at, at, at, size);
+    for (uint32_t q = 0; q < 6; ++q) {
+      const uint32_t* t = &cube.triangles[6 * q];
+      const uint32_t ring[4] = {t[0], t[1], t[2], t[5]};
+      const uint32_t c = static_cast<uint32_t>(cube.num_vertices());
+      for (int k = 0; k < 3; ++k)
+        cube.positions.push_back(
+            0.5f * (cube.positions[3 * ring[0] + k] + cube.positions[3 * ring[2] + k]));
+      for (int i = 0; i < 4; ++i)
+        cube.triangles.insert(cube.triangles.end(), {ring[i], ring[(i + 1) % 4], c});
+    }
+    cube.triangles.erase(cube.triangles.begin(), cube.triangles.begin() + 36);
+    const uint32_t b = static_cast<uint32_t>(mesh.num_vertices());
+    mesh.positions.insert(mesh.positions.end(), cube.positions.begin(), cube.positions.end());
+    for (uint32_t v : cube.triangles) mesh.triangles.push_back(b + v);
+  };
+  RawMesh cube;
+  AddCube(cube, 0, 0, 0, 10);  // 2V/A = 3.33
+  RawMesh twice = cube;
+  add_box(twice, {0.0625f, 0.03125f, -0.015625f}, {10, 10, 10});
+  RepairResult r = Repair(twice);
+  ExpectSameMesh(twice, cube);
+  ExpectBuilds(twice);
+  EXPECT_EQ(r.report.num_changes(), 1u) << r.report.Details();  // its vertices go with it
+  EXPECT_HAS(Records(r.report, RepairKind::kDuplicateBody),
+             "duplicate body (facet 12) at (5.0625, 5.03125, 4.984375): closed body of 12 facets "
+             "(volume 1000) repeats the body of 12 facets at facet 0: each lies within 0.0716 "
+             "of the other (0.021 of its mean thickness 2V/A = 3.33); removed, the first kept");
+  EXPECT_HAS(r.report.Summary(),
+             "removed 1 duplicate body (closed bodies written twice; the first copy kept)");
+
+  RawMesh retessellated = cube;
+  add_fan_cube(retessellated, 0.1f, 10);
+  add_fan_cube(retessellated, -0.1f, 10);  // a third copy
+  r = Repair(retessellated);
+  ExpectSameMesh(retessellated, cube);
+  EXPECT_EQ(r.report.count(RepairKind::kDuplicateBody), 2u) << r.report.Details();
+  EXPECT_HAS(Records(r.report, RepairKind::kDuplicateBody),
+             "closed body of 24 facets (volume 1000) repeats the body of 12 facets at facet 0");
+
+  RepairOptions keep;
+  keep.duplicate_body_offset = 0;
+  RawMesh kept = cube;
+  add_box(kept, {0.0625f, 0.03125f, -0.015625f}, {10, 10, 10});
+  EXPECT_EQ(Repair(kept, keep).report.count(RepairKind::kDuplicateBody), 0u);
+  EXPECT_EQ(kept.num_faces(), 24u);
+
+  // A cube with a cavity, written twice: both of the copy's walls come off before the
+  // orientation (with them the first cavity's wall lay inside two shells and faced outward),
+  // and the part keeps its volume, 1000 - 216.
+  RawMesh hollowed = cube;
+  AddCube(hollowed, 2, 2, 2, 6);
+  for (size_t f = 12; f < 24; ++f) Flip(hollowed, f);
+  const RawMesh one = hollowed;
+  const RawMesh copy = hollowed;
+  {
+    const uint32_t b = static_cast<uint32_t>(hollowed.num_vertices());
+    for (size_t i = 0; i < copy.positions.size(); ++i)
+      hollowed.positions.push_back(copy.positions[i] + (i % 3 == 0 ? 0.0625f : 0.03125f));
+    for (uint32_t v : copy.triangles) hollowed.triangles.push_back(b + v);
+  }
+  r = Repair(hollowed);
+  ExpectSameMesh(hollowed, one);
+  EXPECT_EQ(r.report.count(RepairKind::kDuplicateBody), 2u) << r.report.Details();
+  EXPECT_EQ(r.report.num_changes(), 2u) << r.report.Details();
+  EXPECT_HAS(Records(r.report, RepairKind::kDuplicateBody),
+             "closed body of 12 facets (volume 216) repeats the body of 12 facets at facet 12");
+
+  // Two plates of a laminate (0.2 thick, the second on the first, moved 0.01 along x so that no
+  // vertex welds), a copy 20 away, and a shell 0.1 thick inside the cube (a thin hollow body:
+  // the inner wall faces into the cavity) are no copies.
+  RawMesh laminate, apart = cube, hollow = cube;
+  add_box(laminate, {0, 0, 0}, {10, 10, 0.2f});
+  add_box(laminate, {0.01f, 0, 0.2f}, {10, 10, 0.2f});
+  AddCube(apart, 20, 0, 0, 10);
+  RawMesh inner;
+  AddCube(inner, 0.1f, 0.1f, 0.1f, 9.8f);
+  for (size_t f = 0; f < inner.num_faces(); ++f) Flip(inner, f);
+  {
+    const uint32_t b = static_cast<uint32_t>(hollow.num_vertices());
+    hollow.positions.insert(hollow.positions.end(), inner.positions.begin(), inner.positions.end());
+    for (uint32_t v : inner.triangles) hollow.triangles.push_back(b + v);
+  }
+  for (RawMesh* mesh : {&laminate, &apart, &hollow}) {
+    const RawMesh before = *mesh;
+    r = Repair(*mesh);
+    EXPECT_EQ(r.report.count(RepairKind::kDuplicateBody), 0u) << r.report.Details();
+    ExpectSameMesh(*mesh, before);
+  }
+  // A coating over the cube, as a body of its own: its outer wall 0.05 out, its inner wall on
+  // the cube's faces (moved by 0.001, so that it crosses them) facing into its cavity. The cube
+  // and the inner wall lie within 0.002 of each other and cross, but the outer wall near both
+  // repeats neither: layers, not copies.
+  RawMesh coated = cube;
+  add_box(coated, {-0.05f, -0.05f, -0.05f}, {10.1f, 10.1f, 10.1f});
+  add_fan_cube(coated, 0.001f, 10);
+  for (size_t f = 24; f < coated.num_faces(); ++f) Flip(coated, f);
+  r = Repair(coated);
+  EXPECT_EQ(r.report.count(RepairKind::kDuplicateBody), 0u) << r.report.Details();
+  EXPECT_EQ(coated.num_faces(), 48u);
+}
+
 TEST(Repair, HolesTouchingAtAVertexAreToldApart) {
   // A cube without facets 9 (0, 3, 1) and 5 (0, 5, 4): two holes with vertex 0 in common, where
   // the facets left make two fans. Each hole is its own loop (across the gap at vertex 0, not

@@ -492,6 +492,39 @@ TEST_F(CliRepairTest, AStrayFacetBesideASolidIsRemovedLocallyAndByTheServer) {
   }
 }
 
+// A part written twice, the copy tessellated anew and moved by a placement's rounding: the copy
+// is removed, locally and by the server, so that the volume counts once and nothing crosses;
+// --duplicate-body-offset 0 keeps both, which then cross.
+TEST_F(CliRepairTest, ABodyWrittenTwiceKeepsOneCopyLocallyAndByTheServer) {
+  RawMesh part = testing::MakeBox({4, 4, 1}, {4, 4, 1});
+  testing::Append(part, testing::MakeBox({4, 4, 1}, {2, 3, 1}), {0.02f, 0.01f, 0.005f});
+  const std::string twice = WriteSoup("twice.off", part);
+  testing::InProcessServer s;
+  for (const bool remote : {false, true}) {
+    SCOPED_TRACE(remote ? "remote" : "local");
+    std::vector<std::string> args = {twice, Path("out.off"), "--stats-json", Path("s.json")};
+    if (remote) args.insert(args.end(), {"--server", s.address()});
+    ASSERT_EQ(Run(args), cli::kExitOk) << err_;
+    absl::StatusOr<RawMesh> out = ReadMeshFile(Path("out.off"));
+    ASSERT_TRUE(out.ok()) << out.status();
+    EXPECT_EQ(FindCrossings(*out).pairs, 0u);
+    EXPECT_HAS(out_, "  duplicate_body         1\n");
+    EXPECT_HAS(out_,
+               "closed body of 44 facets (volume 16) repeats the body of 96 facets at facet 0: "
+               "each lies within 0.0229 of the other");
+    EXPECT_HAS(out_, "mass:     volume 16 -> 16");
+    EXPECT_EQ(out_.find("intersects itself"), std::string::npos) << out_;
+    const std::string json = testing::ReadFileBytes(Path("s.json"));
+    EXPECT_HAS(json, "\"duplicate_body\": 1,");
+    EXPECT_HAS(json, "\"kind\": \"duplicate_body\"");
+
+    args.insert(args.end(), {"--duplicate-body-offset", "0"});
+    ASSERT_EQ(Run(args), cli::kExitOk) << err_;
+    EXPECT_EQ(out_.find("duplicate_body"), std::string::npos) << out_;
+    EXPECT_HAS(out_, "mass:     volume 32 -> ");
+  }
+}
+
 // A block 2 x 1 x 2 standing on a plate 4 x 3 x 1, exported apart: the contact (area 2)
 // triangulated by both, no vertex shared.
 RawMesh StackedBoxes() {
