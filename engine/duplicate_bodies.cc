@@ -49,18 +49,31 @@ class ShellProbe {
 
   // Whether every corner and facet centroid of `from` lies within d of this shell: the farthest
   // such distance is raised into *farthest, and *outside set where one of them farther than
-  // `on` lies outside it.
+  // `on` lies outside it. A corner is asked once however many facets share it.
   bool Holds(const Shell& from, double d, double on, double* farthest, bool* outside) {
+    if (++stamp_ == 0) {
+      std::fill(asked_.begin(), asked_.end(), 0);
+      stamp_ = 1;
+    }
+    const auto holds = [&](const DVec3& q) {
+      const double d2 = SquaredDistance(q, d);
+      if (!(d2 <= d * d)) return false;
+      *farthest = std::max(*farthest, std::sqrt(d2));
+      if (!*outside && d2 > on * on) *outside = Inside().Winding(q) == 0;
+      return true;
+    };
     for (uint32_t f : from.faces) {
-      DVec3 p[4] = {At(positions_, tri_[3 * f]), At(positions_, tri_[3 * f + 1]),
-                    At(positions_, tri_[3 * f + 2])};
-      p[3] = (1.0 / 3) * (p[0] + p[1] + p[2]);
-      for (const DVec3& q : p) {
-        const double d2 = SquaredDistance(q, d);
-        if (!(d2 <= d * d)) return false;
-        *farthest = std::max(*farthest, std::sqrt(d2));
-        if (!*outside && d2 > on * on) *outside = Inside().Winding(q) == 0;
+      DVec3 centroid{0, 0, 0};
+      for (int i = 0; i < 3; ++i) {
+        const uint32_t v = tri_[3 * size_t(f) + i];
+        const DVec3 p = At(positions_, v);
+        centroid += (1.0 / 3) * p;
+        if (v >= asked_.size()) asked_.resize(v + 1, 0);
+        if (asked_[v] == stamp_) continue;
+        asked_[v] = stamp_;
+        if (!holds(p)) return false;
       }
+      if (!holds(centroid)) return false;
     }
     return true;
   }
@@ -82,16 +95,21 @@ class ShellProbe {
     }
     return boxes;
   }
-  // The squared distance from q to the nearest facet within d of it (HUGE_VAL: none).
+  // The squared distance from q to the nearest facet within d of it (HUGE_VAL: none). Asked
+  // about a small box first: a facet found within its half-width is the nearest (any nearer one
+  // meets the box too), and copies lie close, so most points need no more.
   double SquaredDistance(const DVec3& q, double d) {
     double best = HUGE_VAL;
-    const FacetBox around{{q.x - d, q.y - d, q.z - d}, {q.x + d, q.y + d, q.z + d}};
-    grid_.ForEachMeeting(around, [&](uint32_t i) {
-      const uint32_t* t = &tri_[3 * size_t(faces_[i])];
-      best = std::min(best, SquaredDistanceToTriangle(q, At(positions_, t[0]), At(positions_, t[1]),
-                                                      At(positions_, t[2])));
-    });
-    return best;
+    for (double r = d / 64;; r = std::min(d, 8 * r)) {
+      const FacetBox around{{q.x - r, q.y - r, q.z - r}, {q.x + r, q.y + r, q.z + r}};
+      grid_.ForEachMeeting(around, [&](uint32_t i) {
+        const uint32_t* t = &tri_[3 * size_t(faces_[i])];
+        best =
+            std::min(best, SquaredDistanceToTriangle(q, At(positions_, t[0]), At(positions_, t[1]),
+                                                     At(positions_, t[2])));
+      });
+      if (best <= r * r || r >= d) return best;
+    }
   }
   const PointInShell& Inside() {
     if (!inside_) {
@@ -112,6 +130,8 @@ class ShellProbe {
   const std::vector<uint32_t>& faces_;
   FacetBoxGrid grid_;
   std::unique_ptr<PointInShell> inside_;
+  std::vector<uint32_t> asked_;  // per vertex: the stamp of the last Holds that asked it
+  uint32_t stamp_ = 0;
 };
 
 }  // namespace
