@@ -556,8 +556,10 @@ class Uncrosser {
            absl::StrFormat("%s cross each other (%u face pairs; %s); left as they are: %s",
                            c.two_surfaces ? "two surfaces" : "facets of one surface", c.pairs,
                            c.two_surfaces ? "bodies exported overlapping (--unite-overlaps "
-                                            "replaces closed ones by their union), or a part "
-                                            "and its cavity's wall"
+                                            "replaces closed ones by their union), a body "
+                                            "written twice, its copy farther off than "
+                                            "--duplicate-body-offset takes, or a part and its "
+                                            "cavity's wall"
                                           : "a thin wall tessellated coarser than its thickness",
                            why)});
     }

@@ -2,7 +2,8 @@
 coarse and export meshes each broken by four to six of make_cad_meshes' breakers in turn
 (flipped, duplicate, degenerate, crack, T-junction, missing, unwelded, unreferenced,
 fold; with --drop-flat-face first a whole flat CAD face, with --spike first a vertex moved
-through the far wall, with --loose last a stray facet and a leftover face), each run through femsimp's plain call, judged by cad_judge against its clean source and
+through the far wall, with --loose last a stray facet and a leftover face, with --twice then the whole broken
+part written again, moved by a placement's rounding), each run through femsimp's plain call, judged by cad_judge against its clean source and
 checked with `tetgen -d`. One line per copy: name, the defects made, femsimp's exit code, the
 repair's changes, the output's crossings and folds, the judge, tetgen on the input and the
 output. docs/FIDELITY.md ("Repair", Several defects in one file) has the figures and the
@@ -50,6 +51,9 @@ ap.add_argument("--spike", action="store_true",
 ap.add_argument("--loose", action="store_true",
                 help="last add a stray facet and a leftover face beyond the part (the loose "
                 "breaker: open bits joined to nothing), which repair removes")
+ap.add_argument("--twice", action="store_true",
+                help="last write the broken part again, turned by 1e-5 rad and moved by 2e-5 of "
+                "the diagonal (the twice breaker: a body written twice), which repair removes")
 ap.add_argument("--mode", default="", help="femsimp options beyond the plain call")
 ap.add_argument("--tolerance-relative", default="0.005", help="the judge's tolerance")
 ap.add_argument("--judge-volume", default="0.005",
@@ -131,6 +135,9 @@ for index, (stem, pos0, tris0, groups0) in enumerate(sources()):
         if args.loose:
             pos, tris, groups, _ = m.BREAKERS["loose"](rng, pos, tris, groups)
             made.append("loose")
+        if args.twice:
+            pos, tris, groups, _ = m.BREAKERS["twice"](rng, pos, tris, groups)
+            made.append("twice")
         name = f"{stem}_mix{seed}"
         ext = "obj" if args.groups else "off"
         inp = os.path.join(args.work, f"{name}.{ext}")
