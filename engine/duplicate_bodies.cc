@@ -166,7 +166,8 @@ std::vector<DuplicateBody> FindDuplicateBodies(const float* positions,
       const uint32_t h = 3 * f + i, e = edge_of[h], uses = edge_uses[e];
       p[i] = At(positions, tri[h]);
       s.closed &= uses != 1;
-      if (uses > 2) on_seams.push_back({e, id, tri[h] < tri[3 * f + (i + 1) % 3] ? 1 : -1});
+      if (uses > 2)  // its direction once turned as the shell's first facet
+        on_seams.push_back({e, id, (tri[h] < tri[3 * f + (i + 1) % 3]) != turned ? 1 : -1});
       const double x[3] = {p[i].x, p[i].y, p[i].z};
       for (int k = 0; k < 3; ++k) {
         s.lo[k] = std::min(s.lo[k], x[k]);

@@ -30,13 +30,13 @@ struct DuplicateBody {
   uint32_t kept_faces = 0;         // that body's facet count
   double distance = 0;             // the farthest sample of either from the other
   double thickness = 0;            // 2V/A of the thinner of the two
-  double volume = 0;               // the copy's
+  double volume = 0;               // the copy's, unsigned
   std::array<double, 3> centre{};  // the copy's area-weighted facet centroid
 };
 
 // `tri`: three vertex ids per facet, in any orientation; `edge_of` and `edge_uses` as
-// engine/surfaces.h takes them. Copies in order of their first facet; each
-// repeats an earlier body that is kept. `max_offset` 0 finds none.
+// engine/surfaces.h takes them. Copies in order of their first facet, each repeating an earlier
+// body that is kept; `max_offset` 0 finds none.
 std::vector<DuplicateBody> FindDuplicateBodies(const float* positions,
                                                std::span<const uint32_t> tri,
                                                std::span<const uint32_t> edge_of,

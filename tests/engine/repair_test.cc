@@ -1088,6 +1088,28 @@ TEST(Repair, DuplicateBodiesAreRemoved) {
   EXPECT_HAS(Records(r.report, RepairKind::kDuplicateBody),
              "closed body of 24 facets (volume 1000) repeats the body of 12 facets at facet 0");
 
+  // A copy turned by 0.005 rad about the cube's edge on the z axis shares that edge (its two
+  // facets there and the cube's make it a seam of four), and one of its facets on it is written
+  // flipped: a shell closed by itself once its facets are turned alike, still a copy.
+  RawMesh turned = cube;
+  {
+    RawMesh copy;
+    AddCube(copy, 0, 0, 0, 10);
+    const double c = std::cos(0.005), sn = std::sin(0.005);
+    for (size_t v = 0; v < copy.num_vertices(); ++v) {
+      const double x = copy.positions[3 * v], y = copy.positions[3 * v + 1];
+      copy.positions[3 * v] = static_cast<float>(c * x - sn * y);
+      copy.positions[3 * v + 1] = static_cast<float>(sn * x + c * y);
+    }
+    Flip(copy, 0);  // the -x quad's first facet, on the edge (0, 0, 0) - (0, 0, 10)
+    const uint32_t b = static_cast<uint32_t>(turned.num_vertices());
+    turned.positions.insert(turned.positions.end(), copy.positions.begin(), copy.positions.end());
+    for (uint32_t v : copy.triangles) turned.triangles.push_back(b + v);
+  }
+  r = Repair(turned);
+  ExpectSameMesh(turned, cube);
+  EXPECT_EQ(r.report.count(RepairKind::kDuplicateBody), 1u) << r.report.Details();
+
   RepairOptions keep;
   keep.duplicate_body_offset = 0;
   RawMesh kept = cube;
