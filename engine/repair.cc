@@ -176,6 +176,8 @@ class Repairer {
   void BuildEdges();
   // How many kept facets use edge u-v (after BuildEdges).
   uint32_t EdgeUses(uint32_t u, uint32_t v) const;
+  // The same for every edge, by edge index (after BuildEdges).
+  std::vector<uint32_t> EdgeUseCounts() const;
   bool ZipTJunctions();
   bool FillHoles();
   void PlaceSplitPieces(const std::vector<uint32_t>& after, uint32_t nk0);
@@ -705,6 +707,12 @@ uint32_t Repairer::EdgeUses(uint32_t u, uint32_t v) const {
     if (other == hi) return ebeg_[e + 1] - ebeg_[e];
   }
   return 0;
+}
+
+std::vector<uint32_t> Repairer::EdgeUseCounts() const {
+  std::vector<uint32_t> uses(ebeg_.size() - 1);
+  for (size_t e = 0; e < uses.size(); ++e) uses[e] = ebeg_[e + 1] - ebeg_[e];
+  return uses;
 }
 
 // Closes the cracks of faces tessellated one by one, as CAD exporters write them: one side of a
@@ -1412,14 +1420,9 @@ void Repairer::Orient() {
 }
 
 bool Repairer::DropLoosePieces() {
-  const uint32_t ne = static_cast<uint32_t>(ebeg_.size() - 1);
-  std::vector<uint32_t> uses(ne);
-  bool open = false;  // a closed mesh, the common case, has no piece to look for
-  for (uint32_t e = 0; e < ne; ++e) {
-    uses[e] = ebeg_[e + 1] - ebeg_[e];
-    open |= uses[e] == 1;
-  }
-  if (!open) return false;
+  const std::vector<uint32_t> uses = EdgeUseCounts();
+  // A closed mesh, the common case, has no piece to look for.
+  if (std::find(uses.begin(), uses.end(), 1u) == uses.end()) return false;
   const std::vector<LoosePiece> pieces =
       FindLoosePieces(in_.positions.data(), tri_, edge_of_, uses, options_.loose_piece_share);
   if (pieces.empty()) return false;
@@ -1465,11 +1468,8 @@ void Repairer::RemoveFacets(const std::vector<uint8_t>& drop) {
 }
 
 bool Repairer::DropDuplicateBodies() {
-  const uint32_t ne = static_cast<uint32_t>(ebeg_.size() - 1);
-  std::vector<uint32_t> uses(ne);
-  for (uint32_t e = 0; e < ne; ++e) uses[e] = ebeg_[e + 1] - ebeg_[e];
   const std::vector<DuplicateBody> copies = FindDuplicateBodies(
-      in_.positions.data(), tri_, edge_of_, uses, options_.duplicate_body_offset);
+      in_.positions.data(), tri_, edge_of_, EdgeUseCounts(), options_.duplicate_body_offset);
   if (copies.empty()) return false;
   std::vector<uint8_t> drop(kept_.size(), 0);
   for (const DuplicateBody& copy : copies) {
