@@ -187,7 +187,7 @@ void FaceGrid::Fill(const std::vector<uint32_t>& live, uint64_t min_capacity,
                     const std::function<bool()>& cancelled) {
   for (uint64_t capacity = std::bit_ceil(std::max<uint64_t>(1024, min_capacity));;) {
     mask_ = capacity - 1;
-    cells_ = std::make_unique<Cell[]>(capacity);
+    cells_ = MakeHugePageArray<Cell>(capacity);
     used_.store(0, std::memory_order_relaxed);
     // Pass 1: claim the cells and count their listings (cells are claimed by compare-and-swap,
     // so contexts may claim them together; where each lands does not matter).
@@ -217,7 +217,7 @@ void FaceGrid::Fill(const std::vector<uint32_t>& live, uint64_t min_capacity,
     const auto slice = [](uint32_t n) { return n == 0 ? 0 : n + n / 4 + 1; };
     uint64_t total = 0;
     for (uint64_t c = 0; c < capacity; ++c) total += slice(cells_[c].size);
-    arena_ = std::make_unique_for_overwrite<Listing[]>(total);
+    arena_ = MakeHugePageArrayForOverwrite<Listing>(total);
     Listing* next = arena_.get();
     for (uint64_t c = 0; c < capacity; ++c) {
       Cell& cell = cells_[c];

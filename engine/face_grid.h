@@ -21,6 +21,7 @@
 #include <span>
 #include <vector>
 
+#include "engine/huge_page_allocator.h"
 #include "engine/mesh.h"
 #include "engine/triangle_intersection.h"
 #include "engine/vec.h"
@@ -278,8 +279,8 @@ class FaceGrid {
   double cell_ = 1.0;
   double magnitude_ = 0.0;
   uint64_t mask_ = 0;
-  std::unique_ptr<Cell[]> cells_;
-  std::unique_ptr<Listing[]> arena_;
+  HugePageArray<Cell> cells_;
+  HugePageArray<Listing> arena_;
   std::atomic<uint64_t> used_{0};
   // Deterministic rounds: the moves recorded while the lists are read only.
   bool deferred_ = false;

@@ -62,7 +62,7 @@ absl::StatusOr<Mesh> Mesh::Build(const RawMesh& raw) {
   }
 
   mesh.vertices_.resize(nv);
-  mesh.status_ = std::make_unique<std::atomic<uint32_t>[]>(nv);
+  mesh.status_ = MakeHugePageArray<std::atomic<uint32_t>>(nv);
   for (uint32_t v = 0; v < nv; ++v) {
     VertexQ& q = mesh.vertices_[v];
     q = {raw.positions[3 * v], raw.positions[3 * v + 1], raw.positions[3 * v + 2], kNone};

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "absl/status/statusor.h"
+#include "engine/huge_page_allocator.h"
 #include "engine/quadword.h"
 #include "engine/raw_mesh.h"
 
@@ -75,12 +76,12 @@ class Mesh {
  private:
   Mesh() = default;
 
-  std::vector<VertexQ> vertices_;
-  std::vector<HalfEdgeQ> halfedges_;
-  std::unique_ptr<std::atomic<uint32_t>[]> status_;
-  std::vector<FaceAttrQ> face_attrs_;
+  HugePageVector<VertexQ> vertices_;
+  HugePageVector<HalfEdgeQ> halfedges_;
+  HugePageArray<std::atomic<uint32_t>> status_;
+  HugePageVector<FaceAttrQ> face_attrs_;
   std::vector<std::string> field_names_;
-  std::vector<QuadricQ> quadrics_;
+  HugePageVector<QuadricQ> quadrics_;
   std::vector<uint8_t> locked_;      // per vertex, empty when none is locked
   std::vector<uint32_t> point_ids_;  // per vertex, empty when every vertex is its own point
   std::vector<FaceSides> sides_;
