@@ -1,9 +1,9 @@
 // An allocator for the large arrays that the kernel walks in no spatial order (the mesh's
 // quadwords): an array of 2 MiB or more is aligned to 2 MiB and advised to be backed by huge
-// pages (Linux transparent huge pages, in the "madvise" mode that Debian and most servers run),
-// so that ring walks over a mesh of hundreds of MB miss the TLB far less (docs/BENCHMARKS.md,
-// "Huge pages"). The advice changes no result; where the kernel declines it the pages stay 4 KiB.
-// Smaller arrays come from the heap as usual.
+// pages (Linux transparent huge pages; in their "madvise" mode, this machine's, only advised
+// memory gets them), so that ring walks over a mesh of hundreds of MB miss the TLB far less
+// (docs/BENCHMARKS.md, "Huge pages"). The advice changes no result; where the kernel declines it
+// the pages stay 4 KiB. Smaller arrays come from the heap as usual.
 #pragma once
 
 #include <sys/mman.h>
