@@ -101,9 +101,4 @@ double PrincipalMomentChange(const MassSummary& before, const MassSummary& after
   return worst;
 }
 
-double SpectralNorm(const Sym3& m) {
-  const Eigen3 e = Eigen(m);
-  return std::max(std::fabs(e.values[0]), std::fabs(e.values[2]));
-}
-
 }  // namespace femsimp

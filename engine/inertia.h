@@ -36,10 +36,6 @@ struct Eigen3 {
 };
 Eigen3 Eigen(const Sym3& m);
 
-// The largest |eigenvalue| (the spectral norm): how far any eigenvalue of t + m can be from the
-// same-ranked one of t (Weyl's inequality).
-double SpectralNorm(const Sym3& m);
-
 // What a result reports of a mesh's mass (unit density): of the enclosed solid for a closed mesh,
 // of the surface (a shell of unit thickness) for an open one.
 struct MassSummary {

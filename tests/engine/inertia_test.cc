@@ -40,8 +40,6 @@ TEST(Eigen3, RecoversARotatedDiagonal) {
   EXPECT_NEAR(eig.values[1], 2.0, 1e-12);
   EXPECT_NEAR(eig.values[2], 5.0, 1e-12);
   for (int i = 0; i < 3; ++i) EXPECT_NEAR(std::fabs(Dot(eig.axes[i], col[i])), 1.0, 1e-12);
-  EXPECT_NEAR(SpectralNorm(m), 5.0, 1e-12);
-  EXPECT_NEAR(SpectralNorm(-1.0 * m), 5.0, 1e-12);
   const Eigen3 zero = Eigen(Sym3{});
   EXPECT_EQ(zero.values[0], 0.0);
   EXPECT_EQ(zero.values[2], 0.0);
