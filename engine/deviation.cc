@@ -435,6 +435,15 @@ StepBox CellSteps(const Lifted& f, const Lifted& g, double scale, int* tests) {
   return cell;
 }
 
+// The point of segment a - b nearest q, kept off the segment's ends (a laid point there would
+// make a triangle of the layout flat).
+DVec3 NearestInside(const DVec3& a, const DVec3& b, const DVec3& q) {
+  const DVec3 d = b - a;
+  const double len2 = Dot(d, d);
+  const double t = len2 > 0.0 ? Dot(q - a, d) / len2 : 0.5;
+  return a + std::clamp(t, 0.02, 0.98) * d;
+}
+
 }  // namespace
 
 bool BoundStarDeviation(const EdgeStar& star, const Displacement* old_moved,
@@ -452,50 +461,90 @@ bool BoundStarDeviation(const EdgeStar& star, const Displacement* old_moved,
   const auto plane = [&](const DVec3& x) { return P2{Dot(x - origin, u), Dot(x - origin, w)}; };
   const double eps_len = 1e-9 * scale, eps_area = 1e-12 * scale * scale;
 
+  // Where V and Vd are laid. On a line L - V - Vd - R, which becomes L - P - R, the old layout
+  // must put the old line where the new one is: V at its nearest point of L - P, Vd at its
+  // nearest of P - R, and a point X of V - Vd at P, which splits the two faces on V - Vd.
+  // Points of the same layout position still correspond, and the line goes onto the line.
+  const P2 p2 = plane(star.p);
+  P2 v2 = plane(star.v), vd2 = plane(star.vd);
+  DVec3 x{0, 0, 0};
+  if (star.on_line) {
+    v2 = plane(NearestInside(star.line_v_end, star.p, star.v));
+    vd2 = plane(NearestInside(star.p, star.line_vd_end, star.vd));
+    x = NearestInside(star.v, star.vd, star.p);
+  }
+
   // Both layouts, each checked to tile the link polygon once. Off the stack (an SPE software
   // thread's is small), per OS thread: the software threads of an SPE switch only at DMA waits,
   // never inside this function.
-  thread_local Lifted old_t[kMaxStar], new_t[kMaxStar];
-  const P2 v2 = plane(star.v), vd2 = plane(star.vd), p2 = plane(star.p);
-  double angle_v = 0.0, angle_vd = 0.0, angle_p = 0.0;
-  for (int k = 0; k < star.count; ++k) {
-    Lifted& t = old_t[k];
-    t.p[0] = star.a[k];
-    t.p[1] = star.b[k];
-    t.p[2] = star.c[k];
-    for (int i = 0; i < 3; ++i) t.q[i] = plane(t.p[i]);
+  enum Corner { kOther, kV, kVd, kX };
+  thread_local Lifted old_t[kMaxStar + 2], new_t[kMaxStar];
+  thread_local int source[kMaxStar + 2];  // the star face an old layout triangle is part of
+  int laid = 0;
+  double angle[4] = {0, 0, 0, 0};  // summed at V, Vd and X, by Corner
+  const auto lay_old = [&](int k, const DVec3(&p)[3], const Corner(&corner)[3]) {
+    Lifted& t = old_t[laid];
+    for (int i = 0; i < 3; ++i) {
+      t.p[i] = p[i];
+      t.q[i] = corner[i] == kV ? v2 : corner[i] == kVd ? vd2 : corner[i] == kX ? p2 : plane(p[i]);
+    }
     t.area2 = Orient(t.q[0], t.q[1], t.q[2]);
     if (!(t.area2 > eps_area)) return false;
-    if (k < star.fan_faces) angle_v += AngleAt(v2, t.q[1], t.q[2]);
     for (int i = 0; i < 3; ++i)
-      if (t.p[i].x == star.vd.x && t.p[i].y == star.vd.y && t.p[i].z == star.vd.z)
-        angle_vd += AngleAt(vd2, t.q[(i + 1) % 3], t.q[(i + 2) % 3]);
+      if (corner[i] != kOther)
+        angle[corner[i]] += AngleAt(t.q[i], t.q[(i + 1) % 3], t.q[(i + 2) % 3]);
+    source[laid++] = k;
+    return true;
+  };
+  double angle_p = 0.0;
+  for (int k = 0; k < star.count; ++k) {
+    const DVec3 p[3] = {star.a[k], star.b[k], star.c[k]};
+    const Corner corner[3] = {k < star.fan_faces ? kV : kVd,
+                              star.b_id[k] == star.vd_id ? kVd : kOther,
+                              star.c_id[k] == star.vd_id ? kVd : kOther};
+    if (star.on_line && !star.survives[k]) {
+      // (V, .., ..) with Vd one of the others: the part on V's side (Vd replaced by X) and the
+      // part on Vd's (V replaced by X).
+      DVec3 near_v[3] = {p[0], p[1], p[2]}, near_vd[3] = {x, p[1], p[2]};
+      Corner v_side[3] = {corner[0], corner[1], corner[2]}, vd_side[3] = {kX, corner[1], corner[2]};
+      for (int i = 1; i < 3; ++i)
+        if (corner[i] == kVd) {
+          near_v[i] = x;
+          v_side[i] = kX;
+        }
+      if (!lay_old(k, near_v, v_side) || !lay_old(k, near_vd, vd_side)) return false;
+    } else if (!lay_old(k, p, corner)) {
+      return false;
+    }
     if (!star.survives[k]) continue;
     Lifted& n = new_t[k];
-    n = t;
     n.p[0] = star.p;
+    n.p[1] = star.b[k];
+    n.p[2] = star.c[k];
     n.q[0] = p2;
+    n.q[1] = plane(star.b[k]);
+    n.q[2] = plane(star.c[k]);
     n.area2 = Orient(n.q[0], n.q[1], n.q[2]);
     if (!(n.area2 > eps_area)) return false;
     angle_p += AngleAt(p2, n.q[1], n.q[2]);
   }
   const double full = 2.0 * std::numbers::pi;
-  if (std::fabs(angle_v - full) > 1e-6 || std::fabs(angle_vd - full) > 1e-6 ||
-      std::fabs(angle_p - full) > 1e-6)
+  if (std::fabs(angle[kV] - full) > 1e-6 || std::fabs(angle[kVd] - full) > 1e-6 ||
+      (star.on_line && std::fabs(angle[kX] - full) > 1e-6) || std::fabs(angle_p - full) > 1e-6)
     return false;
 
-  thread_local LaidTriangle old_laid[kMaxStar];  // off the stack, as the layouts above
-  for (int f = 0; f < star.count; ++f) old_laid[f].Set(old_t[f].q[0], old_t[f].q[1], old_t[f].q[2]);
+  thread_local LaidTriangle old_laid[kMaxStar + 2];  // off the stack, as the layouts above
+  for (int f = 0; f < laid; ++f) old_laid[f].Set(old_t[f].q[0], old_t[f].q[1], old_t[f].q[2]);
   int tests = 0;
   for (int g = 0; g < star.count; ++g) {
     if (!star.survives[g]) continue;
     LaidTriangle new_laid;
     new_laid.Set(new_t[g].q[0], new_t[g].q[1], new_t[g].q[2]);
     NewDisplacement moved;
-    for (int f = 0; f < star.count; ++f) {
+    for (int f = 0; f < laid; ++f) {
       ++tests;
       if (!Overlap(old_laid[f], new_laid, eps_len)) continue;
-      moved.AddCell(old_moved[f], CellSteps(old_t[f], new_t[g], scale, &tests));
+      moved.AddCell(old_moved[source[f]], CellSteps(old_t[f], new_t[g], scale, &tests));
     }
     new_moved[g] = moved.Finish(eps_len);
   }

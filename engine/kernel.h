@@ -377,7 +377,7 @@ class RemovalKernel final : private NeighbourhoodReader {
     RefreshPositions(other_);
     EdgeStar& star = placing_->star;
     FaceAttrQ* extra_attr = placing_->extra_attr;
-    if (!star.Build(ring_, i, other_)) {
+    if (!star.Build(ring_, i, other_, proposal_.line_other)) {
       UnlockFrom(base);
       return std::nullopt;
     }

@@ -243,9 +243,9 @@ class CollapseRule {
   virtual bool placement_may_pass() const { return false; }
   // Whether the rule holds a feature line that a full-edge collapse moves (V and Vd on one line,
   // merged at a point off it) within the tolerance: the kernel places vertices on lines only
-  // when some rule does and every rule judges placement. A bound that maps old points to new
-  // ones by projection does not map the line onto the line; the measured check holds the
-  // input's line pieces themselves (engine/line_coverage.h).
+  // when some rule does and every rule judges placement. The mapped bound lays the old line
+  // onto the new one (BoundStarDeviation); the measured check holds the input's line pieces
+  // themselves (engine/line_coverage.h).
   virtual bool holds_placed_lines() const { return false; }
   // Whether a half-edge collapse's verdict depends on V's fan alone (its one-ring's positions,
   // topology and face data): a vertex it refused is refused again until a collapse changes

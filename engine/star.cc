@@ -6,10 +6,19 @@
 
 namespace femsimp {
 
-bool EdgeStar::Build(const Ring& fan, int target, const Ring& target_fan) {
+bool EdgeStar::Build(const Ring& fan, int target, const Ring& target_fan, int line_other) {
   const int n = fan.neighbours();
   const uint32_t v = fan.center, vd = fan.nbr[target];
   const DVec3 pv = ToD(fan.center_pos), pd = ToD(fan.pos[target]);
+  on_line = line_other >= 0;
+  if (on_line) {
+    line_v_end = ToD(fan.pos[line_other]);
+    int end = -1;
+    for (int i = 0; i < target_fan.neighbours(); ++i)
+      if (target_fan.feature[i] && target_fan.nbr[i] != v) end = i;
+    if (end < 0) return false;
+    line_vd_end = ToD(target_fan.pos[end]);
+  }
   count = 0;
   vd_id = vd;
   this->v = pv;

@@ -46,14 +46,20 @@ struct EdgeStar {
   uint32_t vd_id = kNone;                                   // the vertex that stays, at p
   DVec3 v{0, 0, 0}, vd{0, 0, 0};                            // where V and Vd are
   DVec3 p{0, 0, 0};
+  // V and Vd on one feature line, L - V - Vd - R, which becomes L - P - R: L and R, so that
+  // the deviation bound maps the old line onto the new one (BoundStarDeviation).
+  bool on_line = false;
+  DVec3 line_v_end{0, 0, 0}, line_vd_end{0, 0, 0};  // L and R
   // The box of V, Vd and their one-rings, widened for placement (WidenForPlacement): P stays
   // in it, so that everything the collapse creates lies where its locks and the round
   // scheduler's boxes reach.
   DVec3 lo{0, 0, 0}, hi{0, 0, 0};
 
   // Builds the star of V = fan.center and Vd = fan.nbr[target], whose one-ring is target_fan.
-  // Returns false when the star has more than kMaxStar faces.
-  bool Build(const Ring& fan, int target, const Ring& target_fan);
+  // line_other: V's other feature neighbour (fan index) when V - Vd is an edge of the line V
+  // slides along, or -1; Vd's other feature edge is then the line's. Returns false when the
+  // star has more than kMaxStar faces, or Vd has no other feature edge.
+  bool Build(const Ring& fan, int target, const Ring& target_fan, int line_other = -1);
   bool Contains(const DVec3& q) const {
     return q.x >= lo.x && q.y >= lo.y && q.z >= lo.z && q.x <= hi.x && q.y <= hi.y && q.z <= hi.z;
   }

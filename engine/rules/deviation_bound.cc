@@ -21,6 +21,9 @@ class DeviationBoundRule final : public CollapseRule {
   uint32_t stages() const override { return Stages(RuleStage::kScreen, RuleStage::kFidelity); }
   bool reads_face_attrs() const override { return true; }
   bool fan_local() const override { return true; }
+  // A star on a line is laid out so that its old line goes onto the new one
+  // (BoundStarDeviation): the map keeps sending the input's lines onto the output's.
+  bool holds_placed_lines() const override { return true; }
 
   Verdict Check(RuleStage stage, CollapseProposal& p) const override {
     if (p.star != nullptr) return stage == RuleStage::kScreen ? Verdict::kPass : CheckStar(p);

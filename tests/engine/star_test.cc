@@ -268,6 +268,81 @@ TEST(EdgeStar, FlatPatchStaysOnItsPlaneWithItsBound) {
   EXPECT_FALSE(BoundStarDeviation(star, old_moved, new_moved, &work));
 }
 
+double SegmentDistance(const DVec3& q, const DVec3& a, const DVec3& b) {
+  const DVec3 d = b - a;
+  const double t = std::clamp(Dot(q - a, d) / Dot(d, d), 0.0, 1.0);
+  return Norm(q - (a + t * d));
+}
+
+// The largest distance from points sampled on polyline `from` to polyline `to`.
+double PolylineDistance(const std::vector<DVec3>& from, const std::vector<DVec3>& to) {
+  double worst = 0.0;
+  for (size_t i = 0; i + 1 < from.size(); ++i)
+    for (int s = 0; s <= 32; ++s) {
+      const DVec3 q = from[i] + (s / 32.0) * (from[i + 1] - from[i]);
+      double nearest = 1e300;
+      for (size_t j = 0; j + 1 < to.size(); ++j)
+        nearest = std::min(nearest, SegmentDistance(q, to[j], to[j + 1]));
+      worst = std::max(worst, nearest);
+    }
+  return worst;
+}
+
+// V and Vd on a ridge curved in plan and in elevation (a feature line L - V - Vd - R) merge at the
+// optimal point, off the line: the bound, with the old line laid onto L - P - R, holds the surface
+// and the line both ways (sampled); without the line the same star lays out too.
+TEST(EdgeStar, DeviationBoundHoldsAPlacedLine) {
+  RawMesh raw = testing::FlatGrid(6);
+  for (size_t i = 0; i < raw.positions.size(); i += 3) {
+    const double x = raw.positions[i] - 3.0, y = raw.positions[i + 1] - 3.0;
+    raw.positions[i + 1] += static_cast<float>(0.1 * x * x);
+    raw.positions[i + 2] = static_cast<float>(-std::fabs(y) - 0.08 * x * x);
+  }
+  absl::StatusOr<Mesh> mesh = Mesh::Build(raw);
+  ASSERT_TRUE(mesh.ok());
+  const auto on_ridge = [&](uint32_t v) { return v / 7 == 3; };
+  const auto mark_ridge = [&](Ring& fan) {
+    for (int i = 0; i < fan.neighbours(); ++i)
+      fan.feature[i] = on_ridge(fan.center) && on_ridge(fan.nbr[i]);
+  };
+  const uint32_t v = 3 * 7 + 3, vd = v + 1, l = v - 1;  // (3, 3), (4, 3), (2, 3)
+  NativePort port(*mesh);
+  Ring fan, target_fan;
+  ASSERT_EQ(GatherRing(port, v, fan), RingResult::kOk);
+  int target = -1, line_other = -1;
+  for (int i = 0; i < fan.neighbours(); ++i) {
+    if (fan.nbr[i] == vd) target = i;
+    if (fan.nbr[i] == l) line_other = i;
+  }
+  ASSERT_GE(target, 0);
+  ASSERT_GE(line_other, 0);
+  ASSERT_EQ(GatherRing(port, vd, target_fan), RingResult::kOk);
+  mark_ridge(fan);
+  mark_ridge(target_fan);
+  EdgeStar star;
+  ASSERT_TRUE(star.Build(fan, target, target_fan, line_other));
+  ASSERT_TRUE(star.on_line);
+  EXPECT_EQ(star.line_vd_end.x, 5.0);
+  star.p = Rounded(OptimalPosition(star));
+  const DVec3 l_pos = star.line_v_end, r_pos = star.line_vd_end;
+  EXPECT_GT(SegmentDistance(star.p, l_pos, r_pos), 0.01) << "P should leave the chord";
+  Displacement old_moved[kMaxStar], new_moved[kMaxStar];
+  int work = 0;
+  ASSERT_TRUE(BoundStarDeviation(star, old_moved, new_moved, &work));
+  double bound = 0.0;
+  for (int k = 0; k < star.count; ++k)
+    if (star.survives[k]) bound = std::max(bound, new_moved[k].bound);
+  EXPECT_GT(bound, 0.0);
+  EXPECT_LE(SampledDistance(star, true), bound * (1 + 1e-6));
+  EXPECT_LE(SampledDistance(star, false), bound * (1 + 1e-6));
+  const std::vector<DVec3> old_line = {l_pos, star.v, star.vd, r_pos},
+                           new_line = {l_pos, star.p, r_pos};
+  EXPECT_LE(PolylineDistance(old_line, new_line), bound * (1 + 1e-6));
+  EXPECT_LE(PolylineDistance(new_line, old_line), bound * (1 + 1e-6));
+  star.on_line = false;  // the plain layout of the same star
+  EXPECT_TRUE(BoundStarDeviation(star, old_moved, new_moved, &work));
+}
+
 uint64_t Placed(const SimplifyResult& r) {
   uint64_t placed = 0;
   for (const PassStats& p : r.passes) placed += p.placed;

@@ -522,11 +522,12 @@ std::vector<Case> MeasuredCases() {
 INSTANTIATE_TEST_SUITE_P(Measured, SurfaceFidelity, ::testing::ValuesIn(MeasuredCases()),
                          ParamName);
 
-// ---- vertices placed on feature lines (measured check, placement, budgets) --------------------
+// ---- vertices placed on feature lines (either check, placement, budgets) ----------------------
 
-// With the tolerance measured, V and Vd on one feature line may merge at a point off it (the
-// mass budgets' volume-keeping point on a curved crease): the judge finds the input's lines
-// within the tolerance of the output's, each face group where it was, the budgets kept.
+// V and Vd on one feature line may merge at a point off it (the mass budgets' volume-keeping
+// point on a curved crease), with the tolerance measured or the mapped bound, on both back ends:
+// the judge finds the input's lines within the tolerance of the output's, each face group where
+// it was, the budgets kept.
 class LinePlacement : public ::testing::TestWithParam<Case> {};
 
 TEST_P(LinePlacement, LinesGroupsAndBudgetsKept) {
@@ -543,7 +544,9 @@ TEST_P(LinePlacement, LinesGroupsAndBudgetsKept) {
   ExpectGroupsAndFields(o);
 }
 
-std::vector<Case> LinePlacementCases() {
+// Either check, on fandisk and rotor_small with and without two face groups; the mapped bound
+// also on the cell back end (the measured check runs natively only).
+std::vector<Case> LinePlacementCases(DeviationCheck check) {
   std::vector<Case> cases;
   for (const char* mesh : {"fandisk.off", "rotor_small.off"})
     for (Groups groups : {Groups::kNone, Groups::kByPlane})
@@ -554,10 +557,20 @@ std::vector<Case> LinePlacementCases() {
                        .max_volume_change = 0.001,
                        .max_inertia_change = 0.005,
                        .placement = Placement::kOptimal,
-                       .deviation_check = DeviationCheck::kMeasured});
+                       .deviation_check = check});
+  if (check == DeviationCheck::kMapped) {
+    Case cell = cases.back();
+    cell.groups = Groups::kNone;
+    cell.backend = Backend::kCell;
+    cases.push_back(cell);
+  }
   return cases;
 }
-INSTANTIATE_TEST_SUITE_P(Measured, LinePlacement, ::testing::ValuesIn(LinePlacementCases()),
+INSTANTIATE_TEST_SUITE_P(Measured, LinePlacement,
+                         ::testing::ValuesIn(LinePlacementCases(DeviationCheck::kMeasured)),
+                         ParamName);
+INSTANTIATE_TEST_SUITE_P(Mapped, LinePlacement,
+                         ::testing::ValuesIn(LinePlacementCases(DeviationCheck::kMapped)),
                          ParamName);
 
 std::vector<Case> MeasuredFeatureCases() {
