@@ -62,9 +62,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   }
   absl::StatusOr<femsimp::ParsedMeshFile> parsed = femsimp::ParseMeshFile(Extension(kReader), file);
   femsimp::fuzz::RequireMessage(parsed.status());
-  // Each hole-fill mode in turn (by the input's size), so that the flat fill sees every corpus.
+  // Each hole-fill mode in turn (by the input's size), so that the flat fill sees every corpus,
+  // and every other size with overlapping bodies united (--unite-overlaps), which no plain
+  // call reaches.
   femsimp::RepairOptions options;
   options.fill_holes = static_cast<femsimp::HoleFill>(size % 3);
+  options.unite_overlaps = (size / 3) % 2 == 1;
   if (parsed.ok()) femsimp::fuzz::Prepare(std::move(parsed->mesh), options);
   return 0;
 }
