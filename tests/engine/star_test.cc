@@ -288,59 +288,103 @@ double PolylineDistance(const std::vector<DVec3>& from, const std::vector<DVec3>
   return worst;
 }
 
-// V and Vd on a ridge curved in plan and in elevation (a feature line L - V - Vd - R) merge at the
-// optimal point, off the line: the bound, with the old line laid onto L - P - R, holds the surface
-// and the line both ways (sampled); without the line the same star lays out too.
-TEST(EdgeStar, DeviationBoundHoldsAPlacedLine) {
+// The star of V = (3, 3) and Vd = (4, 3) of a 7 x 7 grid whose middle row (y = 3) is a feature
+// line L - V - Vd - R, after `deform` moved the grid's points.
+template <class Deform>
+EdgeStar LineStar(Deform deform) {
   RawMesh raw = testing::FlatGrid(6);
   for (size_t i = 0; i < raw.positions.size(); i += 3) {
-    const double x = raw.positions[i] - 3.0, y = raw.positions[i + 1] - 3.0;
-    raw.positions[i + 1] += static_cast<float>(0.1 * x * x);
-    raw.positions[i + 2] = static_cast<float>(-std::fabs(y) - 0.08 * x * x);
+    DVec3 q{raw.positions[i], raw.positions[i + 1], raw.positions[i + 2]};
+    deform(q);
+    raw.positions[i] = static_cast<float>(q.x);
+    raw.positions[i + 1] = static_cast<float>(q.y);
+    raw.positions[i + 2] = static_cast<float>(q.z);
   }
+  EdgeStar star;
   absl::StatusOr<Mesh> mesh = Mesh::Build(raw);
-  ASSERT_TRUE(mesh.ok());
-  const auto on_ridge = [&](uint32_t v) { return v / 7 == 3; };
-  const auto mark_ridge = [&](Ring& fan) {
+  EXPECT_TRUE(mesh.ok());
+  if (!mesh.ok()) return star;
+  const auto on_line = [&](uint32_t v) { return v / 7 == 3; };
+  const auto mark_line = [&](Ring& fan) {
     for (int i = 0; i < fan.neighbours(); ++i)
-      fan.feature[i] = on_ridge(fan.center) && on_ridge(fan.nbr[i]);
+      fan.feature[i] = on_line(fan.center) && on_line(fan.nbr[i]);
   };
   const uint32_t v = 3 * 7 + 3, vd = v + 1, l = v - 1;  // (3, 3), (4, 3), (2, 3)
   NativePort port(*mesh);
   Ring fan, target_fan;
-  ASSERT_EQ(GatherRing(port, v, fan), RingResult::kOk);
+  EXPECT_EQ(GatherRing(port, v, fan), RingResult::kOk);
   int target = -1, line_other = -1;
   for (int i = 0; i < fan.neighbours(); ++i) {
     if (fan.nbr[i] == vd) target = i;
     if (fan.nbr[i] == l) line_other = i;
   }
-  ASSERT_GE(target, 0);
-  ASSERT_GE(line_other, 0);
-  ASSERT_EQ(GatherRing(port, vd, target_fan), RingResult::kOk);
-  mark_ridge(fan);
-  mark_ridge(target_fan);
-  EdgeStar star;
-  ASSERT_TRUE(star.Build(fan, target, target_fan, line_other));
-  ASSERT_TRUE(star.on_line);
+  EXPECT_GE(target, 0);
+  EXPECT_GE(line_other, 0);
+  if (target < 0 || line_other < 0) return star;
+  EXPECT_EQ(GatherRing(port, vd, target_fan), RingResult::kOk);
+  mark_line(fan);
+  mark_line(target_fan);
+  EXPECT_TRUE(star.Build(fan, target, target_fan, line_other));
+  EXPECT_TRUE(star.on_line);
   EXPECT_EQ(star.line_vd_end.x, 5.0);
-  star.p = Rounded(OptimalPosition(star));
-  const DVec3 l_pos = star.line_v_end, r_pos = star.line_vd_end;
-  EXPECT_GT(SegmentDistance(star.p, l_pos, r_pos), 0.01) << "P should leave the chord";
+  return star;
+}
+
+// The largest bound of the star's new faces (BoundStarDeviation must lay the star out).
+double StarBound(const EdgeStar& star) {
   Displacement old_moved[kMaxStar], new_moved[kMaxStar];
   int work = 0;
-  ASSERT_TRUE(BoundStarDeviation(star, old_moved, new_moved, &work));
+  EXPECT_TRUE(BoundStarDeviation(star, old_moved, new_moved, &work));
   double bound = 0.0;
   for (int k = 0; k < star.count; ++k)
     if (star.survives[k]) bound = std::max(bound, new_moved[k].bound);
+  return bound;
+}
+
+// How far the old line L - V - Vd - R and the new one L - P - R are apart, the larger way.
+double LineDistance(const EdgeStar& star) {
+  const std::vector<DVec3> old_line = {star.line_v_end, star.v, star.vd, star.line_vd_end},
+                           new_line = {star.line_v_end, star.p, star.line_vd_end};
+  return std::max(PolylineDistance(old_line, new_line), PolylineDistance(new_line, old_line));
+}
+
+// V and Vd on a ridge curved in plan and in elevation (a feature line L - V - Vd - R) merge at the
+// optimal point, off the line: the bound, with the old line laid onto L - P - R, holds the surface
+// and the line both ways (sampled); without the line the same star lays out too.
+TEST(EdgeStar, DeviationBoundHoldsAPlacedLine) {
+  EdgeStar star = LineStar([](DVec3& q) {
+    const double x = q.x - 3.0, y = q.y - 3.0;
+    q.y += 0.1 * x * x;
+    q.z = -std::fabs(y) - 0.08 * x * x;
+  });
+  ASSERT_TRUE(star.on_line);
+  star.p = Rounded(OptimalPosition(star));
+  EXPECT_GT(SegmentDistance(star.p, star.line_v_end, star.line_vd_end), 0.01)
+      << "P should leave the chord";
+  const double bound = StarBound(star);
   EXPECT_GT(bound, 0.0);
   EXPECT_LE(SampledDistance(star, true), bound * (1 + 1e-6));
   EXPECT_LE(SampledDistance(star, false), bound * (1 + 1e-6));
-  const std::vector<DVec3> old_line = {l_pos, star.v, star.vd, r_pos},
-                           new_line = {l_pos, star.p, r_pos};
-  EXPECT_LE(PolylineDistance(old_line, new_line), bound * (1 + 1e-6));
-  EXPECT_LE(PolylineDistance(new_line, old_line), bound * (1 + 1e-6));
+  EXPECT_LE(LineDistance(star), bound * (1 + 1e-6));
   star.on_line = false;  // the plain layout of the same star
-  EXPECT_TRUE(BoundStarDeviation(star, old_moved, new_moved, &work));
+  StarBound(star);
+}
+
+// A line curved in a flat patch (a face-group border in a plane): P moves the line but not the
+// surface. Only a layout that puts the old line onto the new one makes the bound see the line's
+// move; projected as it is, every point of the plane stays where it was and the bound is 0.
+TEST(EdgeStar, DeviationBoundSeesALineMovedInItsPlane) {
+  EdgeStar star = LineStar([](DVec3& q) { q.y += 0.1 * (q.x - 3.0) * (q.x - 3.0); });
+  ASSERT_TRUE(star.on_line);
+  star.p = 0.5 * (star.v + star.vd);  // in the plane, off the old line
+  const double moved = LineDistance(star);
+  EXPECT_GT(moved, 0.03);
+  const double bound = StarBound(star);
+  EXPECT_GE(bound, moved * (1 - 1e-6));
+  EXPECT_LE(SampledDistance(star, true), bound * (1 + 1e-6));
+  EXPECT_LE(SampledDistance(star, false), bound * (1 + 1e-6));
+  star.on_line = false;
+  EXPECT_LT(StarBound(star), 1e-3 * moved) << "a plain projection sees no move in a plane";
 }
 
 uint64_t Placed(const SimplifyResult& r) {
