@@ -95,6 +95,9 @@ constexpr KindInfo kKinds[kNumRepairKinds] = {
      " as they were (facets crossing each other; FE meshers refuse them)"},
     {"overlap_left", "overlap left", "overlaps left", "left", "group of overlapping bodies",
      "groups of overlapping bodies", " not united (FE meshers refuse them)"},
+    {"shared_shell_left", "shared surface left", "shared surfaces left", "left",
+     "closed surface two bodies share", "closed surfaces two bodies share",
+     " as cavity walls (the body inside is not in the volume)"},
 };
 
 const KindInfo& Info(RepairKind kind) { return kKinds[static_cast<size_t>(kind)]; }
@@ -223,7 +226,10 @@ class Repairer {
   absl::flat_hash_map<uint32_t, uint32_t> own_group_;
   uint32_t next_group_ = 0;
   // Per input vertex: used by a duplicate body's copy that was removed (empty: none was).
-  std::vector<uint8_t> went_with_copy_;
+  std::vector<uint8_t> went_with_copy_;  // Per input facet: a later facet with its vertices in the
+                                         // opposite orientation was removed
+  // (empty: none was). A closed surface of such facets inside a body is one two bodies share.
+  std::vector<uint8_t> double_walled_;
 };
 
 absl::Status Repairer::CheckInput() const {
@@ -422,6 +428,10 @@ void Repairer::FilterFacets() {
       // The same cyclic order is the same orientation.
       const bool same =
           (w[0] == w0 && w[1] == w1) || (w[1] == w0 && w[2] == w1) || (w[2] == w0 && w[0] == w1);
+      if (!same) {
+        double_walled_.resize(nf_, 0);
+        double_walled_[fate[f]] = 1;
+      }
       Record(RepairKind::kDuplicateFacet, f, -1, Centroid(w), [&] {
         return absl::StrCat("same vertices as facet ", fate[f],
                             same ? "" : ", opposite orientation (a zero-volume double wall)");
@@ -1406,6 +1416,20 @@ void Repairer::Orient() {
                                     flipped, " facets flipped to face into the cavity"));
     }
     c.keep_seed = keep_seed;
+    if (!outward && !double_walled_.empty()) {
+      bool shared = true;
+      for (uint32_t i = c.begin; i < c.end && shared; ++i)
+        shared = double_walled_[kept_[order[i]]] != 0;
+      if (shared)
+        Record(RepairKind::kSharedShellLeft, kept_[c.seed], -1, Centroid(&tri_[3 * c.seed]),
+               absl::StrFormat(
+                   "closed surface of %u facets inside another body, every facet of it written "
+                   "twice, facing both ways: the surface two bodies share (a body inside "
+                   "another: an insert, a core, a part under a coating), or a cavity's wall "
+                   "written twice; kept once, as the wall of a cavity: the body inside it "
+                   "(volume %.6g) is not in the volume, the moments or the mass budgets",
+                   c.end - c.begin, std::fabs(c.volume) / 6.0));
+    }
   }
   for (const Component& c : components)
     for (uint32_t i = c.begin; i < c.end; ++i)
@@ -1934,7 +1958,8 @@ bool IsRepairChange(RepairKind kind) {
   return kind != RepairKind::kSeamEdge && kind != RepairKind::kNonOrientable &&
          kind != RepairKind::kFoldLeft && kind != RepairKind::kContactLeft &&
          kind != RepairKind::kHoleLeft && kind != RepairKind::kCrossingLeft &&
-         kind != RepairKind::kOverlapLeft && kind != RepairKind::kCount;
+         kind != RepairKind::kOverlapLeft && kind != RepairKind::kSharedShellLeft &&
+         kind != RepairKind::kCount;
 }
 
 bool BlocksTheBuild(RepairKind kind) { return kind == RepairKind::kNonOrientable; }

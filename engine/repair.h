@@ -92,18 +92,22 @@ enum class RepairKind : int {
   kDuplicateBody,       // removed: a closed body repeating an earlier one within a small share
                         // of its thickness (engine/duplicate_bodies.h)
   // Left in place.
-  kSeamEdge,       // an edge of 3 or more facets: kept, listed in RepairResult::seams
-  kNonOrientable,  // a component that no choice of facet orientations makes consistent (the
-                   // mesh still fails Mesh::Build)
-  kFoldLeft,       // a fold no flip unfolds (the flip would turn a facet over, join two face
-                   // groups, or make an edge that exists): kept; FE meshers refuse it
-  kContactLeft,    // a contact the imprint could not re-tile: it stays as exported
-  kHoleLeft,       // a loop of open edges of a surface that it would close with under half its
-                   // area, too large to fill (a face missing): the output stays open
-  kCrossingLeft,   // facets crossing each other that no patch took out (two bodies overlapping, a
-                   // thin wall tessellated coarser than its thickness): FE meshers refuse them
-  kOverlapLeft,    // bodies crossing each other that the union left (one not closed, crossing
-                   // itself, or a union that is not a closed surface): FE meshers refuse them
+  kSeamEdge,         // an edge of 3 or more facets: kept, listed in RepairResult::seams
+  kNonOrientable,    // a component that no choice of facet orientations makes consistent (the
+                     // mesh still fails Mesh::Build)
+  kFoldLeft,         // a fold no flip unfolds (the flip would turn a facet over, join two face
+                     // groups, or make an edge that exists): kept; FE meshers refuse it
+  kContactLeft,      // a contact the imprint could not re-tile: it stays as exported
+  kHoleLeft,         // a loop of open edges of a surface that it would close with under half its
+                     // area, too large to fill (a face missing): the output stays open
+  kCrossingLeft,     // facets crossing each other that no patch took out (two bodies overlapping, a
+                     // thin wall tessellated coarser than its thickness): FE meshers refuse them
+  kOverlapLeft,      // bodies crossing each other that the union left (one not closed, crossing
+                     // itself, or a union that is not a closed surface): FE meshers refuse them
+  kSharedShellLeft,  // a closed surface every facet of which came twice, facing both ways, inside
+                     // another body: the surface two bodies share (an insert, a core, a part
+                     // under a coating), kept once as the wall of a cavity: the body inside it is
+                     // not in the mass (engine/solid_parts.h has no part without a seam)
   kCount,
 };
 inline constexpr size_t kNumRepairKinds = static_cast<size_t>(RepairKind::kCount);

@@ -203,6 +203,55 @@ TEST(Repair, CavityWallsFaceIntoTheCavity) {
   EXPECT_NEAR(testing::SignedVolume(inverted), volume, 1e-9);
 }
 
+// A body inside another, each written closed on its own: the inner one's surface comes twice,
+// facing both ways (the outer body's copy faces into it). One copy is kept as the wall of a
+// cavity, and that the body inside is lost to the volume is reported, whichever body the file
+// lists first. A cavity written once, and a body written twice facing both ways inside nothing,
+// are not.
+TEST(Repair, ASurfaceTwoBodiesShareWholeIsReported) {
+  const auto coated = [](bool insert_first) {
+    RawMesh m;
+    RawMesh insert, coating;
+    AddCube(insert, 2, 2, 2, 6);
+    AddCube(coating, 0, 0, 0, 10);
+    AddCube(coating, 2, 2, 2, 6);
+    for (size_t f = 12; f < 24; ++f) Flip(coating, f);
+    const std::array<const RawMesh*, 2> parts =
+        insert_first ? std::array<const RawMesh*, 2>{&insert, &coating}
+                     : std::array<const RawMesh*, 2>{&coating, &insert};
+    for (const RawMesh* part : parts) {
+      const uint32_t base = static_cast<uint32_t>(m.num_vertices());
+      m.positions.insert(m.positions.end(), part->positions.begin(), part->positions.end());
+      for (const uint32_t v : part->triangles) m.triangles.push_back(base + v);
+    }
+    return m;
+  };
+  for (const bool insert_first : {true, false}) {
+    SCOPED_TRACE(insert_first ? "the insert first" : "the coating first");
+    RawMesh m = coated(insert_first);
+    RepairResult r = Repair(m);
+    EXPECT_EQ(r.report.count(RepairKind::kDuplicateFacet), 12u);
+    EXPECT_EQ(r.report.count(RepairKind::kSharedShellLeft), 1u) << r.report.Details();
+    EXPECT_HAS(Records(r.report, RepairKind::kSharedShellLeft),
+               "closed surface of 12 facets inside another body, every facet of it written "
+               "twice, facing both ways");
+    EXPECT_HAS(Records(r.report, RepairKind::kSharedShellLeft), "(volume 216)");
+    EXPECT_NEAR(testing::SignedVolume(m), 1000 - 216, 1e-9);  // what is kept: a cavity
+  }
+  RawMesh cavity;  // the coating alone
+  AddCube(cavity, 0, 0, 0, 10);
+  AddCube(cavity, 2, 2, 2, 6);
+  for (size_t f = 12; f < 24; ++f) Flip(cavity, f);
+  EXPECT_EQ(Repair(cavity).report.count(RepairKind::kSharedShellLeft), 0u);
+  RawMesh twice;  // a body written twice, facing both ways
+  AddCube(twice, 0, 0, 0, 10);
+  AddCube(twice, 0, 0, 0, 10);
+  for (size_t f = 12; f < 24; ++f) Flip(twice, f);
+  RepairResult r = Repair(twice);
+  EXPECT_EQ(r.report.count(RepairKind::kDuplicateFacet), 12u);
+  EXPECT_EQ(r.report.count(RepairKind::kSharedShellLeft), 0u);
+}
+
 TEST(Repair, DuplicateFacetsEitherOrientation) {
   RawMesh m = Cube();
   NumberFacets(m);

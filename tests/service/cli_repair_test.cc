@@ -630,7 +630,8 @@ TEST_F(CliRepairTest, ImprintSharesTheContactLocallyAndThroughTheServer) {
     const std::string json = testing::ReadFileBytes(Path("s.json"));
     EXPECT_HAS(json, "\"imprinted_contact\": 1,");
     EXPECT_HAS(json,
-               "\"contact_left\": 0, \"hole_left\": 0, \"crossing_left\": 0, \"overlap_left\": 0}");
+               "\"contact_left\": 0, \"hole_left\": 0, \"crossing_left\": 0, \"overlap_left\": 0, "
+               "\"shared_shell_left\": 0}");
     EXPECT_HAS(json, "\"kind\": \"imprinted_contact\"");
     EXPECT_HAS(json, "bodies exported apart touch over an area of 2:");
     EXPECT_HAS(json, "{\"input_volume\": 4, ");   // the block, 2 x 1 x 2
@@ -690,7 +691,9 @@ TEST_F(CliRepairTest, FillHolesPlanarClosesADroppedFlatFace) {
     EXPECT_NEAR(testing::SignedVolume(*out), 6.0, 6.0 * 0.005);  // the volume budget
     const std::string json = testing::ReadFileBytes(Path("s.json"));
     EXPECT_HAS(json, "\"filled_hole\": 1,");
-    EXPECT_HAS(json, "\"hole_left\": 0, \"crossing_left\": 0, \"overlap_left\": 0}");
+    EXPECT_HAS(
+        json,
+        "\"hole_left\": 0, \"crossing_left\": 0, \"overlap_left\": 0, \"shared_shell_left\": 0}");
     EXPECT_HAS(json, "\"fill_holes\": \"planar\"");
     EXPECT_HAS(json, "an opening in one plane (20 edges in 1 loop, from vertex ");
   }
