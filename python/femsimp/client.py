@@ -157,6 +157,18 @@ def _warn_if_open(result):
                   FemsimpWarning, stacklevel=3)
 
 
+def _warn_if_shared_shell(result):
+    """A body inside another that shares its whole surface with it is left out of the mass."""
+    left = result.repair.counts.get("shared_shell_left", 0)
+    if left == 0:
+        return
+    first = next((r for r in result.repair.records if r.kind == "shared_shell_left"), None)
+    where = f" (the first: {first.detail})" if first is not None else ""
+    warnings.warn(f"{left} closed surface{'' if left == 1 else 's'} two bodies share kept as a "
+                  f"cavity's wall{where}; the volume, the moments and the mass budgets leave the "
+                  f"body inside out", FemsimpWarning, stacklevel=3)
+
+
 class Client:
     """A connection to a femsimp-server.
 
@@ -306,6 +318,7 @@ class Client:
         outcome.mesh = prepared.restore(points, triangles, groups, fields)
         _warn_if_crossing(outcome.result, checked.get("allow_self_intersections", False))
         _warn_if_open(outcome.result)
+        _warn_if_shared_shell(outcome.result)
         return outcome
 
     def _with_retry(self, requests, progress, bar, deadline_at):

@@ -116,6 +116,22 @@ def test_a_fold_repair_may_not_undo_warns(client):
     assert out.result.output_crossings.folds.pairs == 0
 
 
+def test_a_body_inside_another_sharing_its_surface_is_said(client):
+    # A cube (side 6) inside a coating 2 thick, each written closed: the cube's surface comes
+    # twice, facing both ways. Kept once as a cavity's wall, which leaves the cube out of the
+    # volume: the client warns, as the CLI's report says.
+    corners = np.array([[i & 1, i >> 1 & 1, i >> 2 & 1] for i in range(8)], dtype=np.float64)
+    quads = [[0, 4, 6, 2], [1, 3, 7, 5], [0, 1, 5, 4], [2, 6, 7, 3], [0, 2, 3, 1], [4, 5, 7, 6]]
+    cube = np.array([t for q in quads for t in ([q[0], q[1], q[2]], [q[0], q[2], q[3]])])
+    points = np.vstack([2 + 6 * corners, 10 * corners, 2 + 6 * corners])
+    triangles = np.vstack([cube, cube + 8, (cube + 16)[:, ::-1]])
+    with pytest.warns(femsimp.FemsimpWarning,
+                      match=r"1 closed surface two bodies share kept as a cavity's wall \(the "
+                            r"first: closed surface of 12 facets .*\(volume 216\)"):
+        out = client.run((points, triangles), ratio=0.5)
+    assert out.result.repair.counts["shared_shell_left"] == 1
+
+
 def test_a_missing_face_is_said_not_filled(client):
     # The unit cube without its top (side 5): a hole of 4 n edges in one plane, a fifth of the
     # surface. Repair leaves it (a tray, or a face the exporter dropped) and says so.
