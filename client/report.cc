@@ -200,6 +200,18 @@ std::string MassSummaryLine(const FidelityFigures& f) {
       moments(out), 100 * f.inertia_change);
 }
 
+// A body inside another that shares its whole surface with it is in none of the mass figures
+// (engine/repair.h, kSharedShellLeft): said beside them, whether or not its record is listed.
+std::string SharedShellWarning(const RepairReport& repair) {
+  const size_t left = repair.count(RepairKind::kSharedShellLeft);
+  if (left == 0) return "";
+  return absl::StrFormat(
+      "warning:  the volume, the moments and the mass budgets leave out %u bod%s inside another "
+      "that share%s %s whole surface with it, kept once as a cavity's wall (shared_shell_left in "
+      "the repair report)\n",
+      left, left == 1 ? "y" : "ies", left == 1 ? "s" : "", left == 1 ? "its" : "their");
+}
+
 // The parts of an assembly, each a solid of its own volume: the first few, and the one that
 // changed most.
 std::string PartsLine(const std::vector<SimplifyResult::PartVolume>& parts) {
@@ -428,7 +440,7 @@ std::string Summary(const RunReport& r) {
                                       : std::string("no tolerance"),
                   absl::StrFormat(", volume %+.4f%%, centroid shift %.4f%% of the diagonal\n",
                                   100 * f.volume_change, 100 * f.centroid_shift));
-  absl::StrAppend(&s, MassSummaryLine(f), PartsLine(f.parts),
+  absl::StrAppend(&s, MassSummaryLine(f), SharedShellWarning(r.repair), PartsLine(f.parts),
                   WallLines(f, r.options.max_wall_share),
                   CrossingsWarning(f.output_crossings, r.options.allow_self_intersections));
   absl::StrAppend(&s,

@@ -525,6 +525,32 @@ TEST_F(CliRepairTest, ABodyWrittenTwiceKeepsOneCopyLocallyAndByTheServer) {
   }
 }
 
+// A box inside a coating, each written closed: the box's surface comes twice, facing both ways,
+// and is kept once as a cavity's wall. The summary says the box is out of the mass, by the mass
+// line, locally and through the server, and the report has its record.
+TEST_F(CliRepairTest, ABodyInsideAnotherSharingItsSurfaceIsSaidLocallyAndByTheServer) {
+  RawMesh coated = testing::MakeBox({2, 2, 2}, {2, 2, 2});
+  testing::Append(coated, testing::MakeBox({4, 4, 4}, {4, 4, 4}), {-1, -1, -1});
+  RawMesh inner = testing::MakeBox({2, 2, 2}, {2, 2, 2});
+  for (size_t f = 0; f < inner.num_faces(); ++f)
+    std::swap(inner.triangles[3 * f + 1], inner.triangles[3 * f + 2]);
+  testing::Append(coated, inner, {0, 0, 0});
+  const std::string input = WriteSoup("coated.off", coated);
+  testing::InProcessServer s;
+  for (const bool remote : {false, true}) {
+    SCOPED_TRACE(remote ? "remote" : "local");
+    std::vector<std::string> args = {input, Path("out.off"), "--stats-json", Path("s.json")};
+    if (remote) args.insert(args.end(), {"--server", s.address()});
+    ASSERT_EQ(Run(args), cli::kExitOk) << err_;
+    EXPECT_HAS(out_, "  shared_shell_left      1\n");
+    EXPECT_HAS(out_, "mass:     volume 56 -> ");
+    EXPECT_HAS(out_,
+               "warning:  the volume, the moments and the mass budgets leave out 1 body inside "
+               "another that shares its whole surface with it");
+    EXPECT_HAS(testing::ReadFileBytes(Path("s.json")), "\"kind\": \"shared_shell_left\"");
+  }
+}
+
 // A block 2 x 1 x 2 standing on a plate 4 x 3 x 1, exported apart: the contact (area 2)
 // triangulated by both, no vertex shared.
 RawMesh StackedBoxes() {
