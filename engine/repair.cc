@@ -226,8 +226,8 @@ class Repairer {
   absl::flat_hash_map<uint32_t, uint32_t> own_group_;
   uint32_t next_group_ = 0;
   // Per input vertex: used by a duplicate body's copy that was removed (empty: none was).
-  std::vector<uint8_t> went_with_copy_;  // Per input facet: a later facet with its vertices in the
-                                         // opposite orientation was removed
+  std::vector<uint8_t> went_with_copy_;
+  // Per input facet: a later facet with its vertices in the opposite orientation was removed
   // (empty: none was). A closed surface of such facets inside a body is one two bodies share.
   std::vector<uint8_t> double_walled_;
 };
