@@ -216,14 +216,8 @@ TEST(Repair, ASurfaceTwoBodiesShareWholeIsReported) {
     AddCube(coating, 0, 0, 0, 10);
     AddCube(coating, 2, 2, 2, 6);
     for (size_t f = 12; f < 24; ++f) Flip(coating, f);
-    const std::array<const RawMesh*, 2> parts =
-        insert_first ? std::array<const RawMesh*, 2>{&insert, &coating}
-                     : std::array<const RawMesh*, 2>{&coating, &insert};
-    for (const RawMesh* part : parts) {
-      const uint32_t base = static_cast<uint32_t>(m.num_vertices());
-      m.positions.insert(m.positions.end(), part->positions.begin(), part->positions.end());
-      for (const uint32_t v : part->triangles) m.triangles.push_back(base + v);
-    }
+    testing::Append(m, insert_first ? insert : coating, {0, 0, 0});
+    testing::Append(m, insert_first ? coating : insert, {0, 0, 0});
     return m;
   };
   for (const bool insert_first : {true, false}) {
