@@ -47,7 +47,8 @@ std::optional<RawMesh> ReadSolid(const std::string& path, int* exit_code) {
   }
   absl::StatusOr<PreparedMesh> prepared = PrepareMesh(*std::move(raw), RepairOptions{});
   absl::StatusOr<RawMesh> out =
-      prepared.ok() ? OutputMesh(prepared->mesh, prepared->seam_map) : prepared.status();
+      prepared.ok() ? OutputMesh(prepared->mesh, prepared->seam_map, prepared->shared_walls)
+                    : prepared.status();
   if (!out.ok()) {
     PrintError("femsimp: %s is not a valid mesh: %s\n", path.c_str(),
                std::string(out.status().message()).c_str());

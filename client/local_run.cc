@@ -41,7 +41,7 @@ int RunLocal(const SimplifyArgs& args) {
   // The FE check compares the repaired input with the output: a copy before the engine runs.
   std::optional<RawMesh> fe_input;
   if (args.fe_check) {
-    absl::StatusOr<RawMesh> copy = OutputMesh(*mesh, prepared->seam_map);
+    absl::StatusOr<RawMesh> copy = OutputMesh(*mesh, prepared->seam_map, prepared->shared_walls);
     if (!copy.ok()) {
       PrintError("femsimp: %s\n", copy.status().ToString().c_str());
       return kExitEngineFailed;
@@ -78,7 +78,7 @@ int RunLocal(const SimplifyArgs& args) {
   report.passes = std::move(result->passes);
   report.fidelity = FidelityFigures::Of(*result);
 
-  absl::StatusOr<RawMesh> out = OutputMesh(*mesh, prepared->seam_map);
+  absl::StatusOr<RawMesh> out = OutputMesh(*mesh, prepared->seam_map, prepared->shared_walls);
   if (!out.ok()) {
     PrintError("femsimp: %s\n", out.status().ToString().c_str());
     return kExitEngineFailed;

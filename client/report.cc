@@ -212,7 +212,8 @@ std::string SharedShellWarning(const RepairReport& repair) {
       left, left == 1 ? "y" : "ies", left == 1 ? "s" : "", left == 1 ? "its" : "their");
 }
 
-// The parts of an assembly, each a solid of its own volume: the first few, and the one that
+// The parts of an assembly (meeting at seams, or one inside another), each a solid of its own
+// volume: the first few, and the one that
 // changed most.
 std::string PartsLine(const std::vector<SimplifyResult::PartVolume>& parts) {
   if (parts.empty()) return "";
@@ -225,7 +226,7 @@ std::string PartsLine(const std::vector<SimplifyResult::PartVolume>& parts) {
                            100 * change(parts[i]));
   };
   std::string s =
-      absl::StrFormat("parts:    %u solids meeting at seams, volume each: ", parts.size());
+      absl::StrFormat("parts:    %u solids of an assembly, volume each: ", parts.size());
   size_t worst = 0;
   for (size_t i = 0; i < parts.size(); ++i) {
     if (std::fabs(change(parts[i])) > std::fabs(change(parts[worst]))) worst = i;

@@ -3,9 +3,12 @@
 //
 //   RawMesh (reader or upload) ──► RepairMesh (on: repair and report; off: strict check that
 //   refuses naming every defect) ──► SplitSeams (assemblies: sheets with locked seam vertices)
-//   ──► Mesh::Build ──► PreparedMesh ──► Simplify ──► OutputMesh (seams rejoined)
+//   ──► Mesh::Build ──► PreparedMesh ──► Simplify ──► OutputMesh (seams rejoined, shared
+//   surfaces written once per body)
 #pragma once
 
+#include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "absl/status/statusor.h"
@@ -24,6 +27,14 @@ struct PrepareTimes {
   double build_seconds = 0;   // Mesh::Build
 };
 
+// A closed surface two bodies share whole, kept and simplified once (RepairKind::kSharedShell):
+// its faces' sides index, and per face group of the kept copy the group of the copy facing the
+// other way (RepairResult::SharedShell).
+struct SharedWall {
+  uint32_t sides;
+  std::vector<std::pair<uint32_t, uint32_t>> twin_groups;
+};
+
 struct PreparedMesh {
   Mesh mesh;
   // What the repair stage changed (empty in strict mode, where nothing may be changed).
@@ -31,6 +42,8 @@ struct PreparedMesh {
   // The non-manifold edges kept as seams, and how the mesh was split along them.
   std::vector<SeamEdge> seams;
   SeamMap seam_map;
+  // The surfaces two bodies share whole that the parts now bound (engine/enclosed_parts.h).
+  std::vector<SharedWall> shared_walls;
   PrepareTimes times;
 };
 
@@ -49,7 +62,10 @@ absl::StatusOr<PreparedMesh> PrepareMesh(RawMesh raw, const RepairOptions& optio
 // The simplified mesh as the user's input stands for it: compacted, and the sheets of an
 // assembly joined again at their seams. FailedPrecondition if a seam did not stay conforming
 // (the seam vertices are locked, so this means a bug, never a silently wrong output), naming
-// the first edge that differs by its ends' positions.
-absl::StatusOr<RawMesh> OutputMesh(const Mesh& mesh, const SeamMap& seams);
+// the first edge that differs by its ends' positions. A shared wall is written twice, as each
+// body had it: the kept faces (into the inner body), then each turned over with its twin group
+// and the same fields.
+absl::StatusOr<RawMesh> OutputMesh(const Mesh& mesh, const SeamMap& seams,
+                                   const std::vector<SharedWall>& walls);
 
 }  // namespace femsimp

@@ -8,11 +8,13 @@
 #include <cstring>
 #include <limits>
 #include <memory>
+#include <numeric>
 #include <optional>
 #include <tuple>
 #include <type_traits>
 #include <utility>
 
+#include "absl/algorithm/container.h"
 #include "absl/container/flat_hash_map.h"
 #include "absl/container/flat_hash_set.h"
 #include "absl/status/status.h"
@@ -81,6 +83,8 @@ constexpr KindInfo kKinds[kNumRepairKinds] = {
      " (open bits beside the bodies)"},
     {"duplicate_body", "duplicate body", "duplicate bodies", "removed", "duplicate body",
      "duplicate bodies", " (closed bodies written twice; the first copy kept)"},
+    {"shared_shell", "shared surface", "shared surfaces", "kept", "closed surface two bodies share",
+     "closed surfaces two bodies share", " once (each body a part)"},
     {"seam_edge", "non-manifold edge", "non-manifold edges", "kept", "non-manifold edge",
      "non-manifold edges", " as seams"},
     {"non_orientable", "non-orientable component", "non-orientable components", "left",
@@ -185,6 +189,13 @@ class Repairer {
   bool FillHoles();
   void PlaceSplitPieces(const std::vector<uint32_t>& after, uint32_t nk0);
   void Orient();
+  // The input facet whose group and fields kept facet k carries.
+  uint32_t DataSource(uint32_t k) const {
+    const auto from = data_from_.find(k);
+    return from != data_from_.end() ? from->second : kept_[k];
+  }
+  void KeepSharedShell(uint32_t seed, const std::vector<uint32_t>& order, uint32_t begin,
+                       uint32_t end, const std::vector<uint8_t>& parity, bool keep_seed);
   // Removes the loose pieces (engine/loose_pieces.h); returns whether it removed any (the edges
   // are then stale).
   bool DropLoosePieces();
@@ -227,9 +238,13 @@ class Repairer {
   uint32_t next_group_ = 0;
   // Per input vertex: used by a duplicate body's copy that was removed (empty: none was).
   std::vector<uint8_t> went_with_copy_;
-  // Per input facet: a later facet with its vertices in the opposite orientation was removed
-  // (empty: none was). A closed surface of such facets inside a body is one two bodies share.
-  std::vector<uint8_t> double_walled_;
+  // Per input facet: the later facet with its vertices in the opposite orientation that was
+  // removed, or kNoIndex (empty: none was). A closed surface of such facets inside a body is one
+  // two bodies share.
+  std::vector<uint32_t> twin_;
+  // Facets of a shared surface that face as their removed twin did (kept index -> the twin): they
+  // carry its group and fields.
+  absl::flat_hash_map<uint32_t, uint32_t> data_from_;
 };
 
 absl::Status Repairer::CheckInput() const {
@@ -429,8 +444,8 @@ void Repairer::FilterFacets() {
       const bool same =
           (w[0] == w0 && w[1] == w1) || (w[1] == w0 && w[2] == w1) || (w[2] == w0 && w[0] == w1);
       if (!same) {
-        double_walled_.resize(nf_, 0);
-        double_walled_[fate[f]] = 1;
+        twin_.resize(nf_, kNoIndex);
+        twin_[fate[f]] = f;
       }
       Record(RepairKind::kDuplicateFacet, f, -1, Centroid(w), [&] {
         return absl::StrCat("same vertices as facet ", fate[f],
@@ -1397,13 +1412,41 @@ void Repairer::Orient() {
         boxes.push_back({components[i].lo, components[i].hi});
       }
   const std::vector<std::vector<uint32_t>> candidates = ContainingBoxes(boxes);
-  for (size_t s = 0; s < shells.size(); ++s) {
+  // A shell's enclosers before it: each box that holds an encloser's box holds its own too.
+  std::vector<uint32_t> by_nesting(shells.size());
+  std::iota(by_nesting.begin(), by_nesting.end(), 0u);
+  std::stable_sort(by_nesting.begin(), by_nesting.end(), [&](uint32_t a, uint32_t b) {
+    return candidates[a].size() < candidates[b].size();
+  });
+  // Per shell: a surface two bodies share, which bounds a body on both sides: it counts twice
+  // in the depth of what lies inside it (a cavity in an insert faces into the cavity, a third
+  // layer's surface into that layer).
+  std::vector<uint8_t> shared_wall(shells.size(), 0);
+  std::vector<uint8_t> taken_from_twin(nk, 0);
+  for (const uint32_t s : by_nesting) {
     Component& c = components[shells[s]];
     size_t depth = 0;
-    for (uint32_t other : candidates[s]) depth += encloses(components[shells[other]], c);
+    for (uint32_t other : candidates[s])
+      if (encloses(components[shells[other]], c)) depth += shared_wall[other] ? 2 : 1;
     const bool outward = depth % 2 == 0;
     const bool keep_seed = (c.volume > 0) == outward;
-    if (keep_seed != c.keep_seed) {
+    bool shared = !outward && !twin_.empty();
+    for (uint32_t i = c.begin; i < c.end && shared; ++i)
+      shared = twin_[kept_[order[i]]] != kNoIndex;
+    shared_wall[s] = shared;
+    if (shared) {
+      // Its facets face as the outer body's copies did: no facet was turned, the other copy kept.
+      for (uint32_t i = c.begin; i < c.end; ++i) taken_from_twin[order[i]] = 1;
+      KeepSharedShell(c.seed, order, c.begin, c.end, parity, keep_seed);
+      Record(RepairKind::kSharedShellLeft, kept_[c.seed], -1, Centroid(&tri_[3 * c.seed]),
+             absl::StrFormat(
+                 "closed surface of %u facets inside another body, every facet of it written "
+                 "twice, facing both ways: the surface two bodies share (a body inside "
+                 "another: an insert, a core, a part under a coating), or a cavity's wall "
+                 "written twice; kept once, as the wall of a cavity: the body inside it "
+                 "(volume %.6g) is not in the volume, the moments or the mass budgets",
+                 c.end - c.begin, std::fabs(c.volume) / 6.0));
+    } else if (keep_seed != c.keep_seed) {
       const uint32_t n = c.end - c.begin;
       size_t flipped = 0;
       for (uint32_t i = c.begin; i < c.end; ++i) flipped += parity[order[i]] == uint8_t(keep_seed);
@@ -1416,28 +1459,15 @@ void Repairer::Orient() {
                                     flipped, " facets flipped to face into the cavity"));
     }
     c.keep_seed = keep_seed;
-    if (!outward && !double_walled_.empty()) {
-      bool shared = true;
-      for (uint32_t i = c.begin; i < c.end && shared; ++i)
-        shared = double_walled_[kept_[order[i]]] != 0;
-      if (shared)
-        Record(RepairKind::kSharedShellLeft, kept_[c.seed], -1, Centroid(&tri_[3 * c.seed]),
-               absl::StrFormat(
-                   "closed surface of %u facets inside another body, every facet of it written "
-                   "twice, facing both ways: the surface two bodies share (a body inside "
-                   "another: an insert, a core, a part under a coating), or a cavity's wall "
-                   "written twice; kept once, as the wall of a cavity: the body inside it "
-                   "(volume %.6g) is not in the volume, the moments or the mass budgets",
-                   c.end - c.begin, std::fabs(c.volume) / 6.0));
-    }
   }
   for (const Component& c : components)
     for (uint32_t i = c.begin; i < c.end; ++i)
       flip[order[i]] = parity[order[i]] == uint8_t(c.keep_seed);
   for (uint32_t k = 0; k < nk; ++k) {
     if (!flip[k]) continue;
-    Record(RepairKind::kFlippedFacet, kept_[k], -1, Centroid(&tri_[3 * k]),
-           strict_ ? "oriented against its neighbours" : "orientation reversed");
+    if (!taken_from_twin[k])
+      Record(RepairKind::kFlippedFacet, kept_[k], -1, Centroid(&tri_[3 * k]),
+             strict_ ? "oriented against its neighbours" : "orientation reversed");
     std::swap(tri_[3 * k + 1], tri_[3 * k + 2]);
     std::swap(orig_[3 * k + 1], orig_[3 * k + 2]);
   }
@@ -1471,13 +1501,34 @@ bool Repairer::DropLoosePieces() {
   return true;
 }
 
+// The kept copy of a surface two bodies share (facets order[begin, end) of a component) faces as
+// the orientation leaves it, into the inner body: where that is its removed twin's way, it takes
+// the twin's group and fields, so that each body's facets keep theirs. Listed for PrepareMesh.
+void Repairer::KeepSharedShell(uint32_t seed, const std::vector<uint32_t>& order, uint32_t begin,
+                               uint32_t end, const std::vector<uint8_t>& parity, bool keep_seed) {
+  RepairResult::SharedShell shell{seed, {}};
+  for (uint32_t i = begin; i < end; ++i) {
+    const uint32_t k = order[i];
+    const bool turned = parity[k] == uint8_t(keep_seed);
+    if (turned) data_from_[k] = twin_[kept_[k]];
+    if (in_.face_groups.empty()) continue;
+    const uint32_t own = in_.face_groups[kept_[k]], twin = in_.face_groups[twin_[kept_[k]]];
+    const uint32_t now = turned ? twin : own, other = turned ? own : twin;
+    if (absl::c_none_of(shell.twin_groups, [&](const auto& g) { return g.first == now; }))
+      shell.twin_groups.push_back({now, other});
+  }
+  result_.shared_shells.push_back(std::move(shell));
+}
+
 void Repairer::RemoveFacets(const std::vector<uint8_t>& drop) {
   const uint32_t nk = static_cast<uint32_t>(kept_.size());
-  absl::flat_hash_map<uint32_t, uint32_t> own_group;
+  absl::flat_hash_map<uint32_t, uint32_t> own_group, data_from;
   uint32_t kept = 0;
   for (uint32_t k = 0; k < nk; ++k) {
     if (drop[k]) continue;
     if (const auto own = own_group_.find(k); own != own_group_.end()) own_group[kept] = own->second;
+    if (const auto from = data_from_.find(k); from != data_from_.end())
+      data_from[kept] = from->second;
     kept_[kept] = kept_[k];
     for (int i = 0; i < 3; ++i) {
       tri_[3 * kept + i] = tri_[3 * k + i];
@@ -1489,6 +1540,7 @@ void Repairer::RemoveFacets(const std::vector<uint8_t>& drop) {
   tri_.resize(3 * size_t(kept));
   orig_.resize(3 * size_t(kept));
   own_group_ = std::move(own_group);
+  data_from_ = std::move(data_from);
 }
 
 bool Repairer::DropDuplicateBodies() {
@@ -1805,12 +1857,14 @@ void Repairer::WriteOutput(RawMesh& mesh) {
   if (!in_.face_groups.empty())
     for (uint32_t k = 0; k < kept_.size(); ++k) {
       const auto own = own_group_.find(k);
-      r.face_groups.push_back(own != own_group_.end() ? own->second : in_.face_groups[kept_[k]]);
+      r.face_groups.push_back(own != own_group_.end() ? own->second
+                                                      : in_.face_groups[DataSource(k)]);
     }
   for (const FaceField& field : in_.face_fields) {
     r.face_fields.push_back({field.name, {}});
     r.face_fields.back().values.reserve(kept_.size());
-    for (uint32_t f : kept_) r.face_fields.back().values.push_back(field.values[f]);
+    for (uint32_t k = 0; k < kept_.size(); ++k)
+      r.face_fields.back().values.push_back(field.values[DataSource(k)]);
   }
   for (SeamEdge& seam : result_.seams) {
     seam.a = out[seam.a];

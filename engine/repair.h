@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "absl/status/statusor.h"
@@ -92,6 +93,10 @@ enum class RepairKind : int {
   kDuplicateBody,       // removed: a closed body repeating an earlier one within a small share
                         // of its thickness (engine/duplicate_bodies.h)
   // Left in place.
+  kSharedShell,      // a closed surface every facet of which came twice, facing both ways,
+                     // inside another body: the surface two bodies share (an insert, a core,
+                     // a part under a coating), kept and simplified once, each body a part
+                     // (engine/enclosed_parts.h), written once per body again by OutputMesh
   kSeamEdge,         // an edge of 3 or more facets: kept, listed in RepairResult::seams
   kNonOrientable,    // a component that no choice of facet orientations makes consistent (the
                      // mesh still fails Mesh::Build)
@@ -104,10 +109,9 @@ enum class RepairKind : int {
                      // thin wall tessellated coarser than its thickness): FE meshers refuse them
   kOverlapLeft,      // bodies crossing each other that the union left (one not closed, crossing
                      // itself, or a union that is not a closed surface): FE meshers refuse them
-  kSharedShellLeft,  // a closed surface every facet of which came twice, facing both ways, inside
-                     // another body: the surface two bodies share (an insert, a core, a part
-                     // under a coating), kept once as the wall of a cavity: the body inside it is
-                     // not in the mass (engine/solid_parts.h has no part without a seam)
+  kSharedShellLeft,  // such a surface (kSharedShell) where the parts cannot be made (the mesh
+                     // has seams, the inner body holds another surface, or the outer one is no
+                     // body): kept once as the wall of a cavity, the body inside it not in the mass
   kCount,
 };
 inline constexpr size_t kNumRepairKinds = static_cast<size_t>(RepairKind::kCount);
@@ -172,6 +176,16 @@ struct RepairResult {
   // the input vertex of each output vertex (split copies name the vertex they were split from;
   // points an imprint added where edges cross: kNoInputVertex).
   std::vector<uint32_t> facet_origin, vertex_origin;
+  // The closed surfaces two bodies share whole (the kSharedShellLeft records, in their order),
+  // kept once and oriented into the inner body, as the outer body's copy faced. PrepareMesh makes
+  // them parts where it can (and the records kSharedShell).
+  struct SharedShell {
+    uint32_t facet;  // an output facet of it
+    // Per face group of the kept facets, the group of the copies removed (the inner body's); the
+    // kept facets take the group of the copy that faced as they face now.
+    std::vector<std::pair<uint32_t, uint32_t>> twin_groups;
+  };
+  std::vector<SharedShell> shared_shells;
 };
 
 // Repairs `mesh` in place (kOn) in this order: weld coincident vertices; remove degenerate, then

@@ -66,6 +66,17 @@ void JoinAroundSeam(const RawMesh& mesh, const EdgeGroups& edges, size_t g, Unio
 
 }  // namespace
 
+DVec3 SoupCentre(const RawMesh& mesh) {
+  const std::vector<uint32_t>& tri = mesh.triangles;
+  DVec3 lo = Point(mesh, tri[0]), hi = lo;
+  for (const uint32_t v : tri) {
+    const DVec3 p = Point(mesh, v);
+    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+  }
+  return 0.5 * (lo + hi);
+}
+
 SolidParts FindSolidParts(const RawMesh& mesh, const EdgeGroups* grouped) {
   const std::vector<uint32_t>& tri = mesh.triangles;
   const uint32_t nf = static_cast<uint32_t>(mesh.num_faces());
@@ -102,13 +113,7 @@ SolidParts FindSolidParts(const RawMesh& mesh, const EdgeGroups* grouped) {
   // Each region's signed volume: its sides' faces, with the normal pointing out of the region
   // (a face ahead of the region counts as it is, one behind it turned). Measured from a point
   // near the part so that no large terms cancel.
-  DVec3 lo = Point(mesh, tri[0]), hi = lo;
-  for (const uint32_t v : tri) {
-    const DVec3 p = Point(mesh, v);
-    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
-    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
-  }
-  const DVec3 centre = 0.5 * (lo + hi);
+  const DVec3 centre = SoupCentre(mesh);
   absl::flat_hash_map<uint32_t, double> region_volume;
   for (uint32_t f = 0; f < nf; ++f) {
     if (!seam_piece[pieces.Find(f)]) continue;

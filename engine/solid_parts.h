@@ -16,6 +16,7 @@
 
 #include "engine/edge_groups.h"
 #include "engine/raw_mesh.h"
+#include "engine/vec.h"
 
 namespace femsimp {
 
@@ -34,5 +35,9 @@ struct SolidParts {
 // in. Indices must be in range (as after RepairMesh). `edges`: the soup's edge groups when the
 // caller has them, else made here.
 SolidParts FindSolidParts(const RawMesh& mesh, const EdgeGroups* edges = nullptr);
+
+// The centre of the box around the soup's faces: parts' volumes are measured about it, so that
+// no large terms cancel. The soup must have a face.
+DVec3 SoupCentre(const RawMesh& mesh);
 
 }  // namespace femsimp

@@ -1,10 +1,14 @@
 #include "fecheck/tet_mesh.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <map>
+#include <optional>
+#include <set>
 #include <sstream>
 #include <vector>
 
@@ -181,9 +185,44 @@ int CountComponents(const TetMesh& mesh) {
   return components;
 }
 
+// The surface without the facets written twice facing both ways, or nothing where none is. Such
+// a surface is one two bodies share, written once per body (femsimp's output of a body inside
+// another): without it the two are one solid, which tetgen meshes whole, bonded, one material.
+// Vertices only those facets used go too.
+std::optional<RawMesh> WithoutSharedWalls(const RawMesh& m) {
+  const auto key = [&](size_t f, bool turned) {
+    const uint32_t* t = &m.triangles[3 * f];
+    std::array<uint32_t, 3> k = {t[0], turned ? t[2] : t[1], turned ? t[1] : t[2]};
+    std::rotate(k.begin(), std::min_element(k.begin(), k.end()), k.end());
+    return k;
+  };
+  std::set<std::array<uint32_t, 3>> facets;
+  for (size_t f = 0; f < m.num_faces(); ++f) facets.insert(key(f, false));
+  std::vector<uint32_t> kept;
+  for (size_t f = 0; f < m.num_faces(); ++f)
+    if (!facets.contains(key(f, true))) kept.push_back(static_cast<uint32_t>(f));
+  if (kept.size() == m.num_faces()) return std::nullopt;
+  RawMesh out;
+  out.origin = m.origin;
+  std::vector<uint32_t> renumbered(m.num_vertices(), UINT32_MAX);
+  for (const uint32_t f : kept)
+    for (int k = 0; k < 3; ++k) {
+      uint32_t& v = renumbered[m.triangles[3 * size_t{f} + k]];
+      if (v == UINT32_MAX) {
+        v = static_cast<uint32_t>(out.num_vertices());
+        const float* p = &m.positions[3 * size_t{m.triangles[3 * size_t{f} + k]}];
+        out.positions.insert(out.positions.end(), p, p + 3);
+      }
+      out.triangles.push_back(v);
+    }
+  return out;
+}
+
 }  // namespace
 
-absl::Status CheckClosedSolid(const RawMesh& surface) {
+absl::Status CheckClosedSolid(const RawMesh& given) {
+  const std::optional<RawMesh> bonded = WithoutSharedWalls(given);
+  const RawMesh& surface = bonded ? *bonded : given;
   if (absl::Status s = CheckSoup(surface); !s.ok()) return s;
   const SoupTopology topology = TopologyOf(surface);
   if (topology.boundary_edges > 0)
@@ -313,9 +352,11 @@ absl::Status AppendTetgenMesh(const RawMesh& surface, const std::string& stem, d
 
 }  // namespace
 
-absl::StatusOr<TetMesh> Tetrahedralise(const RawMesh& surface, double unit_scale,
+absl::StatusOr<TetMesh> Tetrahedralise(const RawMesh& given, double unit_scale,
                                        double max_tet_volume, bool keep_surface,
                                        const ToolRun& run) {
+  const std::optional<RawMesh> bonded = WithoutSharedWalls(given);
+  const RawMesh& surface = bonded ? *bonded : given;
   TetMesh mesh;
   // Bodies that touch without sharing faces (CheckClosedSolid let them through) are meshed each
   // on its own: not bonded, their contacts carry no load.

@@ -23,6 +23,9 @@ struct TetMesh {
   size_t num_tets() const { return tets.size() / 4; }
 };
 
+// Facets written twice facing both ways (a surface two bodies share, written once per body)
+// are left out of both functions: the two bodies are one solid, bonded, of one material.
+//
 // What tetgen needs of a surface: valid triangles (CheckSoup), closed (no boundary edge),
 // enclosing a positive volume (oriented outwards), not crossing itself, and with faces
 // overlapping in their plane (FindCrossings) only between bodies that touch (each meshed on its

@@ -107,7 +107,7 @@ void JobRunner::Run(const std::shared_ptr<Job>& job) {
   if (job->fe_check()) {
     absl::StatusOr<RawMesh> copy;
     try {
-      copy = OutputMesh(*mesh, input->seam_map);
+      copy = OutputMesh(*mesh, input->seam_map, input->shared_walls);
     } catch (const std::bad_alloc&) {
       copy = out_of_memory("to keep the input for the FE check");
     }
@@ -135,7 +135,7 @@ void JobRunner::Run(const std::shared_ptr<Job>& job) {
   if (result.ok() && status.ok()) {
     absl::StatusOr<RawMesh> out;
     try {
-      out = OutputMesh(*mesh, input->seam_map);
+      out = OutputMesh(*mesh, input->seam_map, input->shared_walls);
     } catch (const std::bad_alloc&) {
       out = out_of_memory("to write the simplified mesh");
     }

@@ -264,7 +264,8 @@ grpc::Status SimplifierService::RunJob(grpc::ServerContext* ctx, Stream* stream,
                          prepared->times.order_seconds + prepared->times.build_seconds);
   // An FE check needs a closed input: refused before the job queues, not after it ran.
   if (job->fe_check()) {
-    absl::StatusOr<RawMesh> repaired = OutputMesh(prepared->mesh, prepared->seam_map);
+    absl::StatusOr<RawMesh> repaired =
+        OutputMesh(prepared->mesh, prepared->seam_map, prepared->shared_walls);
     absl::Status closed = repaired.ok() ? fecheck::CheckClosedSolid(*repaired) : repaired.status();
     if (!closed.ok())
       return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,

@@ -453,7 +453,7 @@ TEST(Seams, CopyRemovedAloneIsCaught) {
   EXPECT_FALSE(report->changed_seams.empty() && report->new_seams.empty());
   EXPECT_FALSE(judge::CheckSeamConformity(input, out).problems.empty());
   // The job's error names the first edge that differs by where its ends are.
-  const absl::StatusOr<RawMesh> joined = OutputMesh(*mesh, *map);
+  const absl::StatusOr<RawMesh> joined = OutputMesh(*mesh, *map, {});
   EXPECT_EQ(joined.status().code(), absl::StatusCode::kFailedPrecondition);
   EXPECT_NE(joined.status().message().find("the first: a "), std::string::npos) << joined.status();
   EXPECT_NE(joined.status().message().find("(0, 0, 0."), std::string::npos) << joined.status();
@@ -539,7 +539,7 @@ TEST(Seams, PartFarFromTheOriginKeepsItsSeams) {
     absl::StatusOr<SimplifyResult> result = Simplify(prepared->mesh, options);
     ASSERT_TRUE(result.ok()) << result.status();
     EXPECT_LT(result->output_vertices, result->input_vertices / 2);
-    absl::StatusOr<RawMesh> output = OutputMesh(prepared->mesh, prepared->seam_map);
+    absl::StatusOr<RawMesh> output = OutputMesh(prepared->mesh, prepared->seam_map, prepared->shared_walls);
     ASSERT_TRUE(output.ok()) << output.status();
     // The input the sheets were cut from: the repaired soup, as PrepareMesh made it.
     RawMesh repaired = far;

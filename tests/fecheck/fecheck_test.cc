@@ -308,6 +308,32 @@ TEST(FeCheck, CavityIsNotMeshed) {
   EXPECT_EQ(f->rigid_modes, 6);
 }
 
+// The hollow box with a core in its cavity that shares the cavity's whole surface, written facing
+// out of the core (femsimp's output of a body inside another): the two are one solid, bonded,
+// meshed whole as a full box with one body's six rigid-body modes.
+TEST(FeCheck, ABodyInsideAnotherSharingItsSurfaceIsMeshedBonded) {
+  SKIP_WITHOUT_FE_TOOLS();
+  RawMesh cored = HollowCube();
+  const uint32_t first =
+      uint32_t(cored.num_vertices() - testing::MakeBox({0.5, 0.5, 0.5}, {2, 2, 2}).num_vertices());
+  const size_t walls = cored.num_faces() - testing::MakeBox({0.5, 0.5, 0.5}, {2, 2, 2}).num_faces();
+  const size_t faces = cored.num_faces();
+  for (size_t f = walls; f < faces; ++f) {
+    const uint32_t* t = &cored.triangles[3 * f];
+    ASSERT_GE(std::min({t[0], t[1], t[2]}), first);
+    const uint32_t a = t[0], b = t[2], c = t[1];
+    cored.triangles.insert(cored.triangles.end(), {a, b, c});
+  }
+  ASSERT_TRUE(CheckClosedSolid(cored).ok()) << CheckClosedSolid(cored);
+  absl::StatusOr<SolidFigures> f = AnalyseSolid(cored, "cored", FeCheckOptions{}, 0.0);
+  ASSERT_TRUE(f.ok()) << f.status();
+  EXPECT_NEAR(f->volume, 1.0, 1e-6);
+  const double moment = f->mass / f->volume / 6;  // a unit cube's, about its centre
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(f->principal_moments[k] / moment, 1.0, 1e-6) << k;
+  EXPECT_EQ(f->components, 1);
+  EXPECT_EQ(f->rigid_modes, 6);
+}
+
 // A block standing on the hollow box, exported apart (the contact's facets overlap, no vertex
 // shared): tetgen refuses the whole, so each body is meshed on its own, the cavity with the box
 // that holds it; the two are not bonded (twelve rigid-body modes).

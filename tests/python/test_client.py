@@ -116,19 +116,44 @@ def test_a_fold_repair_may_not_undo_warns(client):
     assert out.result.output_crossings.folds.pairs == 0
 
 
-def test_a_body_inside_another_sharing_its_surface_is_said(client):
+def cube_in_a_coating(seam_aside=False):
     # A cube (side 6) inside a coating 2 thick, each written closed: the cube's surface comes
-    # twice, facing both ways. Kept once as a cavity's wall, which leaves the cube out of the
-    # volume: the client warns, as the CLI's report says.
+    # twice, facing both ways. `seam_aside`: two unit cubes beside them share an edge (a seam).
     corners = np.array([[i & 1, i >> 1 & 1, i >> 2 & 1] for i in range(8)], dtype=np.float64)
     quads = [[0, 4, 6, 2], [1, 3, 7, 5], [0, 1, 5, 4], [2, 6, 7, 3], [0, 2, 3, 1], [4, 5, 7, 6]]
     cube = np.array([t for q in quads for t in ([q[0], q[1], q[2]], [q[0], q[2], q[3]])])
-    points = np.vstack([2 + 6 * corners, 10 * corners, 2 + 6 * corners])
-    triangles = np.vstack([cube, cube + 8, (cube + 16)[:, ::-1]])
+    points = [2 + 6 * corners, 10 * corners, 2 + 6 * corners]
+    triangles = [cube, cube + 8, (cube + 16)[:, ::-1]]
+    if seam_aside:
+        points += [corners + [20, 0, 0], corners + [21, 1, 0]]
+        triangles += [cube + 24, cube + 32]
+    return np.vstack(points), np.vstack(triangles)
+
+
+def test_a_body_inside_another_sharing_its_surface_is_a_part(client):
+    # The surface is kept once and each body is a part: both are in the volume, no warning, and
+    # the output has the cube's surface twice again, as the input had it.
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", femsimp.FemsimpWarning)
+        out = client.run(cube_in_a_coating(), ratio=0.5)
+    assert out.result.repair.counts["shared_shell"] == 1
+    assert out.result.repair.counts["shared_shell_left"] == 0
+    assert out.result.input_mass.measure == pytest.approx(1000)
+    assert sorted(p.input_volume for p in out.result.parts) == pytest.approx([216, 784])
+    points, triangles = out.mesh
+    faces = {tuple(np.roll(t, -int(np.argmin(t)))) for t in triangles}
+    turned = [t[[0, 2, 1]] for t in triangles]
+    both = sum(tuple(np.roll(t, -int(np.argmin(t)))) in faces for t in turned)
+    assert both >= 12 and both % 2 == 0
+
+
+def test_a_body_inside_another_beside_a_seam_is_said(client):
+    # With a seam elsewhere in the mesh no parts are made: the surface stays a cavity's wall,
+    # which leaves the cube out of the volume: the client warns, as the CLI's report says.
     with pytest.warns(femsimp.FemsimpWarning,
                       match=r"1 closed surface two bodies share kept as a cavity's wall \(the "
                             r"first: closed surface of 12 facets .*\(volume 216\)"):
-        out = client.run((points, triangles), ratio=0.5)
+        out = client.run(cube_in_a_coating(seam_aside=True), ratio=0.5)
     assert out.result.repair.counts["shared_shell_left"] == 1
 
 

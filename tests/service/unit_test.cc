@@ -374,7 +374,7 @@ TEST(Report, SummaryGivesEachPartsVolume) {
   cli::RunReport r;
   EXPECT_EQ(cli::Summary(r).find("parts:"), std::string::npos);
   r.fidelity.parts = {{.input = 8000, .output = 8000}, {.input = 4000, .output = 3990}};
-  EXPECT_NE(cli::Summary(r).find("parts:    2 solids meeting at seams, volume each: part 1 8000 "
+  EXPECT_NE(cli::Summary(r).find("parts:    2 solids of an assembly, volume each: part 1 8000 "
                                  "-> 8000 (+0.0000%), part 2 4000 -> 3990 (-0.2500%)\n"),
             std::string::npos)
       << cli::Summary(r);
