@@ -84,7 +84,8 @@ PeerRun RunFemsimp(const RawMesh& input, SimplifyOptions options) {
     run.error = result.status().ToString();
     return run;
   }
-  absl::StatusOr<RawMesh> output = OutputMesh(prepared->mesh, prepared->seam_map, prepared->shared_walls);
+  absl::StatusOr<RawMesh> output =
+      OutputMesh(prepared->mesh, prepared->seam_map, prepared->shared_walls);
   if (!output.ok()) {
     run.error = output.status().ToString();
     return run;

@@ -44,7 +44,8 @@ Parts SimplifyAndMeasure(const RawMesh& soup) {
   if (!prepared.ok()) return parts;
   absl::StatusOr<SimplifyResult> result = Simplify(prepared->mesh, SimplifyOptions{});
   EXPECT_TRUE(result.ok()) << result.status();
-  absl::StatusOr<RawMesh> out = OutputMesh(prepared->mesh, prepared->seam_map, prepared->shared_walls);
+  absl::StatusOr<RawMesh> out =
+      OutputMesh(prepared->mesh, prepared->seam_map, prepared->shared_walls);
   EXPECT_TRUE(out.ok()) << out.status();
   if (!result.ok() || !out.ok()) return parts;
   for (const SimplifyResult::PartVolume& p : result->parts) {

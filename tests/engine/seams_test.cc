@@ -539,7 +539,8 @@ TEST(Seams, PartFarFromTheOriginKeepsItsSeams) {
     absl::StatusOr<SimplifyResult> result = Simplify(prepared->mesh, options);
     ASSERT_TRUE(result.ok()) << result.status();
     EXPECT_LT(result->output_vertices, result->input_vertices / 2);
-    absl::StatusOr<RawMesh> output = OutputMesh(prepared->mesh, prepared->seam_map, prepared->shared_walls);
+    absl::StatusOr<RawMesh> output =
+        OutputMesh(prepared->mesh, prepared->seam_map, prepared->shared_walls);
     ASSERT_TRUE(output.ok()) << output.status();
     // The input the sheets were cut from: the repaired soup, as PrepareMesh made it.
     RawMesh repaired = far;

@@ -303,7 +303,8 @@ TEST(Simplify, FarPartAtItsLocalOriginSimplifiesAsAtTheOrigin) {
     *repairs = prepared->report.num_changes();
     absl::StatusOr<SimplifyResult> result = Simplify(prepared->mesh, options);
     EXPECT_TRUE(result.ok()) << result.status();
-    absl::StatusOr<RawMesh> out = OutputMesh(prepared->mesh, prepared->seam_map, prepared->shared_walls);
+    absl::StatusOr<RawMesh> out =
+        OutputMesh(prepared->mesh, prepared->seam_map, prepared->shared_walls);
     EXPECT_TRUE(out.ok()) << out.status();
     EXPECT_EQ(out->origin, in.origin);
     return *result;

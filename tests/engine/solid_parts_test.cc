@@ -188,7 +188,8 @@ AssemblyRun SimplifyAssembly(const RawMesh& input, const SimplifyOptions& option
   EXPECT_FALSE(prepared->mesh.sides().empty());
   absl::StatusOr<SimplifyResult> result = Simplify(prepared->mesh, options);
   EXPECT_TRUE(result.ok()) << result.status();
-  absl::StatusOr<RawMesh> output = OutputMesh(prepared->mesh, prepared->seam_map, prepared->shared_walls);
+  absl::StatusOr<RawMesh> output =
+      OutputMesh(prepared->mesh, prepared->seam_map, prepared->shared_walls);
   EXPECT_TRUE(output.ok()) << output.status();
   if (!result.ok() || !output.ok()) return {};
   return {*result, *output};
