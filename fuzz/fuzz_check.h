@@ -18,9 +18,14 @@ inline void RequireMessage(const absl::Status& s) {
 
 // A mesh an upload or a file gave goes on through the repair stage and Mesh::Build, as the
 // server and the CLI take it: whatever it holds, the answer is a mesh or an error with a message.
+// The mesh so built comes out again (seams joined, shared surfaces written once per body).
 inline void Prepare(RawMesh mesh, const RepairOptions& options) {
   absl::StatusOr<PreparedMesh> prepared = PrepareMesh(std::move(mesh), options);
   RequireMessage(prepared.status());
+  if (!prepared.ok()) return;
+  const absl::StatusOr<RawMesh> out =
+      OutputMesh(prepared->mesh, prepared->seam_map, prepared->shared_walls);
+  if (!out.ok()) std::abort();  // nothing simplified: the seams cannot have changed
 }
 
 }  // namespace femsimp::fuzz
