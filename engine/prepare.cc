@@ -86,9 +86,8 @@ void CountSharedWall(RepairReport& report, int64_t input_facet, size_t facets,
           "closed surface of %u facets inside another body, every facet of it written twice, "
           "facing both ways: the surface two bodies share (a body inside another: an insert, a "
           "core, a part under a coating); kept and simplified once, written once per body in "
-          "the output; each body a part (the inner one's volume %.6g; a cavity's wall written "
-          "twice "
-          "reads the same: write it once to keep the cavity)",
+          "the output; each body a part (the inner one's volume %.6g; a cavity's wall "
+          "written twice reads the same: write it once to keep the cavity)",
           facets, inner_volume);
       break;
     }
