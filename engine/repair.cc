@@ -765,6 +765,42 @@ bool Repairer::ZipTJunctions() {
     open_at[head(h)].push_back(h);
   }
 
+  // Open vertices by grid cell. Where each face of a part was tessellated on its own, the two
+  // sides of a crack share no vertex between the crack's ends: their vertices interleave along
+  // it, and no walk along one side's open edges reaches the other's. A cell of the open edges'
+  // mean length finds them near a segment in a few cells.
+  double cell = 0;
+  for (uint32_t h : open) {
+    const std::array<double, 3> a = PosD(tri_[h]), b = PosD(head(h));
+    cell += std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+                      (a[2] - b[2]) * (a[2] - b[2]));
+  }
+  cell = cell / open.size();
+  absl::flat_hash_map<CellKey, std::vector<uint32_t>> grid;
+  const auto cell_of = [&](double v) { return static_cast<int64_t>(std::floor(v / cell)); };
+  if (cell > 0)
+    for (const auto& [v, edges] : open_at) {
+      const std::array<double, 3> p = PosD(v);
+      grid[CellKey{cell_of(p[0]), cell_of(p[1]), cell_of(p[2])}].push_back(v);
+    }
+
+  // Whether an open edge at v runs against direction d, within 30 degrees: the other side of a
+  // crack runs back along it (both sides oriented alike), where an open edge that merely passes
+  // near (a soup crossing itself, a gap's rim at an angle) runs any way.
+  const auto runs_against = [&](uint32_t v, const std::array<double, 3>& d) {
+    for (const uint32_t g : open_at[v]) {
+      const std::array<double, 3> a = PosD(tri_[g]), b = PosD(head(g));
+      double dot = 0, len2 = 0, d2 = 0;
+      for (int k = 0; k < 3; ++k) {
+        dot += (b[k] - a[k]) * d[k];
+        len2 += (b[k] - a[k]) * (b[k] - a[k]);
+        d2 += d[k] * d[k];
+      }
+      if (dot < 0 && dot * dot >= 0.75 * len2 * d2) return true;
+    }
+    return false;
+  };
+
   struct Plan {
     uint32_t h;                 // open half-edge x -> y of kept facet h / 3
     std::vector<uint32_t> cut;  // the vertices it is split at, from x to y
@@ -775,6 +811,7 @@ bool Repairer::ZipTJunctions() {
   constexpr size_t kMaxWalk = 256;
   // A chord of a circle cut in n is off the arc by about 1/(2n) of its length: 7 and up.
   constexpr double kMaxGapShare = 0.125;
+  constexpr double kMaxSpatialShare = 1e-3;
   std::vector<Plan> plans(open.size());
   for (size_t i = 0; i < open.size(); ++i) {
     Plan& plan = plans[i];
@@ -793,26 +830,52 @@ bool Repairer::ZipTJunctions() {
     if (!(len > 2 * tol)) continue;
     std::vector<uint32_t> seen = {x, y}, stack = {x, y};
     std::vector<std::array<double, 3>> inner;  // (along, vertex, distance)
+    // Takes v if it lies within `limit` of the segment; one inside it, `margin` off its ends, is a
+    // cut.
+    const auto near = [&](uint32_t v, double limit, double margin) {
+      if (std::find(seen.begin(), seen.end(), v) != seen.end()) return false;
+      const std::array<double, 3> p = PosD(v);
+      double t = 0;
+      for (int k = 0; k < 3; ++k) t += (p[k] - px[k]) * d[k];
+      t /= len2;
+      const double tc = std::clamp(t, 0.0, 1.0);
+      double d2 = 0;
+      for (int k = 0; k < 3; ++k) d2 += (p[k] - px[k] - tc * d[k]) * (p[k] - px[k] - tc * d[k]);
+      if (d2 > limit * limit) return false;
+      seen.push_back(v);
+      if (t * len > margin && (1 - t) * len > margin)
+        inner.push_back({t, double(v), d2 > tol * tol ? std::sqrt(d2) : 0.0});
+      return true;
+    };
     while (!stack.empty() && seen.size() <= kMaxWalk) {
       const uint32_t u = stack.back();
       stack.pop_back();
       for (uint32_t h : open_at[u]) {
         const uint32_t v = tri_[h] == u ? head(h) : tri_[h];
-        if (std::find(seen.begin(), seen.end(), v) != seen.end()) continue;
-        const std::array<double, 3> p = PosD(v);
-        double t = 0;
-        for (int k = 0; k < 3; ++k) t += (p[k] - px[k]) * d[k];
-        t /= len2;
-        const double tc = std::clamp(t, 0.0, 1.0);
-        double d2 = 0;
-        for (int k = 0; k < 3; ++k) d2 += (p[k] - px[k] - tc * d[k]) * (p[k] - px[k] - tc * d[k]);
-        if (d2 > reach * reach) continue;
-        seen.push_back(v);
-        stack.push_back(v);
-        if (t * len > reach && (1 - t) * len > reach)
-          inner.push_back({t, double(v), d2 > tol * tol ? std::sqrt(d2) : 0.0});
+        if (near(v, reach, reach)) stack.push_back(v);
       }
     }
+    // The other side's vertices where they share none with this side near it. Not joined by the
+    // crack's walk, they may be a gap's far side (a slot, a hole's other rim): only those within
+    // a thousandth of the diagonal are taken, the surface moved no further; one next to an end
+    // of this side's is a cut too (the sides interleave), its piece a sliver.
+    const double spatial_reach =
+        std::min(reach, std::max(4 * tol, kMaxSpatialShare * result_.report.diagonal));
+    std::array<int64_t, 3> lo, hi;
+    int64_t cells = 1;
+    for (int k = 0; k < 3 && cell > 0; ++k) {
+      lo[k] = cell_of(std::min(px[k], py[k]) - spatial_reach);
+      hi[k] = cell_of(std::max(px[k], py[k]) + spatial_reach);
+      cells *= hi[k] - lo[k] + 1;
+    }
+    constexpr int64_t kMaxCells = 512;  // an edge far longer than the others: the walk alone
+    if (cell > 0 && cells <= kMaxCells)
+      for (int64_t i = lo[0]; i <= hi[0]; ++i)
+        for (int64_t j = lo[1]; j <= hi[1]; ++j)
+          for (int64_t k = lo[2]; k <= hi[2] && seen.size() <= kMaxWalk; ++k)
+            if (const auto it = grid.find(CellKey{i, j, k}); it != grid.end())
+              for (const uint32_t v : it->second)
+                if (runs_against(v, d)) near(v, spatial_reach, 4 * tol);
     if (inner.empty() || seen.size() > kMaxWalk) continue;
     std::sort(inner.begin(), inner.end());
     const uint32_t c = tri_[3 * (plan.h / 3) + (plan.h % 3 + 2) % 3];

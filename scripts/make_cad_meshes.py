@@ -26,7 +26,8 @@ writes the triangle soups, then makes broken copies the way CAD exports break:
   broken     flipped, duplicate, degenerate (coincident vertices, repeated index, collinear
              T-junction sliver), crack (one CAD seam unwelded), tjunction (one CAD seam
              tessellated apart: T-junctions; tjunction_curved: along a circle, the new
-             vertices on it, off the chords), missing (five facets dropped: holes), unwelded
+             vertices on it, off the chords; interleaved: a straight seam, each side's
+             vertices its own, shared only at the seam's ends), missing (five facets dropped: holes), unwelded
              (every CAD face its own vertices), unreferenced (unused and duplicated vertices),
              bowtie (two parts welded at one vertex: non-manifold vertex); the assembly (non-manifold edges),
              assembly_apart_solids (its boxes meshed body by body, one named STL solid each:
@@ -1053,6 +1054,48 @@ def break_tjunction_curved(rng, pos, tris, groups):
                 f" edges, off face {ga}'s chords by the sagitta"}]
 
 
+def break_interleaved(rng, pos, tris, groups):
+    """One CAD seam whose two faces were tessellated each on its own, as some exporters mesh
+    every face alone: along the longest straight seam between two flat CAD faces A and B, B's
+    inner seam vertices become copies slid along the seam by a third of the shorter seam edge
+    beside them. The two sides share only the seam's ends and their vertices interleave: no
+    walk along one side's open edges meets the other's. B's facets stay in B's plane."""
+    seams = seam_edges(tris, groups)
+    for (ga, gb), edges in sorted(seams.items(), key=lambda kv: (-len(kv[1]), kv[0])):
+        verts = sorted({v for e in edges for v in e})
+        p = pos[verts].astype(np.float64)
+        centre = p.mean(axis=0)
+        _, sv, vt = np.linalg.svd(p - centre)
+        flat = [np.linalg.svd(pos[np.unique(tris[groups == g])].astype(np.float64)
+                              - pos[np.unique(tris[groups == g])].mean(axis=0))[1]
+                for g in (ga, gb)]
+        if (len(verts) >= 4 and sv[1] <= 1e-6 * sv[0]
+                and all(f[2] <= 1e-6 * f[0] for f in flat)):
+            break
+    else:
+        raise RuntimeError("no straight seam between flat faces")
+    direction = vt[0]
+    along = (p - centre) @ direction
+    order = [verts[i] for i in np.argsort(along)]
+    place = {v: float(a) for v, a in zip(verts, along)}
+    pos = pos.copy()
+    tris = tris.copy()
+    new_pos = []
+    for i in range(1, len(order) - 1):
+        v = order[i]
+        gap = min(place[v] - place[order[i - 1]], place[order[i + 1]] - place[v])
+        copy = len(pos) + len(new_pos)
+        new_pos.append(pos[v].astype(np.float64) + gap / 3 * direction)
+        mine = groups == gb
+        tris[mine] = np.where(tris[mine] == v, copy, tris[mine])
+    pos = np.concatenate([pos, np.array(new_pos, dtype=np.float32)])
+    return pos, tris, groups, [{
+        "kind": "interleaved", "count": len(order) - 2, "cad_faces": [int(ga), int(gb)],
+        "note": f"straight seam between CAD faces {ga} and {gb} tessellated apart: face {gb}'s"
+                f" {len(order) - 2} inner seam vertices slid along it by a third of an edge, the"
+                f" sides sharing only the seam's ends"}]
+
+
 def break_missing(rng, pos, tris, groups):
     """Facets an exporter dropped: three single facets apart from one another, and two
     neighbours of one CAD face together (holes of 3, 3, 3 and 4 edges)."""
@@ -1339,6 +1382,7 @@ BREAKERS = {
     "tjunction": break_tjunction,
     "tjunction_curved": break_tjunction_curved,
     "tjunction_missing": break_tjunction_missing,
+    "interleaved": break_interleaved,
     "missing": break_missing,
     "unwelded": break_unwelded,
     "unreferenced": break_unreferenced,
@@ -1361,6 +1405,7 @@ BROKEN_SHAPE = {
     "tjunction": (False, True),
     "tjunction_curved": (False, True),
     "tjunction_missing": (False, True),
+    "interleaved": (False, True),
     "missing": (False, True),
     "unwelded": (False, True),
     "unreferenced": (True, True),
@@ -1416,6 +1461,9 @@ BROKEN = [
     # The part written twice, the copy moved by a placement's rounding: the copy comes off.
     ("flange_export", "twice"),
     ("knob_coarse", "twice"),
+    # One seam tessellated from both sides apart, the sides' vertices interleaving.
+    ("bracket_coarse", "interleaved"),
+    ("bracket_export", "interleaved"),
 ]
 
 # -------------------------------------------------------------------------------------- main

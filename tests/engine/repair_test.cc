@@ -575,6 +575,58 @@ TEST(Repair, TJunctionZipTakesFloatRoundingAndNarrowGaps) {
   }
 }
 
+// Each face of a box tessellated on its own: the four sides from a box cut in thirds, the top
+// and the bottom from one cut in halves. Along the eight edges where they meet the two sides'
+// vertices interleave (thirds and halves) and share only the box's corners, so no walk along
+// one side's open edges reaches the other's (a CAD exporter that meshes every face alone). Each
+// edge is split at the other side's vertices inside it (three per box edge), and the box
+// closes with no point moved. With the top lifted by 0.4 % of the diagonal (a gap, not a
+// crack) only the bottom closes.
+RawMesh InterleavedBox(float lift) {
+  const RawMesh thirds = testing::MakeBox({3, 3, 3}, {3, 3, 3});
+  RawMesh halves = testing::MakeBox({3, 3, 3}, {2, 2, 2});
+  const auto top_or_bottom = [](const RawMesh& box, size_t f) {
+    const auto z = [&](int k) { return box.positions[3 * box.triangles[3 * f + k] + 2]; };
+    return z(0) == z(1) && z(1) == z(2);
+  };
+  RawMesh m;
+  m.positions = thirds.positions;
+  for (size_t v = 0; v < halves.num_vertices(); ++v)
+    if (halves.positions[3 * v + 2] == 3) halves.positions[3 * v + 2] += lift;
+  m.positions.insert(m.positions.end(), halves.positions.begin(), halves.positions.end());
+  const uint32_t base = static_cast<uint32_t>(thirds.num_vertices());
+  for (size_t f = 0; f < thirds.num_faces(); ++f)
+    if (!top_or_bottom(thirds, f))
+      m.triangles.insert(m.triangles.end(), &thirds.triangles[3 * f], &thirds.triangles[3 * f + 3]);
+  for (size_t f = 0; f < halves.num_faces(); ++f)
+    if (top_or_bottom(halves, f))
+      for (int k = 0; k < 3; ++k) m.triangles.push_back(base + halves.triangles[3 * f + k]);
+  return m;
+}
+
+TEST(Repair, InterleavedCracksAreZipped) {
+  RawMesh m = InterleavedBox(0);
+  const std::vector<float> input_positions = m.positions;
+  EXPECT_GT(TopologyOf(m).boundary_edges, 0);
+  RepairResult r = Repair(m);
+  ExpectBuilds(m);
+  EXPECT_EQ(TopologyOf(m).boundary_edges, 0) << r.report.Details();
+  EXPECT_NEAR(testing::SignedVolume(m), 27.0, 1e-9);
+  EXPECT_EQ(r.report.count(RepairKind::kSplitEdge), 24u) << r.report.Details();
+  EXPECT_EQ(r.report.count(RepairKind::kFilledHole), 0u) << r.report.Details();
+  EXPECT_EQ(r.report.count(RepairKind::kHoleLeft), 0u) << r.report.Details();
+  for (size_t v = 0; v < m.num_vertices(); ++v) {
+    const uint32_t from = r.vertex_origin[v];
+    for (int k = 0; k < 3; ++k)
+      EXPECT_EQ(m.positions[3 * v + k], input_positions[3 * from + k]) << v;
+  }
+
+  m = InterleavedBox(0.02f);
+  r = Repair(m);
+  EXPECT_EQ(r.report.count(RepairKind::kSplitEdge), 12u) << r.report.Details();
+  EXPECT_GT(TopologyOf(m).boundary_edges, 0);
+}
+
 // The bottom quad uses its own copies (8, 9) of vertices 0 and 1: the edges (0, 1), (0, 2) and
 // (1, 3) are each open twice.
 RawMesh CrackedCube(float offset) {
