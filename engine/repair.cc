@@ -748,6 +748,17 @@ std::vector<uint32_t> Repairer::EdgeUseCounts() const {
 // and fields; no point moves. A split is made only where some piece then has exactly two facets
 // and none more, no piece or fan edge exists already and no piece has zero area or turns
 // over; one edge per facet a call. Returns whether it split any (the edges are then stale).
+// Whether p lies within `limit` of the segment from a along d (of squared length len2).
+bool Within(const std::array<double, 3>& p, const std::array<double, 3>& a,
+            const std::array<double, 3>& d, double len2, double limit) {
+  double t = 0;
+  for (int k = 0; k < 3; ++k) t += (p[k] - a[k]) * d[k];
+  t = std::clamp(t / len2, 0.0, 1.0);
+  double d2 = 0;
+  for (int k = 0; k < 3; ++k) d2 += (p[k] - a[k] - t * d[k]) * (p[k] - a[k] - t * d[k]);
+  return d2 <= limit * limit;
+}
+
 bool Repairer::ZipTJunctions() {
   const uint32_t ne = static_cast<uint32_t>(ebeg_.size() - 1);
   auto head = [&](uint32_t h) { return tri_[h % 3 == 2 ? h - 2 : h + 1]; };
@@ -768,14 +779,16 @@ bool Repairer::ZipTJunctions() {
   // Open vertices by grid cell. Where each face of a part was tessellated on its own, the two
   // sides of a crack share no vertex between the crack's ends: their vertices interleave along
   // it, and no walk along one side's open edges reaches the other's. A cell of the open edges'
-  // mean length finds them near a segment in a few cells.
-  double cell = 0;
+  // median length finds them near a segment in a few cells.
+  std::vector<double> lengths;
+  lengths.reserve(open.size());
   for (uint32_t h : open) {
     const std::array<double, 3> a = PosD(tri_[h]), b = PosD(head(h));
-    cell += std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
-                      (a[2] - b[2]) * (a[2] - b[2]));
+    lengths.push_back(std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+                                (a[2] - b[2]) * (a[2] - b[2])));
   }
-  cell = cell / open.size();
+  std::nth_element(lengths.begin(), lengths.begin() + lengths.size() / 2, lengths.end());
+  const double cell = lengths[lengths.size() / 2];
   absl::flat_hash_map<CellKey, std::vector<uint32_t>> grid;
   const auto cell_of = [&](double v) { return static_cast<int64_t>(std::floor(v / cell)); };
   if (cell > 0)
@@ -868,14 +881,20 @@ bool Repairer::ZipTJunctions() {
       hi[k] = cell_of(std::max(px[k], py[k]) + spatial_reach);
       cells *= hi[k] - lo[k] + 1;
     }
-    constexpr int64_t kMaxCells = 512;  // an edge far longer than the others: the walk alone
+    // An edge far longer than the others, or a crowd of open vertices around it (a soup of
+    // loose facets): the walk alone.
+    constexpr int64_t kMaxCells = 512;
+    constexpr size_t kMaxScanned = 256;
+    size_t scanned = 0;
     if (cell > 0 && cells <= kMaxCells)
       for (int64_t i = lo[0]; i <= hi[0]; ++i)
         for (int64_t j = lo[1]; j <= hi[1]; ++j)
-          for (int64_t k = lo[2]; k <= hi[2] && seen.size() <= kMaxWalk; ++k)
+          for (int64_t k = lo[2]; k <= hi[2] && scanned <= kMaxScanned; ++k)
             if (const auto it = grid.find(CellKey{i, j, k}); it != grid.end())
               for (const uint32_t v : it->second)
-                if (runs_against(v, d)) near(v, spatial_reach, 4 * tol);
+                if (++scanned <= kMaxScanned && Within(PosD(v), px, d, len2, spatial_reach) &&
+                    runs_against(v, d))
+                  near(v, spatial_reach, 4 * tol);
     if (inner.empty() || seen.size() > kMaxWalk) continue;
     std::sort(inner.begin(), inner.end());
     const uint32_t c = tri_[3 * (plan.h / 3) + (plan.h % 3 + 2) % 3];
